@@ -1,0 +1,1 @@
+"""Built-in poissonkit plugin: magnets."""

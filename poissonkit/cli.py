@@ -1,0 +1,57 @@
+"""Command-line interface: ``poissonkit run | verify | bench | plugins | sweep``.
+
+Each subcommand lives in ``poissonkit/commands/<name>.py`` with ``add_arguments(parser)`` and
+``main(args) -> int``; modules are imported only when their command runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from collections.abc import Sequence
+
+from poissonkit.errors import PoissonkitError
+
+COMMANDS: dict[str, tuple[str, str]] = {
+    "run": ("poissonkit.commands.run", "integrate a scene (default: the seed 000 orbit)"),
+    "verify": ("poissonkit.commands.verify", "check a Poisson structure: Jacobi, rank, Casimirs"),
+    "bench": ("poissonkit.commands.bench", "speed against error of every integrator on a scene"),
+    "plugins": ("poissonkit.commands.plugins", "list plugins and what they contribute"),
+    "sweep": ("poissonkit.commands.sweep", "run a scene over a grid of parameters"),
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every subcommand's options."""
+    from poissonkit import __version__
+
+    parser = argparse.ArgumentParser(prog="poissonkit", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"poissonkit {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name, (module, help_text) in COMMANDS.items():
+        p = sub.add_parser(name, help=help_text, description=help_text)
+        try:
+            importlib.import_module(module).add_arguments(p)
+        except ModuleNotFoundError:
+            pass
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``poissonkit`` command; returns the process exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 2
+    try:
+        module = importlib.import_module(COMMANDS[args.command][0])
+    except ModuleNotFoundError:
+        print(f"poissonkit {args.command}: not available in this build", file=sys.stderr)
+        return 2
+    try:
+        return int(module.main(args) or 0)
+    except PoissonkitError as exc:
+        print(f"poissonkit {args.command}: error: {exc}", file=sys.stderr)
+        return 1

@@ -1,0 +1,1 @@
+"""PoissonGeometry-compatible front end (filled by the compat layer)."""

@@ -1,0 +1,72 @@
+"""Conventions of poissonkit, stated once.
+
+Every module links here instead of restating these rules; ``tests/test_conventions.py`` pins them.
+
+Bivectors and brackets
+----------------------
+* A bivector ``P`` on coordinates ``x = (x_1, ..., x_n)`` is stored as its antisymmetric matrix
+  ``P[i, j] = {x_i, x_j}``.
+* The Poisson bracket is ``{F, G} = sum_ij P[i, j] dF/dx_i dG/dx_j`` (``= dF . P . dG``).
+* The Hamiltonian vector field of ``H`` is ``X_H = P dH``, with components
+  ``X_H^i = sum_j P[i, j] dH/dx_j = {x_i, H}``; the equations of motion are ``xdot = {x, H}``.
+  A conformally Hamiltonian field is ``X = N(x) P dH`` (survey eq. (7)).
+* The PoissonGeometry package uses the opposite sign, ``X_h = {h, .} = -P dh``; that sign lives
+  only in :mod:`poissonkit.compat`.
+
+Lie–Poisson blocks
+------------------
+* ``lie_poisson(C)`` for structure constants ``C[i][j][k]`` is ``{x_i, x_j} = sum_k C[i][j][k] x_k``.
+* e(3) in seed 000's order ``(nu, m)``: ``{m_i, m_j} = eps_ijk m_k``, ``{m_i, nu_j} = eps_ijk nu_k``,
+  ``{nu_i, nu_j} = 0``. In the survey's order ``(gamma, M)`` the same bracket with
+  ``L = M``, ``gamma = nu``. With ``xdot = {x, H}`` this gives the *space-frame* equations
+  ``mdot = dH/dm x m + dH/dnu x nu``, ``nudot = dH/dm x nu`` (seed 000 eq. (20)).
+  The survey's body-frame Euler–Poisson equations are ``xdot = {H, x} = -P dH``: its
+  non-holonomic systems are declared with the multiplier that says so (``N = -1/g`` etc.).
+* The eps-matrix of a vector: ``[v]_eps[i, j] = eps_ijk v_k``, so ``[v]_eps w = w x v``.
+
+Schouten bracket and Jacobi
+---------------------------
+* For bivectors ``A, B``:
+  ``[A, B]^{ijk} = -sum_m (B^{mk} d_m A^{ij} + A^{mk} d_m B^{ij}) + cyclic(i, j, k)``
+  (survey eq. (4)). With this sign ``[P, P]^{ijk} = 2 Jac^{ijk}`` where
+  ``Jac^{ijk} = sum_m (P^{im} d_m P^{jk} + P^{jm} d_m P^{ki} + P^{km} d_m P^{ij})``
+  ``= {x_i, {x_j, x_k}} + cyclic``. ``P`` is Poisson iff ``[P, P] = 0``.
+* Pinned oracle: for ``Q = [[0, y1 y2, 0], [-y1 y2, 0, y3], [0, -y3, 0]]``,
+  ``[Q, Q]^{123} = -2 y1 y3`` and ``Jac^{123} = -y1 y3``.
+* Schouten bracket of a bivector with a vector field ``[P, X] = -L_X P`` (so that ``X`` is a
+  Poisson vector field iff ``[P, X] = 0``); the Lichnerowicz coboundary is ``d_P A = [P, A]``.
+
+Rigid bodies and N-body states
+------------------------------
+* A symmetric top carries ``(nu, m)``: unit symmetry axis and angular momentum, both in the
+  space frame; kinetic energy ``alpha |m|^2 / 2`` with ``alpha = 1 / I_perp``.
+* N-body state order: ``r_1, p_1, ..., r_N, p_N`` then ``nu_1, m_1, ..., nu_K, m_K`` for the
+  K bodies with orientation (tops); point masses carry no ``(nu, m)``. Compiled right-hand sides
+  document their exact layout in their docstring.
+* Pair geometry (seed 000): ``r = r_j - r_i``, ``e = r/|r|``, ``c' = (e, nu_i)``,
+  ``c'' = (e, nu_j)``, ``c''' = (nu_i, nu_j)``; ``F`` is the force on body j; torques are about
+  each body's own centre.
+* Two-body centre-of-mass form: ``x = (r, p, nu', m', nu'', m'')`` in R^18, reduced mass ``mu``.
+
+Units
+-----
+* Public numbers are SI (m, kg, s, A, T). ``mu0 = 4 pi 1e-7`` (the seed's value, not CODATA).
+* Numerics nondimensionalise internally (length, mass and time scales chosen per scene) and
+  convert back; reports state both where it matters.
+"""
+
+from __future__ import annotations
+
+import math
+
+#: Vacuum permeability used throughout (seed 000's value, exactly 4 pi 1e-7).
+MU0: float = 4.0e-7 * math.pi
+
+#: Sign of the Hamiltonian vector field: X_H = HAMILTONIAN_SIGN * P dH.
+HAMILTONIAN_SIGN: int = 1
+
+#: Factor in [P, P] = SCHOUTEN_JACOBI_FACTOR * Jac.
+SCHOUTEN_JACOBI_FACTOR: int = 2
+
+#: Names of the four pair invariants of seed 000, as used in symbolic potentials.
+PAIR_INVARIANTS: tuple[str, str, str, str] = ("r", "c1", "c2", "c3")

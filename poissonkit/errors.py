@@ -1,0 +1,105 @@
+"""Typed exceptions of poissonkit.
+
+Every error poissonkit raises on purpose is a subclass of :class:`PoissonkitError`, so a caller
+can catch all of them with one ``except`` clause. Where a built-in exception type is the natural
+one (``ValueError`` for bad values, ``KeyError`` for unknown names) the poissonkit error also
+derives from it, so generic handlers keep working.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+
+class PoissonkitError(Exception):
+    """Base class of every error raised by poissonkit."""
+
+
+class InputError(PoissonkitError, ValueError):
+    """A value given by the user is malformed (wrong shape, not antisymmetric, not finite, ...)."""
+
+
+class DimensionError(InputError):
+    """Sizes of two objects that must agree do not (matrix vs coordinates, state vs system)."""
+
+
+class ParseError(InputError):
+    """A string could not be parsed, or used a name outside the allow-list."""
+
+
+class UnknownNameError(PoissonkitError, KeyError):
+    """A registry entry, symbol or option was asked for by a name that does not exist.
+
+    Parameters
+    ----------
+    kind
+        What was looked up ("integrator", "potential", "symbol", ...).
+    name
+        The name that was asked for.
+    available
+        The names that do exist; they are listed in the message.
+    """
+
+    def __init__(self, kind: str, name: str, available: Iterable[str] = ()) -> None:
+        self.kind = kind
+        self.name = name
+        self.available = sorted(available)
+        msg = f"unknown {kind} {name!r}"
+        if self.available:
+            msg += "; available: " + ", ".join(self.available)
+        super().__init__(msg)
+
+    def __str__(self) -> str:  # KeyError would repr() the message
+        return str(self.args[0])
+
+
+class NotPoissonError(PoissonkitError):
+    """A bivector required to be Poisson fails the Jacobi identity."""
+
+
+class PluginError(PoissonkitError):
+    """A plugin failed to load or returned a malformed contribution."""
+
+
+class SceneError(InputError):
+    """A scene file or scene description is invalid; the message names the offending field."""
+
+
+class IntegrationError(PoissonkitError):
+    """Numerical integration failed (non-finite state, step-size underflow, ...)."""
+
+
+class NonFiniteStateError(IntegrationError):
+    """The state became NaN or infinite.
+
+    Attributes
+    ----------
+    step
+        Index of the step whose result was not finite.
+    time
+        Time at the start of that step.
+    """
+
+    def __init__(self, step: int, time: float, detail: str = "") -> None:
+        self.step = step
+        self.time = time
+        msg = f"non-finite state produced at step {step} (t = {time:.6g})"
+        if detail:
+            msg += f": {detail}"
+        super().__init__(msg)
+
+
+class EventTerminated(PoissonkitError):
+    """Base class of typed terminal events raised when the user asked events to be errors."""
+
+
+class CollisionError(EventTerminated):
+    """Two bodies overlapped during integration."""
+
+
+class EscapeError(EventTerminated):
+    """A body escaped beyond the configured radius."""
+
+
+class MissingDependencyError(PoissonkitError, ImportError):
+    """An optional dependency is needed for this feature; the message gives the install hint."""

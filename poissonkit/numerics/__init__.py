@@ -1,0 +1,1 @@
+"""Numerics: compiled right-hand sides, integrators, diagnostics, work-precision reports."""

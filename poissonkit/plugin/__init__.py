@@ -1,0 +1,20 @@
+"""pluggy host: hook specifications, the lazily built manager and named registries."""
+
+from poissonkit.plugin.contributions import (
+    Assembly,
+    Entry,
+    IntegratorEntry,
+    PairPotential,
+    Param,
+    SceneEntry,
+    SystemEntry,
+)
+from poissonkit.plugin.hookspecs import hookimpl
+from poissonkit.plugin.manager import entries, plugin_manager, plugin_reports, reset
+from poissonkit.plugin.registry import assembly, integrator, lookup, names, potential, scene, system
+
+__all__ = [
+    "Assembly", "Entry", "IntegratorEntry", "PairPotential", "Param", "SceneEntry", "SystemEntry",
+    "assembly", "entries", "hookimpl", "integrator", "lookup", "names", "plugin_manager",
+    "plugin_reports", "potential", "reset", "scene", "system",
+]

@@ -1,0 +1,83 @@
+"""Hook specifications: everything a plugin can contribute.
+
+Each hook returns a list of entries (see :mod:`poissonkit.plugin.contributions`). The built-in
+plugins under ``plugins/`` and poissonkit's own integrators implement these same hooks; a
+third-party package does so by declaring an entry point in the group ``poissonkit``::
+
+    [project.entry-points.poissonkit]
+    myplugin = "my_package.plugin"
+
+Every hook here must be documented in ``docs/plugins.md`` (a test checks it).
+"""
+
+from __future__ import annotations
+
+import pluggy
+
+from poissonkit.plugin.contributions import (
+    Assembly,
+    IntegratorEntry,
+    PairPotential,
+    SceneEntry,
+    SystemEntry,
+)
+
+PROJECT = "poissonkit"
+
+hookspec = pluggy.HookspecMarker(PROJECT)
+hookimpl = pluggy.HookimplMarker(PROJECT)
+
+
+@hookspec
+def poissonkit_potentials() -> list[PairPotential]:
+    """Return pair potentials U(r, c1, c2, c3) this plugin provides.
+
+    Returns
+    -------
+    list of PairPotential
+        Each with a unique name, a doc string, typed parameters and a symbolic ``expr`` and/or
+        a compiled ``kernel``.
+    """
+
+
+@hookspec
+def poissonkit_assemblies() -> list[Assembly]:
+    """Return N-body assemblies (graph builders) this plugin provides.
+
+    Returns
+    -------
+    list of Assembly
+        Each ``build(**params)`` returns a networkx graph of bodies and interactions.
+    """
+
+
+@hookspec
+def poissonkit_systems() -> list[SystemEntry]:
+    """Return named Poisson structures and Hamiltonian systems (for ``poissonkit verify``).
+
+    Returns
+    -------
+    list of SystemEntry
+        Each ``build(**params)`` returns a Bivector or a HamiltonianSystem.
+    """
+
+
+@hookspec
+def poissonkit_integrators() -> list[IntegratorEntry]:
+    """Return time integrators this plugin provides.
+
+    Returns
+    -------
+    list of IntegratorEntry
+        Each ``factory(**params)`` returns an integrator object.
+    """
+
+
+@hookspec
+def poissonkit_scenes() -> list[SceneEntry]:
+    """Return built-in scenes (runnable with ``poissonkit run NAME``).
+
+    Returns
+    -------
+    list of SceneEntry
+    """

@@ -1,0 +1,192 @@
+"""The plugin manager: built once, lazily, on first use.
+
+Built-in plugins (poissonkit's own integrators and systems, and the packages under ``plugins/``)
+are registered explicitly through the same hooks third-party plugins use; third-party plugins are
+discovered through the entry-point group ``poissonkit``.
+
+Environment switches
+--------------------
+``POISSONKIT_DISABLE_PLUGIN_AUTOLOAD=1``
+    Do not load entry-point plugins (built-ins are still registered).
+``POISSONKIT_BLOCK_PLUGINS=name1,name2``
+    Never register the plugins with these names (built-in or external).
+
+A plugin that fails to import, or whose hook raises or returns malformed entries, is recorded in
+:func:`plugin_reports` and skipped; it never breaks the host.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.metadata as md
+import os
+import threading
+from dataclasses import dataclass, field
+from typing import Any
+
+import pluggy
+
+from poissonkit.plugin import hookspecs
+from poissonkit.plugin.contributions import (
+    Assembly,
+    Entry,
+    IntegratorEntry,
+    PairPotential,
+    SceneEntry,
+    SystemEntry,
+)
+
+#: Built-in plugin modules: (plugin name, module path). Registered like any other plugin.
+BUILTIN_PLUGINS: tuple[tuple[str, str], ...] = (
+    ("core-systems", "poissonkit.structure.builtin"),
+    ("core-integrators", "poissonkit.numerics.builtin"),
+    ("magnets", "poissonkit_magnets.plugin"),
+    ("nbody", "poissonkit_nbody.plugin"),
+    ("nonholonomic", "poissonkit_nonholonomic.plugin"),
+)
+
+#: hook name -> (registry kind, entry type)
+KINDS: dict[str, tuple[str, type]] = {
+    "poissonkit_potentials": ("potential", PairPotential),
+    "poissonkit_assemblies": ("assembly", Assembly),
+    "poissonkit_systems": ("system", SystemEntry),
+    "poissonkit_integrators": ("integrator", IntegratorEntry),
+    "poissonkit_scenes": ("scene", SceneEntry),
+}
+
+ENV_DISABLE = "POISSONKIT_DISABLE_PLUGIN_AUTOLOAD"
+ENV_BLOCK = "POISSONKIT_BLOCK_PLUGINS"
+
+
+@dataclass
+class PluginReport:
+    """What one plugin is and what it contributed (or why it was skipped)."""
+
+    name: str
+    source: str  # "builtin" or the distribution name
+    version: str = ""
+    status: str = "ok"  # "ok", "failed", "blocked"
+    error: str = ""
+    contributions: dict[str, list[str]] = field(default_factory=dict)
+
+
+@dataclass
+class _State:
+    pm: pluggy.PluginManager
+    reports: list[PluginReport]
+    entries: dict[str, dict[str, Entry]]
+
+
+_lock = threading.Lock()
+_state: _State | None = None
+
+
+def _blocked() -> set[str]:
+    return {n.strip() for n in os.environ.get(ENV_BLOCK, "").split(",") if n.strip()}
+
+
+def _dist_version(module_name: str) -> str:
+    top = module_name.split(".")[0]
+    for dist_name in md.packages_distributions().get(top, []):
+        try:
+            return md.version(dist_name)
+        except md.PackageNotFoundError:
+            continue
+    return ""
+
+
+def _collect(pm: pluggy.PluginManager, name: str, plugin: Any, report: PluginReport,
+             entries: dict[str, dict[str, Entry]]) -> None:
+    """Call every hook of one plugin, validate its entries and add them to the registries."""
+    found: dict[str, list[Entry]] = {}
+    for hook_name, (kind, etype) in KINDS.items():
+        impl = getattr(plugin, hook_name, None)
+        if impl is None:
+            continue
+        result = impl()
+        if result is None:
+            continue
+        items = list(result)
+        for item in items:
+            if not isinstance(item, etype):
+                raise TypeError(f"{hook_name} returned {type(item).__name__}, expected {etype.__name__}")
+            if not item.name or not item.doc:
+                raise TypeError(f"{hook_name}: entry {item.name!r} lacks a name or a doc string")
+            if item.name in entries[kind] or any(i.name == item.name for i in found.get(kind, [])):
+                raise TypeError(f"{kind} {item.name!r} is already provided by another plugin")
+        found[kind] = items
+    for kind, items in found.items():
+        for item in items:
+            entries[kind][item.name] = item
+        report.contributions[kind] = [i.name for i in items]
+
+
+def _register(pm: pluggy.PluginManager, name: str, loader, source: str, version: str,
+              reports: list[PluginReport], entries: dict[str, dict[str, Entry]]) -> None:
+    report = PluginReport(name=name, source=source, version=version)
+    reports.append(report)
+    if name in _blocked():
+        report.status = "blocked"
+        return
+    try:
+        plugin = loader()
+        _collect(pm, name, plugin, report, entries)
+        pm.register(plugin, name=name)
+    except Exception as exc:  # a broken plugin must never break the host
+        report.status = "failed"
+        report.error = f"{type(exc).__name__}: {exc}"
+        report.contributions.clear()
+
+
+def _build() -> _State:
+    pm = pluggy.PluginManager(hookspecs.PROJECT)
+    pm.add_hookspecs(hookspecs)
+    reports: list[PluginReport] = []
+    entries: dict[str, dict[str, Entry]] = {kind: {} for kind, _ in KINDS.values()}
+    from poissonkit import __version__
+
+    for name, module in BUILTIN_PLUGINS:
+        _register(pm, name, lambda m=module: importlib.import_module(m), "builtin",
+                  __version__, reports, entries)
+    if os.environ.get(ENV_DISABLE, "").strip() not in ("1", "true", "yes"):
+        for ep in md.entry_points(group=hookspecs.PROJECT):
+            dist = ep.dist.name if ep.dist is not None else ""
+            version = ep.dist.version if ep.dist is not None else ""
+            _register(pm, ep.name, ep.load, dist or "entry point", version, reports, entries)
+    return _State(pm=pm, reports=reports, entries=entries)
+
+
+def _get() -> _State:
+    global _state
+    with _lock:
+        if _state is None:
+            _state = _build()
+        return _state
+
+
+def plugin_manager() -> pluggy.PluginManager:
+    """The lazily built :class:`pluggy.PluginManager` with every plugin that loaded."""
+    return _get().pm
+
+
+def plugin_reports() -> list[PluginReport]:
+    """One report per plugin seen: built-in and external, loaded, failed or blocked."""
+    return list(_get().reports)
+
+
+def entries(kind: str) -> dict[str, Entry]:
+    """All entries of one kind (``"potential"``, ``"assembly"``, ``"system"``, ``"integrator"``,
+    ``"scene"``), by name."""
+    state = _get()
+    if kind not in state.entries:
+        from poissonkit.errors import UnknownNameError
+
+        raise UnknownNameError("registry", kind, state.entries)
+    return dict(state.entries[kind])
+
+
+def reset() -> None:
+    """Forget the manager so the next use rebuilds it (tests; after installing a plugin)."""
+    global _state
+    with _lock:
+        _state = None

@@ -1,0 +1,52 @@
+"""Look-ups by name in the plugin registries, with helpful errors."""
+
+from __future__ import annotations
+
+from poissonkit.errors import UnknownNameError
+from poissonkit.plugin.contributions import (
+    Assembly,
+    Entry,
+    IntegratorEntry,
+    PairPotential,
+    SceneEntry,
+    SystemEntry,
+)
+from poissonkit.plugin.manager import entries
+
+
+def lookup(kind: str, name: str) -> Entry:
+    """Return the entry ``name`` of registry ``kind``; unknown names list the available ones."""
+    found = entries(kind)
+    if name not in found:
+        raise UnknownNameError(kind, name, found)
+    return found[name]
+
+
+def potential(name: str) -> PairPotential:
+    """The pair potential registered as ``name``."""
+    return lookup("potential", name)  # type: ignore[return-value]
+
+
+def assembly(name: str) -> Assembly:
+    """The N-body assembly registered as ``name``."""
+    return lookup("assembly", name)  # type: ignore[return-value]
+
+
+def system(name: str) -> SystemEntry:
+    """The Poisson structure / system registered as ``name``."""
+    return lookup("system", name)  # type: ignore[return-value]
+
+
+def integrator(name: str) -> IntegratorEntry:
+    """The integrator registered as ``name``."""
+    return lookup("integrator", name)  # type: ignore[return-value]
+
+
+def scene(name: str) -> SceneEntry:
+    """The built-in scene registered as ``name``."""
+    return lookup("scene", name)  # type: ignore[return-value]
+
+
+def names(kind: str) -> list[str]:
+    """Sorted names in registry ``kind``."""
+    return sorted(entries(kind))

@@ -1,0 +1,1 @@
+"""Scenes: schema, loader, model-fidelity planner."""

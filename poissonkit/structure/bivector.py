@@ -1,0 +1,233 @@
+"""The :class:`Bivector`: an antisymmetric matrix of brackets on named coordinates.
+
+Conventions (sign of the bracket and of Hamiltonian vector fields): :mod:`poissonkit.conventions`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from poissonkit.errors import DimensionError, InputError, UnknownNameError
+
+
+def _as_symbols(coords: Iterable[sp.Symbol | str]) -> tuple[sp.Symbol, ...]:
+    out = []
+    for c in coords:
+        if isinstance(c, str):
+            out.append(sp.Symbol(c, real=True))
+        elif isinstance(c, sp.Symbol):
+            out.append(c)
+        else:
+            raise InputError(f"coordinates must be sympy Symbols or names, got {c!r}")
+    if len(set(out)) != len(out):
+        raise InputError(f"repeated coordinate in {tuple(map(str, out))}")
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class Bivector:
+    """A bivector field ``P`` on ``R^n`` with named coordinates.
+
+    ``matrix[i, j] = {x_i, x_j}`` (see :mod:`poissonkit.conventions`). Instances are immutable;
+    operations return new objects.
+
+    Parameters
+    ----------
+    coords
+        The coordinate symbols ``x_1 .. x_n`` (names are block-qualified in direct sums,
+        e.g. ``top1.nu_x``).
+    matrix
+        An ``n x n`` antisymmetric sympy matrix whose entries are expressions in ``coords``
+        (and possibly parameters / undefined functions).
+    blocks
+        Optional ``(name, start, stop)`` triples recording the direct-sum block structure,
+        used to make Jacobi checks block-local.
+
+    Examples
+    --------
+    >>> from poissonkit.structure import Bivector
+    >>> P = Bivector.from_components({(1, 2): "x3"}, ["x1", "x2", "x3"])
+    >>> P.bracket(P.coords[0], P.coords[1])
+    x3
+    """
+
+    coords: tuple[sp.Symbol, ...]
+    matrix: sp.ImmutableMatrix
+    blocks: tuple[tuple[str, int, int], ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        coords = _as_symbols(self.coords)
+        object.__setattr__(self, "coords", coords)
+        try:
+            mat = sp.ImmutableMatrix(self.matrix)
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"cannot read bivector matrix: {exc}") from None
+        n = len(coords)
+        if mat.shape != (n, n):
+            raise DimensionError(f"bivector matrix has shape {mat.shape}, expected ({n}, {n}) "
+                                 f"for coordinates {tuple(map(str, coords))}")
+        for i in range(n):
+            if mat[i, i] != 0:
+                raise InputError(f"bivector matrix is not antisymmetric: entry ({i},{i}) = {mat[i, i]}")
+            for j in range(i + 1, n):
+                if sp.expand(mat[i, j] + mat[j, i]) != 0:
+                    raise InputError(
+                        f"bivector matrix is not antisymmetric: P[{i},{j}] = {mat[i, j]} but "
+                        f"P[{j},{i}] = {mat[j, i]}")
+        object.__setattr__(self, "matrix", mat)
+        if not self.blocks:
+            object.__setattr__(self, "blocks", (("", 0, n),))
+
+    # ------------------------------------------------------------------ constructors
+    @classmethod
+    def from_matrix(cls, matrix, coords: Sequence[sp.Symbol | str]) -> Bivector:
+        """Build from a full antisymmetric matrix (nested lists, numpy array or sympy Matrix)."""
+        return cls(tuple(_as_symbols(coords)), sp.ImmutableMatrix(matrix))
+
+    @classmethod
+    def from_components(cls, components: Mapping[tuple[int, int], object],
+                        coords: Sequence[sp.Symbol | str], *, one_based: bool = True) -> Bivector:
+        """Build from upper-triangle components ``{(i, j): P^{ij}}``.
+
+        Parameters
+        ----------
+        components
+            Keys are index pairs (1-based by default, as in PoissonGeometry); values are sympy
+            expressions or strings. Strings are parsed with an allow-list of names (the
+            coordinates and a fixed set of functions), never with ``eval``.
+        coords
+            Coordinate symbols or names.
+        one_based
+            Whether the index pairs start at 1.
+        """
+        from poissonkit.structure.parsing import parse_expression
+
+        syms = _as_symbols(coords)
+        n = len(syms)
+        mat = sp.zeros(n, n)
+        off = 1 if one_based else 0
+        for key, value in components.items():
+            try:
+                i, j = (int(k) - off for k in key)
+            except (TypeError, ValueError):
+                raise InputError(f"bivector component key {key!r} is not a pair of indices") from None
+            if not (0 <= i < n and 0 <= j < n):
+                raise DimensionError(f"index pair {key} out of range for dimension {n}")
+            if i == j:
+                raise InputError(f"index pair {key} repeats an index")
+            expr = parse_expression(value, syms) if isinstance(value, str) else sp.sympify(value)
+            if mat[i, j] != 0 or mat[j, i] != 0:
+                raise InputError(f"index pair {key} given twice")
+            mat[i, j] = expr
+            mat[j, i] = -expr
+        return cls(syms, sp.ImmutableMatrix(mat))
+
+    # ------------------------------------------------------------------ basics
+    @property
+    def dim(self) -> int:
+        """Dimension ``n`` of the manifold."""
+        return len(self.coords)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Coordinate names."""
+        return tuple(str(c) for c in self.coords)
+
+    def index(self, coord: sp.Symbol | str) -> int:
+        """Position of a coordinate, by symbol or name."""
+        name = str(coord)
+        try:
+            return self.names.index(name)
+        except ValueError:
+            raise UnknownNameError("coordinate", name, self.names) from None
+
+    def symbol(self, name: str) -> sp.Symbol:
+        """The coordinate symbol called ``name``."""
+        return self.coords[self.index(name)]
+
+    def gradient(self, F) -> sp.Matrix:
+        """Column vector ``dF/dx``."""
+        F = sp.sympify(F)
+        return sp.Matrix([sp.diff(F, x) for x in self.coords])
+
+    def bracket(self, F, G) -> sp.Expr:
+        """Poisson bracket ``{F, G} = dF . P . dG``."""
+        dF, dG = self.gradient(F), self.gradient(G)
+        return sp.expand((dF.T * self.matrix * dG)[0, 0])
+
+    def hamiltonian_vector_field(self, H, multiplier=1) -> sp.Matrix:
+        """``X = N P dH`` (column vector), i.e. ``xdot = N {x, H}``."""
+        return (sp.sympify(multiplier) * self.matrix * self.gradient(H)).applyfunc(sp.expand)
+
+    def equations_of_motion(self, H, multiplier=1) -> dict[sp.Symbol, sp.Expr]:
+        """``{x_i: xdot_i}`` with ``xdot = N {x, H}``."""
+        X = self.hamiltonian_vector_field(H, multiplier)
+        return {x: X[i] for i, x in enumerate(self.coords)}
+
+    def subs(self, *args, **kwargs) -> Bivector:
+        """Substitute into every entry (parameters, functions); returns a new bivector."""
+        return Bivector(self.coords, self.matrix.subs(*args, **kwargs), self.blocks)
+
+    def __neg__(self) -> Bivector:
+        return Bivector(self.coords, -self.matrix, self.blocks)
+
+    def __mul__(self, factor) -> Bivector:
+        return Bivector(self.coords, self.matrix * sp.sympify(factor), ())
+
+    __rmul__ = __mul__
+
+    def __add__(self, other: Bivector) -> Bivector:
+        if not isinstance(other, Bivector):
+            return NotImplemented
+        if other.coords != self.coords:
+            raise DimensionError("cannot add bivectors on different coordinates")
+        return Bivector(self.coords, self.matrix + other.matrix, ())
+
+    def __sub__(self, other: Bivector) -> Bivector:
+        return self + (-other)
+
+    def __repr__(self) -> str:
+        return f"Bivector(coords={self.names}, matrix={self.matrix.tolist()})"
+
+
+def direct_sum(*parts: tuple[str, Bivector] | Bivector) -> Bivector:
+    """Direct sum of bivectors, block-diagonal, coordinates renamed ``block.coord``.
+
+    Parameters
+    ----------
+    parts
+        Either bivectors or ``(name, bivector)`` pairs. Named blocks prefix their coordinate
+        names with ``name.``; unnamed ones keep their names (which must then be distinct).
+
+    Examples
+    --------
+    >>> from poissonkit.structure import canonical, e3, direct_sum
+    >>> P = direct_sum(("orbit", canonical(3)), ("top1", e3()), ("top2", e3()))
+    >>> P.dim
+    18
+    """
+    coords: list[sp.Symbol] = []
+    blocks: list[tuple[str, int, int]] = []
+    mats = []
+    for k, part in enumerate(parts):
+        if isinstance(part, tuple):
+            name, biv = part
+        else:
+            name, biv = "", part
+        if not isinstance(biv, Bivector):
+            raise InputError(f"direct_sum part {k} is not a Bivector: {biv!r}")
+        if name:
+            new = [sp.Symbol(f"{name}.{c}", **c.assumptions0) for c in biv.coords]
+            mat = biv.matrix.subs(dict(zip(biv.coords, new)), simultaneous=True)
+        else:
+            new, mat = list(biv.coords), biv.matrix
+        start = len(coords)
+        coords.extend(new)
+        mats.append(mat)
+        blocks.append((name or f"block{k}", start, len(coords)))
+    if len(set(coords)) != len(coords):
+        raise InputError("direct_sum: coordinate names collide; give the blocks names")
+    return Bivector(tuple(coords), sp.ImmutableMatrix(sp.diag(*mats)), tuple(blocks))

@@ -1,0 +1,106 @@
+"""Standard Poisson blocks: canonical, Lie–Poisson (any structure constants), so(3), e(3)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import sympy as sp
+
+from poissonkit.errors import DimensionError, InputError
+from poissonkit.structure.bivector import Bivector, _as_symbols
+
+_AXES = ("x", "y", "z")
+
+
+def eps_matrix(v: Sequence) -> sp.Matrix:
+    """``[v]_eps`` with entries ``eps_ijk v_k`` (so ``[v]_eps w = w x v``)."""
+    v = list(v)
+    if len(v) != 3:
+        raise DimensionError(f"eps_matrix needs a 3-vector, got length {len(v)}")
+    return sp.Matrix([[0, v[2], -v[1]], [-v[2], 0, v[0]], [v[1], -v[0], 0]])
+
+
+def canonical(n: int, q: str = "q", p: str = "p") -> Bivector:
+    """Canonical bracket ``{q_i, p_j} = delta_ij`` on ``(q_1..q_n, p_1..p_n)``.
+
+    For ``n = 3`` the coordinates are named ``q_x, q_y, q_z, p_x, p_y, p_z``; otherwise
+    ``q_1 .. q_n, p_1 .. p_n``.
+    """
+    if not isinstance(n, int) or n < 1:
+        raise InputError(f"canonical: number of degrees of freedom must be a positive int, got {n!r}")
+    suffix = _AXES if n == 3 else tuple(str(i + 1) for i in range(n))
+    coords = [f"{q}_{s}" for s in suffix] + [f"{p}_{s}" for s in suffix]
+    mat = sp.zeros(2 * n, 2 * n)
+    for i in range(n):
+        mat[i, n + i] = 1
+        mat[n + i, i] = -1
+    return Bivector.from_matrix(mat, coords)
+
+
+def lie_poisson(structure_constants, coords: Sequence[sp.Symbol | str] | None = None) -> Bivector:
+    """Lie–Poisson bivector ``{x_i, x_j} = sum_k C[i][j][k] x_k``.
+
+    Parameters
+    ----------
+    structure_constants
+        Nested sequence ``C[i][j][k]`` of shape ``(n, n, n)``, antisymmetric in ``i, j``.
+        The Jacobi identity of the Lie algebra is *not* assumed; check it with
+        :func:`poissonkit.structure.check_jacobi`.
+    coords
+        Coordinate names (default ``x_1 .. x_n``).
+    """
+    try:
+        C = [[[sp.sympify(c) for c in row] for row in mat] for mat in structure_constants]
+    except TypeError:
+        raise InputError("structure constants must be a nested (n, n, n) sequence") from None
+    n = len(C)
+    if any(len(row) != n or any(len(c) != n for c in row) for row in C):
+        raise DimensionError("structure constants must have shape (n, n, n)")
+    syms = _as_symbols(coords if coords is not None else [f"x_{i + 1}" for i in range(n)])
+    if len(syms) != n:
+        raise DimensionError(f"{len(syms)} coordinates for {n}-dimensional structure constants")
+    mat = sp.zeros(n, n)
+    for i in range(n):
+        for j in range(n):
+            mat[i, j] = sum(C[i][j][k] * syms[k] for k in range(n))
+    return Bivector.from_matrix(mat, syms)
+
+
+def so3(name: str = "m") -> Bivector:
+    """so(3): ``{m_i, m_j} = eps_ijk m_k`` on ``(m_x, m_y, m_z)``; Casimir ``|m|^2``."""
+    m = sp.symbols(f"{name}_x {name}_y {name}_z", real=True)
+    return Bivector.from_matrix(eps_matrix(m), m)
+
+
+def e3(order: str = "nu_m", names: tuple[str, str] | None = None) -> Bivector:
+    """e(3) Lie–Poisson bracket, in either ordering the seeds use.
+
+    ``{m_i, m_j} = eps_ijk m_k``, ``{m_i, nu_j} = eps_ijk nu_k``, ``{nu_i, nu_j} = 0``.
+
+    Parameters
+    ----------
+    order
+        ``"nu_m"`` (seed 000: ``(nu, m)``) or ``"gamma_M"`` (seed 001: ``(gamma, M)``). Both put
+        the "position" vector first; the bracket is the same.
+    names
+        Override the two vector names, e.g. ``("gamma", "L")``.
+    """
+    if order not in ("nu_m", "gamma_M"):
+        raise InputError(f"e3: order must be 'nu_m' or 'gamma_M', got {order!r}")
+    a, b = names or (("nu", "m") if order == "nu_m" else ("gamma", "M"))
+    g = sp.symbols(f"{a}_x {a}_y {a}_z", real=True)
+    L = sp.symbols(f"{b}_x {b}_y {b}_z", real=True)
+    G = eps_matrix(g)
+    mat = sp.zeros(6, 6)
+    mat[0:3, 3:6] = G
+    mat[3:6, 0:3] = G
+    mat[3:6, 3:6] = eps_matrix(L)
+    return Bivector.from_matrix(mat, g + L)
+
+
+def symmetric_top() -> Bivector:
+    """Phase space of one symmetric top, ``(nu, m)`` with the e(3) bracket (seed 000 eq. (11)).
+
+    Its Casimirs are ``|nu|^2`` and ``(nu, m)``; the kinetic energy is ``alpha |m|^2 / 2``.
+    """
+    return e3("nu_m")
