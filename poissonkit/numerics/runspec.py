@@ -1,0 +1,44 @@
+"""What a run needs, independent of where it came from (built-in scene, TOML file, Python)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """A ready-to-integrate problem.
+
+    Parameters
+    ----------
+    name
+        Scene name, for reports.
+    system
+        A numerics system object exposing ``rhs(t, y)``, ``energy(y)``, ``layout`` and the
+        invariants (see ``docs/architecture.md``).
+    y0
+        Initial state in the system's (nondimensional) layout.
+    t_end
+        Duration, in the system's internal time unit.
+    method
+        Integrator registry name.
+    step
+        Fixed step for fixed-step methods (internal time unit), or ``None``.
+    tol
+        Tolerance for adaptive methods, or ``None``.
+    metadata
+        Anything reports should carry (SI parameters, derived quantities, time scale ...).
+    """
+
+    name: str
+    system: Any
+    y0: np.ndarray
+    t_end: float
+    method: str = "splitting6"
+    step: float | None = None
+    tol: float | None = None
+    metadata: Mapping[str, Any] = field(default_factory=dict)
