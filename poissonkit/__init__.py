@@ -28,6 +28,8 @@ except PackageNotFoundError:  # running from a source tree without installation
 
 # Heavier parts are imported on first use so `import poissonkit` stays fast.
 _LAZY: dict[str, str] = {
+    "pair_interaction": "poissonkit.interaction",
+    "PairInteraction": "poissonkit.interaction",
 }
 
 

@@ -1,0 +1,86 @@
+"""Closed-form magnet models: point dipoles and dumbbells (seed 000 eq. (16)).
+
+Each model has a sympy expression ``U(r, c1, c2, c3)`` and a compiled kernel returning
+``(U, U_r, U_c1, U_c2, U_c3)`` (SI). Formulas: ``shared/reference/MAGNETS.md`` §2.
+"""
+
+from __future__ import annotations
+
+import math
+
+import sympy as sp
+from numba import njit
+
+R, C1, C2, C3 = sp.symbols("r c1 c2 c3", real=True)
+
+
+@njit(cache=True)
+def dipole_core(r: float, c1: float, c2: float, c3: float, moment1: float, moment2: float,
+                mu0: float) -> tuple[float, float, float, float, float]:
+    """Two point dipoles: ``U = mu0 m1 m2 (c3 - 3 c1 c2) / (4 pi r^3)`` and its partials."""
+    k = mu0 * moment1 * moment2 / (4.0 * math.pi * r ** 3)
+    u = k * (c3 - 3.0 * c1 * c2)
+    return u, -3.0 * u / r, -3.0 * k * c2, -3.0 * k * c1, k
+
+
+@njit(cache=True)
+def dumbbell_core(r: float, c1: float, c2: float, c3: float, moment1: float, moment2: float,
+                  l1: float, l2: float, mu0: float) -> tuple[float, float, float, float, float]:
+    """Two dumbbells, charges ``+-mu/(2l)`` at ``+-l nu`` (seed 000 eq. (16)) and partials."""
+    kap = mu0 * (moment1 / (2.0 * l1)) * (moment2 / (2.0 * l2)) / (4.0 * math.pi)
+    u = 0.0
+    ur = 0.0
+    u1 = 0.0
+    u2 = 0.0
+    u3 = 0.0
+    for i in range(2):
+        s1 = 1.0 if i == 0 else -1.0
+        for j in range(2):
+            s2 = 1.0 if j == 0 else -1.0
+            rr2 = (r * r + l1 * l1 + l2 * l2 + 2.0 * r * (s2 * l2 * c2 - s1 * l1 * c1)
+                   - 2.0 * s1 * s2 * l1 * l2 * c3)
+            rr = math.sqrt(rr2)
+            inv3 = 1.0 / (rr2 * rr)
+            u += s1 * s2 / rr
+            ur -= s1 * s2 * (r + s2 * l2 * c2 - s1 * l1 * c1) * inv3
+            u1 += r * l1 * s2 * inv3
+            u2 -= r * l2 * s1 * inv3
+            u3 += l1 * l2 * inv3
+    return kap * u, kap * ur, kap * u1, kap * u2, kap * u3
+
+
+def dipole_expr(moment1: float, moment2: float, mu0: float) -> sp.Expr:
+    """Sympy ``U`` of two point dipoles."""
+    k = sp.Float(mu0) * sp.Float(moment1) * sp.Float(moment2) / (4 * sp.pi)
+    return k * (C3 - 3 * C1 * C2) / R ** 3
+
+
+def dumbbell_expr(moment1: float, moment2: float, l1: float, l2: float, mu0: float) -> sp.Expr:
+    """Sympy ``U`` of two dumbbells (seed 000 eq. (16))."""
+    k1 = sp.Float(moment1) / (2 * sp.Float(l1))
+    k2 = sp.Float(moment2) / (2 * sp.Float(l2))
+    a, b = sp.Float(l1), sp.Float(l2)
+    total = sp.Integer(0)
+    for s1 in (1, -1):
+        for s2 in (1, -1):
+            rr2 = R ** 2 + a ** 2 + b ** 2 + 2 * R * (s2 * b * C2 - s1 * a * C1) - 2 * s1 * s2 * a * b * C3
+            total += s1 * s2 / sp.sqrt(rr2)
+    return sp.Float(mu0) * k1 * k2 / (4 * sp.pi) * total
+
+
+def effective_half_length(radius: float, length: float) -> float:
+    """Octupole-matched dumbbell half-length ``sqrt(l^2 - 3 a^2 / 4)``, ``l = length/2``.
+
+    Raises
+    ------
+    ValueError
+        If the cylinder is so flat (``length < sqrt(3) radius``) that no dumbbell matches its
+        octupole moment (the moment is then negative).
+    """
+    l = 0.5 * length
+    q = l * l - 0.75 * radius * radius
+    if not q > 0:
+        raise ValueError(
+            f"octupole-corrected dumbbell needs length > sqrt(3)*radius (got length={length}, "
+            f"radius={radius}); use 'dumbbell' or 'cylinder' for flat magnets")
+    return math.sqrt(q)
