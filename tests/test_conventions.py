@@ -1,0 +1,120 @@
+"""Pin every convention stated in poissonkit/conventions.py against FORMULAS.md §0–§2."""
+
+from __future__ import annotations
+
+import importlib
+import math
+import random
+
+import pytest
+import sympy as sp
+
+from poissonkit import conventions
+from poissonkit.structure import Bivector, e3, eps_matrix, so3
+
+R = sp.Rational
+
+
+def test_bivector_matrix_holds_the_brackets_of_coordinates():
+    P = e3("gamma_M")
+    n = P.dim
+    for i in range(n):
+        for j in range(n):
+            assert P.bracket(P.coords[i], P.coords[j]) == P.matrix[i, j]
+
+
+def test_bracket_is_dF_P_dG_and_antisymmetric():
+    P = e3()
+    x = P.coords
+    rng = random.Random(7)
+    F = sum(rng.randint(-3, 3) * x[i] * x[j] for i in range(6) for j in range(i, 6))
+    G = x[0] ** 3 + x[4] * x[5] - 2 * x[3]
+    manual = sum(P.matrix[i, j] * sp.diff(F, x[i]) * sp.diff(G, x[j])
+                 for i in range(6) for j in range(6))
+    assert sp.expand(P.bracket(F, G) - manual) == 0
+    assert sp.expand(P.bracket(F, G) + P.bracket(G, F)) == 0
+
+
+def test_hamiltonian_vector_field_is_plus_P_dH_with_e3_oracle():
+    # FORMULAS.md §2: {x, H} = P0 dH = (-35/72, -1/4, 11/18, -5/12, 13/24, -1/3)
+    assert conventions.HAMILTONIAN_SIGN == 1
+    P = e3("gamma_M")
+    g, L = P.coords[:3], P.coords[3:]
+    H = (L[0] ** 2 / 2 + L[1] ** 2 / 3 + L[2] ** 2 / 4) / 2 + g[2]
+    pt = dict(zip(P.coords, [R(2, 3), R(1, 3), R(2, 3), 1, -2, R(1, 2)]))
+    expected = [R(-35, 72), R(-1, 4), R(11, 18), R(-5, 12), R(13, 24), R(-1, 3)]
+    X = P.hamiltonian_vector_field(H).subs(pt)
+    assert list(X) == expected
+    eom = P.equations_of_motion(H)
+    assert [eom[c].subs(pt) for c in P.coords] == expected
+    assert [P.bracket(c, H).subs(pt) for c in P.coords] == expected
+    # the multiplier multiplies: X = N P dH
+    assert list(P.hamiltonian_vector_field(H, multiplier=-2).subs(pt)) == [-2 * v for v in expected]
+
+
+def test_space_frame_equations_of_seed_000():
+    # xdot = {x, H}: mdot = dH/dm x m + dH/dnu x nu, nudot = dH/dm x nu (conventions, seed 000)
+    P = e3()
+    nu, m = sp.Matrix(P.coords[:3]), sp.Matrix(P.coords[3:])
+    H = (m.T * sp.diag(1, 2, 3) * m)[0, 0] / 2 + nu[0] * nu[2] ** 2
+    dHdm = sp.Matrix([sp.diff(H, c) for c in m])
+    dHdnu = sp.Matrix([sp.diff(H, c) for c in nu])
+    X = P.hamiltonian_vector_field(H)
+    assert (X[:3, 0] - dHdm.cross(nu)).expand() == sp.zeros(3, 1)
+    assert (X[3:, 0] - dHdm.cross(m) - dHdnu.cross(nu)).expand() == sp.zeros(3, 1)
+
+
+def test_eps_matrix_convention():
+    v = sp.Matrix(sp.symbols("v1 v2 v3"))
+    w = sp.Matrix(sp.symbols("w1 w2 w3"))
+    E = eps_matrix(v)
+    # FORMULAS.md §0 prints [v]_eps = [[0, v3, -v2], [-v3, 0, v1], [v2, -v1, 0]]
+    assert E == sp.Matrix([[0, v[2], -v[1]], [-v[2], 0, v[0]], [v[1], -v[0], 0]])
+    assert (E * w - w.cross(v)).expand() == sp.zeros(3, 1)
+    for i in range(3):
+        for j in range(3):
+            assert E[i, j] == sum(sp.LeviCivita(i, j, k) * v[k] for k in range(3))
+
+
+def test_e3_orderings_and_brackets():
+    for order, (a, b) in [("nu_m", ("nu", "m")), ("gamma_M", ("gamma", "M"))]:
+        P = e3(order)
+        assert P.names == tuple(f"{a}_{x}" for x in "xyz") + tuple(f"{b}_{x}" for x in "xyz")
+        pos, mom = P.coords[:3], P.coords[3:]
+        for i in range(3):
+            for j in range(3):
+                eps = [sp.LeviCivita(i, j, k) for k in range(3)]
+                assert P.bracket(mom[i], mom[j]) == sum(e * c for e, c in zip(eps, mom))
+                assert P.bracket(mom[i], pos[j]) == sum(e * c for e, c in zip(eps, pos))
+                assert P.bracket(pos[i], pos[j]) == 0
+    # the two orderings are the same bracket (same matrix up to renaming)
+    assert e3("nu_m").matrix.subs(dict(zip(e3("nu_m").coords, e3("gamma_M").coords)),
+                                  simultaneous=True) == e3("gamma_M").matrix
+
+
+def test_schouten_sign_gives_twice_the_jacobiator_on_formulas_oracle():
+    try:
+        schouten = importlib.import_module("poissonkit.structure.schouten")
+    except ModuleNotFoundError:
+        pytest.skip("poissonkit.structure.schouten is not available yet")
+    assert conventions.SCHOUTEN_JACOBI_FACTOR == 2
+    y = sp.symbols("y1 y2 y3")
+    Q = Bivector.from_matrix([[0, y[0] * y[1], 0], [-y[0] * y[1], 0, y[2]], [0, -y[2], 0]], y)
+    QQ = schouten.schouten_bracket(Q, Q)
+    jac = schouten.jacobiator(Q)
+    assert sp.expand(QQ.component(0, 1, 2) + 2 * y[0] * y[2]) == 0
+    assert QQ.component(0, 1, 2).subs(dict(zip(y, (1, 2, 3)))) == -6
+    assert sp.expand(jac.component(0, 1, 2) + y[0] * y[2]) == 0
+    # Q^{ij} = eps_ijk v_k with v = (-y2, y1, 1): [Q, Q]^{123} = -4
+    V = Bivector.from_matrix(eps_matrix([-y[1], y[0], 1]), y)
+    assert sp.expand(schouten.schouten_bracket(V, V).component(0, 1, 2)) == -4
+    assert schouten.schouten_bracket(so3(), so3()).is_zero()
+
+
+def test_mu0_is_four_pi_times_1e_minus_7():
+    assert conventions.MU0 == 4e-7 * math.pi
+    assert math.isclose(conventions.MU0, 1.2566370614359173e-06, rel_tol=0, abs_tol=1e-22)
+
+
+def test_pair_invariant_names():
+    assert conventions.PAIR_INVARIANTS == ("r", "c1", "c2", "c3")
