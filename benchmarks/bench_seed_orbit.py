@@ -1,0 +1,215 @@
+"""Seed 000 speed benchmark: time to reach a final-state error of 1e-7.
+
+Two scenes (nondimensional, internal units of :func:`poissonkit.seed000.scales`):
+
+* **seed orbit** — the circular orbit of the seed (R = 10 mm, P_orb), both axes tilted by
+  0.05 rad so that every degree of freedom moves, spin ratio α|m|/ω_orb = 20, 20 periods;
+* **close encounter** — the same magnets started at R with 0.8 P_orb and axes tilted by 0.01
+  rad: an eccentric orbit whose pericentre is 0.43 R = 4.3 mm = 0.43 l (magnet gap 1.8 mm),
+  10 periods of the seed orbit.
+
+Methods, all on the same problem, wall time measured in this process after a warm-up (numba /
+LLVM compilation excluded):
+
+* poissonkit's splitting methods (order 4/6/8; ``+adaptive`` = distance-based symmetric step)
+  — compiled time loops over the exact sub-flows;
+* scipy ``solve_ivp`` DOP853 on the *same* compiled right-hand side (``method="dop853"``);
+* heyoka's Taylor integrator (LLVM) on the same ODE written in heyoka's expression system
+  from the Hamiltonian in pole-distance form, ``ẋ = J∇H`` with heyoka's symbolic gradient.
+
+For each method the steps / tolerances are swept and the time to reach error 1e-7 is
+interpolated log–log (:func:`poissonkit.numerics.workprecision.time_to_error`). The reference is
+``splitting8`` at a tiny step, checked against DOP853 at tol 1e-13; their agreement is printed.
+
+Run::
+
+    python benchmarks/bench_seed_orbit.py            # both scenes
+    python benchmarks/bench_seed_orbit.py --quick    # fewer points
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from types import SimpleNamespace
+
+import numpy as np
+
+from poissonkit import seed000
+from poissonkit.numerics import workprecision as wp
+from poissonkit.numerics.solver import solve
+
+TARGET = 1e-7
+
+#: Kahan & Li, Math. Comp. 66 (1997) 1089, optimal symmetric compositions (outermost first,
+#: centre last); also in Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §V.3.
+#: Not (yet) registry entries: the benchmark plugs them into poissonkit's compiled splitting
+#: loop (same sub-flows, same kernels) to show what better composition constants buy.
+KAHAN_LI = {
+    "splitting6-kl": (6, (0.39216144400731413928, 0.33259913678935943860, -0.70624617255763935981,
+                          0.082213596293550800230, 0.79854399093482996340)),
+    "splitting8-kl": (8, (0.74167036435061295345, -0.40910082580003159400, 0.19075471029623837995,
+                          -0.57386247111608226666, 0.29906418130365592384, 0.33462491824529818378,
+                          0.31529309239676659663, -0.79688793935291635402)),
+}
+
+
+def kahan_li(name: str):
+    """A poissonkit :class:`Splitting` integrator with Kahan–Li composition constants."""
+    from poissonkit.numerics.integrators.splitting import Splitting, drift_kick_coefficients
+
+    order, half = KAHAN_LI[name]
+    integ = Splitting(order=order)
+    weights = list(half) + list(reversed(half[:-1]))
+    assert abs(sum(weights) - 1.0) < 1e-15
+    integ.a, integ.b = drift_kick_coefficients(weights)
+    integ.name = name
+    return integ
+
+
+# ------------------------------------------------------------------------------------ heyoka
+def heyoka_system(params: dict[str, float]):
+    """The seed's 18-variable ODE in heyoka's expression system.
+
+    ``H = p²/2μ + α(|m'|² + |m''|²)/2 + K Σ ε'ε''/|r + ε'' l ν'' − ε' l ν'|`` (the dumbbell energy
+    (16) in pole-distance form) and the space-frame equations ``ṙ = ∂H/∂p``, ``ṗ = −∂H/∂r``,
+    ``ν̇ = ∂H/∂m × ν``, ``ṁ = ∂H/∂m × m + ∂H/∂ν × ν`` (FORMULAS.md §0, §1).
+    """
+    import heyoka as hy
+
+    v = hy.make_vars(*[f"{a}{i}" for a in ("r", "p", "n", "m", "k", "q") for i in range(3)])
+    r, p, n1, m1, n2, m2 = (v[3 * i:3 * i + 3] for i in range(6))
+    mu, l1, l2 = params["moment1"], params["half_length1"], params["half_length2"]
+    K = params["mu0"] * (params["moment1"] / (2 * l1)) * (params["moment2"] / (2 * l2)) / (4 * math.pi)
+    M, a1, a2 = params["reduced_mass"], params["alpha1"], params["alpha2"]
+    del mu
+    U = 0.0
+    for e1 in (1, -1):
+        for e2 in (1, -1):
+            d = [r[i] + e2 * l2 * n2[i] - e1 * l1 * n1[i] for i in range(3)]
+            U = U + e1 * e2 * K / hy.sqrt(d[0] ** 2 + d[1] ** 2 + d[2] ** 2)
+    H = (sum(x**2 for x in p) / (2 * M) + a1 / 2 * sum(x**2 for x in m1)
+         + a2 / 2 * sum(x**2 for x in m2) + U)
+
+    def grad(xs):
+        return [hy.diff(H, x) for x in xs]
+
+    def cross(a, b):
+        return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+    gm1, gm2, gn1, gn2 = grad(m1), grad(m2), grad(n1), grad(n2)
+    rhs = ([x / M for x in p] + [-g for g in grad(r)] + cross(gm1, n1)
+           + [a + b for a, b in zip(cross(gm1, m1), cross(gn1, n1))] + cross(gm2, n2)
+           + [a + b for a, b in zip(cross(gm2, m2), cross(gn2, n2))])
+    return list(zip(v, rhs)), v, rhs
+
+
+class Solvers:
+    """``solve``-compatible front end for registry methods, ``+adaptive`` and ``heyoka``."""
+
+    def __init__(self, params: dict[str, float]):
+        self.params = params
+        self._hy = None
+        self._ta: dict[tuple[float, bytes], object] = {}
+
+    def __call__(self, system, y0, t_end, *, method, step=None, tol=None, progress=False,
+                 save_every=1):
+        if method == "heyoka":
+            return self._heyoka(y0, t_end, tol)
+        if method in KAHAN_LI:
+            return solve(system, y0, t_end, method=kahan_li(method), step=step,
+                         progress=progress, save_every=save_every)
+        opts = None
+        if method.endswith("+adaptive"):
+            method, opts = method[: -len("+adaptive")], {"adaptive": True}
+        return solve(system, y0, t_end, method=method, step=step, tol=tol, progress=progress,
+                     save_every=save_every, options=opts)
+
+    def _heyoka(self, y0, t_end, tol):
+        import heyoka as hy
+
+        if self._hy is None:
+            self._hy = heyoka_system(self.params)[0]
+        key = (float(tol), np.asarray(y0).tobytes())
+        ta = self._ta.get(key)
+        if ta is None:  # LLVM compilation: outside the timed region
+            ta = hy.taylor_adaptive(self._hy, np.array(y0, dtype=float), tol=float(tol))
+            self._ta[key] = ta
+        ta.time = 0.0
+        ta.state[:] = y0
+        w = time.perf_counter()
+        out = ta.propagate_until(float(t_end))
+        wall = time.perf_counter() - w
+        y = np.array(ta.state)
+        return SimpleNamespace(t=np.array([0.0, t_end]), y=np.vstack([y0, y]), steps=int(out[3]),
+                               wall_time=wall, method="heyoka")
+
+
+def scenes(quick: bool):
+    """(name, RunSpec, reference step, splitting methods) of the two benchmark scenes."""
+    return [
+        ("seed orbit (20 periods, tilt 0.05)", seed000.default_run(periods=20, tilt=0.05),
+         1e-3, ["splitting4", "splitting6", "splitting8", "splitting6-kl", "splitting8-kl"]),
+        ("close encounter (pericentre 0.43 l, 10 periods)",
+         seed000.default_run(periods=10, tilt=0.01, momentum_factor=0.8), 5e-4,
+         ["splitting6", "splitting8", "splitting8+adaptive", "splitting6-kl", "splitting8-kl"]),
+    ]
+
+
+def run_scene(name, spec, ref_step, split_methods, quick: bool) -> dict[str, float | None]:
+    params = seed000.nondimensional_parameters()
+    solver = Solvers(params)
+    t_end = float(spec.t_end)
+    # fixed-step splitting8: the adaptive variant's symmetrised step is solved by one fixed-point
+    # iteration, which costs it its order (its error floors near 1e-9 here)
+    prim = ("splitting8", "step", ref_step)
+    ref = wp.reference(spec.system, spec.y0, t_end, primary=prim, solver=solver)
+    # the primary's own error: same method at twice the step (order 8 -> /255)
+    half = wp.reference(spec.system, spec.y0, t_end, primary=(prim[0], "step", 2 * ref_step),
+                        secondary=prim, solver=solver)
+    r = np.linalg.norm(np.asarray(spec.y0[:3]))
+    print(f"\n== {name}: t_end = {t_end:.4g}, |r0| = {r:.3g}")
+    print(f"reference {prim[0]} h={ref_step:g}: vs dop853 tol 1e-13 {ref.agreement:.1e}; "
+          f"vs itself at 2h {half.agreement:.1e} (own error ~ {half.agreement / 255:.1e})")
+    n = 4 if quick else 7
+    settings: dict[str, tuple[str, list[float]]] = {}
+    for m in split_methods:
+        hs = np.geomspace(0.15, 0.006, n) if "adaptive" not in m else np.geomspace(0.05, 0.002, n)
+        settings[m] = ("step", [float(h) for h in hs])
+    settings["dop853"] = ("tol", [float(x) for x in np.geomspace(1e-6, 1e-12, n)])
+    settings["heyoka"] = ("tol", [float(x) for x in np.geomspace(1e-6, 1e-14, n)])
+
+    def show(p):
+        print(f"  {p.method:22s} {p.kind}={p.setting:<9.3g} steps={p.steps:<7d} "
+              f"wall={p.wall_time:9.5f} s err={p.final_error:9.2e}"
+              + (f" [{p.note}]" if p.note else ""), flush=True)
+
+    pts = wp.sweep(spec.system, spec.y0, t_end, ref, settings, solver=solver, repeats=3,
+                   time_budget=20.0, on_point=show)
+    tte = wp.time_to_error(pts, TARGET)
+    print(f"time to {TARGET:.0e}: " + ", ".join(
+        f"{m} {v:.4g} s" if v else f"{m} —" for m, v in tte.items()))
+    registered = [m for m in split_methods if m not in KAHAN_LI]
+    for label, group in (("registered", registered), ("incl. Kahan-Li", split_methods)):
+        best = min((m for m in group if tte.get(m)), key=lambda m: tte[m], default=None)
+        if best:
+            for other in ("dop853", "heyoka"):
+                if tte.get(other):
+                    print(f"  best {label} splitting ({best}) vs {other}: "
+                          f"{tte[other] / tte[best]:.1f}x")
+    return dict(tte)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--scene", type=int, default=None, help="only scene 0 or 1")
+    args = ap.parse_args()
+    for k, (name, spec, h, ms) in enumerate(scenes(args.quick)):
+        if args.scene is None or args.scene == k:
+            run_scene(name, spec, h, ms, args.quick)
+
+
+if __name__ == "__main__":
+    main()
