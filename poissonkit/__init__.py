@@ -29,6 +29,12 @@ except PackageNotFoundError:  # running from a source tree without installation
 # Heavier parts are imported on first use so `import poissonkit` stays fast.
 _LAZY: dict[str, str] = {
     "pair_interaction": "poissonkit.interaction",
+    "check_jacobi": "poissonkit.structure.jacobi",
+    "schouten_bracket": "poissonkit.structure.schouten",
+    "find_casimirs": "poissonkit.structure.casimirs",
+    "se3": "poissonkit.structure.blocks",
+    "p_gf": "poissonkit.structure.deformed",
+    "chaplygin_ball": "poissonkit.structure.deformed",
     "PairInteraction": "poissonkit.interaction",
 }
 

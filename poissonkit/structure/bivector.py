@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from poissonkit.errors import DimensionError, InputError, UnknownNameError
+from poissonkit.errors import DimensionError, InputError, ParseError, UnknownNameError
 
 
 def _as_symbols(coords: Iterable[sp.Symbol | str]) -> tuple[sp.Symbol, ...]:
@@ -25,6 +25,22 @@ def _as_symbols(coords: Iterable[sp.Symbol | str]) -> tuple[sp.Symbol, ...]:
     if len(set(out)) != len(out):
         raise InputError(f"repeated coordinate in {tuple(map(str, out))}")
     return tuple(out)
+
+
+def _reject_strings(matrix) -> None:
+    """Matrices are never built from strings: sympy would ``eval`` them (use from_components)."""
+    if isinstance(matrix, str):
+        raise ParseError("a bivector matrix cannot be a string; use Bivector.from_components")
+    if isinstance(matrix, (list, tuple)):
+        for row in matrix:
+            _reject_strings(row)
+        return
+    dtype = getattr(matrix, "dtype", None)
+    if dtype is not None and getattr(dtype, "kind", "") in ("U", "S", "O"):
+        for entry in getattr(matrix, "flat", ()):
+            if isinstance(entry, str):
+                raise ParseError("a bivector matrix cannot contain strings; use "
+                                 "Bivector.from_components")
 
 
 @dataclass(frozen=True)
@@ -61,9 +77,10 @@ class Bivector:
     def __post_init__(self) -> None:
         coords = _as_symbols(self.coords)
         object.__setattr__(self, "coords", coords)
+        _reject_strings(self.matrix)
         try:
             mat = sp.ImmutableMatrix(self.matrix)
-        except (TypeError, ValueError) as exc:
+        except (TypeError, ValueError, sp.SympifyError) as exc:
             raise InputError(f"cannot read bivector matrix: {exc}") from None
         n = len(coords)
         if mat.shape != (n, n):
@@ -77,6 +94,15 @@ class Bivector:
                     raise InputError(
                         f"bivector matrix is not antisymmetric: P[{i},{j}] = {mat[i, j]} but "
                         f"P[{j},{i}] = {mat[j, i]}")
+        # A symbol named like a coordinate but not equal to it (other assumptions, e.g. a plain
+        # Symbol("x1") against the real coordinate x1) would silently act as a parameter.
+        names = {str(c): c for c in coords}
+        for s in mat.free_symbols:
+            c = names.get(str(s))
+            if c is not None and c != s:
+                raise InputError(f"symbol {s} in the matrix is not the coordinate {c} (same name, "
+                                 "different assumptions); build the entries from the coordinate "
+                                 "symbols or pass the matrix's own symbols as coords")
         object.__setattr__(self, "matrix", mat)
         if not self.blocks:
             object.__setattr__(self, "blocks", (("", 0, n),))
@@ -85,7 +111,12 @@ class Bivector:
     @classmethod
     def from_matrix(cls, matrix, coords: Sequence[sp.Symbol | str]) -> Bivector:
         """Build from a full antisymmetric matrix (nested lists, numpy array or sympy Matrix)."""
-        return cls(tuple(_as_symbols(coords)), sp.ImmutableMatrix(matrix))
+        _reject_strings(matrix)
+        try:
+            mat = sp.ImmutableMatrix(matrix)
+        except (TypeError, ValueError, sp.SympifyError) as exc:
+            raise InputError(f"cannot read bivector matrix: {exc}") from None
+        return cls(tuple(_as_symbols(coords)), mat)
 
     @classmethod
     def from_components(cls, components: Mapping[tuple[int, int], object],
@@ -118,7 +149,11 @@ class Bivector:
                 raise DimensionError(f"index pair {key} out of range for dimension {n}")
             if i == j:
                 raise InputError(f"index pair {key} repeats an index")
-            expr = parse_expression(value, syms) if isinstance(value, str) else sp.sympify(value)
+            try:
+                expr = parse_expression(value, syms) if isinstance(value, str) \
+                    else sp.sympify(value, strict=True)
+            except sp.SympifyError:
+                raise InputError(f"component {key!r}: cannot use {value!r} as an expression") from None
             if mat[i, j] != 0 or mat[j, i] != 0:
                 raise InputError(f"index pair {key} given twice")
             mat[i, j] = expr

@@ -50,9 +50,11 @@ def lie_poisson(structure_constants, coords: Sequence[sp.Symbol | str] | None = 
         Coordinate names (default ``x_1 .. x_n``).
     """
     try:
-        C = [[[sp.sympify(c) for c in row] for row in mat] for mat in structure_constants]
-    except TypeError:
-        raise InputError("structure constants must be a nested (n, n, n) sequence") from None
+        # strict: strings are refused, never evaluated
+        C = [[[sp.sympify(c, strict=True) for c in row] for row in mat] for mat in structure_constants]
+    except (TypeError, sp.SympifyError):
+        raise InputError("structure constants must be a nested (n, n, n) sequence of numbers or "
+                         "sympy expressions (strings are not accepted)") from None
     n = len(C)
     if any(len(row) != n or any(len(c) != n for c in row) for row in C):
         raise DimensionError("structure constants must have shape (n, n, n)")
@@ -96,6 +98,36 @@ def e3(order: str = "nu_m", names: tuple[str, str] | None = None) -> Bivector:
     mat[3:6, 0:3] = G
     mat[3:6, 3:6] = eps_matrix(L)
     return Bivector.from_matrix(mat, g + L)
+
+
+def se3(names: tuple[str, str] = ("L", "P")) -> Bivector:
+    """se(3)* Lie–Poisson bracket built from the 4x4 matrix Lie algebra of rigid motions.
+
+    The structure constants are computed from matrix commutators ``[E_a, E_b] = C_ab^c E_c`` of
+    the rotation generators ``J_a`` (``(J_a)_bc = -eps_abc``) and translations ``T_a``, so
+    ``{L_i, L_j} = eps_ijk L_k``, ``{L_i, P_j} = eps_ijk P_k``, ``{P_i, P_j} = 0`` (Kirchhoff's
+    order: angular momentum first). Isomorphic to :func:`e3` with the blocks swapped; built
+    independently, it is a positive control for Jacobi checks.
+    """
+    basis = []
+    for a in range(3):
+        J = sp.zeros(4, 4)
+        for b in range(3):
+            for c in range(3):
+                J[b, c] = -sp.LeviCivita(a, b, c)
+        basis.append(J)
+    for a in range(3):
+        T = sp.zeros(4, 4)
+        T[a, 3] = 1
+        basis.append(T)
+    # coordinates of a matrix in the basis: rotation part from the antisymmetric block
+    def coords_of(X: sp.Matrix) -> list:
+        return [-X[1, 2], -X[2, 0], -X[0, 1], X[0, 3], X[1, 3], X[2, 3]]
+
+    C = [[coords_of(basis[i] * basis[j] - basis[j] * basis[i]) for j in range(6)] for i in range(6)]
+    a, b = names
+    coords = [f"{a}_{s}" for s in _AXES] + [f"{b}_{s}" for s in _AXES]
+    return lie_poisson(C, coords)
 
 
 def symmetric_top() -> Bivector:

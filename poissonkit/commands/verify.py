@@ -1,0 +1,381 @@
+"""``poissonkit verify``: Jacobi identity, brackets, rank and Casimirs of a Poisson structure.
+
+``poissonkit verify NAME`` checks a registered structure or system (``--list`` shows them);
+``poissonkit verify FILE.json`` checks a bivector in PoissonGeometry's dict format::
+
+    {"dim": 3, "bivector": {"1,2": "x3", "1,3": "-x2", "2,3": "x1"}}
+
+with coordinates ``x1 .. xn`` (or an optional ``"coords": [...]`` list, and ``"params": [...]``
+naming symbolic parameters the entries may use). Strings are parsed with the allow-list parser,
+never evaluated. For a Hamiltonian system the report also checks the claimed Casimirs,
+integrals, invariant measure and original equations. Exit code 0 when everything holds, 1 when
+the structure is not Poisson or a claimed property fails.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import importlib
+import json
+import re
+import signal
+import threading
+from pathlib import Path
+from typing import Any
+
+import sympy as sp
+
+from poissonkit.errors import InputError, ParseError
+
+#: Keys a JSON structure file may contain.
+JSON_KEYS = ("dim", "bivector", "coords", "variable", "params", "name")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Options of ``poissonkit verify``."""
+    parser.add_argument("target", nargs="?", help="registered structure/system name or a .json file")
+    parser.add_argument("--list", action="store_true", help="list registered structures and systems")
+    parser.add_argument("--json", action="store_true", help="machine-readable output")
+    parser.add_argument("--casimir-degree", type=int, default=2, metavar="N",
+                        help="search polynomial Casimirs up to this degree (0: skip; default 2)")
+    parser.add_argument("--method", choices=("auto", "exact", "random"), default="auto",
+                        help="Jacobi check method (default auto)")
+    parser.add_argument("--seed", type=int, default=None, help="seed of random checks")
+    parser.add_argument("--timeout", type=float, default=30.0, metavar="SECONDS",
+                        help="time limit of the rank/Casimir search (default 30; 0: none)")
+    parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                        help="parameter of a registered entry (repeatable)")
+
+
+# ---------------------------------------------------------------------------------- loading
+def _parse_key(key: Any) -> tuple[int, int]:
+    if isinstance(key, (list, tuple)):
+        parts = list(key)
+    else:
+        parts = [p for p in re.split(r"[\s,()]+", str(key)) if p]
+    try:
+        idx = tuple(int(p) for p in parts)
+    except ValueError:
+        raise InputError(f"bivector key {key!r} is not a pair of 1-based indices") from None
+    if len(idx) != 2:
+        raise InputError(f"bivector key {key!r} must name two indices")
+    if min(idx) < 1:
+        raise InputError(f"bivector key {key!r}: indices are 1-based (zero or negative given)")
+    return idx  # type: ignore[return-value]
+
+
+def load_structure_json(source: str | Path | dict) -> tuple[str, Any]:
+    """Read a bivector in PoissonGeometry's dict format (a path or an already-loaded dict).
+
+    Returns
+    -------
+    (name, Bivector)
+
+    Raises
+    ------
+    InputError, ParseError, DimensionError
+        Malformed file, unknown keys, unknown symbols or unsafe expressions.
+    """
+    from poissonkit.structure.bivector import Bivector
+    from poissonkit.structure.parsing import parse_expression
+
+    if isinstance(source, dict):
+        data, name = source, str(source.get("name", "structure"))
+    else:
+        path = Path(source)
+        try:
+            data = json.loads(path.read_text())
+        except OSError as exc:
+            raise InputError(f"cannot read {path}: {exc.strerror}") from None
+        except json.JSONDecodeError as exc:
+            raise ParseError(f"{path}: invalid JSON ({exc.msg}, line {exc.lineno})") from None
+        name = path.name
+    if not isinstance(data, dict):
+        raise InputError("structure file must hold a JSON object")
+    unknown = set(data) - set(JSON_KEYS)
+    if unknown:
+        raise InputError(f"unknown key(s) {sorted(unknown)}; allowed: {', '.join(JSON_KEYS)}")
+    if "bivector" not in data or not isinstance(data["bivector"], dict):
+        raise InputError('structure file needs a "bivector" object {"i,j": "expression"}')
+    coords = data.get("coords")
+    dim = data.get("dim")
+    if coords is not None:
+        if not isinstance(coords, list) or not all(isinstance(c, str) for c in coords):
+            raise InputError('"coords" must be a list of names')
+        for c in coords:
+            if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", c):
+                raise InputError(f"coordinate name {c!r} is not an identifier")
+        if dim is not None and dim != len(coords):
+            raise InputError(f'"dim" = {dim} but {len(coords)} coordinates given')
+        dim = len(coords)
+    if not isinstance(dim, int) or isinstance(dim, bool) or dim < 2:
+        raise InputError(f'"dim" must be an integer >= 2, got {dim!r}')
+    if coords is None:
+        var = data.get("variable", "x")
+        if not isinstance(var, str) or not re.fullmatch(r"[A-Za-z][A-Za-z_]*", var):
+            raise InputError(f'"variable" must be a name, got {var!r}')
+        coords = [f"{var}{i}" for i in range(1, dim + 1)]
+    syms = [sp.Symbol(c, real=True) for c in coords]
+    params = data.get("params", [])
+    if not isinstance(params, list) or not all(isinstance(p, str) for p in params):
+        raise InputError('"params" must be a list of names')
+    extra = {}
+    for p in params:
+        if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", p) or p in coords:
+            raise InputError(f"parameter name {p!r} is not a new identifier")
+        extra[p] = sp.Symbol(p, real=True)
+    comps = {}
+    for key, value in data["bivector"].items():
+        i, j = _parse_key(key)
+        if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+            raise ParseError(f"component {key!r}: expected an expression string, got {value!r}")
+        comps[(i, j)] = parse_expression(str(value), syms, extra)
+    return name, Bivector.from_components(comps, syms)
+
+
+def _coerce_param(text: str) -> tuple[str, Any]:
+    if "=" not in text:
+        raise InputError(f"--param expects NAME=VALUE, got {text!r}")
+    key, value = text.split("=", 1)
+    value = value.strip()
+    if "," in value:
+        return key.strip(), tuple(v for v in value.split(","))
+    return key.strip(), value
+
+
+def load_target(target: str, params: list[str] = ()) -> tuple[str, str, Any]:
+    """``(name, doc, Bivector | HamiltonianSystem)`` for a registry name or a JSON path."""
+    from poissonkit.plugin import names, system
+
+    if target.endswith(".json") or (Path(target).is_file() and target not in names("system")):
+        name, obj = load_structure_json(target)
+        return name, "bivector from " + Path(target).name, obj
+    entry = system(target)
+    given = dict(_coerce_param(p) for p in params)
+    values = entry.resolve_params(given)
+    return entry.name, entry.doc, entry.build(**values)
+
+
+# ---------------------------------------------------------------------------------- checks
+def _optional(module: str):
+    try:
+        return importlib.import_module(module)
+    except ImportError:
+        return None
+
+
+class _TimeLimit(Exception):
+    pass
+
+
+@contextlib.contextmanager
+def _time_limit(seconds: float):
+    """Interrupt pure-Python work after ``seconds`` (main thread on POSIX only; else no limit)."""
+    usable = (seconds > 0 and hasattr(signal, "SIGALRM")
+              and threading.current_thread() is threading.main_thread())
+    if not usable:
+        yield
+        return
+
+    def handler(signum, frame):
+        raise _TimeLimit
+
+    old = signal.signal(signal.SIGALRM, handler)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+
+
+def _casimir_section(P, degree: int, report: dict, notes: list[str], timeout: float) -> None:
+    cas = _optional("poissonkit.structure.casimirs")
+    if cas is None:
+        notes.append("rank and Casimirs: poissonkit.structure.casimirs is not available")
+        return
+    try:
+        with _time_limit(timeout):
+            report["rank"] = int(cas.rank(P, seed=0))
+    except Exception as exc:  # another module's failure must not sink the whole report
+        notes.append(f"rank: not computed ({type(exc).__name__}: {str(exc).strip()[:200]})")
+    except _TimeLimit:
+        notes.append(f"rank: not computed within {timeout:g} s (--timeout)")
+    if degree > 0:
+        try:
+            with _time_limit(timeout):
+                found = cas.find_casimirs(P, degree)
+            report["casimirs"] = [str(c) for c in found]
+            report["casimir_degree"] = degree
+        except Exception as exc:
+            notes.append(f"Casimirs: not computed ({type(exc).__name__}: {str(exc).strip()[:200]})")
+        except _TimeLimit:
+            notes.append(f"Casimirs: search up to degree {degree} not finished within "
+                         f"{timeout:g} s (raise --timeout or lower --casimir-degree)")
+
+
+def _system_section(sys_, report: dict, notes: list[str]) -> bool:
+    """Check the claims of a HamiltonianSystem; returns True if all hold."""
+    ok = True
+    P = sys_.structure
+    X = sys_.vector_field()
+    info: dict[str, Any] = {
+        "hamiltonian": str(sys_.hamiltonian),
+        "multiplier": str(sys_.multiplier),
+        "equations_of_motion": {f"{c}dot": str(X[i]) for i, c in enumerate(P.coords)},
+        "checks": [],
+    }
+    checks = _optional("poissonkit.structure.checks")
+    cas = _optional("poissonkit.structure.casimirs")
+
+    def record(what: str, run) -> None:
+        nonlocal ok
+        try:
+            result = run()
+        except _TimeLimit:
+            raise
+        except Exception as exc:  # report, never crash: the check itself is another module's
+            notes.append(f"{what}: not checked ({type(exc).__name__}: {str(exc).strip()[:200]})")
+            return
+        holds = bool(result)
+        ok = ok and holds
+        entry = {"what": what, "holds": holds}
+        fails = getattr(result, "failures", ())
+        if not holds and fails:
+            entry["failures"] = [f"{lab} = {val}" for lab, val in list(fails)[:5]]
+        info["checks"].append(entry)
+
+    cons = tuple(sys_.constraints)
+    if cas is not None:
+        for name, C in sys_.casimirs.items():
+            record(f"Casimir {name}", lambda C=C: cas.is_casimir(P, C, constraints=cons))
+    elif sys_.casimirs:
+        notes.append("claimed Casimirs not checked: casimirs module not available")
+    if checks is not None:
+        if sys_.integrals:
+            for name, F in sys_.integrals.items():
+                record(f"first integral {name}",
+                       lambda F=F: checks.is_first_integral(sys_, F, constraints=cons))
+        if sys_.measure is not None:
+            record(f"invariant measure {sys_.measure}", lambda: checks.is_invariant_measure(sys_))
+        if sys_.original is not None:
+            record("original equations = N P dH", lambda: checks.is_conformally_hamiltonian(sys_))
+    elif sys_.integrals or sys_.measure is not None or sys_.original is not None:
+        notes.append("claimed integrals/measure not checked: checks module not available")
+    report["system"] = info
+    return ok
+
+
+def verify(obj, name: str = "", doc: str = "", *, casimir_degree: int = 2, method: str = "auto",
+           seed: int | None = None, timeout: float = 30.0) -> dict:
+    """Build the verification report of a bivector or system as a JSON-ready dict.
+
+    ``report["ok"]`` is true when ``P`` is Poisson and every claimed property holds.
+    """
+    from poissonkit.structure.bivector import Bivector
+    from poissonkit.structure.jacobi import check_jacobi
+    from poissonkit.structure.system import HamiltonianSystem
+
+    if isinstance(obj, HamiltonianSystem):
+        P, sys_ = obj.structure, obj
+    elif isinstance(obj, Bivector):
+        P, sys_ = obj, None
+    else:
+        raise InputError(f"{name or 'entry'} built a {type(obj).__name__}, "
+                         "expected a Bivector or HamiltonianSystem")
+    notes: list[str] = []
+    res = check_jacobi(P, method=method, seed=seed, constraints=sys_.constraints if sys_ else ())
+    brackets = {f"{{{P.coords[i]}, {P.coords[j]}}}": str(P.matrix[i, j])
+                for i in range(P.dim) for j in range(i + 1, P.dim) if P.matrix[i, j] != 0}
+    report: dict[str, Any] = {
+        "name": name, "doc": doc, "dim": P.dim, "coords": list(P.names),
+        "jacobi": {
+            "is_poisson": res.is_poisson, "method": res.method,
+            "failures": {k: str(v) for k, v in res.named_failures().items()},
+            "false_positive_bound": res.false_positive_bound,
+            "seconds": round(res.seconds, 4), "note": res.note,
+        },
+        "brackets": brackets, "rank": None, "casimirs": None, "notes": notes,
+    }
+    ok = res.is_poisson
+    if res.is_poisson:
+        _casimir_section(P, casimir_degree, report, notes, timeout)
+    else:
+        notes.append("rank and Casimirs skipped: not a Poisson structure")
+    if sys_ is not None:
+        ok = _system_section(sys_, report, notes) and ok
+    report["ok"] = ok
+    return report
+
+
+# ---------------------------------------------------------------------------------- output
+def _print_report(rep: dict) -> None:
+    jac = rep["jacobi"]
+    print(f"{rep['name']}: {rep['doc']}")
+    print(f"dimension {rep['dim']}, coordinates {', '.join(rep['coords'])}")
+    if jac["is_poisson"]:
+        extra = "" if jac["method"] == "exact" else \
+            f", false-positive probability <= {jac['false_positive_bound']:.1e}"
+        print(f"Jacobi identity: OK ({jac['method']}, {jac['seconds']:.3f} s{extra})")
+    else:
+        print(f"Jacobi identity: FAILED ({len(jac['failures'])} non-zero component(s))")
+        for k, v in list(jac["failures"].items())[:20]:
+            print(f"    {k} = {v}")
+    print("Brackets of the coordinates:")
+    for k, v in rep["brackets"].items():
+        print(f"    {k} = {v}")
+    if not rep["brackets"]:
+        print("    (all zero)")
+    if rep["rank"] is not None:
+        print(f"Rank (generic): {rep['rank']}")
+    if rep["casimirs"] is not None:
+        found = rep["casimirs"]
+        print(f"Casimirs (polynomial, degree <= {rep['casimir_degree']}): "
+              + (", ".join(found) if found else "none"))
+    sys_ = rep.get("system")
+    if sys_:
+        print(f"Hamiltonian: H = {sys_['hamiltonian']}")
+        print(f"Multiplier: N = {sys_['multiplier']}   (xdot = N P dH)")
+        print("Equations of motion:")
+        for k, v in sys_["equations_of_motion"].items():
+            print(f"    {k} = {v}")
+        for c in sys_["checks"]:
+            print(f"{c['what']}: {'OK' if c['holds'] else 'FAILED'}")
+            for f in c.get("failures", []):
+                print(f"    {f}")
+    for n in rep["notes"]:
+        print(f"note: {n}")
+
+
+def _list_entries(as_json: bool) -> int:
+    from poissonkit.plugin import entries
+
+    items = sorted(entries("system").values(), key=lambda e: e.name)
+    if as_json:
+        print(json.dumps([{"name": e.name, "doc": e.doc, "tags": list(e.tags),
+                           "params": [p.name for p in e.params]} for e in items], indent=2))
+        return 0
+    width = max((len(e.name) for e in items), default=0)
+    for e in items:
+        tags = f"  [{', '.join(e.tags)}]" if e.tags else ""
+        print(f"{e.name:<{width}}  {e.doc}{tags}")
+    return 0
+
+
+def main(args: argparse.Namespace) -> int:
+    """Run ``poissonkit verify``; 0 if Poisson and all claims hold, 1 otherwise."""
+    if args.list:
+        return _list_entries(args.json)
+    if not args.target:
+        raise InputError("give a structure name or a .json file (see --list)")
+    if args.casimir_degree < 0:
+        raise InputError("--casimir-degree must be >= 0")
+    name, doc, obj = load_target(args.target, args.param)
+    rep = verify(obj, name, doc, casimir_degree=args.casimir_degree, method=args.method,
+                 seed=args.seed, timeout=args.timeout)
+    if args.json:
+        print(json.dumps(rep, indent=2, default=str))
+    else:
+        _print_report(rep)
+    return 0 if rep["ok"] else 1
