@@ -2,4 +2,13 @@
 
 from __future__ import annotations
 
-from poissonkit.plugin.hookspecs import hookimpl  # noqa: F401
+from poissonkit.plugin.contributions import SystemEntry
+from poissonkit.plugin.hookspecs import hookimpl
+
+
+@hookimpl
+def poissonkit_systems() -> list[SystemEntry]:
+    """The systems of Borisov–Mamaev–Tsiganov's survey (tag ``"nonholonomic"``)."""
+    from poissonkit_nonholonomic.systems import entries
+
+    return entries()

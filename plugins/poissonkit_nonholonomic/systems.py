@@ -1,0 +1,82 @@
+"""Catalogue of the non-holonomic systems: registry names -> builders and typed parameters."""
+
+from __future__ import annotations
+
+from poissonkit.plugin.contributions import Param, SystemEntry
+from poissonkit_nonholonomic.ball import (
+    chaplygin_ball,
+    chaplygin_ball_sphere_bmf,
+    chaplygin_gyrostat,
+)
+from poissonkit_nonholonomic.general import generalized_chaplygin, p_gf_system
+from poissonkit_nonholonomic.routh import routh_sphere
+from poissonkit_nonholonomic.suslov import (
+    suslov,
+    suslov_potential,
+    suslov_rank2_bivector,
+)
+from poissonkit_nonholonomic.veselova import veselova, veselova_gyrostat
+
+TAG = "nonholonomic"
+
+
+def _f(name: str, default: float, doc: str, positive: bool = True) -> Param:
+    return Param(name, "float", doc, default=default, positive=positive)
+
+
+_BALL = (_f("I1", 1.0, "principal moment of inertia about the centre [kg m^2]"),
+         _f("I2", 2.0, "principal moment of inertia [kg m^2]"),
+         _f("I3", 3.0, "principal moment of inertia [kg m^2]"),
+         _f("d", 1.0, "m b^2: mass times the ball's radius squared [kg m^2]"))
+_VES = (_f("a1", 1.0, "inverse principal moment a1 = 1/I1 [1/(kg m^2)]"),
+        _f("a2", 2.0, "inverse principal moment a2 [1/(kg m^2)]"),
+        _f("a3", 3.0, "inverse principal moment a3 [1/(kg m^2)]"))
+
+
+def entries() -> list[SystemEntry]:
+    """Every non-holonomic system, tagged ``"nonholonomic"``."""
+    return [
+        SystemEntry("nh.chaplygin_ball", chaplygin_ball.__doc__.strip().splitlines()[0],
+                    _BALL, build=chaplygin_ball, tags=(TAG, "rolling")),
+        SystemEntry("nh.chaplygin_gyrostat", chaplygin_gyrostat.__doc__.strip().splitlines()[0],
+                    _BALL + (Param("S", "vector", "gyrostatic momentum [kg m^2/s]",
+                                   default=(1.0, 0.0, -1.0)),),
+                    build=chaplygin_gyrostat, tags=(TAG, "rolling", "gyrostat")),
+        SystemEntry("nh.chaplygin_ball_sphere_bmf",
+                    chaplygin_ball_sphere_bmf.__doc__.strip().splitlines()[0], _BALL,
+                    build=chaplygin_ball_sphere_bmf, tags=(TAG, "rolling")),
+        SystemEntry("nh.veselova", veselova.__doc__.strip().splitlines()[0], _VES,
+                    build=veselova, tags=(TAG,)),
+        SystemEntry("nh.veselova_gyrostat", veselova_gyrostat.__doc__.strip().splitlines()[0],
+                    _VES + (Param("k", "vector", "rotor momentum [kg m^2/s]",
+                                  default=(1.0, 1.0, 0.0)),),
+                    build=veselova_gyrostat, tags=(TAG, "gyrostat")),
+        SystemEntry("nh.routh_sphere", routh_sphere.__doc__.strip().splitlines()[0],
+                    (_f("R", 2.0, "radius of the sphere [m]"),
+                     Param("a", "float", "offset of the centre of mass along the axis [m]", 0.5),
+                     _f("m", 3.0, "mass [kg]"),
+                     _f("I1", 5.0, "equatorial moment about the centre of mass [kg m^2]"),
+                     _f("I3", 7.0, "axial moment about the centre of mass [kg m^2]"),
+                     Param("u", "float", "potential U = u gamma3 [J]", 10.0)),
+                    build=routh_sphere, tags=(TAG, "rolling")),
+        SystemEntry("nh.suslov", suslov.__doc__.strip().splitlines()[0],
+                    (_f("I11", 2.0, "inertia I11 [kg m^2]"), _f("I22", 1.0, "inertia I22 [kg m^2]"),
+                     Param("I13", "float", "inertia I13 [kg m^2]", 0.5),
+                     Param("I23", "float", "inertia I23 [kg m^2]", 1 / 3)),
+                    build=suslov, tags=(TAG,)),
+        SystemEntry("nh.suslov_rank2", suslov_rank2_bivector.__doc__.strip().splitlines()[0],
+                    (_f("I11", 2.0, "inertia I11 [kg m^2]"), _f("I22", 1.0, "inertia I22 [kg m^2]"),
+                     Param("c", "vector", "g(gamma) = gamma x c", default=(0.0, 0.0, 1.0))),
+                    build=suslov_rank2_bivector, tags=(TAG,)),
+        SystemEntry("nh.suslov_potential", suslov_potential.__doc__.strip().splitlines()[0],
+                    (_f("I11", 2.0, "inertia I11 [kg m^2]"), _f("I22", 1.0, "inertia I22 [kg m^2]"),
+                     Param("U", "str", "potential in gamma_x, gamma_y, gamma_z",
+                           default="3*gamma_z + gamma_x**2*gamma_y")),
+                    build=suslov_potential, tags=(TAG,)),
+        SystemEntry("nh.generalized_chaplygin",
+                    generalized_chaplygin.__doc__.strip().splitlines()[0], (),
+                    build=generalized_chaplygin, tags=(TAG, "class")),
+        SystemEntry("nh.p_gf", p_gf_system.__doc__.strip().splitlines()[0],
+                    (Param("with_phi", "bool", "add Remark 5's phi term", default=False),),
+                    build=p_gf_system, tags=(TAG, "class")),
+    ]

@@ -1,0 +1,39 @@
+"""The non-holonomic systems are registered through the plugin hooks like any other plugin."""
+
+from __future__ import annotations
+
+import pytest
+
+from poissonkit.errors import InputError
+from poissonkit.plugin import entries, plugin_reports, system
+from poissonkit.structure.system import HamiltonianSystem
+
+EXPECTED = {"nh.chaplygin_ball", "nh.chaplygin_gyrostat", "nh.chaplygin_ball_sphere_bmf",
+            "nh.veselova", "nh.veselova_gyrostat", "nh.routh_sphere", "nh.suslov",
+            "nh.suslov_rank2", "nh.suslov_potential", "nh.generalized_chaplygin", "nh.p_gf"}
+
+
+def test_plugin_loads_and_contributes_every_system():
+    report = next(r for r in plugin_reports() if r.name == "nonholonomic")
+    assert report.status == "ok", report.error
+    assert set(report.contributions["system"]) == EXPECTED
+    tagged = {n for n, e in entries("system").items() if "nonholonomic" in e.tags}
+    assert tagged == EXPECTED
+
+
+@pytest.mark.parametrize("name", sorted(EXPECTED))
+def test_each_entry_builds_a_named_hamiltonian_system_from_default_parameters(name):
+    entry = system(name)
+    built = entry.build(**entry.resolve_params({}))
+    assert isinstance(built, HamiltonianSystem)
+    assert built.name == name and built.doc
+
+
+def test_user_parameters_are_validated():
+    entry = system("nh.chaplygin_ball")
+    with pytest.raises(InputError):
+        entry.resolve_params({"I1": -1.0})
+    s = entry.build(**entry.resolve_params({"I1": 0.5, "d": 2}))
+    assert float(s.params["I1"]) == 0.5 and float(s.params["d"]) == 2
+    with pytest.raises(InputError):
+        system("nh.suslov_potential").build(U="__import__('os')")
