@@ -1,12 +1,81 @@
-"""Built-in plugin registering poissonkit's own integrators (filled by the numerics layer)."""
+"""Built-in plugin registering poissonkit's own integrators (``poissonkit_integrators`` hook)."""
 
 from __future__ import annotations
 
-from poissonkit.plugin.contributions import IntegratorEntry
+from poissonkit.plugin.contributions import IntegratorEntry, Param
 from poissonkit.plugin.hookspecs import hookimpl
+
+_SPLIT_PARAMS = (
+    Param("adaptive", "bool", "time-symmetrised distance-based step for close encounters", False),
+    Param("reference_distance", "float",
+          "d_ref of the adaptive step factor (internal length; 0 = initial smallest distance)",
+          0.0),
+    Param("iterations", "int", "fixed-point iterations of the symmetrised adaptive step", 1),
+)
+
+_SPLIT_DOCS = {
+    2: "Strang splitting of the exact kinetic (drift + free rotation) and potential (kick) flows.",
+    4: "Order-4 Suzuki fractal composition (5 Strang stages) of the exact sub-flows.",
+    6: "Order-6 Yoshida composition (solution A, 7 Strang stages) of the exact sub-flows.",
+    8: "Order-8 Yoshida composition (solution D, 15 Strang stages) of the exact sub-flows.",
+}
+
+
+def _splitting(order: int):
+    def factory(**params):
+        from poissonkit.numerics.integrators.splitting import Splitting
+
+        return Splitting(order=order, **params)
+    return factory
+
+
+def _scipy(method: str):
+    def factory(**params):
+        from poissonkit.numerics.integrators.scipy_ivp import ScipyIVP
+
+        return ScipyIVP(method=method, **params)
+    return factory
+
+
+def _midpoint(**params):
+    from poissonkit.numerics.integrators.midpoint import ImplicitMidpoint
+
+    return ImplicitMidpoint(**params)
+
+
+_SCIPY_PARAMS = (
+    Param("atol", "float", "absolute tolerance (0 = same as tol)", 0.0),
+    Param("max_step", "float", "largest step, internal time unit (0 = unlimited)", 0.0),
+)
 
 
 @hookimpl
 def poissonkit_integrators() -> list[IntegratorEntry]:
-    """poissonkit's integrators."""
-    return []
+    """poissonkit's integrators: splittings, implicit midpoint, scipy baselines."""
+    out = [
+        IntegratorEntry(
+            name=f"splitting{p}",
+            doc=_SPLIT_DOCS[p] + " Compiled time loop; fixed step (give step=); preserves |ν|, "
+            "(ν, m), total linear and angular momentum to round-off; symplectic on each leaf.",
+            params=_SPLIT_PARAMS, factory=_splitting(p), order=p, family="splitting")
+        for p in (2, 4, 6, 8)
+    ]
+    out.append(IntegratorEntry(
+        name="midpoint",
+        doc="Implicit midpoint rule (order 2, symmetric); preserves all quadratic invariants. "
+        "Any compiled system, including deformed brackets; Newton with the generated Jacobian, "
+        "else fixed-point iteration.",
+        params=(Param("tol", "float", "iteration tolerance (relative)", 1e-14, positive=True),
+                Param("max_iterations", "int", "iteration limit per step", 50, positive=True),
+                Param("newton", "bool", "use Newton's method when a Jacobian exists", True)),
+        factory=_midpoint, order=2, family="implicit"))
+    for method, order, doc in (
+            ("RK45", 5, "scipy solve_ivp RK45 (Dormand–Prince 5(4)), adaptive; baseline."),
+            ("DOP853", 8, ("scipy solve_ivp DOP853 (Dormand–Prince 8(5,3)), adaptive; "
+                           "baseline and high-accuracy reference.")),
+            ("Radau", 5, "scipy solve_ivp Radau IIA (order 5), implicit, for stiff problems."),
+            ("LSODA", 0, "scipy solve_ivp LSODA (Adams/BDF switching), variable order.")):
+        out.append(IntegratorEntry(name=method.lower(), doc=doc + " Tolerance: tol (rtol; atol "
+                                   "defaults to tol).", params=_SCIPY_PARAMS,
+                                   factory=_scipy(method), order=order, family="scipy"))
+    return out

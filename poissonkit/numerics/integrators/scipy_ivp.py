@@ -1,0 +1,108 @@
+"""Baselines: :func:`scipy.integrate.solve_ivp` (RK45, DOP853, Radau, LSODA) on the compiled RHS.
+
+Each right-hand-side call goes Python → numba, so these are dominated by per-step Python
+overhead; they are references and baselines, not the fast path. Events map to scipy terminal
+events (located by root finding, unlike the splitting's end-of-step checks).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
+from poissonkit.numerics.events import event_thresholds, raise_or_record
+from poissonkit.numerics.integrators.base import RawResult
+
+
+class ScipyIVP:
+    """Adapter for one ``solve_ivp`` method.
+
+    Parameters
+    ----------
+    method
+        ``"RK45"``, ``"DOP853"``, ``"Radau"`` or ``"LSODA"``.
+    atol
+        Absolute tolerance; ``0`` means "same as ``tol``".
+    max_step
+        Largest step (``0`` = unlimited).
+    """
+
+    family = "scipy"
+
+    def __init__(self, method: str = "DOP853", atol: float = 0.0, max_step: float = 0.0) -> None:
+        if method not in ("RK45", "DOP853", "Radau", "LSODA"):
+            raise InputError(f"unsupported scipy method {method!r}")
+        self.method = method
+        self.name = method.lower()
+        self.order = {"RK45": 5, "DOP853": 8, "Radau": 5, "LSODA": 0}[method]
+        self.atol = float(atol)
+        self.max_step = float(max_step)
+
+    def integrate(self, system: Any, y0: np.ndarray, t_end: float, *, step: float | None,
+                  tol: float | None, events=(), progress: bool = False, save_every: int = 1,
+                  t0: float = 0.0) -> RawResult:
+        """Integrate with ``rtol = tol`` (default 1e-9) and ``atol`` (default ``tol``)."""
+        rtol = 1e-9 if tol is None else float(tol)
+        atol = self.atol or rtol
+        kernels = getattr(system, "kernels", None)
+        counter = [0]
+        if kernels is not None:
+            data, work, f = system.data, system.work(), kernels.rhs
+
+            def fun(t: float, y: np.ndarray) -> np.ndarray:
+                out = np.empty_like(y)
+                f(y, data, work, out)
+                counter[0] += 1
+                if not np.all(np.isfinite(out)):
+                    raise NonFiniteStateError(counter[0], t, f"{self.name}: non-finite RHS at "
+                                              f"evaluation {counter[0]}")
+                return out
+        else:
+            def fun(t: float, y: np.ndarray) -> np.ndarray:
+                counter[0] += 1
+                return np.asarray(system.rhs(t, y), dtype=float)
+        contact, escape, cerr, eerr = event_thresholds(events)
+        ev_funcs = []
+        if contact > 0:
+            def collision(t, y):
+                return system.min_distance(y) - contact
+            collision.terminal = True  # type: ignore[attr-defined]
+            ev_funcs.append(("collision", collision, cerr))
+        if escape > 0:
+            def escaping(t, y):
+                return escape - float(kernels.max_radius(y, system.data))
+            escaping.terminal = True  # type: ignore[attr-defined]
+            ev_funcs.append(("escape", escaping, eerr))
+        kwargs: dict[str, Any] = {"rtol": rtol, "atol": atol}
+        if self.max_step > 0:
+            kwargs["max_step"] = self.max_step
+        if step is not None and self.method != "LSODA":
+            kwargs["first_step"] = float(step)
+        if self.method in ("Radau",) and hasattr(system, "jacobian"):
+            kwargs["jac"] = system.jacobian
+        res = solve_ivp(fun, (t0, t_end), np.asarray(y0, dtype=float), method=self.method,
+                        events=[e[1] for e in ev_funcs] or None, **kwargs)
+        records: list = []
+        if res.status == -1:
+            raise IntegrationError(f"{self.name} failed: {res.message}")
+        ts, ys = res.t, res.y.T
+        if not np.all(np.isfinite(ys)):
+            bad = int(np.argmax(~np.all(np.isfinite(ys), axis=1)))
+            raise NonFiniteStateError(bad, float(ts[max(bad - 1, 0)]), f"{self.name}")
+        steps = len(ts) - 1
+        if res.status == 1:
+            for (kind, _, err), te in zip(ev_funcs, res.t_events):
+                if len(te):
+                    yv = ys[-1]
+                    val = system.min_distance(yv) if kind == "collision" else \
+                        float(kernels.max_radius(yv, system.data))
+                    raise_or_record(kind, steps, float(te[0]), val, err, records)
+        keep = np.zeros(len(ts), dtype=bool)
+        keep[::save_every] = True
+        keep[-1] = True
+        return RawResult(ts[keep], ys[keep], steps, nfev=int(res.nfev), events=records,
+                         message=res.message, extra={"rtol": rtol, "atol": atol})
+

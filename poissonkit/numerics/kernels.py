@@ -1,0 +1,167 @@
+"""The compiled-kernel contract shared by every numerics system, and small numba helpers.
+
+A system usable by the compiled integrators exposes ``kernels`` (a :class:`Kernels`), ``data``
+(a tuple of numpy arrays / floats passed to every kernel) and ``work()`` (fresh scratch arrays).
+All kernels are numba ``njit`` functions with these signatures:
+
+* ``rhs(y, data, work, out)`` — writes ``ẏ`` into ``out``;
+* ``drift(y, h, data)`` — exact flow of the kinetic part for time ``h``, in place (may be a
+  no-op placeholder for systems that are not split);
+* ``kick(y, h, data, work)`` — exact flow of the potential part for time ``h``, in place;
+* ``energy(y, data, work) -> float``;
+* ``min_distance(y, data, work) -> float`` — smallest distance between two bodies (``inf`` if
+  there is none), for collision events and adaptive steps;
+* ``max_radius(y, data) -> float`` — largest distance of a moving body from the centre of mass
+  of the moving bodies, for escape events;
+* ``jac(y, data, work, out)`` — optional Jacobian ``∂ẏ/∂y`` (``None`` when not available).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, NamedTuple
+
+import numba
+import numpy as np
+
+
+class Kernels(NamedTuple):
+    """The compiled functions of one system (see the module docstring)."""
+
+    rhs: Any
+    drift: Any
+    kick: Any
+    energy: Any
+    min_distance: Any
+    max_radius: Any
+    jac: Any = None
+    splittable: bool = True
+
+
+@numba.njit(cache=True, error_model="numpy")
+def rotate_about(nu, m, theta_per_norm, out):
+    """Rotate ``nu`` about the axis of ``m`` by the angle ``theta_per_norm * |m|`` (Rodrigues).
+
+    Exact flow of ``ν̇ = c m × ν`` for time ``h`` with ``theta_per_norm = c h``.
+    """
+    mm = math.sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2])
+    if mm == 0.0:
+        out[0] = nu[0]
+        out[1] = nu[1]
+        out[2] = nu[2]
+        return
+    k0 = m[0] / mm
+    k1 = m[1] / mm
+    k2 = m[2] / mm
+    th = theta_per_norm * mm
+    c = math.cos(th)
+    s = math.sin(th)
+    kd = (k0 * nu[0] + k1 * nu[1] + k2 * nu[2]) * (1.0 - c)
+    x0 = k1 * nu[2] - k2 * nu[1]
+    x1 = k2 * nu[0] - k0 * nu[2]
+    x2 = k0 * nu[1] - k1 * nu[0]
+    out[0] = nu[0] * c + x0 * s + k0 * kd
+    out[1] = nu[1] * c + x1 * s + k1 * kd
+    out[2] = nu[2] * c + x2 * s + k2 * kd
+
+
+@numba.njit(cache=True, error_model="numpy")
+def rotate_slot(y, base, mbase, theta_per_norm):
+    """In-place Rodrigues rotation of ``y[base:base+3]`` about ``y[mbase:mbase+3]``."""
+    m0 = y[mbase]
+    m1 = y[mbase + 1]
+    m2 = y[mbase + 2]
+    mm = math.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
+    if mm == 0.0:
+        return
+    k0 = m0 / mm
+    k1 = m1 / mm
+    k2 = m2 / mm
+    th = theta_per_norm * mm
+    c = math.cos(th)
+    s = math.sin(th)
+    n0 = y[base]
+    n1 = y[base + 1]
+    n2 = y[base + 2]
+    kd = (k0 * n0 + k1 * n1 + k2 * n2) * (1.0 - c)
+    x0 = k1 * n2 - k2 * n1
+    x1 = k2 * n0 - k0 * n2
+    x2 = k0 * n1 - k1 * n0
+    y[base] = n0 * c + x0 * s + k0 * kd
+    y[base + 1] = n1 * c + x1 * s + k1 * kd
+    y[base + 2] = n2 * c + x2 * s + k2 * kd
+
+
+@numba.njit(cache=True, error_model="numpy")
+def no_drift(y, h, data):
+    """Placeholder drift for systems that are not split (never called by the splitting)."""
+    return
+
+
+@numba.njit(cache=True, error_model="numpy")
+def all_finite(y):
+    """True if every entry of ``y`` is finite."""
+    for i in range(y.shape[0]):
+        if not np.isfinite(y[i]):
+            return False
+    return True
+
+
+@numba.njit(cache=True, error_model="numpy")
+def copy_into(src, dst):
+    """``dst[:] = src`` for 1-D arrays (explicit loop: cheap to compile)."""
+    for i in range(src.shape[0]):
+        dst[i] = src[i]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def copy_row(src, dst, row):
+    """``dst[row, :] = src``."""
+    for i in range(src.shape[0]):
+        dst[row, i] = src[i]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def zero2(a):
+    """``a[:, :] = 0``."""
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            a[i, j] = 0.0
+
+
+@numba.njit(cache=True, error_model="numpy")
+def gauss_solve(A, b, x):
+    """Solve ``A x = b`` by Gaussian elimination with partial pivoting (A, b overwritten).
+
+    Returns False if ``A`` is singular to working precision.
+    """
+    n = b.shape[0]
+    for k in range(n):
+        p = k
+        best = abs(A[k, k])
+        for i in range(k + 1, n):
+            if abs(A[i, k]) > best:
+                best = abs(A[i, k])
+                p = i
+        if best == 0.0:
+            return False
+        if p != k:
+            for j in range(n):
+                tmp = A[k, j]
+                A[k, j] = A[p, j]
+                A[p, j] = tmp
+            tmp = b[k]
+            b[k] = b[p]
+            b[p] = tmp
+        for i in range(k + 1, n):
+            f = A[i, k] / A[k, k]
+            if f != 0.0:
+                for j in range(k, n):
+                    A[i, j] -= f * A[k, j]
+                b[i] -= f * b[k]
+    for i in range(n - 1, -1, -1):
+        acc = b[i]
+        for j in range(i + 1, n):
+            acc -= A[i, j] * x[j]
+        x[i] = acc / A[i, i]
+    return True

@@ -1,0 +1,837 @@
+"""Compiled N-body dynamics of symmetric tops and point masses with pair potentials.
+
+State layout (internal, nondimensional units if ``scales`` is given; see
+:mod:`poissonkit.conventions`): for the ``N`` moving bodies in the order given,
+``r_1, p_1, …, r_N, p_N`` (6 numbers each), then for the ``K`` moving tops (bodies with
+``alpha``) ``ν_1, m_1, …, ν_K, m_K`` (6 numbers each). Fixed bodies carry no state: their
+position and axis are constants of the system, their pairs still act on the moving bodies.
+
+Hamiltonian (seed 000 eq. 14): ``H = Σ p²/2M + Σ α m²/2 + Σ_pairs U_ij(r, c1, c2, c3)`` with
+the bracket ``canonical(3)`` per body ⊕ ``e3()`` per top. Each pair (i, j), ``r = r_j − r_i``,
+contributes (seed 000 eq. 20 generalised)::
+
+    F   = −[U_r e + U_c1 (ν_i − c1 e)/r + U_c2 (ν_j − c2 e)/r]     ṗ_j += F,  ṗ_i −= F
+    ṁ_i += U_c1 e × ν_i − U_c3 ν_i × ν_j,      ṁ_j += U_c2 e × ν_j + U_c3 ν_i × ν_j
+    ν̇ = α m × ν,  ṙ = p/M
+
+A test proves this equals ``ẋ = P∇H`` of the symbolic direct sum (``to_structure()``).
+
+Pairs come from a list of :class:`Interaction` (one pair each) and/or :class:`AllPairs`
+(every pair of a set of bodies, never materialised). With ``cutoff`` set, pairs farther apart
+than the cutoff are skipped (the potential is truncated, not shifted) and :class:`AllPairs`
+uses a compiled cell list, so one force evaluation costs O(N) at fixed density.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numba
+import numpy as np
+import sympy as sp
+
+from poissonkit.errors import DimensionError, InputError
+from poissonkit.numerics.codegen import compile_source
+from poissonkit.numerics.kernels import Kernels, rotate_slot, zero2
+from poissonkit.numerics.potentials import (
+    compile_potential,
+    kernel_from_expr,
+    scaled_kernel,
+)
+from poissonkit.numerics.units import Scales
+from poissonkit.plugin.contributions import PairPotential
+
+
+class NonUnitAxisError(InputError):
+    """A top's axis ``ν`` is not a unit vector (pass ``normalize=True`` to normalise it)."""
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body: symmetric top (``alpha`` given) or point mass (``alpha=None``).
+
+    Parameters
+    ----------
+    name
+        Unique name; coordinates are called ``name.r_x`` etc.
+    mass
+        Mass [kg] (or internal unit without scales), > 0.
+    alpha
+        ``1 / I_perp`` [1/(kg m²)], > 0, or ``None`` for a point mass.
+    fixed
+        Fixed bodies carry no degrees of freedom; they act through their pairs.
+    position, axis
+        Position [m] and unit axis of a fixed body (required when ``fixed``).
+    """
+
+    name: str
+    mass: float
+    alpha: float | None = None
+    fixed: bool = False
+    position: tuple[float, float, float] | None = None
+    axis: tuple[float, float, float] | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise InputError(f"body name must be a non-empty string, got {self.name!r}")
+        for attr in ("mass",) + (("alpha",) if self.alpha is not None else ()):
+            v = getattr(self, attr)
+            try:
+                v = float(v)
+            except (TypeError, ValueError):
+                raise InputError(f"body {self.name!r}: {attr} must be a number, got {v!r}") from None
+            if not (math.isfinite(v) and v > 0):
+                raise InputError(f"body {self.name!r}: {attr} must be positive and finite, got {v!r}")
+            object.__setattr__(self, attr, v)
+        if self.fixed and self.position is None:
+            raise InputError(f"fixed body {self.name!r} needs a position")
+        if self.fixed and self.alpha is not None and self.axis is None:
+            raise InputError(f"fixed top {self.name!r} needs an axis")
+
+    @property
+    def is_top(self) -> bool:
+        """Whether the body carries an orientation (ν, m)."""
+        return self.alpha is not None
+
+
+@dataclass(frozen=True)
+class Interaction:
+    """One interacting pair ``(i, j)`` (indices or names of bodies) with its potential.
+
+    ``potential`` is a :class:`~poissonkit.plugin.PairPotential`, a registry name, a sympy
+    expression in ``r, c1, c2, c3`` or a compiled kernel ``f(r, c1, c2, c3) -> (U, U_r, U_c1,
+    U_c2, U_c3)``; ``params`` are the potential's parameters (SI).
+    """
+
+    i: int | str
+    j: int | str
+    potential: Any
+    params: Mapping[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class AllPairs:
+    """Every pair of ``members`` (default: all bodies) interacting through one potential.
+
+    Never builds the O(N²) pair list; with a system cutoff it uses a compiled cell list.
+    """
+
+    potential: Any
+    params: Mapping[str, Any] = field(default_factory=dict)
+    members: Sequence[int | str] | None = None
+
+
+# ----------------------------------------------------------------------------- kernels
+def _resolve_kernel(potential: Any, params: Mapping[str, Any]) -> tuple[Any, str]:
+    """(SI kernel, orientation) of one interaction's potential."""
+    if isinstance(potential, str):
+        from poissonkit.plugin import potential as lookup
+
+        potential = lookup(potential)
+    if isinstance(potential, PairPotential):
+        return compile_potential(potential, params), potential.orientation
+    if isinstance(potential, numba.core.registry.CPUDispatcher):
+        return potential, "both"
+    if isinstance(potential, sp.Basic):
+        names = {s.name for s in potential.free_symbols}
+        has1, has2 = bool(names & {"c1", "c3"}), bool(names & {"c2", "c3"})
+        orient = {(True, True): "both", (True, False): "first", (False, True): "second",
+                  (False, False): "none"}[(has1, has2)]
+        return kernel_from_expr(potential, "expr"), orient
+    raise InputError(f"cannot use {type(potential).__name__} as a pair potential; give a "
+                     "PairPotential, a registry name, a sympy expression or a numba kernel")
+
+
+_dispatch_cache: dict[tuple[int, ...], tuple[Any, ...]] = {}
+
+
+def _dispatcher(kerns: Sequence[Any]):
+    """``kern_any(g, r, c1, c2, c3)`` calling kernel number ``g``; cached per kernel tuple."""
+    key = tuple(id(k) for k in kerns)
+    hit = _dispatch_cache.get(key)
+    if hit is not None:
+        return hit[0]
+    if not kerns:
+        src = ("def kern_any(g, r, c1, c2, c3):\n"
+               "    return (0.0, 0.0, 0.0, 0.0, 0.0)")
+        ns: dict[str, Any] = {}
+    else:
+        lines = ["def kern_any(g, r, c1, c2, c3):"]
+        for g in range(len(kerns) - 1):
+            lines.append(f"    if g == {g}:\n        return k{g}(r, c1, c2, c3)")
+        lines.append(f"    return k{len(kerns) - 1}(r, c1, c2, c3)")
+        src = "\n".join(lines)
+        ns = {f"k{g}": k for g, k in enumerate(kerns)}
+    fn = compile_source(src, "kern_any", ns)
+    _dispatch_cache[key] = (fn, tuple(kerns))  # keep the kernels alive with their ids
+    return fn
+
+
+_kernel_cache: dict[int, Kernels] = {}
+
+
+def _build_kernels(kern_any) -> Kernels:
+    """Compile the N-body kernels around one potential dispatcher (cached)."""
+    hit = _kernel_cache.get(id(kern_any))
+    if hit is not None:
+        return hit
+
+    @numba.njit(error_model="numpy")
+    def pair_term(g, i, j, pos, nu, F, T, cut2):
+        dx = pos[j, 0] - pos[i, 0]
+        dy = pos[j, 1] - pos[i, 1]
+        dz = pos[j, 2] - pos[i, 2]
+        r2 = dx * dx + dy * dy + dz * dz
+        if r2 > cut2:
+            return 0.0
+        r = math.sqrt(r2)
+        inv = 1.0 / r
+        ex = dx * inv
+        ey = dy * inv
+        ez = dz * inv
+        a0 = nu[i, 0]
+        a1 = nu[i, 1]
+        a2 = nu[i, 2]
+        b0 = nu[j, 0]
+        b1 = nu[j, 1]
+        b2 = nu[j, 2]
+        c1 = ex * a0 + ey * a1 + ez * a2
+        c2 = ex * b0 + ey * b1 + ez * b2
+        c3 = a0 * b0 + a1 * b1 + a2 * b2
+        u, ur, u1, u2, u3 = kern_any(g, r, c1, c2, c3)
+        # force on j (seed 000 eq. 20); the projections (ν − c e)/r come from ∂c/∂r_j
+        f0 = -(ur * ex + (u1 * (a0 - c1 * ex) + u2 * (b0 - c2 * ex)) * inv)
+        f1 = -(ur * ey + (u1 * (a1 - c1 * ey) + u2 * (b1 - c2 * ey)) * inv)
+        f2 = -(ur * ez + (u1 * (a2 - c1 * ez) + u2 * (b2 - c2 * ez)) * inv)
+        F[j, 0] += f0
+        F[j, 1] += f1
+        F[j, 2] += f2
+        F[i, 0] -= f0
+        F[i, 1] -= f1
+        F[i, 2] -= f2
+        w0 = a1 * b2 - a2 * b1
+        w1 = a2 * b0 - a0 * b2
+        w2 = a0 * b1 - a1 * b0
+        T[i, 0] += u1 * (ey * a2 - ez * a1) - u3 * w0
+        T[i, 1] += u1 * (ez * a0 - ex * a2) - u3 * w1
+        T[i, 2] += u1 * (ex * a1 - ey * a0) - u3 * w2
+        T[j, 0] += u2 * (ey * b2 - ez * b1) + u3 * w0
+        T[j, 1] += u2 * (ez * b0 - ex * b2) + u3 * w1
+        T[j, 2] += u2 * (ex * b1 - ey * b0) + u3 * w2
+        return u
+
+    @numba.njit(error_model="numpy")
+    def cell_pairs(g, members, pos, nu, F, T, cutoff):
+        """All pairs of ``members`` closer than ``cutoff``, via a cell list (O(n))."""
+        n = members.shape[0]
+        if n < 2:
+            return 0.0
+        lo = np.empty(3)
+        hi = np.empty(3)
+        for d in range(3):
+            lo[d] = np.inf
+            hi[d] = -np.inf
+        for a in range(n):
+            b = members[a]
+            for d in range(3):
+                v = pos[b, d]
+                lo[d] = min(lo[d], v)
+                hi[d] = max(hi[d], v)
+        side = cutoff
+        nc = np.empty(3, dtype=np.int64)
+        while True:
+            total = 1
+            for d in range(3):
+                nc[d] = int((hi[d] - lo[d]) / side) + 1
+                total *= nc[d]
+            if total <= 4 * n + 64:  # sparse, far-flung bodies: coarser cells, same result
+                break
+            side *= 1.5
+        ncell = nc[0] * nc[1] * nc[2]
+        cell_of = np.empty(n, dtype=np.int64)
+        count = np.zeros(ncell + 1, dtype=np.int64)
+        for a in range(n):
+            b = members[a]
+            cx = min(int((pos[b, 0] - lo[0]) / side), nc[0] - 1)
+            cy = min(int((pos[b, 1] - lo[1]) / side), nc[1] - 1)
+            cz = min(int((pos[b, 2] - lo[2]) / side), nc[2] - 1)
+            c = (cx * nc[1] + cy) * nc[2] + cz
+            cell_of[a] = c
+            count[c + 1] += 1
+        for c in range(ncell):
+            count[c + 1] += count[c]
+        start = np.empty(ncell + 1, dtype=np.int64)
+        for c in range(ncell + 1):
+            start[c] = count[c]
+        order = np.empty(n, dtype=np.int64)
+        for a in range(n):
+            c = cell_of[a]
+            order[start[c]] = a
+            start[c] += 1
+        # copy into cell order: neighbouring bodies sit next to each other in memory
+        sp_ = np.empty((n, 3))
+        sn_ = np.empty((n, 3))
+        sF = np.zeros((n, 3))
+        sT = np.zeros((n, 3))
+        for q in range(n):
+            b = members[order[q]]
+            for d in range(3):
+                sp_[q, d] = pos[b, d]
+                sn_[q, d] = nu[b, d]
+        cut2 = cutoff * cutoff
+        u = 0.0
+        for cx in range(nc[0]):
+            for cy in range(nc[1]):
+                for cz in range(nc[2]):
+                    c = (cx * nc[1] + cy) * nc[2] + cz
+                    for qa in range(count[c], count[c + 1]):
+                        xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
+                        for qb in range(qa + 1, count[c + 1]):
+                            dx = sp_[qb, 0] - xa
+                            dy = sp_[qb, 1] - ya
+                            dz = sp_[qb, 2] - za
+                            if dx * dx + dy * dy + dz * dz <= cut2:
+                                u += pair_term(g, qa, qb, sp_, sn_, sF, sT, cut2)
+                    # the 13 "forward" neighbour cells: each pair of cells visited once
+                    for ddx in range(2):
+                        nx = cx + ddx
+                        if nx >= nc[0]:
+                            continue
+                        for ddy in range(-1, 2):
+                            if ddx == 0 and ddy < 0:
+                                continue
+                            ny = cy + ddy
+                            if ny < 0 or ny >= nc[1]:
+                                continue
+                            for ddz in range(-1, 2):
+                                if ddx == 0 and ddy == 0 and ddz <= 0:
+                                    continue
+                                nz = cz + ddz
+                                if nz < 0 or nz >= nc[2]:
+                                    continue
+                                c2 = (nx * nc[1] + ny) * nc[2] + nz
+                                for qa in range(count[c], count[c + 1]):
+                                    xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
+                                    for qb in range(count[c2], count[c2 + 1]):
+                                        # cheap distance test before the (not inlined) pair term
+                                        dx = sp_[qb, 0] - xa
+                                        dy = sp_[qb, 1] - ya
+                                        dz = sp_[qb, 2] - za
+                                        if dx * dx + dy * dy + dz * dz <= cut2:
+                                            u += pair_term(g, qa, qb, sp_, sn_, sF, sT, cut2)
+        for q in range(n):
+            b = members[order[q]]
+            for d in range(3):
+                F[b, d] += sF[q, d]
+                T[b, d] += sT[q, d]
+        return u
+
+    @numba.njit(error_model="numpy")
+    def forces(pos, nu, data, F, T):
+        pairs = data[6]
+        cmembers = data[7]
+        coffs = data[8]
+        cgid = data[9]
+        cutoff = data[10]
+        zero2(F)
+        zero2(T)
+        cut2 = cutoff * cutoff if np.isfinite(cutoff) else np.inf
+        u = 0.0
+        for k in range(pairs.shape[0]):
+            u += pair_term(pairs[k, 2], pairs[k, 0], pairs[k, 1], pos, nu, F, T, cut2)
+        for g in range(cgid.shape[0]):
+            members = cmembers[coffs[g]:coffs[g + 1]]
+            gid = cgid[g]
+            if np.isfinite(cutoff):
+                u += cell_pairs(gid, members, pos, nu, F, T, cutoff)
+            else:
+                n = members.shape[0]
+                for a in range(n):
+                    for b in range(a + 1, n):
+                        u += pair_term(gid, members[a], members[b], pos, nu, F, T, cut2)
+        return u
+
+    @numba.njit(error_model="numpy")
+    def gather(y, data, pos, nu):
+        mass = data[0]
+        bslot = data[2]
+        tslot = data[3]
+        fpos = data[4]
+        fnu = data[5]
+        nm = mass.shape[0]
+        for b in range(bslot.shape[0]):
+            s = bslot[b]
+            if s >= 0:
+                for d in range(3):
+                    pos[b, d] = y[6 * s + d]
+            else:
+                for d in range(3):
+                    pos[b, d] = fpos[b, d]
+            t = tslot[b]
+            if t >= 0:
+                for d in range(3):
+                    nu[b, d] = y[6 * nm + 6 * t + d]
+            else:
+                for d in range(3):
+                    nu[b, d] = fnu[b, d]
+
+    @numba.njit(error_model="numpy")
+    def rhs(y, data, work, out):
+        pos, nu, F, T = work
+        mass = data[0]
+        alpha = data[1]
+        bslot = data[2]
+        tslot = data[3]
+        nm = mass.shape[0]
+        gather(y, data, pos, nu)
+        forces(pos, nu, data, F, T)
+        for b in range(bslot.shape[0]):
+            s = bslot[b]
+            if s >= 0:
+                for d in range(3):
+                    out[6 * s + d] = y[6 * s + 3 + d] / mass[s]
+                    out[6 * s + 3 + d] = F[b, d]
+            t = tslot[b]
+            if t >= 0:
+                q = 6 * nm + 6 * t
+                a = alpha[t]
+                n0, n1, n2 = y[q], y[q + 1], y[q + 2]
+                m0, m1, m2 = y[q + 3], y[q + 4], y[q + 5]
+                out[q] = a * (m1 * n2 - m2 * n1)
+                out[q + 1] = a * (m2 * n0 - m0 * n2)
+                out[q + 2] = a * (m0 * n1 - m1 * n0)
+                for d in range(3):
+                    out[q + 3 + d] = T[b, d]
+
+    @numba.njit(error_model="numpy")
+    def kick(y, h, data, work):
+        pos, nu, F, T = work
+        mass = data[0]
+        bslot = data[2]
+        tslot = data[3]
+        nm = mass.shape[0]
+        gather(y, data, pos, nu)
+        forces(pos, nu, data, F, T)
+        for b in range(bslot.shape[0]):
+            s = bslot[b]
+            if s >= 0:
+                for d in range(3):
+                    y[6 * s + 3 + d] += h * F[b, d]
+            t = tslot[b]
+            if t >= 0:
+                q = 6 * nm + 6 * t + 3
+                for d in range(3):
+                    y[q + d] += h * T[b, d]
+
+    @numba.njit(error_model="numpy")
+    def drift(y, h, data):
+        mass = data[0]
+        alpha = data[1]
+        nm = mass.shape[0]
+        for s in range(nm):
+            c = h / mass[s]
+            for d in range(3):
+                y[6 * s + d] += c * y[6 * s + 3 + d]
+        for t in range(alpha.shape[0]):
+            q = 6 * nm + 6 * t
+            rotate_slot(y, q, q + 3, alpha[t] * h)
+
+    @numba.njit(error_model="numpy")
+    def energy(y, data, work):
+        pos, nu, F, T = work
+        mass = data[0]
+        alpha = data[1]
+        nm = mass.shape[0]
+        gather(y, data, pos, nu)
+        e = forces(pos, nu, data, F, T)
+        for s in range(nm):
+            p2 = y[6 * s + 3] ** 2 + y[6 * s + 4] ** 2 + y[6 * s + 5] ** 2
+            e += 0.5 * p2 / mass[s]
+        for t in range(alpha.shape[0]):
+            q = 6 * nm + 6 * t + 3
+            e += 0.5 * alpha[t] * (y[q] ** 2 + y[q + 1] ** 2 + y[q + 2] ** 2)
+        return e
+
+    @numba.njit(error_model="numpy")
+    def min_distance(y, data, work):
+        pos = work[0]
+        nu = work[1]
+        gather(y, data, pos, nu)
+        bslot = data[2]
+        n = pos.shape[0]
+        best = np.inf
+        for a in range(n):
+            for b in range(a + 1, n):
+                if bslot[a] < 0 and bslot[b] < 0:
+                    continue
+                d2 = ((pos[a, 0] - pos[b, 0]) ** 2 + (pos[a, 1] - pos[b, 1]) ** 2
+                      + (pos[a, 2] - pos[b, 2]) ** 2)
+                best = min(best, d2)
+        return math.sqrt(best)
+
+    @numba.njit(error_model="numpy")
+    def max_radius(y, data):
+        mass = data[0]
+        nm = mass.shape[0]
+        mt = 0.0
+        c = np.zeros(3)
+        for s in range(nm):
+            mt += mass[s]
+            for d in range(3):
+                c[d] += mass[s] * y[6 * s + d]
+        best = 0.0
+        for s in range(nm):
+            d2 = 0.0
+            for d in range(3):
+                d2 += (y[6 * s + d] - c[d] / mt) ** 2
+            best = max(best, d2)
+        return math.sqrt(best)
+
+    out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
+                  max_radius=max_radius, jac=None, splittable=True)
+    out_forces = forces
+    _kernel_cache[id(kern_any)] = out
+    _forces_cache[id(kern_any)] = (out_forces, gather)
+    return out
+
+
+_forces_cache: dict[int, tuple[Any, Any]] = {}
+
+
+# ----------------------------------------------------------------------------- the system
+class NBodySystem:
+    """Interacting symmetric tops and point masses (see the module docstring for the layout).
+
+    Parameters
+    ----------
+    bodies
+        The bodies, in state order.
+    interactions
+        :class:`Interaction` (one pair) and/or :class:`AllPairs` entries.
+    cutoff
+        Optional interaction radius [m] (pairs farther apart are skipped).
+    scales
+        Optional :class:`~poissonkit.numerics.units.Scales`: then masses, ``alpha``, fixed
+        positions, the cutoff and the potentials are given in SI and the state is internal
+        (``r/L``, ``p/(M L/T)``, ``m/(M L²/T)``); :meth:`pack` / :meth:`unpack` convert with
+        ``si=True``. Without scales every number is used as given.
+
+    Notes
+    -----
+    The object is immutable after construction; kernels are compiled on first use and shared
+    between systems with the same potentials.
+    """
+
+    def __init__(self, bodies: Sequence[Body], interactions: Sequence[Interaction | AllPairs] = (),
+                 cutoff: float | None = None, scales: Scales | None = None) -> None:
+        bodies = tuple(bodies)
+        if not bodies:
+            raise InputError("NBodySystem needs at least one body")
+        for b in bodies:
+            if not isinstance(b, Body):
+                raise InputError(f"bodies must be Body objects, got {type(b).__name__}")
+        names = [b.name for b in bodies]
+        if len(set(names)) != len(names):
+            raise InputError(f"body names must be unique, got {names}")
+        if cutoff is not None and not (math.isfinite(float(cutoff)) and float(cutoff) > 0):
+            raise InputError(f"cutoff must be positive and finite, got {cutoff!r}")
+        self.bodies = bodies
+        self.interactions = tuple(interactions)
+        self.cutoff = None if cutoff is None else float(cutoff)
+        self.scales = scales
+        index = {b.name: k for k, b in enumerate(bodies)}
+
+        def idx(v: int | str) -> int:
+            if isinstance(v, str):
+                if v not in index:
+                    from poissonkit.errors import UnknownNameError
+
+                    raise UnknownNameError("body", v, index)
+                return index[v]
+            k = int(v)
+            if not 0 <= k < len(bodies):
+                raise InputError(f"body index {v} out of range 0..{len(bodies) - 1}")
+            return k
+
+        L = scales.length if scales else 1.0
+        M = scales.mass if scales else 1.0
+        E = scales.energy if scales else 1.0
+        moving = [k for k, b in enumerate(bodies) if not b.fixed]
+        tops = [k for k in moving if bodies[k].is_top]
+        self._moving = tuple(moving)
+        self._tops = tuple(tops)
+        bslot = np.full(len(bodies), -1, dtype=np.int64)
+        tslot = np.full(len(bodies), -1, dtype=np.int64)
+        bslot[moving] = np.arange(len(moving))
+        tslot[tops] = np.arange(len(tops))
+        mass = np.array([bodies[k].mass / M for k in moving], dtype=float)
+        alpha = np.array([bodies[k].alpha * M * L * L for k in tops], dtype=float)
+        fpos = np.zeros((len(bodies), 3))
+        fnu = np.zeros((len(bodies), 3))
+        for k, b in enumerate(bodies):
+            if b.fixed:
+                fpos[k] = np.asarray(b.position, dtype=float) / L
+                if b.is_top:
+                    ax = np.asarray(b.axis, dtype=float)
+                    n = np.linalg.norm(ax)
+                    if not n > 0:
+                        raise InputError(f"fixed top {b.name!r} has a zero axis")
+                    fnu[k] = ax / n
+
+        # kernels: one per distinct (potential, params), scaled to internal units
+        kern_ids: dict[tuple, int] = {}
+        kerns: list[Any] = []
+
+        def kernel_id(pot: Any, params: Mapping[str, Any], i: int | None, j: int | None
+                      ) -> tuple[int, str]:
+            kern, orient = _resolve_kernel(pot, params)
+            needs_i = orient in ("both", "first")
+            needs_j = orient in ("both", "second")
+            for k, need in ((i, needs_i), (j, needs_j)):
+                if k is not None and need and not bodies[k].is_top:
+                    raise InputError(f"potential {getattr(pot, 'name', pot)!s} depends on the "
+                                     f"axis of body {bodies[k].name!r}, which is a point mass")
+            key = (id(kern),)
+            if key not in kern_ids:
+                kern_ids[key] = len(kerns)
+                kerns.append(scaled_kernel(kern, L, E) if scales else kern)
+            return kern_ids[key], orient
+
+        pairs: list[tuple[int, int, int]] = []
+        cmembers: list[int] = []
+        coffs = [0]
+        cgid: list[int] = []
+        for it in self.interactions:
+            if isinstance(it, Interaction):
+                i, j = idx(it.i), idx(it.j)
+                if i == j:
+                    raise InputError(f"interaction of body {bodies[i].name!r} with itself")
+                if bodies[i].fixed and bodies[j].fixed:
+                    continue  # constant energy, no force on any degree of freedom
+                pairs.append((i, j, kernel_id(it.potential, it.params, i, j)[0]))
+            elif isinstance(it, AllPairs):
+                mem = list(range(len(bodies))) if it.members is None else [idx(v) for v in it.members]
+                if len(set(mem)) != len(mem):
+                    raise InputError("AllPairs members repeat a body")
+                point = [bodies[k].name for k in mem if not bodies[k].is_top]
+                gid, orient = kernel_id(it.potential, it.params, None, None)
+                if point and orient != "none":
+                    raise InputError(f"potential depends on axes but AllPairs includes point "
+                                     f"masses {point}")
+                cmembers.extend(mem)
+                coffs.append(len(cmembers))
+                cgid.append(gid)
+            else:
+                raise InputError(f"interactions must be Interaction or AllPairs, got "
+                                 f"{type(it).__name__}")
+        self._kerns = tuple(kerns)
+        self._energy_shift = 0.0
+        cut = np.inf if self.cutoff is None else self.cutoff / L
+        self.data = (mass, alpha, bslot, tslot, fpos, fnu,
+                     np.array(pairs, dtype=np.int64).reshape(-1, 3),
+                     np.array(cmembers, dtype=np.int64), np.array(coffs, dtype=np.int64),
+                     np.array(cgid, dtype=np.int64), float(cut))
+        self._kernels: Kernels | None = None
+
+    # ------------------------------------------------------------------ structure
+    @property
+    def n_moving(self) -> int:
+        """Number of moving bodies (with ``r, p`` in the state)."""
+        return len(self._moving)
+
+    @property
+    def n_tops(self) -> int:
+        """Number of moving tops (with ``ν, m`` in the state)."""
+        return len(self._tops)
+
+    @property
+    def dim(self) -> int:
+        """Length of the state vector."""
+        return 6 * (self.n_moving + self.n_tops)
+
+    @property
+    def layout(self) -> tuple[str, ...]:
+        """Names of the state slots, e.g. ``('a.r_x', …, 'a.p_z', …, 'a.nu_x', …, 'a.m_z')``."""
+        out: list[str] = []
+        for k in self._moving:
+            n = self.bodies[k].name
+            out += [f"{n}.{v}_{a}" for v in ("r", "p") for a in "xyz"]
+        for k in self._tops:
+            n = self.bodies[k].name
+            out += [f"{n}.{v}_{a}" for v in ("nu", "m") for a in "xyz"]
+        return tuple(out)
+
+    @property
+    def kernels(self) -> Kernels:
+        """The compiled kernels (compiled on first access)."""
+        if self._kernels is None:
+            self._kernels = _build_kernels(_dispatcher(self._kerns))
+        return self._kernels
+
+    def work(self) -> tuple[np.ndarray, ...]:
+        """Fresh scratch arrays ``(pos, nu, F, T)`` for the kernels."""
+        n = len(self.bodies)
+        return (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
+
+    def _state(self, y: Any) -> np.ndarray:
+        y = np.asarray(y, dtype=float)
+        if y.ndim != 1 or y.shape[0] != self.dim:
+            raise DimensionError(f"state has shape {y.shape}, expected ({self.dim},)")
+        return np.ascontiguousarray(y)
+
+    # ------------------------------------------------------------------ evaluation
+    def rhs(self, t: float, y: Any) -> np.ndarray:
+        """``ẏ`` at state ``y`` (time ``t`` is ignored: the system is autonomous)."""
+        y = self._state(y)
+        out = np.empty_like(y)
+        self.kernels.rhs(y, self.data, self.work(), out)
+        return out
+
+    def forces(self, y: Any) -> tuple[np.ndarray, np.ndarray, float]:
+        """Forces and torques on every body ``(F (n,3), T (n,3), U)`` (internal units)."""
+        y = self._state(y)
+        k = self.kernels
+        forces, gather = _forces_cache[id(_dispatcher(self._kerns))]
+        pos, nu, F, T = self.work()
+        gather(y, self.data, pos, nu)
+        u = forces(pos, nu, self.data, F, T)
+        del k
+        return F, T, float(u)
+
+    def energy(self, y: Any) -> float | np.ndarray:
+        """Total energy ``H(y)``; a 2-D array of states gives one value per row."""
+        y = np.asarray(y, dtype=float)
+        w = self.work()
+        if y.ndim == 2:
+            return np.array([self.kernels.energy(self._state(row), self.data, w) for row in y])
+        return float(self.kernels.energy(self._state(y), self.data, w))
+
+    def _split(self, y: np.ndarray):
+        nm = self.n_moving
+        rp = y[..., :6 * nm].reshape(y.shape[:-1] + (nm, 2, 3))
+        nm_ = y[..., 6 * nm:].reshape(y.shape[:-1] + (self.n_tops, 2, 3))
+        return rp[..., 0, :], rp[..., 1, :], nm_[..., 0, :], nm_[..., 1, :]
+
+    def casimirs(self, y: Any) -> np.ndarray:
+        """Per top ``|ν|²`` and ``(ν, m)``, flattened ``[|ν_1|², (ν_1,m_1), …]`` (rows if 2-D)."""
+        y = np.asarray(y, dtype=float)
+        _, _, nu, m = self._split(y)
+        out = np.stack([np.sum(nu * nu, axis=-1), np.sum(nu * m, axis=-1)], axis=-1)
+        return out.reshape(y.shape[:-1] + (2 * self.n_tops,))
+
+    def casimir_scales(self, y: Any) -> np.ndarray:
+        """Natural size of each Casimir at ``y`` (1 for ``|ν|²``, ``|m|`` for ``(ν, m)``)."""
+        y = np.asarray(y, dtype=float)
+        m = self._split(y)[3]
+        s = np.stack([np.ones(m.shape[:-1]), np.linalg.norm(m, axis=-1)], axis=-1)
+        return s.reshape(y.shape[:-1] + (2 * self.n_tops,))
+
+    def linear_momentum(self, y: Any) -> np.ndarray:
+        """Total ``Σ p`` of the moving bodies (conserved without fixed bodies)."""
+        _, p, _, _ = self._split(np.asarray(y, dtype=float))
+        return p.sum(axis=-2)
+
+    def angular_momentum(self, y: Any) -> np.ndarray:
+        """Total ``Σ r × p + Σ m`` about the origin (seed 000 eq. 21)."""
+        r, p, _, m = self._split(np.asarray(y, dtype=float))
+        return np.cross(r, p).sum(axis=-2) + m.sum(axis=-2)
+
+    def min_distance(self, y: Any) -> float:
+        """Smallest distance between two bodies (internal units)."""
+        return float(self.kernels.min_distance(self._state(y), self.data, self.work()))
+
+    # ------------------------------------------------------------------ packing
+    def pack(self, positions: Any, momenta: Any, axes: Any = None, angular_momenta: Any = None,
+             *, si: bool = False, normalize: bool = False) -> np.ndarray:
+        """Build a state vector.
+
+        Parameters
+        ----------
+        positions, momenta
+            ``(n, 3)`` arrays for all bodies (rows of fixed bodies are ignored) or for the moving
+            bodies only.
+        axes, angular_momenta
+            ``(n, 3)`` for all bodies (rows of point masses / fixed bodies ignored) or for the
+            moving tops only. Required if there are tops.
+        si
+            Inputs are SI and are converted with the system's scales.
+        normalize
+            Normalise the axes; otherwise an axis with ``| |ν| − 1 | > 1e-12`` raises
+            :class:`NonUnitAxisError`.
+        """
+        s = self.scales if si else None
+        fL = s.unit("length") if s else 1.0
+        fP = s.unit("momentum") if s else 1.0
+        fA = s.unit("angular_momentum") if s else 1.0
+
+        def rows(a: Any, wanted: tuple[int, ...], what: str) -> np.ndarray:
+            a = np.asarray(a, dtype=float)
+            if a.ndim == 1 and a.size == 3 and len(wanted) == 1:
+                a = a[None, :]
+            if a.ndim != 2 or a.shape[1] != 3:
+                raise DimensionError(f"{what} must have shape (n, 3), got {a.shape}")
+            if a.shape[0] == len(self.bodies):
+                a = a[list(wanted)]
+            elif a.shape[0] != len(wanted):
+                raise DimensionError(f"{what}: {a.shape[0]} rows, expected {len(self.bodies)} "
+                                     f"(all bodies) or {len(wanted)}")
+            if not np.all(np.isfinite(a)):
+                raise InputError(f"{what} contain non-finite values")
+            return a
+
+        r = rows(positions, self._moving, "positions") / fL
+        p = rows(momenta, self._moving, "momenta") / fP
+        parts = [np.concatenate([r, p], axis=1).ravel()]
+        if self.n_tops:
+            if axes is None or angular_momenta is None:
+                raise InputError("the system has tops: give axes and angular_momenta")
+            nu = rows(axes, self._tops, "axes")
+            m = rows(angular_momenta, self._tops, "angular momenta") / fA
+            norms = np.linalg.norm(nu, axis=1)
+            if normalize:
+                if np.any(norms == 0):
+                    raise NonUnitAxisError("cannot normalise a zero axis")
+                nu = nu / norms[:, None]
+            elif np.any(np.abs(norms - 1.0) > 1e-12):
+                bad = [self.bodies[self._tops[k]].name for k in np.nonzero(np.abs(norms - 1) > 1e-12)[0]]
+                raise NonUnitAxisError(f"axes of {bad} are not unit vectors (|ν| = "
+                                       f"{norms[np.abs(norms - 1) > 1e-12]}); pass normalize=True")
+            parts.append(np.concatenate([nu, m], axis=1).ravel())
+        return np.concatenate(parts)
+
+    def unpack(self, y: Any, *, si: bool = False) -> dict[str, np.ndarray]:
+        """Split a state (or rows of states) into ``r, p`` (moving bodies) and ``nu, m`` (tops)."""
+        r, p, nu, m = self._split(np.asarray(y, dtype=float))
+        s = self.scales if si else None
+        if s:
+            r, p, m = r * s.unit("length"), p * s.unit("momentum"), m * s.unit("angular_momentum")
+        return {"r": r, "p": p, "nu": nu, "m": m}
+
+    def check_state(self, y: Any, tol: float = 1e-10) -> None:
+        """Raise :class:`NonUnitAxisError` if some axis of ``y`` is not a unit vector."""
+        c = self.casimirs(self._state(y))[0::2]
+        bad = np.nonzero(np.abs(c - 1.0) > tol)[0]
+        if bad.size:
+            names = [self.bodies[self._tops[k]].name for k in bad]
+            raise NonUnitAxisError(f"axes of {names} are not unit vectors (|ν|² = {c[bad]}); "
+                                   "normalise them (pack(..., normalize=True))")
+
+    # ------------------------------------------------------------------ symbolic
+    def to_structure(self):
+        """The symbolic Poisson structure: ``canonical(3)`` per moving body ⊕ ``e3()`` per top.
+
+        Coordinates are named ``<body>.q_x … <body>.p_z`` and ``<body>_top.nu_x … .m_z``,
+        in exactly the state order.
+        """
+        from poissonkit.structure import canonical, direct_sum, e3
+
+        parts = [(self.bodies[k].name, canonical(3)) for k in self._moving]
+        parts += [(f"{self.bodies[k].name}_top", e3()) for k in self._tops]
+        return direct_sum(*parts)
+
+    def __repr__(self) -> str:
+        return (f"NBodySystem({len(self.bodies)} bodies, {self.n_moving} moving, {self.n_tops} "
+                f"tops, {len(self.interactions)} interaction entries, cutoff={self.cutoff})")

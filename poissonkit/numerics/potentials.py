@@ -1,0 +1,147 @@
+"""Compiled pair-potential kernels ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)``.
+
+A :class:`~poissonkit.plugin.PairPotential` gives either a ready numba kernel or a sympy
+expression ``U(r, c1, c2, c3)``. Expressions are differentiated once, common subexpressions are
+eliminated, and the result is compiled with numba; kernels are cached per (entry, params), so
+sympy never runs inside a time loop. Geometry conventions: :mod:`poissonkit.conventions`.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Mapping
+from typing import Any
+
+import numba
+import sympy as sp
+
+from poissonkit.errors import InputError
+from poissonkit.numerics.codegen import (
+    check_free_symbols,
+    compile_source,
+    scalar_source,
+)
+from poissonkit.plugin.contributions import PairPotential
+
+#: The four invariants as the real sympy symbols potentials must use.
+R, C1, C2, C3 = sp.symbols("r c1 c2 c3", real=True)
+
+_cache: dict[tuple, Callable[..., Any]] = {}
+_lock = threading.Lock()
+
+
+def _freeze(value: Any) -> Any:
+    if isinstance(value, Mapping):
+        return tuple(sorted((k, _freeze(v)) for k, v in value.items()))
+    if isinstance(value, (list, tuple)):
+        return tuple(_freeze(v) for v in value)
+    return value
+
+
+def _invariant_symbols(expr: sp.Expr) -> dict[sp.Symbol, sp.Symbol]:
+    """Map symbols named r, c1, c2, c3 (whatever their assumptions) to the canonical ones."""
+    canon = {"r": R, "c1": C1, "c2": C2, "c3": C3}
+    return {s: canon[s.name] for s in expr.free_symbols if s.name in canon and s != canon[s.name]}
+
+
+def kernel_from_expr(expr: sp.Expr, name: str = "pair") -> Callable[..., Any]:
+    """Differentiate ``U(r, c1, c2, c3)`` once and compile ``(U, U_r, U_c1, U_c2, U_c3)``.
+
+    Parameters
+    ----------
+    expr
+        Sympy expression in symbols named ``r, c1, c2, c3`` and numbers only.
+    name
+        Used in error messages and the generated function's name.
+
+    Returns
+    -------
+    numba dispatcher
+        ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)`` (floats).
+    """
+    try:
+        expr = sp.sympify(expr)
+    except (sp.SympifyError, TypeError) as exc:
+        raise InputError(f"potential {name!r}: expression is not a sympy expression: {exc}") from None
+    expr = expr.xreplace(_invariant_symbols(expr))
+    key = ("expr", sp.srepr(expr))
+    with _lock:
+        hit = _cache.get(key)
+    if hit is not None:
+        return hit
+    check_free_symbols([expr], (R, C1, C2, C3), f"potential {name!r}")
+    outs = [expr] + [sp.diff(expr, s) for s in (R, C1, C2, C3)]
+    fname = "pair_" + "".join(ch if ch.isalnum() else "_" for ch in name)
+    src = scalar_source(fname, ("r", "c1", "c2", "c3"), (R, C1, C2, C3), outs)
+    kern = compile_source(src, fname)
+    with _lock:
+        _cache[key] = kern
+    return kern
+
+
+def compile_potential(entry: PairPotential, params: Mapping[str, Any] | None = None
+                      ) -> Callable[..., Any]:
+    """Compiled scalar kernel of a pair potential, cached per ``(entry, params)``.
+
+    Parameters
+    ----------
+    entry
+        The registry entry. Its ``kernel(params)`` is used if given, else ``expr(params)`` is
+        differentiated and compiled (see :func:`kernel_from_expr`).
+    params
+        User parameters; validated with ``entry.resolve_params``.
+
+    Returns
+    -------
+    numba dispatcher
+        ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)`` in the entry's units (SI).
+
+    Raises
+    ------
+    InputError
+        If the entry provides neither a kernel nor an expression, or its expression has
+        unresolved symbols.
+    """
+    if not isinstance(entry, PairPotential):
+        raise InputError(f"compile_potential needs a PairPotential, got {type(entry).__name__}")
+    resolved = entry.resolve_params(dict(params or {}))
+    key = (entry.name, id(entry), _freeze(resolved))
+    with _lock:
+        hit = _cache.get(key)
+    if hit is not None:
+        return hit
+    if entry.kernel is not None:
+        kern = entry.kernel(resolved)
+        if not isinstance(kern, numba.core.registry.CPUDispatcher):
+            raise InputError(f"potential {entry.name!r}: kernel(params) must return a numba "
+                             f"njit function, got {type(kern).__name__}")
+    elif entry.expr is not None:
+        kern = kernel_from_expr(entry.expr(resolved), entry.name)
+    else:
+        raise InputError(f"potential {entry.name!r} provides neither expr nor kernel")
+    with _lock:
+        _cache[key] = kern
+    return kern
+
+
+def scaled_kernel(kern: Callable[..., Any], length: float, energy: float) -> Callable[..., Any]:
+    """Nondimensional version of an SI kernel: ``U/E`` as a function of ``r/L``.
+
+    ``U_r`` picks up a factor ``L/E``; the angular partials ``1/E``.
+    """
+    L = float(length)
+    inv_e = 1.0 / float(energy)
+    key = ("scaled", id(kern), L, inv_e)
+    with _lock:
+        hit = _cache.get(key)
+    if hit is not None:
+        return hit[0]
+
+    @numba.njit(error_model="numpy")
+    def scaled(r, c1, c2, c3):
+        u, ur, u1, u2, u3 = kern(r * L, c1, c2, c3)
+        return u * inv_e, ur * (L * inv_e), u1 * inv_e, u2 * inv_e, u3 * inv_e
+
+    with _lock:
+        _cache[key] = (scaled, kern)  # keep kern alive so its id stays unique
+    return scaled

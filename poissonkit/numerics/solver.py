@@ -1,0 +1,87 @@
+"""``solve``: one entry point for every integrator in the registry."""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from poissonkit.errors import DimensionError, InputError
+from poissonkit.numerics.solution import Solution
+
+
+def make_integrator(method: Any, options: Mapping[str, Any] | None = None) -> Any:
+    """Integrator object for a registry name (validated ``options``) or pass one through."""
+    if hasattr(method, "integrate"):
+        if options:
+            raise InputError("options are only accepted with a registry name")
+        return method
+    if not isinstance(method, str):
+        raise InputError(f"method must be a registry name or an integrator, got {method!r}")
+    from poissonkit.plugin import integrator
+
+    entry = integrator(method)
+    return entry.factory(**entry.resolve_params(dict(options or {})))
+
+
+def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: float | None = None,
+          tol: float | None = None, events: Sequence[Any] = (), progress: bool = False,
+          save_every: int = 1, options: Mapping[str, Any] | None = None, t0: float = 0.0
+          ) -> Solution:
+    """Integrate ``system`` from ``y0`` at ``t0`` to ``t_end``.
+
+    Parameters
+    ----------
+    system
+        A numerics system (:class:`~poissonkit.numerics.nbody.NBodySystem`,
+        :class:`~poissonkit.numerics.twobody.TwoBodySystem`,
+        :class:`~poissonkit.numerics.system.CompiledSystem`, …).
+    y0
+        Initial state in the system's layout (internal units).
+    t_end
+        Final time (internal unit).
+    method
+        Integrator registry name (``poissonkit plugins`` lists them; unknown names raise
+        :class:`~poissonkit.errors.UnknownNameError`) or an integrator object.
+    step
+        Step size of fixed-step methods (initial/base step of adaptive splitting).
+    tol
+        Tolerance of adaptive methods (scipy: ``rtol = atol = tol``; midpoint: Newton tolerance).
+    events
+        :class:`~poissonkit.numerics.events.Collision` / :class:`~poissonkit.numerics.events.Escape`.
+    progress
+        Show a tqdm progress bar.
+    save_every
+        Save every n-th step (start and end are always saved).
+    options
+        Parameters of the integrator's registry entry (e.g. ``{"adaptive": True}``).
+    t0
+        Start time.
+
+    Returns
+    -------
+    Solution
+    """
+    y0 = np.array(y0, dtype=float)
+    dim = getattr(system, "dim", y0.size)
+    if y0.ndim != 1 or y0.size != dim:
+        raise DimensionError(f"y0 has shape {y0.shape}, the system needs ({dim},)")
+    if not np.all(np.isfinite(y0)):
+        raise InputError("y0 contains NaN or inf")
+    if not (math.isfinite(float(t_end)) and float(t_end) > float(t0)):
+        raise InputError(f"t_end must be finite and > t0 = {t0}, got {t_end!r}")
+    if not isinstance(save_every, (int, np.integer)) or save_every < 1:
+        raise InputError(f"save_every must be a positive int, got {save_every!r}")
+    if tol is not None and not (math.isfinite(float(tol)) and float(tol) > 0):
+        raise InputError(f"tol must be positive, got {tol!r}")
+    integ = make_integrator(method, options)
+    start = time.perf_counter()
+    raw = integ.integrate(system, y0, float(t_end), step=step, tol=tol, events=tuple(events),
+                          progress=progress, save_every=int(save_every), t0=float(t0))
+    wall = time.perf_counter() - start
+    return Solution(t=raw.t, y=raw.y, method=getattr(integ, "name", str(method)), steps=raw.steps,
+                    wall_time=wall, system=system, nfev=raw.nfev, events=raw.events, step=step,
+                    tol=tol, message=raw.message, extra=raw.extra)

@@ -1,0 +1,299 @@
+"""Seed 000's two-body system in centre-of-mass form (FORMULAS.md §1, eq. (20)).
+
+State ``x = (r, p, ν', m', ν'', m'') ∈ R^18`` with ``r = r_2 − r_1``, reduced mass
+``μ = m_1 m_2/(m_1 + m_2)``; bracket ``canonical(3) ⊕ e3 ⊕ e3``;
+``H = p²/2μ + α'|m'|²/2 + α''|m''|²/2 + U(r, c', c'', c''')``::
+
+    ṙ   = p/μ
+    ṗ   = −U_r e − (1/r)[U_c' (ν' − c' e) + U_c'' (ν'' − c'' e)]
+    ν̇'  = α' m' × ν'          ṁ'  = U_c' e × ν'  − U_c''' ν' × ν''
+    ν̇'' = α'' m'' × ν''       ṁ'' = U_c'' e × ν'' + U_c''' ν' × ν''
+
+Total angular momentum ``j = r × p + m' + m''`` (eq. 21) is conserved.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+import numba
+import numpy as np
+
+from poissonkit.errors import DimensionError, InputError
+from poissonkit.numerics.kernels import Kernels, rotate_slot
+from poissonkit.numerics.nbody import NonUnitAxisError, _resolve_kernel
+from poissonkit.numerics.potentials import scaled_kernel
+from poissonkit.numerics.units import Scales
+
+LAYOUT: tuple[str, ...] = tuple(
+    f"{v}_{a}" for v in ("r", "p", "nu1", "m1", "nu2", "m2") for a in "xyz")
+
+_cache: dict[int, tuple[Kernels, Any]] = {}
+
+
+def _build(kern) -> Kernels:
+    hit = _cache.get(id(kern))
+    if hit is not None:
+        return hit[0]
+
+    @numba.njit(error_model="numpy")
+    def partials(y, out):
+        """Force ``ṗ`` (out[0:3]) and torques ``ṁ'`` (out[3:6]), ``ṁ''`` (out[6:9]); returns U."""
+        r2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2]
+        r = math.sqrt(r2)
+        inv = 1.0 / r
+        ex = y[0] * inv
+        ey = y[1] * inv
+        ez = y[2] * inv
+        a0, a1, a2 = y[6], y[7], y[8]
+        b0, b1, b2 = y[12], y[13], y[14]
+        c1 = ex * a0 + ey * a1 + ez * a2
+        c2 = ex * b0 + ey * b1 + ez * b2
+        c3 = a0 * b0 + a1 * b1 + a2 * b2
+        u, ur, u1, u2, u3 = kern(r, c1, c2, c3)
+        out[0] = -(ur * ex + (u1 * (a0 - c1 * ex) + u2 * (b0 - c2 * ex)) * inv)
+        out[1] = -(ur * ey + (u1 * (a1 - c1 * ey) + u2 * (b1 - c2 * ey)) * inv)
+        out[2] = -(ur * ez + (u1 * (a2 - c1 * ez) + u2 * (b2 - c2 * ez)) * inv)
+        w0 = a1 * b2 - a2 * b1
+        w1 = a2 * b0 - a0 * b2
+        w2 = a0 * b1 - a1 * b0
+        out[3] = u1 * (ey * a2 - ez * a1) - u3 * w0
+        out[4] = u1 * (ez * a0 - ex * a2) - u3 * w1
+        out[5] = u1 * (ex * a1 - ey * a0) - u3 * w2
+        out[6] = u2 * (ey * b2 - ez * b1) + u3 * w0
+        out[7] = u2 * (ez * b0 - ex * b2) + u3 * w1
+        out[8] = u2 * (ex * b1 - ey * b0) + u3 * w2
+        return u
+
+    @numba.njit(error_model="numpy")
+    def rhs(y, data, work, out):
+        mu, al1, al2 = data[0], data[1], data[2]
+        f = work[0]
+        partials(y, f)
+        for d in range(3):
+            out[d] = y[3 + d] / mu
+            out[3 + d] = f[d]
+            out[9 + d] = f[3 + d]
+            out[15 + d] = f[6 + d]
+        for q, a in ((6, al1), (12, al2)):
+            n0, n1, n2 = y[q], y[q + 1], y[q + 2]
+            m0, m1, m2 = y[q + 3], y[q + 4], y[q + 5]
+            out[q] = a * (m1 * n2 - m2 * n1)
+            out[q + 1] = a * (m2 * n0 - m0 * n2)
+            out[q + 2] = a * (m0 * n1 - m1 * n0)
+
+    @numba.njit(error_model="numpy")
+    def kick(y, h, data, work):
+        f = work[0]
+        partials(y, f)
+        for d in range(3):
+            y[3 + d] += h * f[d]
+            y[9 + d] += h * f[3 + d]
+            y[15 + d] += h * f[6 + d]
+
+    @numba.njit(error_model="numpy")
+    def drift(y, h, data):
+        c = h / data[0]
+        y[0] += c * y[3]
+        y[1] += c * y[4]
+        y[2] += c * y[5]
+        rotate_slot(y, 6, 9, data[1] * h)
+        rotate_slot(y, 12, 15, data[2] * h)
+
+    @numba.njit(error_model="numpy")
+    def energy(y, data, work):
+        u = partials(y, work[0])
+        e = 0.5 * (y[3] ** 2 + y[4] ** 2 + y[5] ** 2) / data[0]
+        e += 0.5 * data[1] * (y[9] ** 2 + y[10] ** 2 + y[11] ** 2)
+        e += 0.5 * data[2] * (y[15] ** 2 + y[16] ** 2 + y[17] ** 2)
+        return e + u
+
+    @numba.njit(error_model="numpy")
+    def min_distance(y, data, work):
+        return math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2])
+
+    @numba.njit(error_model="numpy")
+    def max_radius(y, data):
+        # distance of each body from the centre of mass: r m_other/(m1+m2) <= r
+        return math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]) * data[3]
+
+    out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
+                  max_radius=max_radius, jac=None, splittable=True)
+    _cache[id(kern)] = (out, kern)
+    return out
+
+
+class TwoBodySystem:
+    """Two interacting symmetric tops in centre-of-mass form (18 variables).
+
+    Parameters
+    ----------
+    mass1, mass2
+        Masses of the two bodies (the reduced mass ``μ`` is computed at full precision).
+    alpha1, alpha2
+        ``1/I_⊥`` of each top.
+    potential
+        :class:`~poissonkit.plugin.PairPotential`, registry name, sympy expression in
+        ``r, c1, c2, c3`` or numba kernel ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)``.
+    params
+        Parameters of the potential (SI).
+    scales
+        Optional :class:`~poissonkit.numerics.units.Scales`; then masses, alphas and the
+        potential are SI and the state is internal (convert with ``pack(..., si=True)``).
+    reduced_mass
+        Give ``μ`` directly instead of ``mass1, mass2`` (then ``mass1 = mass2 = 2μ`` is used
+        only for the escape radius).
+    """
+
+    def __init__(self, mass1: float | None, mass2: float | None, alpha1: float, alpha2: float,
+                 potential: Any, params: Mapping[str, Any] | None = None,
+                 scales: Scales | None = None, reduced_mass: float | None = None) -> None:
+        if reduced_mass is not None:
+            mu = float(reduced_mass)
+            m1 = m2 = 2.0 * mu
+        else:
+            try:
+                m1, m2 = float(mass1), float(mass2)  # type: ignore[arg-type]
+            except (TypeError, ValueError):
+                raise InputError("give mass1 and mass2 (or reduced_mass)") from None
+        for name, v in (("mass1", m1), ("mass2", m2), ("alpha1", alpha1), ("alpha2", alpha2)):
+            try:
+                ok = math.isfinite(float(v)) and float(v) > 0
+            except (TypeError, ValueError):
+                ok = False
+            if not ok:
+                raise InputError(f"TwoBodySystem: {name} must be positive and finite, got {v!r}")
+        if reduced_mass is None:
+            mu = m1 * m2 / (m1 + m2)
+        self.scales = scales
+        L = scales.length if scales else 1.0
+        M = scales.mass if scales else 1.0
+        self.reduced_mass = mu
+        kern, _ = _resolve_kernel(potential, params or {})
+        self._kern = scaled_kernel(kern, L, scales.energy) if scales else kern
+        # data: mu, alpha', alpha'', max(m1, m2)/(m1+m2) (escape radius factor)
+        self.data = (mu / M, float(alpha1) * M * L * L, float(alpha2) * M * L * L,
+                     max(m1, m2) / (m1 + m2))
+        self._kernels: Kernels | None = None
+
+    layout = LAYOUT
+    dim = 18
+
+    @property
+    def kernels(self) -> Kernels:
+        """Compiled kernels (compiled on first use, shared per potential)."""
+        if self._kernels is None:
+            self._kernels = _build(self._kern)
+        return self._kernels
+
+    def work(self) -> tuple[np.ndarray, ...]:
+        """Scratch arrays for the kernels."""
+        return (np.zeros(9),)
+
+    def _state(self, y: Any) -> np.ndarray:
+        y = np.asarray(y, dtype=float)
+        if y.shape != (18,):
+            raise DimensionError(f"two-body state must have shape (18,), got {y.shape}")
+        return np.ascontiguousarray(y)
+
+    def rhs(self, t: float, y: Any) -> np.ndarray:
+        """``ẋ = J∇H`` at ``y`` (eq. (20))."""
+        y = self._state(y)
+        out = np.empty(18)
+        self.kernels.rhs(y, self.data, self.work(), out)
+        return out
+
+    def energy(self, y: Any) -> float | np.ndarray:
+        """``H(y)``; rows of a 2-D array give one value each."""
+        y = np.asarray(y, dtype=float)
+        w = self.work()
+        if y.ndim == 2:
+            return np.array([self.kernels.energy(self._state(row), self.data, w) for row in y])
+        return float(self.kernels.energy(self._state(y), self.data, w))
+
+    def casimirs(self, y: Any) -> np.ndarray:
+        """``[|ν'|², (ν', m'), |ν''|², (ν'', m'')]`` (rows if 2-D)."""
+        y = np.asarray(y, dtype=float)
+        n1, m1, n2, m2 = y[..., 6:9], y[..., 9:12], y[..., 12:15], y[..., 15:18]
+        return np.stack([np.sum(n1 * n1, -1), np.sum(n1 * m1, -1), np.sum(n2 * n2, -1),
+                         np.sum(n2 * m2, -1)], axis=-1)
+
+    def casimir_scales(self, y: Any) -> np.ndarray:
+        """Natural sizes of the Casimirs: ``1, |m'|, 1, |m''|``."""
+        y = np.asarray(y, dtype=float)
+        one = np.ones(y.shape[:-1])
+        return np.stack([one, np.linalg.norm(y[..., 9:12], axis=-1), one,
+                         np.linalg.norm(y[..., 15:18], axis=-1)], axis=-1)
+
+    def linear_momentum(self, y: Any) -> np.ndarray:
+        """Total linear momentum in the centre-of-mass frame: zero by construction."""
+        y = np.asarray(y, dtype=float)
+        return np.zeros(y.shape[:-1] + (3,))
+
+    def angular_momentum(self, y: Any) -> np.ndarray:
+        """``j = r × p + m' + m''`` (eq. 21)."""
+        y = np.asarray(y, dtype=float)
+        return np.cross(y[..., 0:3], y[..., 3:6]) + y[..., 9:12] + y[..., 15:18]
+
+    def min_distance(self, y: Any) -> float:
+        """``|r|``."""
+        return float(np.linalg.norm(self._state(y)[:3]))
+
+    def pack(self, r: Any, p: Any, nu1: Any, m1: Any, nu2: Any, m2: Any, *, si: bool = False,
+             normalize: bool = False) -> np.ndarray:
+        """State vector from its six 3-vectors (SI if ``si``); axes must be unit vectors unless
+        ``normalize`` (else :class:`~poissonkit.numerics.nbody.NonUnitAxisError`)."""
+        s = self.scales if si else None
+        vecs = []
+        for name, v in (("r", r), ("p", p), ("nu1", nu1), ("m1", m1), ("nu2", nu2), ("m2", m2)):
+            a = np.asarray(v, dtype=float)
+            if a.shape != (3,):
+                raise DimensionError(f"{name} must be a 3-vector, got shape {a.shape}")
+            if not np.all(np.isfinite(a)):
+                raise InputError(f"{name} is not finite: {a}")
+            vecs.append(a)
+        if s:
+            vecs[0] = vecs[0] / s.unit("length")
+            vecs[1] = vecs[1] / s.unit("momentum")
+            vecs[3] = vecs[3] / s.unit("angular_momentum")
+            vecs[5] = vecs[5] / s.unit("angular_momentum")
+        for k in (2, 4):
+            n = np.linalg.norm(vecs[k])
+            if normalize:
+                if n == 0:
+                    raise NonUnitAxisError("cannot normalise a zero axis")
+                vecs[k] = vecs[k] / n
+            elif abs(n - 1.0) > 1e-12:
+                raise NonUnitAxisError(f"axis {'nu1' if k == 2 else 'nu2'} has |ν| = {n!r}; "
+                                       "pass normalize=True")
+        return np.concatenate(vecs)
+
+    def unpack(self, y: Any, *, si: bool = False) -> dict[str, np.ndarray]:
+        """Split a state (or rows) into ``r, p, nu1, m1, nu2, m2`` (SI if ``si``)."""
+        y = np.asarray(y, dtype=float)
+        out = {k: y[..., 3 * i:3 * i + 3] for i, k in enumerate(("r", "p", "nu1", "m1", "nu2", "m2"))}
+        if si and self.scales:
+            s = self.scales
+            out["r"] = out["r"] * s.unit("length")
+            out["p"] = out["p"] * s.unit("momentum")
+            out["m1"] = out["m1"] * s.unit("angular_momentum")
+            out["m2"] = out["m2"] * s.unit("angular_momentum")
+        return out
+
+    def check_state(self, y: Any, tol: float = 1e-10) -> None:
+        """Raise :class:`NonUnitAxisError` if an axis of ``y`` is not a unit vector."""
+        c = self.casimirs(self._state(y))
+        for k, name in ((0, "nu1"), (2, "nu2")):
+            if abs(c[k] - 1.0) > tol:
+                raise NonUnitAxisError(f"axis {name} has |ν|² = {c[k]!r}; normalise it")
+
+    def to_structure(self):
+        """Symbolic ``canonical(3) ⊕ e3 ⊕ e3`` in the state order (blocks ``orbit, top1, top2``)."""
+        from poissonkit.structure import canonical, direct_sum, e3
+
+        return direct_sum(("orbit", canonical(3)), ("top1", e3()), ("top2", e3()))
+
+    def __repr__(self) -> str:
+        return f"TwoBodySystem(mu={self.reduced_mass!r}, data={self.data!r})"
