@@ -27,6 +27,16 @@ def _as_symbols(coords: Iterable[sp.Symbol | str]) -> tuple[sp.Symbol, ...]:
     return tuple(out)
 
 
+def _has_radical(*items) -> bool:
+    """Whether any expression (or matrix entry) contains a non-integer power."""
+    for item in items:
+        for e in (item if isinstance(item, sp.MatrixBase) else (item,)):
+            for a in sp.preorder_traversal(e):
+                if isinstance(a, sp.Pow) and not a.exp.is_Integer:
+                    return True
+    return False
+
+
 def _reject_strings(matrix) -> None:
     """Matrices are never built from strings: sympy would ``eval`` them (use from_components)."""
     if isinstance(matrix, str):
@@ -189,13 +199,26 @@ class Bivector:
         return sp.Matrix([sp.diff(F, x) for x in self.coords])
 
     def bracket(self, F, G) -> sp.Expr:
-        """Poisson bracket ``{F, G} = dF . P . dG``."""
+        """Poisson bracket ``{F, G} = dF . P . dG``.
+
+        Expanded, except when ``P``, ``F`` or ``G`` contain fractional powers (square roots):
+        expanding those costs seconds and gives no canonical form anyway (test zero with
+        :func:`poissonkit.structure.jacobi.is_zero_expression`).
+        """
+        F, G = sp.sympify(F), sp.sympify(G)
         dF, dG = self.gradient(F), self.gradient(G)
-        return sp.expand((dF.T * self.matrix * dG)[0, 0])
+        value = (dF.T * self.matrix * dG)[0, 0]
+        return value if _has_radical(self.matrix, F, G) else sp.expand(value)
 
     def hamiltonian_vector_field(self, H, multiplier=1) -> sp.Matrix:
-        """``X = N P dH`` (column vector), i.e. ``xdot = N {x, H}``."""
-        return (sp.sympify(multiplier) * self.matrix * self.gradient(H)).applyfunc(sp.expand)
+        """``X = N P dH`` (column vector), i.e. ``xdot = N {x, H}``.
+
+        Components are expanded unless ``P``, ``H`` or ``N`` contain fractional powers
+        (square roots, as in the Chaplygin ball), see :meth:`bracket`.
+        """
+        H, N = sp.sympify(H), sp.sympify(multiplier)
+        X = N * self.matrix * self.gradient(H)
+        return X if _has_radical(self.matrix, H, N) else X.applyfunc(sp.expand)
 
     def equations_of_motion(self, H, multiplier=1) -> dict[sp.Symbol, sp.Expr]:
         """``{x_i: xdot_i}`` with ``xdot = N {x, H}``."""

@@ -27,9 +27,21 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 from sympy.polys.matrices import DomainMatrix
 
-from poissonkit.errors import DimensionError, InputError, PoissonkitError, UnknownNameError
+from poissonkit.errors import (
+    DimensionError,
+    InputError,
+    PoissonkitError,
+    UnknownNameError,
+)
 from poissonkit.structure.bivector import Bivector
-from poissonkit.structure.checks import CheckResult, _as_exprs, _Atomizer, _expr, _vanishing
+from poissonkit.structure.checks import (
+    CheckResult,
+    _as_exprs,
+    _Atomizer,
+    _expr,
+    _vanishing,
+    canonical_atom,
+)
 
 __all__ = [
     "Casimirs", "RankResult", "SingularSet", "SingularSetTooExpensive", "find_casimirs",
@@ -130,18 +142,32 @@ def _random_rational(rng: random.Random) -> sp.Rational:
     return sp.Rational(rng.randint(-_SAMPLE_N, _SAMPLE_N), _SAMPLE_N)
 
 
-def _jets(expr_matrix: sp.Matrix, rng: random.Random, values: dict) -> sp.Matrix:
-    """Replace remaining undefined-function values/derivatives by random rationals."""
-    atoms = set()
-    for e in expr_matrix:
+def _function_atoms(M: sp.Matrix) -> set:
+    """Undefined functions, their derivatives and ``Subs`` of them in the entries of ``M``."""
+    atoms: set = set()
+    for e in M:
         atoms |= e.atoms(AppliedUndef, sp.Derivative, sp.Subs)
-    # outermost first so that a Subs(Derivative(g(..))) is replaced as a whole
+    return atoms
+
+
+def _jets(expr_matrix: sp.Matrix, rng: random.Random, values: dict) -> sp.Matrix:
+    """Replace undefined-function values/derivatives by random rationals.
+
+    Each distinct quantity gets its own value: atoms are keyed by :func:`canonical_atom`
+    (the same value written with expanded / unexpanded arguments is one quantity), and
+    ``xreplace`` matches outermost first, so ``Subs(Derivative(g(..)))`` is replaced whole.
+    ``values`` (canonical atom -> value) is filled in and reused.
+    """
+    atoms = _function_atoms(expr_matrix)
+    if not atoms:
+        return expr_matrix
     rep = {}
-    for a in sorted(atoms, key=lambda a: -sp.count_ops(a)):
-        if any(a.has(b) and a != b for b in rep):
-            continue
-        rep[a] = values.setdefault(a, _random_rational(rng))
-    return expr_matrix.xreplace(rep) if rep else expr_matrix
+    for a in sorted(atoms, key=sp.default_sort_key):
+        key = canonical_atom(a)
+        if key not in values:
+            values[key] = _random_rational(rng)
+        rep[a] = values[key]
+    return expr_matrix.xreplace(rep)
 
 
 def _numeric_rank(M: sp.Matrix) -> int:
@@ -268,19 +294,24 @@ def _point_dict(P: Bivector, point) -> dict:
 
 
 def _rank_once(B: Bivector, given: dict, params: list, rng, generic: bool):
+    """Rank of ``B`` at one point (given coordinates, random parameters / jets where not given).
+
+    Undefined-function atoms (``g(gamma)``, ``dg/dgamma_x``, ``Subs(..)``) are replaced by
+    random rationals *before* the point is substituted: their values at the point are the
+    free jet of a generic function, and substituting numbers inside a ``Derivative`` would be
+    meaningless (differentiation with respect to a number).
+    """
     for _attempt in range(20):
         vals = {}
         for c in B.coords:
             vals[c] = given[c] if c in given else _random_rational(rng)
         for s in params:
             vals[s] = given[s] if s in given else _random_rational(rng)
-        funcs = any(e.has(AppliedUndef, sp.Derivative, sp.Subs) for e in B.matrix)
-        M = B.matrix.subs(vals) if funcs or not generic else B.matrix.xreplace(vals)
-        M = M.applyfunc(lambda e: e.doit() if e.has(sp.Subs, sp.Derivative) else e)
+        jets: dict = {}
+        M = _jets(B.matrix, rng, jets)
+        M = M.xreplace(vals)
         # floats would make the rank numerical: read them as the rationals they print as
         M = M.applyfunc(lambda e: sp.nsimplify(e, rational=True) if e.has(sp.Float) else e)
-        jets: dict = {}
-        M = _jets(M, rng, jets)
         if any(e.has(sp.zoo, sp.nan, sp.oo) for e in M):
             if not generic:
                 raise InputError("the bivector is not defined at the given point "
@@ -672,7 +703,6 @@ def _block_casimirs(B: Bivector, vars_: list[sp.Symbol], degree: int) -> list[sp
     null = _nullspace(A)
     if null.shape[0] == 0:
         return []
-    dom = null.domain
     # degree-adapted basis: columns ordered by degree (highest first), then rref; a row's
     # pivot then carries its true degree and rows of degree <= k span the Casimirs of degree <= k
     order = sorted(range(len(monos)), key=lambda a: -sum(monos[a]))

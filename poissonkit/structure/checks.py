@@ -12,7 +12,8 @@ polynomial form first:
 * non-polynomial sub-expressions are replaced by fresh symbols ("atoms"): undefined functions
   and their derivatives (``g(gamma)``, ``dg/dgamma_1``) become *independent* symbols, which is
   exact for a statement meant to hold for *every* function ``g`` (the jet of ``g`` at a point
-  is arbitrary); a rational power ``b**(p/q)`` becomes ``t**p`` with the algebraic relation
+  is arbitrary; atoms equal up to expanding their arguments, e.g. ``U((a + b)/r)`` and
+  ``U(a/r + b/r)``, are one symbol, see :func:`canonical_atom`); a rational power ``b**(p/q)`` becomes ``t**p`` with the algebraic relation
   ``t**q = b``; any other function (``sin``, ``exp``, ...) becomes an independent symbol
   ("opaque", then sympy's ``simplify`` is tried as a fall-back before answering *False*);
 * the result is put over a common denominator and the numerator is tested for membership in
@@ -128,7 +129,9 @@ class _Atomizer:
             if not isinstance(done, sp.Subs) and done != e:
                 return self(done)
         if isinstance(e, (AppliedUndef, sp.Derivative, sp.Subs)):
-            return self._new(("function", e), e)
+            # the same jet value may arrive in different literal forms (arguments expanded or
+            # not): key it by a canonical form so that it becomes one atom, not two
+            return self._new(("function", canonical_atom(e)), e)
         if isinstance(e, sp.Function) or not (e.is_Add or e.is_Mul):
             self.opaque = True
             return self._new(("opaque", e), e)
@@ -137,6 +140,18 @@ class _Atomizer:
     def restore(self, e):
         """Substitute the original sub-expressions back."""
         return sp.sympify(e).xreplace(self.back)
+
+
+def canonical_atom(e: sp.Expr) -> sp.Expr:
+    """Canonical form of an undefined-function atom (``g(..)``, a derivative, a ``Subs``).
+
+    The arguments (and substitution points) are expanded, so that ``U((a + b)/r)`` and
+    ``U(a/r + b/r)`` - the same value of ``U`` - are recognised as one quantity.
+    """
+    try:
+        return sp.expand(e)
+    except Exception:  # noqa: BLE001 - expansion failed: the literal form is still a valid key
+        return e
 
 
 def _numerators(exprs: list) -> list:

@@ -229,7 +229,7 @@ def jacobiator_terms(P: Bivector) -> dict[Key, sp.Expr]:
 
 def _function_atoms(e: sp.Expr) -> set[sp.Expr]:
     return {a for a in sp.preorder_traversal(e)
-            if isinstance(a, (AppliedUndef, sp.Derivative))}
+            if isinstance(a, (AppliedUndef, sp.Derivative, sp.Subs))}
 
 
 def _dummify_functions(exprs: Sequence[sp.Expr]) -> tuple[list[sp.Expr], dict]:
@@ -237,9 +237,39 @@ def _dummify_functions(exprs: Sequence[sp.Expr]) -> tuple[list[sp.Expr], dict]:
     atoms: set[sp.Expr] = set()
     for e in exprs:
         atoms |= _function_atoms(e)
-    # derivatives first: xreplace matches whole sub-trees top-down anyway
-    rule = {a: sp.Dummy(f"F{n}") for n, a in enumerate(sorted(atoms, key=sp.default_sort_key))}
+    # xreplace matches whole sub-trees top-down; atoms equal up to expansion of their
+    # arguments (the same jet value written twice) share one dummy
+    from poissonkit.structure.checks import canonical_atom
+
+    by_key: dict[sp.Expr, sp.Dummy] = {}
+    rule = {}
+    for a in sorted(atoms, key=sp.default_sort_key):
+        key = canonical_atom(a)
+        if key not in by_key:
+            by_key[key] = sp.Dummy(f"F{len(by_key)}")
+        rule[a] = by_key[key]
     return [e.xreplace(rule) for e in exprs], rule
+
+
+def _rational_numerator(e: sp.Expr) -> sp.Expr | None:
+    """Expanded numerator of ``e`` over a common denominator, or ``None`` if not rational.
+
+    ``e`` must be a rational function of its symbols and undefined-function atoms (these are
+    treated as independent variables, see :func:`_dummify_functions`); square roots and
+    transcendental functions give ``None``. Uses sympy's sparse rational-function field, which
+    cancels as it goes: much faster than ``expand`` / ``simplify`` on sums of fractions.
+    """
+    (d,), rule = _dummify_functions([e])
+    syms = sorted(d.free_symbols, key=str)
+    if not syms:
+        return None
+    try:
+        F, *_ = sp.polys.fields.field(syms, sp.QQ)
+        num = F.from_expr(d).numer.as_expr()
+    except (sp.PolynomialError, sp.CoercionFailed, ValueError, TypeError):
+        return None  # radicals, transcendental functions, non-rational constants
+    back = {v: k for k, v in rule.items()}
+    return num.xreplace(back) if back else num
 
 
 class _ZeroTester:
@@ -271,7 +301,9 @@ class _ZeroTester:
             return ex
         if not self.radicals and self.gb is None:
             return ex
-        num = sp.expand(sp.numer(sp.together(ex)))
+        num = _rational_numerator(e)
+        if num is None:
+            num = sp.expand(sp.numer(sp.together(ex)))
         parts = [num]
         for G, u in self.radicals.items():
             new = []
@@ -307,12 +339,23 @@ def is_zero_expression(e: sp.Expr, constraints: Sequence[sp.Expr] = (),
                        coords: Sequence[sp.Symbol] = ()) -> bool:
     """Exact zero test: expansion, then square-root rationalisation, then constraints.
 
+    Rational functions (of symbols and undefined-function atoms, no constraints) take a fast
+    exact path: the numerator over a common denominator, computed in sympy's sparse
+    rational-function field, must be zero.
+
     Square roots ``sqrt(u)`` are replaced by symbols ``G`` with ``G**2 = u``; a residual that does
     not expand to zero is put over a common denominator and reduced (see module docstring).
     Falls back to ``sympy.simplify`` for what the algebraic test cannot decide
     (transcendental functions).
     """
     e = sp.sympify(e)
+    if e == 0:
+        return True
+    if not constraints and not _has_fractional_power(e):
+        # rational fast path: exact, and no expansion of the unreduced sum
+        num = _rational_numerator(e)
+        if num is not None:
+            return num == 0
     if sp.expand(e) == 0:
         return True
     bases: dict[sp.Expr, sp.Symbol] = {}
@@ -330,6 +373,10 @@ def is_zero_expression(e: sp.Expr, constraints: Sequence[sp.Expr] = (),
     if tester.is_zero(e.xreplace(rule)):
         return True
     return not constraints and sp.simplify(e) == 0
+
+
+def _has_fractional_power(e: sp.Expr) -> bool:
+    return any(isinstance(a, sp.Pow) and not a.exp.is_Integer for a in sp.preorder_traversal(e))
 
 
 def _has_transcendental(e: sp.Expr) -> bool:
@@ -508,6 +555,8 @@ def _random_values(symbols: Iterable[sp.Expr], rng: _random.Random) -> dict[sp.E
 def _check_random(P: Bivector, trials: int, seed: int | None,
                   parametrization: Mapping[sp.Symbol, sp.Expr] | None
                   ) -> tuple[dict[Key, sp.Expr], float]:
+    from poissonkit.structure.checks import canonical_atom
+
     at = _Atomised(P)
     keys = at.candidates()
     # Everything that is not a coordinate is sampled: parameters and function jets.
@@ -542,7 +591,10 @@ def _check_random(P: Bivector, trials: int, seed: int | None,
                     values[c] = sp.Integer(rng.randint(-SAMPLE_RANGE, SAMPLE_RANGE))
         else:
             values.update(_random_values(P.coords, rng))
-        jets = _random_values(sorted(fatoms, key=sp.default_sort_key), rng)
+        # one random value per distinct jet quantity (atoms equal up to argument expansion)
+        jet_keys = {a: canonical_atom(a) for a in fatoms}
+        key_vals = _random_values(sorted(set(jet_keys.values()), key=sp.default_sort_key), rng)
+        jets = {a: key_vals[k] for a, k in jet_keys.items()}
         rule = {**jets, **values}
         # radical symbols take the exact square root of their base at the point
         for G, u in at.radicals.items():
