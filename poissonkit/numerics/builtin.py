@@ -16,8 +16,8 @@ _SPLIT_PARAMS = (
 _SPLIT_DOCS = {
     2: "Strang splitting of the exact kinetic (drift + free rotation) and potential (kick) flows.",
     4: "Order-4 Suzuki fractal composition (5 Strang stages) of the exact sub-flows.",
-    6: "Order-6 Yoshida composition (solution A, 7 Strang stages) of the exact sub-flows.",
-    8: "Order-8 Yoshida composition (solution D, 15 Strang stages) of the exact sub-flows.",
+    6: "Order-6 Kahan–Li composition (s9odr6, 9 Strang stages) of the exact sub-flows.",
+    8: "Order-8 Kahan–Li composition (s15odr8, 15 Strang stages) of the exact sub-flows.",
 }
 
 
