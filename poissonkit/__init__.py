@@ -35,6 +35,9 @@ _LAZY: dict[str, str] = {
     "se3": "poissonkit.structure.blocks",
     "p_gf": "poissonkit.structure.deformed",
     "chaplygin_ball": "poissonkit.structure.deformed",
+    "solve": "poissonkit.numerics.solver",
+    "load_scene": "poissonkit.scene",
+    "build_run": "poissonkit.scene",
     "PairInteraction": "poissonkit.interaction",
 }
 

@@ -95,9 +95,8 @@ def _dist_version(module_name: str) -> str:
     return ""
 
 
-def _collect(pm: pluggy.PluginManager, name: str, plugin: Any, report: PluginReport,
-             entries: dict[str, dict[str, Entry]]) -> None:
-    """Call every hook of one plugin, validate its entries and add them to the registries."""
+def _collect(plugin: Any, entries: dict[str, dict[str, Entry]]) -> dict[str, list[Entry]]:
+    """Call every hook of one plugin and validate its entries (registries are not touched)."""
     found: dict[str, list[Entry]] = {}
     for hook_name, (kind, etype) in KINDS.items():
         impl = getattr(plugin, hook_name, None)
@@ -115,10 +114,7 @@ def _collect(pm: pluggy.PluginManager, name: str, plugin: Any, report: PluginRep
             if item.name in entries[kind] or any(i.name == item.name for i in found.get(kind, [])):
                 raise TypeError(f"{kind} {item.name!r} is already provided by another plugin")
         found[kind] = items
-    for kind, items in found.items():
-        for item in items:
-            entries[kind][item.name] = item
-        report.contributions[kind] = [i.name for i in items]
+    return found
 
 
 def _register(pm: pluggy.PluginManager, name: str, loader, source: str, version: str,
@@ -130,12 +126,17 @@ def _register(pm: pluggy.PluginManager, name: str, loader, source: str, version:
         return
     try:
         plugin = loader()
-        _collect(pm, name, plugin, report, entries)
+        found = _collect(plugin, entries)
         pm.register(plugin, name=name)
     except Exception as exc:  # a broken plugin must never break the host
         report.status = "failed"
         report.error = f"{type(exc).__name__}: {exc}"
-        report.contributions.clear()
+        return
+    # only a plugin that registered cleanly contributes entries
+    for kind, items in found.items():
+        for item in items:
+            entries[kind][item.name] = item
+        report.contributions[kind] = [i.name for i in items]
 
 
 def _build() -> _State:

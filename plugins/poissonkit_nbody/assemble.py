@@ -1,0 +1,205 @@
+"""From a graph of bodies to a numerics :class:`~poissonkit.numerics.nbody.NBodySystem`."""
+
+from __future__ import annotations
+
+import itertools
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import networkx as nx
+import numpy as np
+
+from poissonkit.errors import InputError
+from poissonkit_nbody.bodies import BodyModel, pair_params
+
+
+@dataclass(frozen=True)
+class PairSpec:
+    """One interacting pair, resolved: body indices ``i < j``, potential name and parameters."""
+
+    i: int
+    j: int
+    potential: str
+    params: Mapping[str, Any]
+
+
+def bodies_of(G: nx.Graph) -> list[BodyModel]:
+    """Validated body models of every node, in node order."""
+    if G.number_of_nodes() == 0:
+        raise InputError("the graph has no bodies")
+    return [BodyModel.from_attrs(G.nodes[n], str(n)) for n in G.nodes]
+
+
+@dataclass(frozen=True)
+class EdgeSpec:
+    """One edge before its parameters are resolved: bodies ``i < j``, potential name (or
+    ``None`` if neither the edge nor the graph names one) and the given parameters, with
+    ``1``/``2`` suffixes already referring to bodies ``i``/``j``."""
+
+    i: int
+    j: int
+    potential: str | None
+    params: Mapping[str, Any]
+
+
+def edges_of(G: nx.Graph, default_potential: str | None = None,
+             default_params: Mapping[str, Any] | None = None) -> list[EdgeSpec]:
+    """The interacting pairs of ``G`` (every pair if it has no edges), unresolved.
+
+    An edge's ``potential``/``params`` attributes override the graph defaults
+    (``G.graph["potential"]``, ``G.graph["params"]``), which override ``default_potential`` /
+    ``default_params``. Parameters suffixed ``1``/``2`` in an edge's ``params`` refer to the
+    endpoint named by the edge attribute ``first`` (body 1) and the other one (body 2); without
+    ``first``, body 1 is the endpoint that comes first in node order. Pairs are stored as
+    ``i < j`` (node order), suffixes swapped as needed.
+    """
+    index = {n: k for k, n in enumerate(G.nodes)}
+    edges = list(G.edges(data=True))
+    if not edges:
+        edges = [(u, v, {}) for u, v in itertools.combinations(G.nodes, 2)]
+    base_potential = G.graph.get("potential", default_potential)
+    base_params = {**dict(default_params or {}), **dict(G.graph.get("params") or {})}
+    out: list[EdgeSpec] = []
+    for u, v, data in edges:
+        i, j = index[u], index[v]
+        own = dict(data.get("params") or {})
+        if i > j:
+            i, j = j, i
+        if data.get("first") is not None and index[data["first"]] != i:
+            own = {_swap_suffix(k): val for k, val in own.items()}
+        out.append(EdgeSpec(i, j, data.get("potential", base_potential), {**base_params, **own}))
+    return out
+
+
+def resolve(edge: EdgeSpec, bodies: list[BodyModel], potential: str | None = None) -> PairSpec:
+    """Resolve an edge with its own potential (or ``potential``) and body-derived parameters.
+
+    Parameters the chosen potential does not know are dropped only when they came from a
+    different potential's defaults; unknown names given for this potential raise.
+    """
+    from poissonkit.plugin import potential as lookup_potential
+
+    name = potential or edge.potential
+    where = f"pair ({bodies[edge.i].name}, {bodies[edge.j].name}): "
+    if name is None:
+        raise InputError(f"{where}no potential (give default_potential or an edge 'potential')")
+    entry = lookup_potential(name)
+    given = dict(edge.params)
+    if potential is not None and potential != edge.potential:
+        known = {p.name for p in entry.params}
+        given = {k: v for k, v in given.items() if k in known}
+    params = pair_params(entry, bodies[edge.i], bodies[edge.j], given, where=where)
+    return PairSpec(edge.i, edge.j, name, params)
+
+
+def pairs_of(G: nx.Graph, bodies: list[BodyModel] | None = None,
+             default_potential: str | None = None,
+             default_params: Mapping[str, Any] | None = None) -> list[PairSpec]:
+    """Resolve every edge of ``G`` into a :class:`PairSpec` (see :func:`edges_of`)."""
+    bodies = bodies if bodies is not None else bodies_of(G)
+    return [resolve(e, bodies) for e in edges_of(G, default_potential, default_params)]
+
+
+def _swap_suffix(key: str) -> str:
+    if key.endswith("1"):
+        return key[:-1] + "2"
+    if key.endswith("2"):
+        return key[:-1] + "1"
+    return key
+
+
+def auto_scales(bodies: list[BodyModel]) -> Any:
+    """Internal units for a scene of these bodies (see :mod:`poissonkit.numerics.units`).
+
+    Length: the smallest centre distance (or the largest body size for a single body); mass: the
+    mean mass; energy: the dipole energy ``mu0 mu² / (4 pi L³)`` of the strongest magnets if any
+    body has a moment, otherwise ``G M² / L``; time follows as ``L sqrt(M / E)``.
+    """
+    import math
+
+    from poissonkit.conventions import MU0
+    from poissonkit.numerics.units import Scales
+    from poissonkit_nbody.potentials import NEWTON_G
+
+    pos = np.array([b.r for b in bodies], float)
+    length = 0.0
+    if len(bodies) > 1:
+        d = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=2)
+        d[np.diag_indices(len(bodies))] = np.inf
+        length = float(d.min())
+    if not length > 0 or not math.isfinite(length):
+        length = max((b.bounding_radius for b in bodies), default=0.0) or 1.0
+    mass = float(np.mean([b.mass for b in bodies]))
+    moments = [b.magnet.get("moment", 0.0) for b in bodies]
+    if max(moments) > 0:
+        energy = MU0 * max(moments) ** 2 / (4 * math.pi * length ** 3)
+    else:
+        energy = NEWTON_G * mass * mass / length
+    return Scales.from_energy(length, mass, energy)
+
+
+def from_graph(G: nx.Graph, cutoff: float | None = None, default_potential: str | None = None,
+               default_params: Mapping[str, Any] | None = None, scales: Any = "auto") -> Any:
+    """Build a numerics ``NBodySystem`` from a graph of bodies.
+
+    Parameters
+    ----------
+    G
+        Nodes carry body attributes (:mod:`poissonkit_nbody.bodies`), edges the interacting
+        pairs (all pairs if the graph has no edges).
+    cutoff
+        Pairs farther apart than this [m] are skipped by the numerics (``None``: never).
+    default_potential, default_params
+        Potential of edges without their own ``potential`` attribute.
+    scales
+        Internal units: a :class:`~poissonkit.numerics.units.Scales`, ``"auto"`` (default,
+        :func:`auto_scales`) or ``None`` (integrate in SI numbers as given).
+
+    Returns
+    -------
+    NBodySystem
+        Use :func:`initial_state` for the matching initial state vector.
+    """
+    bodies = bodies_of(G)
+    pairs = pairs_of(G, bodies, default_potential, default_params)
+    return system_of(bodies, pairs, cutoff=cutoff, scales=scales)
+
+
+def system_of(bodies: list[BodyModel], pairs: list[PairSpec], cutoff: float | None = None,
+              scales: Any = "auto") -> Any:
+    """The ``NBodySystem`` of resolved bodies and pairs (see :func:`from_graph`)."""
+    from poissonkit.numerics.nbody import Body, Interaction, NBodySystem
+
+    if isinstance(scales, str) and scales == "auto":
+        scales = auto_scales(bodies)
+    nb = [Body(b.name, b.mass, alpha=b.alpha, fixed=b.fixed,
+               position=b.r if b.fixed else None,
+               axis=b.nu if (b.fixed and b.is_top) else None) for b in bodies]
+    inter = [Interaction(p.i, p.j, p.potential, dict(p.params)) for p in pairs]
+    return NBodySystem(nb, inter, cutoff=cutoff, scales=scales)
+
+
+def state_arrays(bodies: list[BodyModel]) -> dict[str, np.ndarray]:
+    """SI initial state of every body as (N, 3) arrays ``r``, ``p``, ``nu``, ``m`` (zero rows
+    for the axis and angular momentum of point masses)."""
+    zero = (0.0, 0.0, 0.0)
+    return {
+        "r": np.array([b.r for b in bodies], float),
+        "p": np.array([b.p for b in bodies], float),
+        "nu": np.array([b.nu if b.is_top else zero for b in bodies], float),
+        "m": np.array([b.m if b.is_top else zero for b in bodies], float),
+    }
+
+
+def initial_state(G: nx.Graph, system: Any) -> np.ndarray:
+    """The state vector of ``system`` (built by :func:`from_graph` from ``G``) at t = 0."""
+    return state_of(bodies_of(G), system)
+
+
+def state_of(bodies: list[BodyModel], system: Any) -> np.ndarray:
+    """The state vector of ``system`` for the initial state of ``bodies`` (SI → internal)."""
+    a = state_arrays(bodies)
+    si = getattr(system, "scales", None) is not None
+    return np.asarray(system.pack(a["r"], a["p"], a["nu"], a["m"], si=si, normalize=True),
+                      dtype=float)

@@ -1,0 +1,31 @@
+"""Central pair potentials of point masses contributed by the N-body plugin."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import sympy as sp
+
+from poissonkit.plugin.contributions import PairPotential, Param
+
+#: Newton's constant (CODATA 2018) [m³/(kg s²)].
+NEWTON_G = 6.67430e-11
+
+
+def _gravity_expr(params: dict[str, Any]) -> sp.Expr:
+    r = sp.Symbol("r", real=True)
+    return -params["G"] * params["mass1"] * params["mass2"] / r
+
+
+GRAVITY = PairPotential(
+    name="gravity",
+    doc="Newtonian gravity of two point masses, U = -G m1 m2 / r (orientation-free).",
+    params=(
+        Param("mass1", "float", "mass of the first body [kg]", unit="kg", positive=True),
+        Param("mass2", "float", "mass of the second body [kg]", unit="kg", positive=True),
+        Param("G", "float", "gravitational constant [m^3/(kg s^2)]", default=NEWTON_G,
+              unit="m^3/(kg s^2)", positive=True),
+    ),
+    expr=_gravity_expr,
+    orientation="none",
+)

@@ -1,0 +1,385 @@
+"""The scene schema: a frozen :class:`Scene` validated from a plain mapping (parsed TOML).
+
+Every error is a :class:`~poissonkit.errors.SceneError` whose message starts with the path of
+the offending field, e.g. ``bodies[1].mass: must be > 0, got -1.0``. Units are SI throughout.
+The file format is documented field by field in ``docs/scenes.md``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from poissonkit.errors import PoissonkitError, SceneError
+
+TOP_KEYS = ("name", "description", "defaults", "bodies", "assembly", "interactions", "run",
+            "planner")
+BODY_KEYS = ("name", "mass", "alpha", "inertia", "r", "p", "nu", "m", "fixed", "moment",
+             "magnetization", "radius", "length", "half_length")
+INTERACTION_KEYS = ("potential", "params", "pairs", "cutoff", "pair")
+PAIR_KEYS = ("bodies", "potential", "params")
+ASSEMBLY_KEYS = ("name", "params", "overrides")
+RUN_KEYS = ("method", "step", "tol", "duration", "save_every")
+PLANNER_KEYS = ("tol", "models", "replan_every", "hysteresis", "cutoff")
+
+_FLOAT_FIELDS = ("mass", "alpha", "inertia", "moment", "magnetization", "radius", "length",
+                 "half_length")
+_VECTOR_FIELDS = ("r", "p", "nu", "m")
+
+
+@dataclass(frozen=True)
+class PairDecl:
+    """An explicitly listed interaction: two body names, a potential and its parameters."""
+
+    bodies: tuple[str, str]
+    potential: str
+    params: Mapping[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class PlannerSpec:
+    """The ``[planner]`` table: force tolerance, candidate models, re-planning cadence."""
+
+    tol: float
+    models: tuple[str, ...] = ("dipole", "dumbbell", "cylinder")
+    replan_every: int = 100
+    hysteresis: float = 0.5
+    cutoff: float | None = None
+
+
+@dataclass(frozen=True)
+class RunSettings:
+    """The ``[run]`` table: integrator name, step [s] or tolerance, duration [s]."""
+
+    duration: float
+    method: str = "splitting4"
+    step: float | None = None
+    tol: float | None = None
+    save_every: int = 1
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene (frozen). Build one with :func:`poissonkit.scene.load_scene`.
+
+    Attributes
+    ----------
+    name, description
+        For reports.
+    bodies
+        Body attribute mappings (SI), one per body, in file order (``defaults`` merged in);
+        empty when the scene uses an ``assembly``.
+    assembly
+        ``(name, params)`` of a registered assembly, or ``None``.
+    assembly_overrides
+        Extra node attributes applied to every body the assembly builds (e.g. ``fixed``).
+    potential, potential_params
+        Default pair potential (used for every pair when ``pairs = "all"``).
+    pairs_mode
+        ``"all"`` (every pair, listed pairs override) or ``"listed"`` (only listed pairs).
+    pairs
+        Explicitly listed interactions.
+    cutoff
+        Pairs farther apart than this are skipped [m], or ``None``.
+    run
+        Integration settings.
+    planner
+        Model-fidelity planner settings, or ``None``.
+    source
+        Path the scene was read from ('' for an in-memory scene).
+    """
+
+    name: str
+    description: str
+    bodies: tuple[Mapping[str, Any], ...]
+    assembly: tuple[str, Mapping[str, Any]] | None
+    assembly_overrides: Mapping[str, Any]
+    potential: str | None
+    potential_params: Mapping[str, Any]
+    pairs_mode: str
+    pairs: tuple[PairDecl, ...]
+    cutoff: float | None
+    run: RunSettings
+    planner: PlannerSpec | None = None
+    source: str = ""
+
+
+# ---------------------------------------------------------------- small validators
+
+def _table(value: Any, where: str) -> Mapping[str, Any]:
+    if not isinstance(value, Mapping):
+        raise SceneError(f"{where}: must be a table, got {type(value).__name__}")
+    return value
+
+
+def _keys(table: Mapping[str, Any], allowed: tuple[str, ...], where: str) -> None:
+    for key in table:
+        if key not in allowed:
+            prefix = f"{where}." if where else ""
+            raise SceneError(f"{prefix}{key}: unknown key; allowed: {', '.join(allowed)}")
+
+
+def _number(value: Any, where: str, *, positive: bool = False, nonnegative: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise SceneError(f"{where}: must be a number, got {value!r}")
+    x = float(value)
+    if not math.isfinite(x):
+        raise SceneError(f"{where}: must be finite, got {value!r}")
+    if positive and not x > 0:
+        raise SceneError(f"{where}: must be > 0, got {value!r}")
+    if nonnegative and x < 0:
+        raise SceneError(f"{where}: must be >= 0, got {value!r}")
+    return x
+
+
+def _integer(value: Any, where: str, minimum: int = 1) -> int:
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise SceneError(f"{where}: must be an integer >= {minimum}, got {value!r}")
+    return value
+
+
+def _string(value: Any, where: str) -> str:
+    if not isinstance(value, str) or not value:
+        raise SceneError(f"{where}: must be a non-empty string, got {value!r}")
+    return value
+
+
+def _vector(value: Any, where: str) -> tuple[float, float, float]:
+    if not isinstance(value, (list, tuple)) or len(value) != 3:
+        raise SceneError(f"{where}: must be a list of 3 numbers, got {value!r}")
+    return tuple(_number(v, f"{where}[{k}]") for k, v in enumerate(value))  # type: ignore[return-value]
+
+
+def _params(value: Any, where: str) -> dict[str, Any]:
+    table = _table(value, where)
+    out: dict[str, Any] = {}
+    for k, v in table.items():
+        if isinstance(v, (bool, int, float, str)):
+            out[k] = v
+        elif isinstance(v, list) and all(isinstance(x, (int, float)) for x in v):
+            out[k] = tuple(v)
+        else:
+            raise SceneError(f"{where}.{k}: must be a number, string, boolean or list of numbers,"
+                             f" got {v!r}")
+    return out
+
+
+def _lookup(kind: str, name: str, where: str):
+    from poissonkit.plugin import lookup
+
+    try:
+        return lookup(kind, name)
+    except PoissonkitError as exc:
+        raise SceneError(f"{where}: {exc}") from None
+
+
+# ---------------------------------------------------------------- sections
+
+def _body(raw: Any, defaults: Mapping[str, Any], where: str) -> dict[str, Any]:
+    table = _table(raw, where)
+    _keys(table, BODY_KEYS, where)
+    merged = {**defaults, **table}
+    out: dict[str, Any] = {}
+    if "name" in merged:
+        out["name"] = _string(merged["name"], f"{where}.name")
+    if "mass" not in merged:
+        raise SceneError(f"{where}.mass: missing (kg)")
+    for key in _FLOAT_FIELDS:
+        if key in merged:
+            # moment/magnetization = 0 marks a non-magnet (overriding [defaults])
+            zero_ok = key in ("moment", "magnetization")
+            out[key] = _number(merged[key], f"{where}.{key}", positive=not zero_ok,
+                               nonnegative=zero_ok)
+    if "alpha" in out and "inertia" in out:
+        raise SceneError(f"{where}: give alpha or inertia, not both")
+    for key in _VECTOR_FIELDS:
+        if key in merged:
+            out[key] = _vector(merged[key], f"{where}.{key}")
+    if "r" not in out:
+        raise SceneError(f"{where}.r: missing initial position (m)")
+    is_top = "alpha" in out or "inertia" in out
+    if is_top:
+        if "nu" not in out:
+            raise SceneError(f"{where}.nu: missing axis (a body with alpha/inertia is a top)")
+        if math.fsum(x * x for x in out["nu"]) == 0.0:
+            raise SceneError(f"{where}.nu: the axis must not be zero")
+    else:
+        for key in ("nu", "m"):
+            if key in table:
+                raise SceneError(f"{where}.{key}: only a top has an axis and angular momentum; "
+                                 "give alpha or inertia, or remove it")
+    if "fixed" in merged:
+        if not isinstance(merged["fixed"], bool):
+            raise SceneError(f"{where}.fixed: must be true or false, got {merged['fixed']!r}")
+        out["fixed"] = merged["fixed"]
+    return out
+
+
+def _run(raw: Any) -> RunSettings:
+    table = _table(raw, "run")
+    _keys(table, RUN_KEYS, "run")
+    if "duration" not in table:
+        raise SceneError("run.duration: missing (s)")
+    duration = _number(table["duration"], "run.duration", positive=True)
+    method = _string(table.get("method", "splitting4"), "run.method")
+    _lookup("integrator", method, "run.method")
+    step = _number(table["step"], "run.step", positive=True) if "step" in table else None
+    tol = _number(table["tol"], "run.tol", positive=True) if "tol" in table else None
+    if step is not None and step > duration:
+        raise SceneError(f"run.step: {step:g} s is longer than run.duration {duration:g} s")
+    save_every = _integer(table.get("save_every", 1), "run.save_every")
+    return RunSettings(duration, method, step, tol, save_every)
+
+
+def _planner(raw: Any) -> PlannerSpec:
+    table = _table(raw, "planner")
+    _keys(table, PLANNER_KEYS, "planner")
+    if "tol" not in table:
+        raise SceneError("planner.tol: missing (relative force tolerance)")
+    tol = _number(table["tol"], "planner.tol", positive=True)
+    models = table.get("models", ["dipole", "dumbbell", "cylinder"])
+    if not isinstance(models, list) or not models:
+        raise SceneError(f"planner.models: must be a non-empty list of potential names, got {models!r}")
+    for k, name in enumerate(models):
+        _lookup("potential", _string(name, f"planner.models[{k}]"), f"planner.models[{k}]")
+    replan = _integer(table.get("replan_every", 100), "planner.replan_every")
+    hyst = _number(table.get("hysteresis", 0.5), "planner.hysteresis", nonnegative=True)
+    if hyst >= 1:
+        raise SceneError(f"planner.hysteresis: must be in [0, 1), got {hyst!r}")
+    cutoff = _number(table["cutoff"], "planner.cutoff", positive=True) if "cutoff" in table else None
+    return PlannerSpec(tol, tuple(models), replan, hyst, cutoff)
+
+
+def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
+    """Validate a parsed scene (e.g. from TOML) into a frozen :class:`Scene`.
+
+    Raises
+    ------
+    SceneError
+        Naming the offending field: unknown keys, wrong types, negative masses, missing axes,
+        unknown potentials / integrators / assemblies, overlapping bodies at t = 0, ...
+    """
+    data = _table(data, "scene")
+    _keys(data, TOP_KEYS, "")
+    name = _string(data.get("name", "scene"), "name")
+    description = data.get("description", "")
+    if not isinstance(description, str):
+        raise SceneError(f"description: must be a string, got {description!r}")
+    defaults = _table(data.get("defaults", {}), "defaults")
+    _keys(defaults, BODY_KEYS, "defaults")
+    if "bodies" in data and "assembly" in data:
+        raise SceneError("bodies, assembly: give one of them, not both")
+    if "bodies" not in data and "assembly" not in data:
+        raise SceneError("bodies: missing (or give an assembly)")
+
+    bodies: tuple[dict[str, Any], ...] = ()
+    assembly = None
+    overrides: dict[str, Any] = {}
+    if "bodies" in data:
+        raw = data["bodies"]
+        if not isinstance(raw, list) or not raw:
+            raise SceneError("bodies: must be a non-empty array of tables ([[bodies]])")
+        bodies = tuple(_body(b, defaults, f"bodies[{k}]") for k, b in enumerate(raw))
+        seen: dict[str, int] = {}
+        for k, b in enumerate(bodies):
+            b.setdefault("name", f"b{k}")
+            if b["name"] in seen:
+                raise SceneError(f"bodies[{k}].name: {b['name']!r} is already used by "
+                                 f"bodies[{seen[b['name']]}]")
+            seen[b["name"]] = k
+    else:
+        table = _table(data["assembly"], "assembly")
+        _keys(table, ASSEMBLY_KEYS, "assembly")
+        aname = _string(table.get("name"), "assembly.name")
+        entry = _lookup("assembly", aname, "assembly.name")
+        aparams = _params(table.get("params", {}), "assembly.params")
+        try:
+            entry.resolve_params(aparams)
+        except PoissonkitError as exc:
+            raise SceneError(f"assembly.params: {exc}") from None
+        assembly = (aname, aparams)
+        overrides = dict(_table(table.get("overrides", {}), "assembly.overrides"))
+        _keys(overrides, BODY_KEYS, "assembly.overrides")
+
+    inter = _table(data.get("interactions", {}), "interactions")
+    _keys(inter, INTERACTION_KEYS, "interactions")
+    potential = inter.get("potential")
+    if potential is not None:
+        _lookup("potential", _string(potential, "interactions.potential"), "interactions.potential")
+    pot_params = _params(inter.get("params", {}), "interactions.params")
+    mode = inter.get("pairs", "all")
+    if mode not in ("all", "listed"):
+        raise SceneError(f"interactions.pairs: must be 'all' or 'listed', got {mode!r}")
+    cutoff = (_number(inter["cutoff"], "interactions.cutoff", positive=True)
+              if "cutoff" in inter else None)
+    names = {b["name"] for b in bodies}
+    pairs: list[PairDecl] = []
+    raw_pairs = inter.get("pair", [])
+    if not isinstance(raw_pairs, list):
+        raise SceneError("interactions.pair: must be an array of tables ([[interactions.pair]])")
+    for k, raw in enumerate(raw_pairs):
+        where = f"interactions.pair[{k}]"
+        table = _table(raw, where)
+        _keys(table, PAIR_KEYS, where)
+        ends = table.get("bodies")
+        if (not isinstance(ends, list) or len(ends) != 2 or ends[0] == ends[1]
+                or not all(isinstance(e, str) for e in ends)):
+            raise SceneError(f"{where}.bodies: must name two different bodies, got {ends!r}")
+        if assembly is None:
+            for e in ends:
+                if e not in names:
+                    raise SceneError(f"{where}.bodies: unknown body {e!r}; available: "
+                                     + ", ".join(sorted(names)))
+        pname = table.get("potential", potential)
+        if pname is None:
+            raise SceneError(f"{where}.potential: missing (and no interactions.potential)")
+        _lookup("potential", _string(pname, f"{where}.potential"), f"{where}.potential")
+        pairs.append(PairDecl((ends[0], ends[1]), pname, _params(table.get("params", {}),
+                                                                 f"{where}.params")))
+    if mode == "all" and potential is None and assembly is None and len(bodies) > 1:
+        planner_given = "planner" in data
+        if not planner_given:
+            raise SceneError("interactions.potential: missing (needed when pairs = 'all'; "
+                             "or use pairs = 'listed' or a [planner])")
+
+    if "run" not in data:
+        raise SceneError("run: missing ([run] with at least duration)")
+    run = _run(data["run"])
+    planner = _planner(data["planner"]) if "planner" in data else None
+    scene = Scene(name=name, description=description, bodies=bodies, assembly=assembly,
+                  assembly_overrides=overrides, potential=potential, potential_params=pot_params,
+                  pairs_mode=mode, pairs=tuple(pairs), cutoff=cutoff, run=run, planner=planner,
+                  source=source)
+    if bodies:
+        check_overlaps(bodies, "bodies")
+    else:
+        from poissonkit.scene.build import scene_graph
+
+        graph = scene_graph(scene)
+        check_overlaps([graph.nodes[n] for n in graph.nodes], "assembly")
+    return scene
+
+
+def check_overlaps(bodies, where: str = "bodies") -> None:
+    """Raise :class:`SceneError` naming the first two bodies that overlap at t = 0.
+
+    ``bodies`` are attribute mappings (``r``, optional ``nu``, ``radius``, ``length`` /
+    ``half_length``, ``name``).
+    """
+    from poissonkit.scene.geometry import overlapping, shape_of
+
+    bodies = list(bodies)
+    shapes = []
+    for b in bodies:
+        half = b.get("half_length", b.get("length", 0.0) / 2)
+        shapes.append(shape_of(b["r"], b.get("nu"), b.get("radius", 0.0), half))
+    for i in range(len(shapes)):
+        for j in range(i + 1, len(shapes)):
+            a, c = shapes[i], shapes[j]
+            coincident = all(x == y for x, y in zip(a.center, c.center))
+            if coincident or ((a.kind != "point" or c.kind != "point") and overlapping(a, c)):
+                raise SceneError(
+                    f"{where}[{j}].r: body {bodies[j].get('name', j)!r} overlaps body "
+                    f"{bodies[i].get('name', i)!r} ({where}[{i}]) at t = 0")
