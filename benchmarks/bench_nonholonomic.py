@@ -1,4 +1,4 @@
-"""Speed against error for the Chaplygin ball and the Routh sphere (docs/perf/nonholonomic.md).
+"""Speed against error for the Chaplygin ball and the Routh sphere (docs/performance.md).
 
 For each system: a reference run (DOP853, tol 1e-13), then
 * the time-changed implicit midpoint rule in tau (``ConformalIntegrator``, compiled and python
