@@ -9,14 +9,14 @@ with coordinates ``x1 .. xn`` (or an optional ``"coords": [...]`` list, and ``"p
 naming symbolic parameters the entries may use). Strings are parsed with the allow-list parser,
 never evaluated. For a Hamiltonian system the report also checks the claimed Casimirs,
 integrals, invariant measure and original equations. Exit code 0 when everything holds, 1 when
-the structure is not Poisson or a claimed property fails.
+the structure is not Poisson, a claimed property fails, or a check raised (status "error": an
+unverified claim never passes).
 """
 
 from __future__ import annotations
 
 import argparse
 import contextlib
-import importlib
 import json
 import re
 import signal
@@ -26,7 +26,7 @@ from typing import Any
 
 import sympy as sp
 
-from poissonkit.errors import InputError, ParseError
+from poissonkit.errors import InputError, ParseError, PoissonkitError
 
 #: Keys a JSON structure file may contain.
 JSON_KEYS = ("dim", "bivector", "coords", "variable", "params", "name")
@@ -158,13 +158,6 @@ def load_target(target: str, params: list[str] = ()) -> tuple[str, str, Any]:
 
 
 # ---------------------------------------------------------------------------------- checks
-def _optional(module: str):
-    try:
-        return importlib.import_module(module)
-    except ImportError:
-        return None
-
-
 class _TimeLimit(Exception):
     pass
 
@@ -190,33 +183,49 @@ def _time_limit(seconds: float):
         signal.signal(signal.SIGALRM, old)
 
 
+def _describe(exc: BaseException) -> str:
+    return f"{type(exc).__name__}: {str(exc).strip()[:200]}"
+
+
 def _casimir_section(P, degree: int, report: dict, notes: list[str], timeout: float) -> None:
-    cas = _optional("poissonkit.structure.casimirs")
-    if cas is None:
-        notes.append("rank and Casimirs: poissonkit.structure.casimirs is not available")
-        return
+    """Rank and polynomial Casimirs (informative). A typed poissonkit error (the search does not
+    apply) becomes a note; any other exception is an internal error recorded in
+    ``report["errors"]``, which makes the report not ok."""
+    from poissonkit.structure import casimirs as cas
+
     try:
         with _time_limit(timeout):
             report["rank"] = int(cas.rank(P, seed=0))
-    except Exception as exc:  # another module's failure must not sink the whole report
-        notes.append(f"rank: not computed ({type(exc).__name__}: {str(exc).strip()[:200]})")
-    except _TimeLimit:
+    except _TimeLimit:  # before Exception: _TimeLimit is one
         notes.append(f"rank: not computed within {timeout:g} s (--timeout)")
+    except PoissonkitError as exc:
+        notes.append(f"rank: not computed ({_describe(exc)})")
+    except Exception as exc:  # noqa: BLE001 -- a bug: keep the report, never call it ok
+        report["errors"].append(f"rank: internal error ({_describe(exc)})")
     if degree > 0:
         try:
             with _time_limit(timeout):
                 found = cas.find_casimirs(P, degree)
             report["casimirs"] = [str(c) for c in found]
             report["casimir_degree"] = degree
-        except Exception as exc:
-            notes.append(f"Casimirs: not computed ({type(exc).__name__}: {str(exc).strip()[:200]})")
         except _TimeLimit:
             notes.append(f"Casimirs: search up to degree {degree} not finished within "
                          f"{timeout:g} s (raise --timeout or lower --casimir-degree)")
+        except PoissonkitError as exc:
+            notes.append(f"Casimirs: not computed ({_describe(exc)})")
+        except Exception as exc:  # noqa: BLE001 -- a bug: keep the report, never call it ok
+            report["errors"].append(f"Casimirs: internal error ({_describe(exc)})")
 
 
 def _system_section(sys_, report: dict, notes: list[str]) -> bool:
-    """Check the claims of a HamiltonianSystem; returns True if all hold."""
+    """Check the claims of a HamiltonianSystem; returns True if all hold.
+
+    A claim whose check raises is recorded with ``status: "error"`` (and the error message) and
+    counts as not holding: an unverified claim must never make the report ok.
+    """
+    from poissonkit.structure import casimirs as cas
+    from poissonkit.structure import checks
+
     ok = True
     P = sys_.structure
     X = sys_.vector_field()
@@ -226,8 +235,6 @@ def _system_section(sys_, report: dict, notes: list[str]) -> bool:
         "equations_of_motion": {f"{c}dot": str(X[i]) for i, c in enumerate(P.coords)},
         "checks": [],
     }
-    checks = _optional("poissonkit.structure.checks")
-    cas = _optional("poissonkit.structure.casimirs")
 
     def record(what: str, run) -> None:
         nonlocal ok
@@ -235,34 +242,30 @@ def _system_section(sys_, report: dict, notes: list[str]) -> bool:
             result = run()
         except _TimeLimit:
             raise
-        except Exception as exc:  # report, never crash: the check itself is another module's
-            notes.append(f"{what}: not checked ({type(exc).__name__}: {str(exc).strip()[:200]})")
+        except Exception as exc:  # noqa: BLE001 -- report the other claims; this one is unverified
+            ok = False
+            info["checks"].append({"what": what, "holds": False, "status": "error",
+                                   "error": _describe(exc)})
+            report["errors"].append(f"{what}: {_describe(exc)}")
             return
         holds = bool(result)
         ok = ok and holds
-        entry = {"what": what, "holds": holds}
+        entry = {"what": what, "holds": holds, "status": "holds" if holds else "fails"}
         fails = getattr(result, "failures", ())
         if not holds and fails:
             entry["failures"] = [f"{lab} = {val}" for lab, val in list(fails)[:5]]
         info["checks"].append(entry)
 
     cons = tuple(sys_.constraints)
-    if cas is not None:
-        for name, C in sys_.casimirs.items():
-            record(f"Casimir {name}", lambda C=C: cas.is_casimir(P, C, constraints=cons))
-    elif sys_.casimirs:
-        notes.append("claimed Casimirs not checked: casimirs module not available")
-    if checks is not None:
-        if sys_.integrals:
-            for name, F in sys_.integrals.items():
-                record(f"first integral {name}",
-                       lambda F=F: checks.is_first_integral(sys_, F, constraints=cons))
-        if sys_.measure is not None:
-            record(f"invariant measure {sys_.measure}", lambda: checks.is_invariant_measure(sys_))
-        if sys_.original is not None:
-            record("original equations = N P dH", lambda: checks.is_conformally_hamiltonian(sys_))
-    elif sys_.integrals or sys_.measure is not None or sys_.original is not None:
-        notes.append("claimed integrals/measure not checked: checks module not available")
+    for name, C in sys_.casimirs.items():
+        record(f"Casimir {name}", lambda C=C: cas.is_casimir(P, C, constraints=cons))
+    for name, F in sys_.integrals.items():
+        record(f"first integral {name}",
+               lambda F=F: checks.is_first_integral(sys_, F, constraints=cons))
+    if sys_.measure is not None:
+        record(f"invariant measure {sys_.measure}", lambda: checks.is_invariant_measure(sys_))
+    if sys_.original is not None:
+        record("original equations = N P dH", lambda: checks.is_conformally_hamiltonian(sys_))
     report["system"] = info
     return ok
 
@@ -271,7 +274,9 @@ def verify(obj, name: str = "", doc: str = "", *, casimir_degree: int = 2, metho
            seed: int | None = None, timeout: float = 30.0) -> dict:
     """Build the verification report of a bivector or system as a JSON-ready dict.
 
-    ``report["ok"]`` is true when ``P`` is Poisson and every claimed property holds.
+    ``report["ok"]`` is true when ``P`` is Poisson and every claimed property holds;
+    ``report["status"]`` is ``"ok"``, ``"failed"`` (a property does not hold) or ``"error"``
+    (a check raised: listed in ``report["errors"]``; the report is then never ok).
     """
     from poissonkit.structure.bivector import Bivector
     from poissonkit.structure.jacobi import check_jacobi
@@ -296,7 +301,7 @@ def verify(obj, name: str = "", doc: str = "", *, casimir_degree: int = 2, metho
             "false_positive_bound": res.false_positive_bound,
             "seconds": round(res.seconds, 4), "note": res.note,
         },
-        "brackets": brackets, "rank": None, "casimirs": None, "notes": notes,
+        "brackets": brackets, "rank": None, "casimirs": None, "notes": notes, "errors": [],
     }
     ok = res.is_poisson
     if res.is_poisson:
@@ -305,7 +310,9 @@ def verify(obj, name: str = "", doc: str = "", *, casimir_degree: int = 2, metho
         notes.append("rank and Casimirs skipped: not a Poisson structure")
     if sys_ is not None:
         ok = _system_section(sys_, report, notes) and ok
+    ok = ok and not report["errors"]
     report["ok"] = ok
+    report["status"] = "error" if report["errors"] else ("ok" if ok else "failed")
     return report
 
 
@@ -341,11 +348,16 @@ def _print_report(rep: dict) -> None:
         for k, v in sys_["equations_of_motion"].items():
             print(f"    {k} = {v}")
         for c in sys_["checks"]:
+            if c.get("status") == "error":
+                print(f"{c['what']}: ERROR ({c['error']})")
+                continue
             print(f"{c['what']}: {'OK' if c['holds'] else 'FAILED'}")
             for f in c.get("failures", []):
                 print(f"    {f}")
     for n in rep["notes"]:
         print(f"note: {n}")
+    for e in rep.get("errors", []):
+        print(f"error: {e}")
 
 
 def _list_entries(as_json: bool) -> int:

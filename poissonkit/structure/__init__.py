@@ -14,9 +14,30 @@ from poissonkit.structure.blocks import (
     so3,
     symmetric_top,
 )
+
+# casimirs, checks and poisson_map are re-exported eagerly: ~40 ms once sympy is loaded.
+from poissonkit.structure.casimirs import (
+    Casimirs,
+    RankResult,
+    SingularSet,
+    find_casimirs,
+    is_casimir,
+    rank,
+    singular_set,
+)
+from poissonkit.structure.checks import (
+    CheckResult,
+    divergence,
+    in_involution,
+    is_conformally_hamiltonian,
+    is_first_integral,
+    is_invariant_measure,
+    vanishes,
+)
 from poissonkit.structure.deformed import (
     canonical_deformation,
     chaplygin_ball,
+    chaplygin_ball_system,
     chaplygin_gyrostat,
     deform,
     p_gf,
@@ -25,6 +46,13 @@ from poissonkit.structure.deformed import (
 )
 from poissonkit.structure.jacobi import JacobiResult, check_jacobi
 from poissonkit.structure.parsing import parse_expression
+from poissonkit.structure.poisson_map import (
+    PushForward,
+    PushForwardError,
+    is_poisson_map,
+    jacobian_bracket,
+    push_forward,
+)
 from poissonkit.structure.schouten import (
     Multivector,
     are_compatible,
@@ -36,9 +64,50 @@ from poissonkit.structure.schouten import (
 from poissonkit.structure.system import HamiltonianSystem
 
 __all__ = [
-    "Bivector", "HamiltonianSystem", "JacobiResult", "Multivector", "are_compatible",
-    "canonical", "canonical_deformation", "chaplygin_ball", "chaplygin_gyrostat", "check_jacobi",
-    "deform", "direct_sum", "e3", "eps_matrix", "is_poisson_vector_field", "jacobiator",
-    "lichnerowicz", "lie_poisson", "p_gf", "parse_expression", "schouten_bracket", "se3", "so3",
-    "symmetric_top", "veselova", "veselova_gyrostat",
+    "Bivector",
+    "Casimirs",
+    "CheckResult",
+    "HamiltonianSystem",
+    "JacobiResult",
+    "Multivector",
+    "PushForward",
+    "PushForwardError",
+    "RankResult",
+    "SingularSet",
+    "are_compatible",
+    "canonical",
+    "canonical_deformation",
+    "chaplygin_ball",
+    "chaplygin_ball_system",
+    "chaplygin_gyrostat",
+    "check_jacobi",
+    "deform",
+    "direct_sum",
+    "divergence",
+    "e3",
+    "eps_matrix",
+    "find_casimirs",
+    "in_involution",
+    "is_casimir",
+    "is_conformally_hamiltonian",
+    "is_first_integral",
+    "is_invariant_measure",
+    "is_poisson_map",
+    "is_poisson_vector_field",
+    "jacobian_bracket",
+    "jacobiator",
+    "lichnerowicz",
+    "lie_poisson",
+    "p_gf",
+    "parse_expression",
+    "push_forward",
+    "rank",
+    "schouten_bracket",
+    "se3",
+    "singular_set",
+    "so3",
+    "symmetric_top",
+    "vanishes",
+    "veselova",
+    "veselova_gyrostat",
 ]

@@ -5,26 +5,16 @@ Conventions (sign of the bracket and of Hamiltonian vector fields): :mod:`poisso
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import sympy as sp
 
 from poissonkit.errors import DimensionError, InputError, ParseError, UnknownNameError
+from poissonkit.structure._expr import as_expr, as_symbols, as_sympy
 
-
-def _as_symbols(coords: Iterable[sp.Symbol | str]) -> tuple[sp.Symbol, ...]:
-    out = []
-    for c in coords:
-        if isinstance(c, str):
-            out.append(sp.Symbol(c, real=True))
-        elif isinstance(c, sp.Symbol):
-            out.append(c)
-        else:
-            raise InputError(f"coordinates must be sympy Symbols or names, got {c!r}")
-    if len(set(out)) != len(out):
-        raise InputError(f"repeated coordinate in {tuple(map(str, out))}")
-    return tuple(out)
+# Shared with schouten, blocks, poisson_map and checks (one implementation, one error text).
+_as_symbols = as_symbols
 
 
 def _has_radical(*items) -> bool:
@@ -96,6 +86,10 @@ class Bivector:
         if mat.shape != (n, n):
             raise DimensionError(f"bivector matrix has shape {mat.shape}, expected ({n}, {n}) "
                                  f"for coordinates {tuple(map(str, coords))}")
+        # non-finite entries first: NaN != -NaN would otherwise read as "not antisymmetric"
+        for (i, j), e in zip(((i, j) for i in range(n) for j in range(n)), mat):
+            if e.has(sp.nan, sp.oo, -sp.oo, sp.zoo):
+                raise InputError(f"bivector matrix entry ({i},{j}) is not finite: {e}")
         for i in range(n):
             if mat[i, i] != 0:
                 raise InputError(f"bivector matrix is not antisymmetric: entry ({i},{i}) = {mat[i, i]}")
@@ -159,11 +153,8 @@ class Bivector:
                 raise DimensionError(f"index pair {key} out of range for dimension {n}")
             if i == j:
                 raise InputError(f"index pair {key} repeats an index")
-            try:
-                expr = parse_expression(value, syms) if isinstance(value, str) \
-                    else sp.sympify(value, strict=True)
-            except sp.SympifyError:
-                raise InputError(f"component {key!r}: cannot use {value!r} as an expression") from None
+            expr = parse_expression(value, syms) if isinstance(value, str) \
+                else as_expr(value, f"component {key!r}")
             if mat[i, j] != 0 or mat[j, i] != 0:
                 raise InputError(f"index pair {key} given twice")
             mat[i, j] = expr
@@ -195,7 +186,7 @@ class Bivector:
 
     def gradient(self, F) -> sp.Matrix:
         """Column vector ``dF/dx``."""
-        F = sp.sympify(F)
+        F = as_expr(F, "function")
         return sp.Matrix([sp.diff(F, x) for x in self.coords])
 
     def bracket(self, F, G) -> sp.Expr:
@@ -205,7 +196,7 @@ class Bivector:
         expanding those costs seconds and gives no canonical form anyway (test zero with
         :func:`poissonkit.structure.jacobi.is_zero_expression`).
         """
-        F, G = sp.sympify(F), sp.sympify(G)
+        F, G = as_expr(F, "function F"), as_expr(G, "function G")
         dF, dG = self.gradient(F), self.gradient(G)
         value = (dF.T * self.matrix * dG)[0, 0]
         return value if _has_radical(self.matrix, F, G) else sp.expand(value)
@@ -216,7 +207,7 @@ class Bivector:
         Components are expanded unless ``P``, ``H`` or ``N`` contain fractional powers
         (square roots, as in the Chaplygin ball), see :meth:`bracket`.
         """
-        H, N = sp.sympify(H), sp.sympify(multiplier)
+        H, N = as_expr(H, "Hamiltonian"), as_expr(multiplier, "multiplier")
         X = N * self.matrix * self.gradient(H)
         return X if _has_radical(self.matrix, H, N) else X.applyfunc(sp.expand)
 
@@ -227,13 +218,17 @@ class Bivector:
 
     def subs(self, *args, **kwargs) -> Bivector:
         """Substitute into every entry (parameters, functions); returns a new bivector."""
+        # sympy's subs sympifies strings leniently (eval): convert every argument first
+        args = tuple(as_sympy(a, "substitution") for a in args)
         return Bivector(self.coords, self.matrix.subs(*args, **kwargs), self.blocks)
 
     def __neg__(self) -> Bivector:
         return Bivector(self.coords, -self.matrix, self.blocks)
 
     def __mul__(self, factor) -> Bivector:
-        return Bivector(self.coords, self.matrix * sp.sympify(factor), ())
+        if isinstance(factor, Bivector):
+            return NotImplemented
+        return Bivector(self.coords, self.matrix * as_expr(factor, "scalar factor"), ())
 
     __rmul__ = __mul__
 

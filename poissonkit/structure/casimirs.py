@@ -33,6 +33,7 @@ from poissonkit.errors import (
     PoissonkitError,
     UnknownNameError,
 )
+from poissonkit.structure._expr import as_bivector, as_expr
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.checks import (
     CheckResult,
@@ -90,14 +91,7 @@ def _sub(P: Bivector, idx: list[int]) -> Bivector:
     return Bivector(tuple(P.coords[i] for i in idx), P.matrix.extract(idx, idx))
 
 
-def _bivector(P) -> Bivector:
-    from poissonkit.structure.system import HamiltonianSystem
-
-    if isinstance(P, HamiltonianSystem):
-        return P.structure
-    if not isinstance(P, Bivector):
-        raise InputError(f"expected a Bivector, got {type(P).__name__}")
-    return P
+_bivector = as_bivector
 
 
 # ---------------------------------------------------------------------------------- rank
@@ -280,8 +274,7 @@ def _point_dict(P: Bivector, point) -> dict:
         for k, v in point.items():
             if str(k) not in names:
                 raise UnknownNameError("symbol", str(k), names)
-            out[names[str(k)]] = sp.nsimplify(sp.sympify(v), rational=True) \
-                if isinstance(v, float) else sp.sympify(v)
+            out[names[str(k)]] = _point_value(v, str(k))
         missing = [str(c) for c in P.coords if c not in out]
         if missing:
             raise InputError(f"point does not give coordinates {missing}")
@@ -289,8 +282,13 @@ def _point_dict(P: Bivector, point) -> dict:
     vals = list(point)
     if len(vals) != P.dim:
         raise DimensionError(f"point has {len(vals)} values for {P.dim} coordinates")
-    return {c: (sp.nsimplify(v, rational=True) if isinstance(v, float) else sp.sympify(v))
-            for c, v in zip(P.coords, vals)}
+    return {c: _point_value(v, str(c)) for c, v in zip(P.coords, vals)}
+
+
+def _point_value(v, name: str) -> sp.Expr:
+    """A point coordinate as an exact sympy value (floats made rational; strings refused)."""
+    e = as_expr(v, f"point value of {name}")
+    return sp.nsimplify(e, rational=True) if isinstance(e, sp.Float) else e
 
 
 def _rank_once(B: Bivector, given: dict, params: list, rng, generic: bool):

@@ -36,6 +36,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from poissonkit.errors import DimensionError, InputError
+from poissonkit.structure._expr import as_bivector, as_expr, as_symbols
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.system import HamiltonianSystem
 
@@ -218,21 +219,11 @@ def vanishes(expr, constraints: Sequence = ()) -> bool:
     bool
         ``True`` is a proof; see the module docstring for what ``False`` means.
     """
-    return _vanishing([sp.sympify(expr)], _as_exprs(constraints))[0] == 0
+    return _vanishing([as_expr(expr)], _as_exprs(constraints))[0] == 0
 
 
-def _expr(value, what: str = "expression") -> sp.Expr:
-    """A sympy expression from a non-string value (strings are never sympified here)."""
-    if isinstance(value, str):
-        raise InputError(f"{what} must be a sympy expression, not a string; parse strings with "
-                         "poissonkit.structure.parse_expression")
-    try:
-        out = sp.sympify(value, strict=True)
-    except (sp.SympifyError, TypeError):
-        raise InputError(f"{what} must be a sympy expression, got {type(value).__name__}") from None
-    if not isinstance(out, sp.Expr):
-        raise InputError(f"{what} must be a scalar expression, got {type(out).__name__}")
-    return out
+# Shared conversions (strings are refused: sympify would eval them).
+_expr = as_expr
 
 
 def _as_exprs(items) -> list:
@@ -279,15 +270,7 @@ def _field(X, coords=None) -> tuple[tuple[sp.Symbol, ...], list]:
 def _coords(coords) -> tuple[sp.Symbol, ...]:
     if isinstance(coords, Bivector):
         return coords.coords
-    out = []
-    for c in coords:
-        if isinstance(c, str):
-            out.append(sp.Symbol(c, real=True))
-        elif isinstance(c, sp.Symbol):
-            out.append(c)
-        else:
-            raise InputError(f"coordinates must be symbols or names, got {c!r}")
-    return tuple(out)
+    return as_symbols(coords)
 
 
 def divergence(X, coords=None) -> sp.Expr:
@@ -306,7 +289,7 @@ def divergence(X, coords=None) -> sp.Expr:
 
 
 def _derivative_along(cs, comps, F) -> sp.Expr:
-    F = sp.sympify(F)
+    F = as_expr(F, "function")
     return sp.Add(*[f * sp.diff(F, x) for f, x in zip(comps, cs)])
 
 
@@ -448,12 +431,7 @@ def is_invariant_measure(X, rho=None, constraints: Sequence = (), coords=None) -
     return CheckResult(not fails, fails, "invariant measure", _note(constraints))
 
 
-def _bivector(P) -> Bivector:
-    if isinstance(P, HamiltonianSystem):
-        return P.structure
-    if not isinstance(P, Bivector):
-        raise InputError(f"expected a Bivector, got {type(P).__name__}")
-    return P
+_bivector = as_bivector
 
 
 def _note(constraints) -> str:

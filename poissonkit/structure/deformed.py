@@ -25,6 +25,7 @@ from collections.abc import Callable, Sequence
 import sympy as sp
 
 from poissonkit.errors import DimensionError, InputError
+from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.blocks import eps_matrix
 from poissonkit.structure.parsing import parse_expression
@@ -58,7 +59,7 @@ def _function_of(spec: FunctionSpec, name: str, gamma: Sequence[sp.Symbol],
     if isinstance(spec, str):
         expr = parse_expression(spec, gamma)
     elif callable(spec) and not isinstance(spec, sp.Basic):
-        expr = sp.sympify(spec(tuple(gamma)))
+        expr = as_expr(spec(tuple(gamma)), f"{name} (value returned by the callable)")
     else:
         try:
             expr = sp.sympify(spec, strict=True)

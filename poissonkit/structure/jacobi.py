@@ -48,6 +48,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from poissonkit.errors import InputError, NotPoissonError
+from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
 
 Key = tuple[int, int, int]
@@ -348,7 +349,8 @@ def is_zero_expression(e: sp.Expr, constraints: Sequence[sp.Expr] = (),
     Falls back to ``sympy.simplify`` for what the algebraic test cannot decide
     (transcendental functions).
     """
-    e = sp.sympify(e)
+    e = as_expr(e)
+    constraints = tuple(as_expr(c, "constraint") for c in constraints)
     if e == 0:
         return True
     if not constraints and not _has_fractional_power(e):
@@ -676,7 +678,7 @@ def check_jacobi(P: Bivector, method: str = "auto", constraints: Sequence = (),
         raise InputError(f"unknown Jacobi method {method!r}; available: {', '.join(_METHODS)}")
     if not isinstance(trials, int) or trials < 1:
         raise InputError(f"trials must be a positive int, got {trials!r}")
-    constraints = tuple(sp.sympify(c) for c in constraints)
+    constraints = tuple(as_expr(c, "constraint") for c in constraints)
     t0 = time.perf_counter()
     note = ""
     chosen = method
@@ -689,7 +691,8 @@ def check_jacobi(P: Bivector, method: str = "auto", constraints: Sequence = (),
         if parametrization is None:
             raise InputError("random Jacobi check on a constraint surface needs a "
                              "parametrization of the surface")
-        parametrization = {P.symbol(str(k)) if not isinstance(k, sp.Symbol) else k: sp.sympify(v)
+        parametrization = {P.symbol(str(k)) if not isinstance(k, sp.Symbol) else k:
+                           as_expr(v, f"parametrization of {k}")
                            for k, v in parametrization.items()}
         for c in constraints:
             if sp.simplify(sp.together(c.xreplace(parametrization))) != 0:

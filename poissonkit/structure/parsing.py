@@ -8,6 +8,7 @@ attribute access, subscript, lambda or dunder is rejected before parsing.
 from __future__ import annotations
 
 import ast
+import math
 from collections.abc import Iterable, Mapping
 
 import sympy as sp
@@ -27,6 +28,78 @@ _ALLOWED_NODES = (
     ast.USub, ast.UAdd, ast.Constant, ast.Name, ast.Load, ast.Call, ast.Mod,
 )
 
+#: Longest accepted expression text (longer input is refused before any parsing work).
+MAX_LENGTH = 10_000
+#: Largest absolute value of a constant exponent (``x**1000`` is fine, ``9**9**9`` is not).
+MAX_EXPONENT = 1000
+#: Largest number of decimal digits a constant sub-expression may reach (``(10**1000)**1000``).
+MAX_DIGITS = 10_000
+
+_ARITH = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b,
+          ast.Mult: lambda a, b: a * b, ast.Div: lambda a, b: a / b}
+
+
+def _exponent_value(node: ast.AST, text: str) -> float | None:
+    """Value of a constant exponent (float arithmetic, no powers), or ``None`` if not constant.
+
+    Only evaluated to bound its size: the expression itself is built by sympy from the text.
+    """
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
+        try:
+            return float(node.value)
+        except OverflowError:
+            return math.inf
+    if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+        v = _exponent_value(node.operand, text)
+        return None if v is None else -v if isinstance(node.op, ast.USub) else v
+    if isinstance(node, ast.BinOp):
+        if isinstance(node.op, ast.Pow):
+            a, b = _exponent_value(node.left, text), _exponent_value(node.right, text)
+            if a is not None and b is not None:
+                raise ParseError(f"a constant power as an exponent (tower of powers) is not "
+                                 f"allowed in {text[:80]!r}")
+            return None
+        a, b = _exponent_value(node.left, text), _exponent_value(node.right, text)
+        if a is None or b is None or type(node.op) not in _ARITH:
+            return None
+        try:
+            return _ARITH[type(node.op)](a, b)
+        except (OverflowError, ZeroDivisionError):
+            return math.inf
+    return None
+
+
+def _digits(node: ast.AST) -> float | None:
+    """Upper bound of the decimal digits of a constant sub-expression, ``None`` if not constant."""
+    if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
+        v = abs(node.value)
+        return float(len(str(v))) if isinstance(v, int) else max(0.0, math.log10(v + 1.0))
+    if isinstance(node, ast.UnaryOp):
+        return _digits(node.operand)
+    if isinstance(node, ast.BinOp):
+        a, b = _digits(node.left), _digits(node.right)
+        if a is None or b is None:
+            return None
+        if isinstance(node.op, ast.Pow):
+            e = _exponent_value(node.right, "")
+            return math.inf if e is None else (abs(e) + 1.0) * (a + 1.0)
+        return a + b + 1.0
+    return None
+
+
+def _check_powers(tree: ast.AST, text: str) -> None:
+    """Refuse powers that would make sympy compute astronomically large numbers."""
+    for node in ast.walk(tree):
+        if not (isinstance(node, ast.BinOp) and isinstance(node.op, ast.Pow)):
+            continue
+        e = _exponent_value(node.right, text)
+        if e is not None and not abs(e) <= MAX_EXPONENT:
+            raise ParseError(f"constant exponent {e:g} exceeds {MAX_EXPONENT} in absolute value "
+                             f"in {text[:80]!r}")
+        d = _digits(node)
+        if d is not None and d > MAX_DIGITS:
+            raise ParseError(f"a constant in {text[:80]!r} would have more than {MAX_DIGITS} digits")
+
 
 def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
                      extra: Mapping[str, object] | None = None) -> sp.Expr:
@@ -44,13 +117,21 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
     Raises
     ------
     ParseError
-        On a syntax error or any name, attribute, subscript or construct not allowed.
+        On a syntax error or any name, attribute, subscript or construct not allowed; on text
+        longer than :data:`MAX_LENGTH`; on a constant exponent above :data:`MAX_EXPONENT` in
+        absolute value, a tower of constant powers (``9**9**9``) or a constant with more than
+        :data:`MAX_DIGITS` digits (these would make sympy compute for hours).
     """
     if not isinstance(text, str):
         raise ParseError(f"expected a string expression, got {type(text).__name__}")
+    if len(text) > MAX_LENGTH:
+        raise ParseError(f"expression is {len(text)} characters long; at most {MAX_LENGTH} "
+                         "are accepted")
     src = text.replace("^", "**").strip()
     if not src:
         raise ParseError("empty expression")
+    if isinstance(symbols, sp.Symbol):  # a single symbol is a common slip: accept it
+        symbols = (symbols,)
     local = {str(s): s for s in symbols}
     if extra:
         local.update(extra)
@@ -58,6 +139,8 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
         tree = ast.parse(src, mode="eval")
     except SyntaxError as exc:
         raise ParseError(f"cannot parse {text!r}: {exc.msg}") from None
+    except (RecursionError, MemoryError):
+        raise ParseError("expression is nested too deeply") from None
     for node in ast.walk(tree):
         if not isinstance(node, _ALLOWED_NODES):
             raise ParseError(f"construct {type(node).__name__} is not allowed in {text!r}")
@@ -70,6 +153,10 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
             raise ParseError(f"only calls of named functions are allowed in {text!r}")
         if isinstance(node, ast.Constant) and not isinstance(node.value, (int, float)):
             raise ParseError(f"constant {node.value!r} is not allowed in {text!r}")
+    try:
+        _check_powers(tree, text)
+    except RecursionError:
+        raise ParseError("expression is nested too deeply") from None
     try:
         return parse_expr(src, local_dict=dict(local), global_dict=dict(ALLOWED_FUNCTIONS),
                           transformations=standard_transformations, evaluate=True)

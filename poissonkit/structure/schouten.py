@@ -25,21 +25,16 @@ from itertools import combinations
 
 import sympy as sp
 
-from poissonkit.errors import DimensionError, InputError, ParseError
+from poissonkit.errors import DimensionError, InputError
+from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector, _as_symbols
 
 Key = tuple[int, ...]
 
 
 def _expr(value) -> sp.Expr:
-    """A sympy expression from a number/expression; strings are refused (never sympified)."""
-    if isinstance(value, str):
-        raise ParseError("multivector components must be expressions; parse strings with "
-                         "multivector_from_dict or parse_expression")
-    try:
-        return sp.sympify(value, strict=True)
-    except sp.SympifyError:
-        raise InputError(f"cannot use {value!r} as a multivector component") from None
+    """A multivector component (strings refused: parse them with parse_expression)."""
+    return as_expr(value, "multivector component")
 
 
 def _sort_sign(idx: Sequence[int]) -> tuple[int, Key] | None:
@@ -88,7 +83,7 @@ class Multivector:
         if not isinstance(self.degree, int) or self.degree < 0:
             raise InputError(f"multivector degree must be a non-negative int, got {self.degree!r}")
         n = len(coords)
-        if self.degree > n and any(sp.sympify(v) != 0 for v in dict(self.components).values()):
+        if self.degree > n and any(_expr(v) != 0 for v in dict(self.components).values()):
             # a k-vector with k > n is identically zero; only the empty one is allowed
             raise DimensionError(f"degree {self.degree} exceeds the dimension {n}")
         clean: dict[Key, sp.Expr] = {}

@@ -2,13 +2,40 @@
 
 from __future__ import annotations
 
+import math
+import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
 
 import sympy as sp
 
+from poissonkit.errors import InputError, UnknownNameError
+from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
+
+_NON_FINITE = (sp.nan, sp.oo, -sp.oo, sp.zoo)
+
+
+def _param_value(name: str, value: Any) -> Any:
+    """Check one parameter value: a finite number, a sympy expression, or a tuple of these.
+
+    Strings are kept as opaque labels (never sympified here), e.g. a potential's text.
+    """
+    if isinstance(value, str):
+        return value
+    if isinstance(value, (tuple, list)):
+        return tuple(_param_value(name, v) for v in value)
+    if isinstance(value, bool) or not isinstance(value, (numbers.Number, sp.Basic)):
+        raise InputError(f"parameter {name!r} must be a number or a sympy expression, "
+                         f"got {type(value).__name__}")
+    if isinstance(value, sp.Basic):
+        if value.has(*_NON_FINITE):
+            raise InputError(f"parameter {name!r} is not finite: {value}")
+        return value
+    if not all(math.isfinite(part) for part in (complex(value).real, complex(value).imag)):
+        raise InputError(f"parameter {name!r} is not finite: {value!r}")
+    return value
 
 
 @dataclass(frozen=True)
@@ -52,17 +79,64 @@ class HamiltonianSystem:
     original: Mapping[sp.Symbol, sp.Expr] | None = None
     constraints: tuple[sp.Expr, ...] = ()
 
+    def __post_init__(self) -> None:
+        # Everything is converted through as_expr: strings are refused (sympify would eval them).
+        if not isinstance(self.structure, Bivector):
+            raise InputError(f"HamiltonianSystem.structure must be a Bivector, got "
+                             f"{type(self.structure).__name__}")
+        put = object.__setattr__  # frozen dataclass
+        put(self, "hamiltonian", as_expr(self.hamiltonian, "Hamiltonian"))
+        put(self, "multiplier", as_expr(self.multiplier, "multiplier"))
+        for attr, what in (("casimirs", "Casimir"), ("integrals", "first integral")):
+            items = getattr(self, attr)
+            if not isinstance(items, Mapping):
+                raise InputError(f"{attr} must be a mapping name -> expression, got "
+                                 f"{type(items).__name__}")
+            put(self, attr, {str(k): as_expr(v, f"{what} {k!r}") for k, v in items.items()})
+        if self.measure is not None:
+            put(self, "measure", as_expr(self.measure, "invariant measure"))
+        if isinstance(self.constraints, (str, sp.Basic)):
+            raise InputError("constraints must be a sequence of expressions")
+        put(self, "constraints", tuple(as_expr(c, "constraint") for c in self.constraints))
+        if not isinstance(self.params, Mapping):
+            raise InputError(f"params must be a mapping name -> value, got "
+                             f"{type(self.params).__name__}")
+        put(self, "params", {str(k): _param_value(str(k), v) for k, v in self.params.items()})
+        if self.original is not None:
+            if not isinstance(self.original, Mapping):
+                raise InputError("original must be a mapping coordinate -> expression")
+            put(self, "original", {k: as_expr(v, f"original equation for {k}")
+                                   for k, v in self.original.items()})
+
     @property
     def coords(self) -> tuple[sp.Symbol, ...]:
         """The state coordinates, in order."""
         return self.structure.coords
+
+    def parameter_names(self) -> set[str]:
+        """Names of the symbolic parameters: free symbols of ``P``, ``H``, ``N`` but not coordinates."""
+        free = set(self.hamiltonian.free_symbols) | set(self.multiplier.free_symbols)
+        for e in self.structure.matrix:
+            free |= e.free_symbols
+        return {str(s) for s in free} - set(self.structure.names)
 
     def vector_field(self) -> sp.Matrix:
         """``X = N P dH`` as a column of sympy expressions."""
         return self.structure.hamiltonian_vector_field(self.hamiltonian, self.multiplier)
 
     def with_params(self, **values: Any) -> HamiltonianSystem:
-        """A copy with some parameter values replaced."""
+        """A copy with some parameter values replaced.
+
+        Raises
+        ------
+        UnknownNameError
+            For a name that is neither in ``params`` nor a symbolic parameter of the system
+            (a free symbol of ``P``, ``H`` or ``N`` other than a coordinate).
+        """
+        known = set(self.params) | self.parameter_names()
+        for name in values:
+            if name not in known:
+                raise UnknownNameError("parameter", name, known)
         merged = dict(self.params)
         merged.update(values)
         return replace(self, params=merged)
