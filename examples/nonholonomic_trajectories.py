@@ -1,11 +1,16 @@
 """Integrate each non-holonomic system in physical time and plot a trajectory with the drift of
-its invariants (docs/img/nonholonomic_<name>.png, small PNGs used by docs/nonholonomic/).
+its invariants (<out>/nonholonomic_<name>.png; the docs/nonholonomic/ pages show these PNGs).
 
 Conformally Hamiltonian systems go through the time change dtau = |N| dt with the implicit
 midpoint rule (poissonkit.numerics.conformal); the BMF ball, whose multiplier d/(g s) changes sign
 on the sphere, is integrated directly with DOP853.
 
-Run:  python examples/nonholonomic_trajectories.py [--out docs/img] [--t-end 20]
+Run:  python examples/nonholonomic_trajectories.py [--out DIR] [--t-end 20] [NAME ...]
+
+The PNGs go to ./nonholonomic-img by default, so a trial run never rewrites tracked files.
+To regenerate the images shown in the docs, write them over the tracked ones on purpose:
+
+    python examples/nonholonomic_trajectories.py --out docs/img
 """
 
 from __future__ import annotations
@@ -82,7 +87,9 @@ def plot(name: str, out: Path, t_end: float = 20.0, step: float = 0.01) -> Path:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default="docs/img")
+    ap.add_argument("--out", default="nonholonomic-img",
+                    help="output folder (default ./nonholonomic-img; "
+                         "use --out docs/img to regenerate the docs images)")
     ap.add_argument("--t-end", type=float, default=20.0)
     ap.add_argument("names", nargs="*")
     args = ap.parse_args()

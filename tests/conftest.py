@@ -22,13 +22,4 @@ def _fresh_plugin_manager(monkeypatch):
     reset()
 
 
-@pytest.fixture
-def reference_dir() -> Path:
-    """``shared/reference`` (skip if the checkout has no shared folder beside it)."""
-    path = SHARED / "reference"
-    if not path.is_dir():
-        pytest.skip("shared/reference is not beside the project")
-    return path
-
-
 os.environ.setdefault("MPLBACKEND", "Agg")

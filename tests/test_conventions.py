@@ -2,11 +2,9 @@
 
 from __future__ import annotations
 
-import importlib
 import math
 import random
 
-import pytest
 import sympy as sp
 
 from poissonkit import conventions
@@ -93,10 +91,8 @@ def test_e3_orderings_and_brackets():
 
 
 def test_schouten_sign_gives_twice_the_jacobiator_on_formulas_oracle():
-    try:
-        schouten = importlib.import_module("poissonkit.structure.schouten")
-    except ModuleNotFoundError:
-        pytest.skip("poissonkit.structure.schouten is not available yet")
+    from poissonkit.structure import schouten
+
     assert conventions.SCHOUTEN_JACOBI_FACTOR == 2
     y = sp.symbols("y1 y2 y3")
     Q = Bivector.from_matrix([[0, y[0] * y[1], 0], [-y[0] * y[1], 0, y[2]], [0, -y[2], 0]], y)

@@ -24,8 +24,16 @@ class PairSpec:
     params: Mapping[str, Any]
 
 
+def require_graph(G: Any) -> nx.Graph:
+    """``G`` itself if it is a networkx graph; else an :class:`InputError` naming its type."""
+    if not isinstance(G, nx.Graph):  # DiGraph and MultiGraph are Graph subclasses too
+        raise InputError(f"expected a networkx graph of bodies, got {type(G).__name__} {G!r:.60}")
+    return G
+
+
 def bodies_of(G: nx.Graph) -> list[BodyModel]:
     """Validated body models of every node, in node order."""
+    require_graph(G)
     if G.number_of_nodes() == 0:
         raise InputError("the graph has no bodies")
     return [BodyModel.from_attrs(G.nodes[n], str(n)) for n in G.nodes]
@@ -54,6 +62,7 @@ def edges_of(G: nx.Graph, default_potential: str | None = None,
     ``first``, body 1 is the endpoint that comes first in node order. Pairs are stored as
     ``i < j`` (node order), suffixes swapped as needed.
     """
+    require_graph(G)
     index = {n: k for k, n in enumerate(G.nodes)}
     edges = list(G.edges(data=True))
     if not edges:

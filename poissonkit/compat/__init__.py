@@ -15,11 +15,18 @@ PoissonGeometry's sign ``X_h = {h, .} = -P dh`` — the opposite of poissonkit's
 ``"1,2"``) into a :class:`poissonkit.structure.Bivector`, for tools that read such files.
 """
 
-from poissonkit.compat.errors import (
-    CasimirError, DiferentialFormError, DifferentialFormError, DimensionError, FunctionError,
-    MultivectorError, Nonhomogeneous, Nonlinear, ParseError,
-)
 from poissonkit.compat._inputs import read_bivector
+from poissonkit.compat.errors import (
+    CasimirError,
+    DiferentialFormError,
+    DifferentialFormError,
+    DimensionError,
+    FunctionError,
+    MultivectorError,
+    Nonhomogeneous,
+    Nonlinear,
+    ParseError,
+)
 from poissonkit.compat.numeric import NumericalPoissonGeometry, NumPoissonGeometry
 from poissonkit.compat.symbolic import PoissonGeometry
 

@@ -129,7 +129,8 @@ class NumPoissonGeometry:
 
     Notes
     -----
-    A mesh is an array of shape ``(N, n)`` (one point per row). Points where a result is not
+    A mesh is an array of shape ``(N, n)`` (one point per row) of finite values (a NaN or
+    infinite coordinate is an :class:`~poissonkit.errors.InputError`). Points where a result is not
     finite (division by zero, ``log`` of a negative number) are reported with
     :class:`~poissonkit.errors.InputError` naming the first such point, never returned as NaN.
 
@@ -163,6 +164,11 @@ class NumPoissonGeometry:
             raise InputError("mesh must be a numeric array of shape (N, dim)") from None
         if arr.ndim != 2 or arr.shape[1] != self.dim:
             raise DimensionError(f"mesh must have shape (N, {self.dim}), got {arr.shape}")
+        bad = ~np.isfinite(arr).all(axis=1)
+        if bad.any():  # checked up front: a NaN point would otherwise come back as NaN output
+            k = int(np.argmax(bad))
+            raise InputError(f"mesh is not finite at {int(bad.sum())} point(s), first at "
+                             f"row {k}: {arr[k].tolist()}")
         return arr
 
     def _cached(self, key: object, build: Callable[[], object]) -> object:
@@ -179,7 +185,7 @@ class NumPoissonGeometry:
     def _evaluate(self, ev: _Evaluator, mesh: np.ndarray, what: str) -> np.ndarray:
         values = ev(mesh)
         bad = ~np.isfinite(values).all(axis=0)
-        if bad.any() and np.isfinite(mesh).all():
+        if bad.any():  # the mesh itself is finite (checked by _mesh)
             k = int(np.argmax(bad))
             raise InputError(f"{what} is not finite at {int(bad.sum())} mesh point(s), first at "
                              f"row {k}: {mesh[k].tolist()}")

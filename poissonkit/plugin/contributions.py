@@ -6,6 +6,8 @@ return lists of these from the hooks in :mod:`poissonkit.plugin.hookspecs`.
 
 from __future__ import annotations
 
+import math
+import numbers
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
@@ -32,7 +34,7 @@ class Param:
     unit
         SI unit, or ``""`` for dimensionless.
     positive
-        If true, values must be > 0.
+        If true, values must be > 0 (every component, for a vector).
     """
 
     name: str
@@ -43,28 +45,80 @@ class Param:
     positive: bool = False
 
     def coerce(self, value: Any, owner: str = "") -> Any:
-        """Check and convert one user value; raise :class:`InputError` naming the parameter."""
+        """Check and convert one user value; raise :class:`InputError` naming the parameter.
+
+        ``"int"`` accepts integers, integral floats (``3.0``) and integer strings (``"3"``, as
+        given on the command line) but never truncates (``2.7`` is an error); ``"float"`` and
+        ``"vector"`` values must be finite; a ``"vector"`` is a non-empty sequence of numbers,
+        never a bare string (its length is checked by the entry that uses it); ``"str"``
+        accepts only strings; ``"bool"`` only ``True``/``False``.
+        """
         where = f"{owner}: " if owner else ""
         if self.type not in _PARAM_TYPES:
             raise InputError(f"{where}parameter {self.name!r} has unknown type {self.type!r}")
         try:
-            if self.type == "vector":
-                out = tuple(float(v) for v in value)
-            elif self.type == "bool":
-                if not isinstance(value, bool):
-                    raise TypeError
-                out = value
-            else:
-                out = _PARAM_TYPES[self.type](value)
-        except (TypeError, ValueError):
+            out = _CONVERT[self.type](value)
+        except (TypeError, ValueError, OverflowError):
             raise InputError(
                 f"{where}parameter {self.name!r} must be {self.type}, got {value!r}"
             ) from None
-        if self.type == "float" and not (out == out and abs(out) != float("inf")):
+        if self.type == "vector":
+            if not out:
+                raise InputError(f"{where}parameter {self.name!r} must be a non-empty vector, "
+                                 f"got {value!r}")
+            values = out
+        else:
+            values = (out,) if self.type in ("float", "int") else ()
+        if not all(math.isfinite(v) for v in values):
             raise InputError(f"{where}parameter {self.name!r} must be finite, got {value!r}")
-        if self.positive and not out > 0:
+        if self.positive and not all(v > 0 for v in values):  # numbers only: str/bool ignore it
             raise InputError(f"{where}parameter {self.name!r} must be > 0, got {value!r}")
         return out
+
+
+def _to_int(value: Any) -> int:
+    """An exact integer: never truncate a fractional value, never take a bool for a number."""
+    if isinstance(value, bool):
+        raise TypeError
+    if isinstance(value, numbers.Integral):
+        return int(value)
+    if isinstance(value, str):
+        return int(value.strip())  # "2.7" -> ValueError, as it should
+    if isinstance(value, numbers.Real):
+        if not math.isfinite(value) or not float(value).is_integer():
+            raise ValueError
+        return int(value)
+    raise TypeError
+
+
+def _to_float(value: Any) -> float:
+    if isinstance(value, bool):
+        raise TypeError
+    return float(value)
+
+
+def _to_vector(value: Any) -> tuple[float, ...]:
+    # A bare string is iterable but is not a vector: "123" must not become (1.0, 2.0, 3.0).
+    if isinstance(value, (str, bytes, Mapping)):
+        raise TypeError
+    return tuple(_to_float(v) for v in value)
+
+
+def _to_str(value: Any) -> str:
+    if not isinstance(value, str):
+        raise TypeError
+    return value
+
+
+def _to_bool(value: Any) -> bool:
+    if not isinstance(value, bool):
+        raise TypeError
+    return value
+
+
+_CONVERT: dict[str, Callable[[Any], Any]] = {
+    "float": _to_float, "int": _to_int, "str": _to_str, "bool": _to_bool, "vector": _to_vector,
+}
 
 
 @dataclass(frozen=True)

@@ -6,8 +6,14 @@ import numpy as np
 import pytest
 
 from poissonkit.compat import (
-    CasimirError, DiferentialFormError, FunctionError, MultivectorError, Nonhomogeneous, Nonlinear,
-    NumPoissonGeometry, PoissonGeometry,
+    CasimirError,
+    DiferentialFormError,
+    FunctionError,
+    MultivectorError,
+    Nonhomogeneous,
+    Nonlinear,
+    NumPoissonGeometry,
+    PoissonGeometry,
 )
 from poissonkit.errors import DimensionError, InputError, ParseError, PoissonkitError
 

@@ -8,7 +8,12 @@ import numpy as np
 import pytest
 import sympy as sp
 
-from poissonkit.compat import NumericalPoissonGeometry, NumPoissonGeometry, PoissonGeometry
+from poissonkit.compat import (
+    NumericalPoissonGeometry,
+    NumPoissonGeometry,
+    PoissonGeometry,
+)
+from poissonkit.errors import InputError
 
 SO3 = {(1, 2): "x3", (1, 3): "-x2", (2, 3): "x1"}
 Q = {(1, 2): "x1*x2", (2, 3): "x3"}
@@ -26,10 +31,8 @@ def mesh() -> np.ndarray:
 
 
 @pytest.fixture(scope="module")
-def theirs():
-    mod = pytest.importorskip("numpoisson.numpoisson",
-                              reason="numericalpoissongeometry (bench/test extra) not installed")
-    return mod.NumPoissonGeometry(3)
+def theirs(numeric_peer):
+    return numeric_peer(3)
 
 
 def test_alias_names_the_same_class():
@@ -75,7 +78,7 @@ def test_sharp_hamiltonian_bracket_equal_peer(theirs, mesh):
         assert a.keys() == b.keys() and np.allclose([a[k] for k in a], [b[k] for k in a])
 
 
-def test_one_forms_bracket_gauge_flaschka_normal_form_equal_peer(theirs, mesh):
+def test_one_forms_bracket_gauge_flaschka_normal_form_equal_peer(theirs, numeric_peer, mesh):
     ours = NumPoissonGeometry(3)
     a = {(1,): "x1*x2", (2,): "x2", (3,): "x3**2"}
     b = {(1,): "x3", (2,): "x1*x2", (3,): "x3"}
@@ -87,8 +90,7 @@ def test_one_forms_bracket_gauge_flaschka_normal_form_equal_peer(theirs, mesh):
                                atol=1e-12)
     np.testing.assert_allclose(ours.num_linear_normal_form_R3(SO3, mesh),
                                theirs.num_linear_normal_form_R3(SO3, mesh))
-    mod = pytest.importorskip("numpoisson.numpoisson")
-    t4, o4 = mod.NumPoissonGeometry(4), NumPoissonGeometry(4)
+    t4, o4 = numeric_peer(4), NumPoissonGeometry(4)
     m4 = np.c_[mesh, mesh[:, 0] * 0.5]
     K = ["x1**2 + x2**2 + x3**2", "x4"]
     np.testing.assert_allclose(o4.num_flaschka_ratiu_bivector(K, m4),
@@ -107,15 +109,15 @@ def _evaluate_dict(d: dict, point: np.ndarray, dim: int = 3) -> dict:
     return {k: float(r.expr(v).subs(sub)) for k, v in d.items()}
 
 
-def test_coboundary_equals_symbolic_peer(mesh):
+def test_coboundary_equals_symbolic_peer(mesh, peer):
     # numericalpoissongeometry's num_coboundary_operator fails with the current `permutation`
     # package (TypeError), so compare with poissongeometry's symbolic result at the points.
-    peer = pytest.importorskip("poisson.poisson").PoissonGeometry(3)
+    symbolic = peer(3)
     ours = NumPoissonGeometry(3)
     cases = [(Q, Q), (SO3, {(1,): "x1**2", (3,): "x2"}), (Q, {(1, 2): "x3**2"}),
              (SO3, {(1, 2): "x1*x3"})]
     for biv, mv in cases:
-        sym = peer.coboundary_operator(biv, mv)
+        sym = symbolic.coboundary_operator(biv, mv)
         num = ours.num_coboundary_operator(biv, mv, mesh[:5])
         if not sym:  # identically zero: an empty array, as NumericalPoissonGeometry
             assert num.size == 0
@@ -132,7 +134,7 @@ def test_coboundary_equals_symbolic_peer(mesh):
                 assert num[(p,) + swapped] == pytest.approx(-value, rel=1e-12, abs=1e-12)
     assert ours.num_coboundary_operator(SO3, SO3, mesh).size == 0  # [P, P] = 0: empty
     f = ours.num_coboundary_operator(SO3, "x1**2*x3", mesh[:3])
-    want = peer.coboundary_operator(SO3, "x1**2*x3")
+    want = symbolic.coboundary_operator(SO3, "x1**2*x3")
     for p in range(3):
         got = _evaluate_dict(want, mesh[p])
         np.testing.assert_allclose(f[p, :, 0], [got[(i,)] for i in (1, 2, 3)], rtol=1e-12)
@@ -155,9 +157,9 @@ def test_curl_and_modular_on_the_mesh_use_the_corrected_density_derivative(mesh)
     np.testing.assert_allclose(z[:, :, 0], np.c_[-x2, x1, 0 * x1], atol=1e-14)
 
 
-def test_symmetric_density_curl_equals_symbolic_peer(mesh):
-    peer = pytest.importorskip("poisson.poisson").PoissonGeometry(3)
-    sym = peer.modular_vf(SO3, "exp(x1 + x2 + x3)")
+def test_symmetric_density_curl_equals_symbolic_peer(mesh, peer):
+    symbolic = peer(3)
+    sym = symbolic.modular_vf(SO3, "exp(x1 + x2 + x3)")
     num = NumPoissonGeometry(3).num_modular_vf(SO3, "exp(x1 + x2 + x3)", mesh[:4])
     for p in range(4):
         want = _evaluate_dict(sym, mesh[p])
@@ -199,3 +201,20 @@ def test_cache_distinguishes_inputs_and_meshes(mesh):
     k = npg.num_bivector({(1, 2): "1", (2, 3): "x1"}, mesh)
     np.testing.assert_allclose(k[:, 0, 1], 1.0)
     np.testing.assert_allclose(k[:, 1, 0], -1.0)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_non_finite_mesh_is_an_input_error_naming_the_row(bad, mesh):
+    points = mesh[:4].copy()
+    points[2, 1] = bad
+    npg = NumPoissonGeometry(3)
+    # the mesh is checked up front: neither a NaN result (the so(3) field depends on x2) nor a
+    # finite-looking one (a constant bivector) comes back for a point that is not a point
+    with pytest.raises(InputError, match="mesh is not finite at 1 point.*row 2"):
+        npg.num_bivector({(1, 2): "1"}, points)
+    with pytest.raises(InputError, match="mesh is not finite"):
+        npg.num_hamiltonian_vf(SO3, "x1", points)
+    with pytest.raises(InputError, match="mesh is not finite"):
+        npg.num_poisson_bracket(SO3, "x1", "x2", points)
+    with pytest.raises(InputError, match="mesh is not finite"):
+        npg.num_gauge_transformation(SO3, {(1, 2): "x1"}, points)

@@ -80,24 +80,6 @@ def test_run_missing_scene_file_is_a_clear_error(tmp_path, capsys):
     assert "nope.toml" in err or "scene" in err
 
 
-@pytest.mark.slow
-def test_run_delegates_scene_files_to_the_scene_loader(tmp_path):
-    from pathlib import Path
-
-    scene = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "two_magnets.toml"
-    if not scene.is_file():
-        pytest.skip("example scene not present")
-    out = tmp_path / "scene"
-    assert cli.main(["run", str(scene), "--out", str(out), "--no-progress", "--no-plots",
-                     "--duration", "0.01"]) == 0
-    s = json.loads((out / "summary.json").read_text())
-    assert s["scene"] == "two_magnets"
-    assert s["t_end_s"] == pytest.approx(0.01, rel=1e-12)
-    # released from rest at 40 mm, the attracting pair moves closer
-    assert s["min_distance_m"] < 0.04 and s["max_distance_m"] == pytest.approx(0.04)
-    assert s["max_casimir_drift"] < 1e-13
-
-
 def test_sweep_classifies_spin_choices(tmp_path, capsys):
     import csv
 

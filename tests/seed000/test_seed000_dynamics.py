@@ -54,10 +54,10 @@ def _planar_truth(momentum_factor: float):
     with mpmath.workdps(30):
         l = mpmath.mpf(p["half_length1"])
         K = mpmath.mpf(p["mu0"]) * (mpmath.mpf(p["moment1"]) / (2 * l)) ** 2 / (4 * mpmath.pi)
-        U = lambda r: K * (-2 / r + 2 / mpmath.sqrt(r**2 + 4 * l**2))  # noqa: E731
+        U = lambda r: K * (-2 / r + 2 / mpmath.sqrt(r**2 + 4 * l**2))
         L = mpmath.mpf(momentum_factor)  # r0 = 1, p tangential, mu = 1
         E = L**2 / 2 + U(1)
-        g = lambda r: 2 * (E - U(r)) - L**2 / r**2  # noqa: E731  (= p_r^2)
+        g = lambda r: 2 * (E - U(r)) - L**2 / r**2
         rmin = mpmath.findroot(g, (mpmath.mpf("0.1"), mpmath.mpf("0.99")), solver="anderson")
         Tr = 2 * mpmath.quad(lambda r: 1 / mpmath.sqrt(g(r)), [rmin, 1])
         dphi = 2 * mpmath.quad(lambda r: L / r**2 / mpmath.sqrt(g(r)), [rmin, 1])
