@@ -20,7 +20,7 @@ from typing import Any
 
 _EXPORTS = {
     "Body": "nbody", "Interaction": "nbody", "AllPairs": "nbody", "NBodySystem": "nbody",
-    "NonUnitAxisError": "nbody", "TwoBodySystem": "twobody", "compile_system": "system",
+    "NonUnitAxisError": "nbody", "OverlapError": "nbody", "TwoBodySystem": "twobody", "compile_system": "system",
     "CompiledSystem": "system", "solve": "solver", "Solution": "solution", "Scales": "units",
     "Collision": "events", "Escape": "events", "compile_potential": "potentials",
     "RunSpec": "runspec",
@@ -28,7 +28,7 @@ _EXPORTS = {
 
 __all__ = [
     "AllPairs", "Body", "Collision", "CompiledSystem", "Escape", "Interaction", "NBodySystem",
-    "NonUnitAxisError", "RunSpec", "Scales", "Solution", "TwoBodySystem", "compile_potential",
+    "NonUnitAxisError", "OverlapError", "RunSpec", "Scales", "Solution", "TwoBodySystem", "compile_potential",
     "compile_system", "solve",
 ]
 

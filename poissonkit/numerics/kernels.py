@@ -39,33 +39,6 @@ class Kernels(NamedTuple):
 
 
 @numba.njit(cache=True, error_model="numpy")
-def rotate_about(nu, m, theta_per_norm, out):
-    """Rotate ``nu`` about the axis of ``m`` by the angle ``theta_per_norm * |m|`` (Rodrigues).
-
-    Exact flow of ``ν̇ = c m × ν`` for time ``h`` with ``theta_per_norm = c h``.
-    """
-    mm = math.sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2])
-    if mm == 0.0:
-        out[0] = nu[0]
-        out[1] = nu[1]
-        out[2] = nu[2]
-        return
-    k0 = m[0] / mm
-    k1 = m[1] / mm
-    k2 = m[2] / mm
-    th = theta_per_norm * mm
-    c = math.cos(th)
-    s = math.sin(th)
-    kd = (k0 * nu[0] + k1 * nu[1] + k2 * nu[2]) * (1.0 - c)
-    x0 = k1 * nu[2] - k2 * nu[1]
-    x1 = k2 * nu[0] - k0 * nu[2]
-    x2 = k0 * nu[1] - k1 * nu[0]
-    out[0] = nu[0] * c + x0 * s + k0 * kd
-    out[1] = nu[1] * c + x1 * s + k1 * kd
-    out[2] = nu[2] * c + x2 * s + k2 * kd
-
-
-@numba.njit(cache=True, error_model="numpy")
 def rotate_slot(y, base, mbase, theta_per_norm):
     """In-place Rodrigues rotation of ``y[base:base+3]`` about ``y[mbase:mbase+3]``."""
     m0 = y[mbase]

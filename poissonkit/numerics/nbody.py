@@ -49,6 +49,84 @@ class NonUnitAxisError(InputError):
     """A top's axis ``ν`` is not a unit vector (pass ``normalize=True`` to normalise it)."""
 
 
+class OverlapError(InputError):
+    """Two bodies (not both fixed) sit at exactly the same place, where pair forces are singular."""
+
+
+def coincident_pair(positions: np.ndarray, fixed: np.ndarray) -> tuple[int, int] | None:
+    """Indices of two bodies at exactly the same position, or ``None``.
+
+    Pairs of two fixed bodies are ignored (they exert no force on any degree of freedom).
+    Sorting makes this O(n log n), so it is cheap even for large systems.
+    """
+    if positions.shape[0] < 2:
+        return None
+    order = np.lexsort(positions.T[::-1])
+    ordered = positions[order]
+    same = np.all(ordered[1:] == ordered[:-1], axis=1)
+    # identical rows are adjacent after sorting, so a group holding a moving body has an
+    # adjacent pair with a moving member
+    for k in np.nonzero(same)[0]:
+        a, b = int(order[k]), int(order[k + 1])
+        if not (fixed[a] and fixed[b]):
+            return (min(a, b), max(a, b))
+    return None
+
+
+def evaluate_energy(system: Any, y: Any) -> float | np.ndarray:
+    """``H(y)`` of a compiled system (``kernels.energy``); rows of a 2-D array give one value each.
+
+    Shared by :class:`NBodySystem` and :class:`~poissonkit.numerics.twobody.TwoBodySystem`.
+    A non-finite value or a division by zero inside a potential kernel is checked against
+    coincident bodies and then raises :class:`OverlapError`.
+    """
+    y = np.asarray(y, dtype=float)
+    w = system.work()
+    energy = system.kernels.energy
+
+    def one(row: np.ndarray) -> float:
+        state = system._state(row)
+        try:
+            value = float(energy(state, system.data, w))
+        except ZeroDivisionError:
+            system.check_overlap(state)
+            raise
+        if not math.isfinite(value):
+            system.check_overlap(state)
+        return value
+
+    if y.ndim == 2:
+        return np.array([one(row) for row in y])
+    return one(y)
+
+
+def evaluate_rhs(system: Any, y: Any) -> np.ndarray:
+    """``ẏ`` of a compiled system (``kernels.rhs``), raising :class:`OverlapError` at coincidences."""
+    y = system._state(y)
+    out = np.empty_like(y)
+    try:
+        system.kernels.rhs(y, system.data, system.work(), out)
+    except ZeroDivisionError:
+        system.check_overlap(y)
+        raise
+    if not np.all(np.isfinite(out)):
+        system.check_overlap(y)
+    return out
+
+
+def _vector3(value: Any, what: str) -> tuple[float, float, float]:
+    """``value`` as a finite 3-tuple of floats, else :class:`InputError` naming ``what``."""
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{what} must be three numbers, got {value!r}") from None
+    if a.shape != (3,):
+        raise InputError(f"{what} must have shape (3,), got shape {a.shape}: {value!r}")
+    if not np.all(np.isfinite(a)):
+        raise InputError(f"{what} must be finite, got {value!r}")
+    return (float(a[0]), float(a[1]), float(a[2]))
+
+
 @dataclass(frozen=True)
 class Body:
     """A rigid body: symmetric top (``alpha`` given) or point mass (``alpha=None``).
@@ -90,6 +168,14 @@ class Body:
             raise InputError(f"fixed body {self.name!r} needs a position")
         if self.fixed and self.alpha is not None and self.axis is None:
             raise InputError(f"fixed top {self.name!r} needs an axis")
+        if self.position is not None:
+            object.__setattr__(self, "position",
+                               _vector3(self.position, f"body {self.name!r}: position"))
+        if self.axis is not None:
+            axis = _vector3(self.axis, f"body {self.name!r}: axis")
+            if not any(axis):
+                raise NonUnitAxisError(f"body {self.name!r}: axis must be non-zero, got {axis}")
+            object.__setattr__(self, "axis", axis)
 
     @property
     def is_top(self) -> bool:
@@ -684,11 +770,11 @@ class NBodySystem:
 
     # ------------------------------------------------------------------ evaluation
     def rhs(self, t: float, y: Any) -> np.ndarray:
-        """``ẏ`` at state ``y`` (time ``t`` is ignored: the system is autonomous)."""
-        y = self._state(y)
-        out = np.empty_like(y)
-        self.kernels.rhs(y, self.data, self.work(), out)
-        return out
+        """``ẏ`` at state ``y`` (time ``t`` is ignored: the system is autonomous).
+
+        Raises :class:`OverlapError` if two interacting bodies coincide.
+        """
+        return evaluate_rhs(self, y)
 
     def forces(self, y: Any) -> tuple[np.ndarray, np.ndarray, float]:
         """Forces and torques on every body ``(F (n,3), T (n,3), U)`` (internal units)."""
@@ -702,12 +788,11 @@ class NBodySystem:
         return F, T, float(u)
 
     def energy(self, y: Any) -> float | np.ndarray:
-        """Total energy ``H(y)``; a 2-D array of states gives one value per row."""
-        y = np.asarray(y, dtype=float)
-        w = self.work()
-        if y.ndim == 2:
-            return np.array([self.kernels.energy(self._state(row), self.data, w) for row in y])
-        return float(self.kernels.energy(self._state(y), self.data, w))
+        """Total energy ``H(y)``; a 2-D array of states gives one value per row.
+
+        Raises :class:`OverlapError` if two interacting bodies coincide.
+        """
+        return evaluate_energy(self, y)
 
     def _split(self, y: np.ndarray):
         nm = self.n_moving
@@ -784,6 +869,7 @@ class NBodySystem:
 
         r = rows(positions, self._moving, "positions") / fL
         p = rows(momenta, self._moving, "momenta") / fP
+        self._check_positions(r)
         parts = [np.concatenate([r, p], axis=1).ravel()]
         if self.n_tops:
             if axes is None or angular_momenta is None:
@@ -797,8 +883,10 @@ class NBodySystem:
                 nu = nu / norms[:, None]
             elif np.any(np.abs(norms - 1.0) > 1e-12):
                 bad = [self.bodies[self._tops[k]].name for k in np.nonzero(np.abs(norms - 1) > 1e-12)[0]]
+                bad_norms = ", ".join(f"{v:.3g} (off by {v - 1:.1e})"
+                                      for v in norms[np.abs(norms - 1) > 1e-12])
                 raise NonUnitAxisError(f"axes of {bad} are not unit vectors (|ν| = "
-                                       f"{norms[np.abs(norms - 1) > 1e-12]}); pass normalize=True")
+                                       f"{bad_norms}); pass normalize=True")
             parts.append(np.concatenate([nu, m], axis=1).ravel())
         return np.concatenate(parts)
 
@@ -810,13 +898,33 @@ class NBodySystem:
             r, p, m = r * s.unit("length"), p * s.unit("momentum"), m * s.unit("angular_momentum")
         return {"r": r, "p": p, "nu": nu, "m": m}
 
+    def _check_positions(self, r: np.ndarray) -> None:
+        """:class:`OverlapError` if two bodies (moving rows ``r``, internal units) coincide."""
+        pos = self.data[4].copy()
+        pos[list(self._moving)] = r
+        fixed = np.array([b.fixed for b in self.bodies], dtype=bool)
+        hit = coincident_pair(pos, fixed)
+        if hit is not None:
+            a, b = (self.bodies[k].name for k in hit)
+            raise OverlapError(f"bodies {a!r} and {b!r} are at the same position "
+                               f"{pos[hit[0]].tolist()} (internal units); every pair force is "
+                               "singular there")
+
+    def check_overlap(self, y: Any) -> None:
+        """Raise :class:`OverlapError` if two bodies of state ``y`` sit at the same place."""
+        y = self._state(y)
+        self._check_positions(self._split(y)[0])
+
     def check_state(self, y: Any, tol: float = 1e-10) -> None:
-        """Raise :class:`NonUnitAxisError` if some axis of ``y`` is not a unit vector."""
+        """Raise :class:`NonUnitAxisError` if some axis of ``y`` is not a unit vector and
+        :class:`OverlapError` if two bodies coincide."""
+        self.check_overlap(y)
         c = self.casimirs(self._state(y))[0::2]
         bad = np.nonzero(np.abs(c - 1.0) > tol)[0]
         if bad.size:
             names = [self.bodies[self._tops[k]].name for k in bad]
-            raise NonUnitAxisError(f"axes of {names} are not unit vectors (|ν|² = {c[bad]}); "
+            shown = ", ".join(f"{v:.3g} (off by {v - 1:.1e})" for v in c[bad])
+            raise NonUnitAxisError(f"axes of {names} are not unit vectors (|ν|² = {shown}); "
                                    "normalise them (pack(..., normalize=True))")
 
     # ------------------------------------------------------------------ symbolic

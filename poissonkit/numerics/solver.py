@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from poissonkit.errors import DimensionError, InputError
+from poissonkit.errors import DimensionError, InputError, IntegrationError
 from poissonkit.numerics.solution import Solution
 
 
@@ -25,6 +25,17 @@ def make_integrator(method: Any, options: Mapping[str, Any] | None = None) -> An
 
     entry = integrator(method)
     return entry.factory(**entry.resolve_params(dict(options or {})))
+
+
+def _finite_number(value: Any, name: str) -> float:
+    """``float(value)``; :class:`InputError` naming ``name`` unless a finite number."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a finite number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise InputError(f"{name} must be a finite number, got {value!r}")
+    return v
 
 
 def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: float | None = None,
@@ -65,22 +76,41 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
     -------
     Solution
     """
-    y0 = np.array(y0, dtype=float)
+    try:
+        y0 = np.array(y0, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"y0 must be a flat sequence of numbers, got {y0!r} ({exc})") from None
     dim = getattr(system, "dim", y0.size)
     if y0.ndim != 1 or y0.size != dim:
         raise DimensionError(f"y0 has shape {y0.shape}, the system needs ({dim},)")
     if not np.all(np.isfinite(y0)):
         raise InputError("y0 contains NaN or inf")
-    if not (math.isfinite(float(t_end)) and float(t_end) > float(t0)):
-        raise InputError(f"t_end must be finite and > t0 = {t0}, got {t_end!r}")
+    t0 = _finite_number(t0, "t0")
+    t_end = _finite_number(t_end, "t_end")
+    if not t_end > t0:
+        raise InputError(f"t_end must be > t0 = {t0}, got {t_end!r}")
     if not isinstance(save_every, (int, np.integer)) or save_every < 1:
         raise InputError(f"save_every must be a positive int, got {save_every!r}")
-    if tol is not None and not (math.isfinite(float(tol)) and float(tol) > 0):
-        raise InputError(f"tol must be positive, got {tol!r}")
+    if step is not None:
+        step = _finite_number(step, "step")
+        if not step > 0:
+            raise InputError(f"step must be positive, got {step!r}")
+    if tol is not None:
+        tol = _finite_number(tol, "tol")
+        if not tol > 0:
+            raise InputError(f"tol must be positive, got {tol!r}")
+    overlap = getattr(system, "check_overlap", None)
+    if callable(overlap):  # coincident bodies: singular forces whatever the method
+        overlap(y0)
     integ = make_integrator(method, options)
     start = time.perf_counter()
-    raw = integ.integrate(system, y0, float(t_end), step=step, tol=tol, events=tuple(events),
-                          progress=progress, save_every=int(save_every), t0=float(t0))
+    try:
+        raw = integ.integrate(system, y0, t_end, step=step, tol=tol, events=tuple(events),
+                              progress=progress, save_every=int(save_every), t0=t0)
+    except ZeroDivisionError:
+        # built-in integrators name the step themselves; this catches third-party ones
+        raise IntegrationError(f"{getattr(integ, 'name', method)}: division by zero in a "
+                               "compiled kernel (two bodies at the same place?)") from None
     wall = time.perf_counter() - start
     return Solution(t=raw.t, y=raw.y, method=getattr(integ, "name", str(method)), steps=raw.steps,
                     wall_time=wall, system=system, nfev=raw.nfev, events=raw.events, step=step,

@@ -35,6 +35,21 @@ def _no_radius(y, data):
     return 0.0
 
 
+def _parameter_value(name: str, value: Any) -> float:
+    """``float(value)`` of parameter ``name``; :class:`InputError` unless a finite number.
+
+    Checked before substitution because sympy turns ``Float(nan) * x**2`` into ``nan``, whose
+    derivative is 0, which would silently zero the right-hand side.
+    """
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"parameter {name!r} must be a number, got {value!r}") from None
+    if not math.isfinite(v):
+        raise InputError(f"parameter {name!r} must be finite, got {value!r}")
+    return v
+
+
 class CompiledSystem:
     """Compiled form of a :class:`~poissonkit.structure.HamiltonianSystem`.
 
@@ -59,7 +74,7 @@ class CompiledSystem:
         for expr in [hsys.hamiltonian, hsys.multiplier, *hsys.structure.matrix]:
             for s in sp.sympify(expr).free_symbols:
                 if s not in coords and s.name in values:
-                    subs[s] = sp.Float(float(values[s.name]), 30)
+                    subs[s] = sp.Float(_parameter_value(s.name, values[s.name]), 30)
 
         def prep(e: Any) -> sp.Expr:
             return sp.sympify(e).xreplace(subs)

@@ -23,7 +23,13 @@ import numpy as np
 
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.kernels import Kernels, rotate_slot
-from poissonkit.numerics.nbody import NonUnitAxisError, _resolve_kernel
+from poissonkit.numerics.nbody import (
+    NonUnitAxisError,
+    OverlapError,
+    _resolve_kernel,
+    evaluate_energy,
+    evaluate_rhs,
+)
 from poissonkit.numerics.potentials import scaled_kernel
 from poissonkit.numerics.units import Scales
 
@@ -125,6 +131,17 @@ def _build(kern) -> Kernels:
     return out
 
 
+def _positive(value: Any, name: str) -> float:
+    """``float(value)`` if it is a positive finite number, else :class:`InputError` naming it."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"TwoBodySystem: {name} must be a number, got {value!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise InputError(f"TwoBodySystem: {name} must be positive and finite, got {value!r}")
+    return v
+
+
 class TwoBodySystem:
     """Two interacting symmetric tops in centre-of-mass form (18 variables).
 
@@ -151,22 +168,14 @@ class TwoBodySystem:
                  potential: Any, params: Mapping[str, Any] | None = None,
                  scales: Scales | None = None, reduced_mass: float | None = None) -> None:
         if reduced_mass is not None:
-            mu = float(reduced_mass)
+            mu = _positive(reduced_mass, "reduced_mass")
             m1 = m2 = 2.0 * mu
         else:
-            try:
-                m1, m2 = float(mass1), float(mass2)  # type: ignore[arg-type]
-            except (TypeError, ValueError):
-                raise InputError("give mass1 and mass2 (or reduced_mass)") from None
-        for name, v in (("mass1", m1), ("mass2", m2), ("alpha1", alpha1), ("alpha2", alpha2)):
-            try:
-                ok = math.isfinite(float(v)) and float(v) > 0
-            except (TypeError, ValueError):
-                ok = False
-            if not ok:
-                raise InputError(f"TwoBodySystem: {name} must be positive and finite, got {v!r}")
-        if reduced_mass is None:
+            if mass1 is None or mass2 is None:
+                raise InputError("TwoBodySystem: give mass1 and mass2 (or reduced_mass)")
+            m1, m2 = _positive(mass1, "mass1"), _positive(mass2, "mass2")
             mu = m1 * m2 / (m1 + m2)
+        alpha1, alpha2 = _positive(alpha1, "alpha1"), _positive(alpha2, "alpha2")
         self.scales = scales
         L = scales.length if scales else 1.0
         M = scales.mass if scales else 1.0
@@ -199,19 +208,12 @@ class TwoBodySystem:
         return np.ascontiguousarray(y)
 
     def rhs(self, t: float, y: Any) -> np.ndarray:
-        """``ẋ = J∇H`` at ``y`` (eq. (20))."""
-        y = self._state(y)
-        out = np.empty(18)
-        self.kernels.rhs(y, self.data, self.work(), out)
-        return out
+        """``ẋ = J∇H`` at ``y`` (eq. (20)); :class:`OverlapError` if ``r = 0``."""
+        return evaluate_rhs(self, y)
 
     def energy(self, y: Any) -> float | np.ndarray:
-        """``H(y)``; rows of a 2-D array give one value each."""
-        y = np.asarray(y, dtype=float)
-        w = self.work()
-        if y.ndim == 2:
-            return np.array([self.kernels.energy(self._state(row), self.data, w) for row in y])
-        return float(self.kernels.energy(self._state(y), self.data, w))
+        """``H(y)``; rows of a 2-D array give one value each; :class:`OverlapError` if ``r = 0``."""
+        return evaluate_energy(self, y)
 
     def casimirs(self, y: Any) -> np.ndarray:
         """``[|ν'|², (ν', m'), |ν''|², (ν'', m'')]`` (rows if 2-D)."""
@@ -248,12 +250,17 @@ class TwoBodySystem:
         s = self.scales if si else None
         vecs = []
         for name, v in (("r", r), ("p", p), ("nu1", nu1), ("m1", m1), ("nu2", nu2), ("m2", m2)):
-            a = np.asarray(v, dtype=float)
+            try:
+                a = np.asarray(v, dtype=float)
+            except (TypeError, ValueError):
+                raise InputError(f"{name} must be a 3-vector of numbers, got {v!r}") from None
             if a.shape != (3,):
                 raise DimensionError(f"{name} must be a 3-vector, got shape {a.shape}")
             if not np.all(np.isfinite(a)):
                 raise InputError(f"{name} is not finite: {a}")
             vecs.append(a)
+        if not np.any(vecs[0]):
+            raise OverlapError("r = r2 - r1 is zero: the two bodies are at the same position")
         if s:
             vecs[0] = vecs[0] / s.unit("length")
             vecs[1] = vecs[1] / s.unit("momentum")
@@ -266,8 +273,8 @@ class TwoBodySystem:
                     raise NonUnitAxisError("cannot normalise a zero axis")
                 vecs[k] = vecs[k] / n
             elif abs(n - 1.0) > 1e-12:
-                raise NonUnitAxisError(f"axis {'nu1' if k == 2 else 'nu2'} has |ν| = {n!r}; "
-                                       "pass normalize=True")
+                raise NonUnitAxisError(f"axis {'nu1' if k == 2 else 'nu2'} has |ν| = {n:.3g} "
+                                       f"(off by {n - 1:.1e}); pass normalize=True")
         return np.concatenate(vecs)
 
     def unpack(self, y: Any, *, si: bool = False) -> dict[str, np.ndarray]:
@@ -282,12 +289,20 @@ class TwoBodySystem:
             out["m2"] = out["m2"] * s.unit("angular_momentum")
         return out
 
+    def check_overlap(self, y: Any) -> None:
+        """Raise :class:`~poissonkit.numerics.nbody.OverlapError` if ``r = 0`` in state ``y``."""
+        if not np.any(self._state(y)[:3]):
+            raise OverlapError("r = r2 - r1 is zero: the two bodies are at the same position")
+
     def check_state(self, y: Any, tol: float = 1e-10) -> None:
-        """Raise :class:`NonUnitAxisError` if an axis of ``y`` is not a unit vector."""
+        """Raise :class:`NonUnitAxisError` if an axis of ``y`` is not a unit vector and
+        :class:`~poissonkit.numerics.nbody.OverlapError` if the bodies coincide."""
+        self.check_overlap(y)
         c = self.casimirs(self._state(y))
         for k, name in ((0, "nu1"), (2, "nu2")):
             if abs(c[k] - 1.0) > tol:
-                raise NonUnitAxisError(f"axis {name} has |ν|² = {c[k]!r}; normalise it")
+                raise NonUnitAxisError(f"axis {name} has |ν|² = {c[k]:.3g} (off by "
+                                       f"{c[k] - 1:.1e}); normalise it")
 
     def to_structure(self):
         """Symbolic ``canonical(3) ⊕ e3 ⊕ e3`` in the state order (blocks ``orbit, top1, top2``)."""

@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from poissonkit.errors import InputError
+from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
 from poissonkit.numerics.events import EventRecord
 
 # status codes returned by the compiled loops
@@ -38,27 +39,27 @@ class SaveBuffer:
         self.new()
 
     def new(self) -> None:
+        """Start a fresh chunk ``cur_t (chunk,)``, ``cur_y (chunk, dim)`` for the compiled loop."""
         self.cur_t = np.empty(self.chunk)
         self.cur_y = np.empty((self.chunk, self.dim))
 
     def commit(self, n: int) -> None:
+        """Keep the first ``n`` rows the compiled loop wrote into the current chunk, start anew."""
         if n:
             self.ts.append(self.cur_t[:n].copy())
             self.ys.append(self.cur_y[:n].copy())
         self.new()
 
     def add(self, t: float, y: np.ndarray) -> None:
+        """Append one saved point ``(t, y)`` directly (e.g. the initial state)."""
         self.ts.append(np.array([t]))
         self.ys.append(np.asarray(y, dtype=float).reshape(1, -1).copy())
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray]:
+        """All saved points as ``(t (n,), y (n, dim))``."""
         if not self.ts:
             return np.empty(0), np.empty((0, self.dim))
         return np.concatenate(self.ts), np.concatenate(self.ys)
-
-    @property
-    def last_time(self) -> float:
-        return float(self.ts[-1][-1]) if self.ts else float("nan")
 
 
 def progress_bar(enabled: bool, total: float, desc: str):
@@ -74,11 +75,38 @@ def progress_bar(enabled: bool, total: float, desc: str):
     return tqdm(total=total, desc=desc, unit="t", leave=False)
 
 
+def locate_division(name: str, one_step: Callable[[np.ndarray, float, int], tuple[int, float]],
+                    y: np.ndarray, t: float, steps: int) -> IntegrationError:
+    """Error for a ``ZeroDivisionError`` raised by a compiled kernel during a chunk of steps.
+
+    The chunk is replayed one step at a time from its start state ``y`` (time ``t``, ``steps``
+    steps done) with ``one_step(y, t, steps) -> (status, t_new)``, which advances ``y`` in place
+    by one step; the loops are deterministic, so the division recurs at the same step, which the
+    returned :class:`~poissonkit.errors.NonFiniteStateError` names.
+    """
+    y = y.copy()
+    while True:
+        try:
+            status, t_new = one_step(y, t, steps)
+        except ZeroDivisionError:
+            return NonFiniteStateError(steps + 1, t, f"{name}: division by zero in a compiled "
+                                       "kernel (two bodies at the same place?)")
+        if status != RUNNING and status != BUFFER_FULL:
+            # should not happen (the replay is deterministic); still fail with a typed error
+            return IntegrationError(f"{name}: division by zero in a compiled kernel near step "
+                                    f"{steps + 1} (t = {t:.6g})")
+        steps += 1
+        t = t_new
+
+
 def check_step(step: float | None, t_end: float, name: str) -> float:
     """Validate a fixed step size."""
     if step is None:
         raise InputError(f"{name} is a fixed-step method: give step=... (internal time unit)")
-    step = float(step)
+    try:
+        step = float(step)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: step must be a number, got {step!r}") from None
     if not (np.isfinite(step) and step > 0):
         raise InputError(f"{name}: step must be positive and finite, got {step!r}")
     return step

@@ -26,6 +26,7 @@ from poissonkit.numerics.integrators.base import (
     RawResult,
     SaveBuffer,
     check_step,
+    locate_division,
     progress_bar,
 )
 from poissonkit.numerics.kernels import all_finite, copy_into, copy_row, gauss_solve
@@ -183,11 +184,22 @@ class ImplicitMidpoint:
         bar = progress_bar(progress, span, self.name)
         chunk = max(1, n_total // 200) if progress else (1 << 62)
         steps, nfev, t, records = 0, 0, t0, []
+        scratch = SaveBuffer(y.size, 4)
+
+        def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
+            out = run(ys, t0, h, n_total, itol, self.max_iterations, newton, data, work,
+                      save_every, done, 1, scratch.cur_t, scratch.cur_y, contact, escape)
+            return out[0], out[1]
+
         try:
             while True:
-                status, t_new, k, nsave, nf, value = run(
-                    y, t0, h, n_total, itol, self.max_iterations, newton, data, work,
-                    save_every, steps, chunk, buf.cur_t, buf.cur_y, contact, escape)
+                start = y.copy()
+                try:
+                    status, t_new, k, nsave, nf, value = run(
+                        y, t0, h, n_total, itol, self.max_iterations, newton, data, work,
+                        save_every, steps, chunk, buf.cur_t, buf.cur_y, contact, escape)
+                except ZeroDivisionError:
+                    raise locate_division(self.name, one_step, start, t, steps) from None
                 buf.commit(nsave)
                 if bar is not None:
                     bar.update(t_new - t)

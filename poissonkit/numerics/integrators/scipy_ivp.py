@@ -54,8 +54,13 @@ class ScipyIVP:
 
             def fun(t: float, y: np.ndarray) -> np.ndarray:
                 out = np.empty_like(y)
-                f(y, data, work, out)
                 counter[0] += 1
+                try:
+                    f(y, data, work, out)
+                except ZeroDivisionError:
+                    raise NonFiniteStateError(counter[0], t, f"{self.name}: division by zero in "
+                                              f"a compiled kernel at evaluation {counter[0]} "
+                                              "(two bodies at the same place?)") from None
                 if not np.all(np.isfinite(out)):
                     raise NonFiniteStateError(counter[0], t, f"{self.name}: non-finite RHS at "
                                               f"evaluation {counter[0]}")

@@ -46,6 +46,7 @@ from poissonkit.numerics.integrators.base import (
     RawResult,
     SaveBuffer,
     check_step,
+    locate_division,
     progress_bar,
 )
 from poissonkit.numerics.kernels import all_finite, copy_into, copy_row
@@ -246,11 +247,25 @@ class Splitting:
         bar = progress_bar(progress, span, self.name)
         chunk = max(1, n_total // 200) if progress else (1 << 62)
         t, steps, records = t0, 0, []
+        scratch = SaveBuffer(y.size, 4)
+
+        def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
+            out = run(ys, t0, ts, t_end, h, n_total, self.adaptive, dref, self.iterations,
+                      self.a, self.b, data, work, save_every, done, 1, scratch.cur_t,
+                      scratch.cur_y, contact, escape, trial)
+            return out[0], out[1]
+
         while True:
-            status, t_new, k, nsave, value = run(
-                y, t0, t, t_end, h, n_total, self.adaptive, dref, self.iterations, self.a, self.b,
-                data, work, save_every, steps, chunk, buf.cur_t, buf.cur_y, contact, escape,
-                trial)
+            start = y.copy()
+            try:
+                status, t_new, k, nsave, value = run(
+                    y, t0, t, t_end, h, n_total, self.adaptive, dref, self.iterations, self.a,
+                    self.b, data, work, save_every, steps, chunk, buf.cur_t, buf.cur_y, contact,
+                    escape, trial)
+            except ZeroDivisionError:
+                if bar is not None:
+                    bar.close()
+                raise locate_division(self.name, one_step, start, t, steps) from None
             buf.commit(nsave)
             if bar is not None:
                 bar.update(t_new - t)
