@@ -9,14 +9,13 @@ on the real domain where ``Q > 0`` iff its numerator, reduced modulo ``s**2 - Q`
 ``alpha(x) + beta(x) s``, has ``alpha = beta = 0`` (sufficient always; also necessary when ``Q``
 is not a perfect square, which holds for every system here).
 
-Two modes:
-
-``exact``
-    symbolic in ``x`` (and parameters): a proof.
-``random``
-    exact rational arithmetic at random rational points (Schwartz–Zippel): a nonzero polynomial
-    numerator of total degree ``D`` vanishes at a point drawn uniformly from ``S^n`` with
-    probability at most ``D / |S|``; ``|S| = 2 * RANDOM_RANGE + 1`` here.
+Only the random-point path of :mod:`poissonkit_nonholonomic.verify` (large systems such as the
+BMF bivector) and the BMF claim (55) use this module; symbolic proofs go through the core
+(:mod:`poissonkit.structure.jacobi`, :mod:`poissonkit.structure.checks`), which has no
+random-point test for vector-field identities. Here exact rational arithmetic is done at random
+rational points (Schwartz–Zippel): a nonzero polynomial numerator of total degree ``D`` vanishes
+at a point drawn uniformly from ``S^n`` with probability at most ``D / |S|``;
+``|S| = 2 * RANDOM_RANGE + 1`` here.
 """
 
 from __future__ import annotations
@@ -190,10 +189,3 @@ class PointSampler:
         for x, sol in self.solved:
             point[x] = sol.subs(point)
         return point
-
-
-def vanishes_at(expr: sp.Expr, point: Mapping[sp.Symbol, sp.Expr], radicals: Radicals) -> bool:
-    """Exact test at one point: substitute, then reduce modulo ``s**2 - Q(point)``."""
-    val = sp.sympify(expr).subs(point)
-    local = Radicals({s: sp.sympify(Q).subs(point) for s, Q in radicals.roots.items()})
-    return vanishes(val, local)

@@ -1,22 +1,34 @@
 """Verification of the survey's claims for a :class:`~poissonkit.structure.HamiltonianSystem`.
 
-:func:`verify_system` checks, with exact arithmetic, every claim a system carries:
+:func:`verify_system` checks every claim a system carries, through the symbolic core
+(:mod:`poissonkit.structure`):
 
-* the Jacobi identity ``[P, P] = 0`` (components ``Jac^{ijk}``, FORMULAS.md §0);
-* each Casimir ``C``: ``P dC = 0``;
-* each first integral ``F``: ``X(F) = 0`` with ``X = N P dH``;
-* the integrals (and ``H``) pairwise in involution, ``{F, G} = 0``;
-* ``X = N P dH`` reproduces the original equations of motion;
-* the invariant measure ``rho``: ``div(rho X) = 0``;
+* the Jacobi identity ``[P, P] = 0`` (components ``Jac^{ijk}``, FORMULAS.md §0):
+  :func:`poissonkit.structure.jacobi.check_jacobi`;
+* each Casimir ``C``: ``P dC = 0`` (:func:`poissonkit.structure.casimirs.is_casimir`);
+* each first integral ``F``: ``X(F) = 0`` with ``X = N P dH``
+  (:func:`poissonkit.structure.checks.is_first_integral`);
+* the integrals (and ``H``) pairwise in involution, ``{F, G} = 0``
+  (:func:`poissonkit.structure.checks.in_involution`);
+* ``X = N P dH`` reproduces the original equations of motion
+  (:func:`poissonkit.structure.checks.is_conformally_hamiltonian`);
+* the invariant measure ``rho``: ``div(rho X) = 0``
+  (:func:`poissonkit.structure.checks.is_invariant_measure`);
 * extra, system-specific claims (:mod:`poissonkit_nonholonomic.claims`), e.g. the BMF
   decomposition (55) or the Chaplygin–Veselova equivalence (Prop. 4).
 
-Square roots (``g``) are handled by :mod:`poissonkit_nonholonomic.algebra`. ``mode="exact"`` is a
-symbolic proof; ``mode="random"`` tests exact identities at random rational points (a false
-positive has probability at most ``D / (2 * 10**6 + 1)`` per point, ``D`` the degree of the
-numerator); ``"auto"`` uses exact mode when the system contains undefined functions (random
-points cannot evaluate them) and random mode otherwise. An identity that fails on ``R^n`` is
-re-tested on the constraint set (``(gamma, gamma) = 1``) and reported as such.
+Modes. ``"exact"`` is a symbolic proof of every claim. ``"random"`` runs the core's randomized
+Jacobi check (exact arithmetic at random integer points, Schwartz–Zippel bound) and tests the
+field claims (integrals, involution, equations, measure) in exact arithmetic at random rational
+points (:mod:`poissonkit_nonholonomic.algebra`; a false positive has probability at most
+``D / (2 * 10**6 + 1)`` per point, ``D`` the degree of the numerator); Casimirs are always
+proved exactly (cheap). ``"auto"`` (default) lets the core choose the Jacobi method and proves
+the field claims exactly through the core, except for systems whose field is large (the
+rolling-ball systems with ``g = sqrt(...)``, and above all the BMF bivector): there the core's
+exact proof takes 0.5–50 s per claim against 0.02–0.1 s at random points, so the random-point
+path is kept for them (see :data:`AUTO_EXACT_OPS`). ``"random"`` cannot evaluate undefined
+functions. An identity that fails on ``R^n`` is re-tested on the constraint set
+(``(gamma, gamma) = 1``) and reported as such.
 
 :func:`format_report` prints a report in the style of seed 000's Maple worksheet.
 """
@@ -24,6 +36,7 @@ re-tested on the constraint set (``(gamma, gamma) = 1``) and reported as such.
 from __future__ import annotations
 
 import itertools
+import random
 import time
 from collections.abc import Callable, Mapping, Sequence
 from typing import Any
@@ -31,6 +44,16 @@ from typing import Any
 import sympy as sp
 
 from poissonkit.errors import InputError
+from poissonkit.structure.bivector import Bivector
+from poissonkit.structure.casimirs import is_casimir
+from poissonkit.structure.checks import (
+    CheckResult,
+    in_involution,
+    is_conformally_hamiltonian,
+    is_first_integral,
+    is_invariant_measure,
+)
+from poissonkit.structure.jacobi import check_jacobi, jacobiator_terms
 from poissonkit.structure.system import HamiltonianSystem
 from poissonkit_nonholonomic.algebra import (
     PointSampler,
@@ -39,9 +62,19 @@ from poissonkit_nonholonomic.algebra import (
     vanishes,
 )
 
-__all__ = ["Checker", "format_report", "verify_system"]
+__all__ = ["AUTO_EXACT_OPS", "format_report", "jacobiator", "verify_system"]
 
 _MAX_STR = 240
+#: In ``mode="auto"``, field claims are proved exactly by the core when ``P``, ``H`` and ``N``
+#: together have at most this many operations (``sympy.count_ops``; the field ``N P dH`` itself
+#: is not formed first: for the Routh sphere that alone takes minutes). Measured (same process):
+#: Suslov, P_gf, generalized Chaplygin (< 220 ops): core 0.01–0.5 s per claim, comparable to
+#: random points; Chaplygin ball / Veselova (320–400 ops, square roots): core 0.5–3 s per claim
+#: against ~0.02 s at random points; BMF bivector (~880 ops): core 5–50 s per claim against
+#: ~0.1 s; Routh sphere: ~48000 ops. Above the threshold the random-point path is kept
+#: (``mode="exact"`` forces the core).
+AUTO_EXACT_OPS = 250
+_EXACT = "exact (symbolic, poissonkit.structure)"
 
 
 def _short(expr: Any) -> str:
@@ -49,43 +82,28 @@ def _short(expr: Any) -> str:
     return text if len(text) <= _MAX_STR else text[: _MAX_STR - 3] + "..."
 
 
-class Checker:
-    """Exact zero tests of expressions built from one system's pieces.
+class _RandomPoints:
+    """Zero tests at random rational points, in exact arithmetic with square roots.
 
-    Parameters
-    ----------
-    coords
-        Coordinates.
-    exprs
-        Named expressions (keys are arbitrary hashables) sharing radicals; they are stored in
-        radical-symbol form (``self.e[key]``).
-    mode
-        ``"exact"`` or ``"random"``.
-    points
-        Number of random points in random mode.
-    constraints
-        Constraint expressions for on-shell re-tests.
+    Only used for the field claims of large systems (see the module docstring); everything else
+    goes through the core. ``zero(build)`` evaluates ``build(ev)`` at each point, ``ev`` mapping
+    a radical-form expression to its exact value there.
     """
 
-    def __init__(self, coords: Sequence[sp.Symbol], exprs: Mapping[Any, sp.Expr], mode: str,
-                 points: int = 3, constraints: Sequence[sp.Expr] = (), seed: int = 20140301):
+    def __init__(self, coords: Sequence[sp.Symbol], exprs: Mapping[Any, sp.Expr], points: int,
+                 constraints: Sequence[sp.Expr] = (), seed: int = 20140301):
         self.coords = tuple(coords)
         keys = list(exprs)
         converted, self.rad = extract_radicals([exprs[k] for k in keys])
         self.e = dict(zip(keys, converted))
-        self.mode = mode
         self.points = points
         self.constraints = tuple(constraints)
         self.seed = seed
-        self.has_functions = any(x.atoms(sp.core.function.AppliedUndef) for x in converted)
-        if mode == "random" and self.has_functions:
-            raise InputError("random mode cannot evaluate undefined functions; use mode='exact'")
         syms = set().union(*(x.free_symbols for x in converted)) if converted else set()
         self.extra = sorted(syms - set(self.coords) - set(self.rad.roots), key=str)
         self._deriv: dict[tuple[Any, int], sp.Expr] = {}
-        self._point_cache: dict[tuple[int, bool], list[dict]] = {}
+        self._point_cache: dict[bool, list[dict]] = {}
 
-    # -------------------------------------------------------------- derivatives
     def d(self, key: Any, m: int) -> sp.Expr:
         """Cached derivative of the stored expression ``key`` along coordinate ``m``."""
         if (key, m) not in self._deriv:
@@ -96,10 +114,8 @@ class Checker:
         """Derivative of an arbitrary radical-form expression."""
         return self.rad.derivative(f, self.coords[m])
 
-    # -------------------------------------------------------------- evaluation
     def _points(self, on_shell: bool) -> list[dict]:
-        key = (self.points, on_shell)
-        if key not in self._point_cache:
+        if on_shell not in self._point_cache:
             sampler = PointSampler(self.coords + tuple(self.extra),
                                    self.constraints if on_shell else (), seed=self.seed)
             pts = []
@@ -107,24 +123,12 @@ class Checker:
                 p = sampler.draw()
                 local = {s: sp.sympify(Q).subs(p) for s, Q in self.rad.roots.items()}
                 pts.append({"point": p, "radicals": Radicals(local), "cache": {}})
-            self._point_cache[key] = pts
-        return self._point_cache[key]
+            self._point_cache[on_shell] = pts
+        return self._point_cache[on_shell]
 
     def zero(self, build: Callable[[Callable[[sp.Expr], sp.Expr]], sp.Expr],
              on_shell: bool = False) -> tuple[bool, sp.Expr | None]:
-        """Whether ``build(ev)`` vanishes; ``ev`` maps a radical-form expression to its value.
-
-        In exact mode ``ev`` is the identity (or the on-shell substitution); in random mode it
-        substitutes the point. Returns ``(ok, witness)`` with a nonzero value when it fails.
-        """
-        if self.mode == "exact":
-            if on_shell:
-                sub = _shell_substitution(self.coords, self.constraints)
-                value = build(lambda f: sp.sympify(f).subs(sub))
-            else:
-                value = build(lambda f: f)
-            ok = vanishes(value, self.rad)
-            return ok, None if ok else self.rad.restore(value)
+        """``(ok, witness)``: whether ``build(ev)`` vanishes at every point, else its value."""
         for pt in self._points(on_shell):
             point, cache = pt["point"], pt["cache"]
 
@@ -145,25 +149,6 @@ class Checker:
         return True, None
 
 
-def _shell_substitution(coords, constraints) -> dict:
-    """Exact on-shell substitution: ``gamma`` on the unit sphere via inverse stereographic
-    projection in new symbols ``u, v``; linear constraints solved for one coordinate."""
-    sub: dict = {}
-    u, v = sp.symbols("_u _v", real=True)
-    for c in constraints:
-        c = sp.expand(c)
-        vars_ = [x for x in coords if c.has(x)]
-        if len(vars_) == 3 and sp.expand(c - sum(x**2 for x in vars_) + 1) == 0:
-            n = 1 + u**2 + v**2
-            sub.update(dict(zip(vars_, (2 * u / n, 2 * v / n, (1 - u**2 - v**2) / n))))
-        else:
-            for x in vars_:
-                if sp.degree(c, x) == 1:
-                    sub[x] = sp.solve(c, x)[0]
-                    break
-    return sub
-
-
 # ---------------------------------------------------------------------- the checks
 def _result(claim: str, ok: bool, method: str, seconds: float, detail: str = "",
             on_shell: bool = False) -> dict[str, Any]:
@@ -171,49 +156,60 @@ def _result(claim: str, ok: bool, method: str, seconds: float, detail: str = "",
             "detail": detail, "on_constraint_set": on_shell}
 
 
-def _check(ck: Checker, claim: str, build, constraints_ok: bool = True) -> dict[str, Any]:
+def _shell_note(constraints: Sequence[sp.Expr]) -> str:
+    return "holds only on the constraint set " + ", ".join(f"{c} = 0" for c in constraints)
+
+
+def _core_check(claim: str, run: Callable[[Sequence[sp.Expr]], CheckResult],
+                constraints: Sequence[sp.Expr]) -> dict[str, Any]:
+    """Run a core check identically, then (if it fails) modulo the system's constraints."""
     t0 = time.perf_counter()
-    method = "exact (symbolic)" if ck.mode == "exact" else \
-        f"exact arithmetic at {ck.points} random rational points"
+    res = run(())
+    on_shell = False
+    if not res.holds and constraints:
+        res2 = run(tuple(constraints))
+        if res2.holds:
+            res, on_shell = res2, True
+    if on_shell:
+        detail = _shell_note(constraints)
+    elif res.holds:
+        detail = ""
+    else:
+        detail = "nonzero: " + "; ".join(f"{k} = {_short(v)}" for k, v in res.failures[:4])
+    return _result(claim, res.holds, _EXACT, time.perf_counter() - t0, detail, on_shell)
+
+
+def _random_check(ck: _RandomPoints, claim: str, build) -> dict[str, Any]:
+    t0 = time.perf_counter()
+    method = f"exact arithmetic at {ck.points} random rational points"
     ok, witness = ck.zero(build)
     on_shell = False
-    if not ok and constraints_ok and ck.constraints:
-        ok2, witness2 = ck.zero(build, on_shell=True)
+    if not ok and ck.constraints:
+        ok2, _ = ck.zero(build, on_shell=True)
         if ok2:
             ok, on_shell = True, True
-    detail = "" if ok else f"nonzero: {_short(witness)}"
-    if on_shell:
-        detail = "holds only on the constraint set " + ", ".join(f"{c} = 0" for c in ck.constraints)
+    detail = _shell_note(ck.constraints) if on_shell else ("" if ok else f"nonzero: {_short(witness)}")
     return _result(claim, ok, method, time.perf_counter() - t0, detail, on_shell)
 
 
-def _jacobi(ck: Checker, n: int, nonzero: set) -> tuple[bool, list[str], float, str]:
-    """All components ``Jac^{ijk}``; returns (ok, failing components, seconds, method)."""
+def _jacobi_check(system: HamiltonianSystem, mode: str, points: int, seed: int) -> dict[str, Any]:
+    """The core's :func:`check_jacobi` (exact, randomized or its own automatic choice)."""
     t0 = time.perf_counter()
-    failures: list[str] = []
+    res = check_jacobi(system.structure, method=mode, trials=points, seed=seed)
+    if res.method == "exact":
+        method = _EXACT
+    else:
+        method = (f"poissonkit.structure.check_jacobi at {res.trials} random integer points, "
+                  f"exact arithmetic (false-positive bound {res.false_positive_bound:.1e})")
+    fails = [f"{k} = {_short(v)}" for k, v in res.named_failures().items()]
+    detail = "" if res.is_poisson else "; ".join(fails[:4]) + (
+        f" (+{len(fails) - 4} more)" if len(fails) > 4 else "")
+    return _result("Jacobi identity [P,P] = 0", res.is_poisson, method,
+                   time.perf_counter() - t0, detail)
 
-    def P(i, j):
-        return ck.e[("P", i, j)] if (i, j) in nonzero else sp.Integer(0)
 
-    def dP(i, j, m):
-        return ck.d(("P", i, j), m) if (i, j) in nonzero else sp.Integer(0)
-
-    for i, j, k in itertools.combinations(range(n), 3):
-        def build(ev, i=i, j=j, k=k):
-            total = sp.Integer(0)
-            for m in range(n):
-                for (a, bc) in ((i, (j, k)), (j, (k, i)), (k, (i, j))):
-                    if (a, m) in nonzero and bc in nonzero:
-                        total += ev(P(a, m)) * ev(dP(bc[0], bc[1], m))
-            return total
-
-        ok, witness = ck.zero(build)
-        if not ok:
-            c = ck.coords
-            failures.append(f"Jac({c[i]},{c[j]},{c[k]}) = {_short(witness)}")
-    method = "exact (symbolic)" if ck.mode == "exact" else \
-        f"exact arithmetic at {ck.points} random rational points"
-    return not failures, failures, time.perf_counter() - t0, method
+def _has_functions(exprs) -> bool:
+    return any(sp.sympify(e).atoms(sp.core.function.AppliedUndef) for e in exprs)
 
 
 def verify_system(system: HamiltonianSystem, *, mode: str = "auto", points: int = 3,
@@ -230,7 +226,7 @@ def verify_system(system: HamiltonianSystem, *, mode: str = "auto", points: int 
     points
         Random points per identity in random mode.
     jacobi
-        Whether to check the Jacobi identity (the most expensive check).
+        Whether to check the Jacobi identity.
     extra
         Whether to run the system-specific claims of :mod:`poissonkit_nonholonomic.claims`.
     seed
@@ -243,6 +239,11 @@ def verify_system(system: HamiltonianSystem, *, mode: str = "auto", points: int 
         ``{claim, ok, method, seconds, detail, on_constraint_set}``), ``brackets`` (the nonzero
         ``{x_i, x_j}``), ``equations`` (``xdot_i``), ``integrals``, ``ok`` (all checks passed)
         and ``seconds``.
+
+    Raises
+    ------
+    InputError
+        Not a system, unknown mode, or ``mode="random"`` with undefined functions.
     """
     if not isinstance(system, HamiltonianSystem):
         raise InputError(f"verify_system needs a HamiltonianSystem, got {type(system).__name__}")
@@ -251,88 +252,63 @@ def verify_system(system: HamiltonianSystem, *, mode: str = "auto", points: int 
     t_start = time.perf_counter()
     coords = system.coords
     n = len(coords)
-    M = system.structure.matrix
-    nonzero = {(i, j) for i in range(n) for j in range(n) if M[i, j] != 0}
-    exprs: dict[Any, sp.Expr] = {("P", i, j): M[i, j] for (i, j) in nonzero}
-    exprs["H"] = sp.sympify(system.hamiltonian)
-    exprs["N"] = sp.sympify(system.multiplier)
-    for name, C in system.casimirs.items():
-        exprs[("C", name)] = sp.sympify(C)
-    for name, F in system.integrals.items():
-        exprs[("F", name)] = sp.sympify(F)
+    P = system.structure
+    M = P.matrix
+    H, N = sp.sympify(system.hamiltonian), sp.sympify(system.multiplier)
+    pieces = [H, N, *system.casimirs.values(), *system.integrals.values(), *M]
     if system.measure is not None:
-        exprs["rho"] = sp.sympify(system.measure)
+        pieces.append(system.measure)
     if system.original is not None:
-        for x, v in system.original.items():
-            exprs[("X0", str(x))] = sp.sympify(v)
-    has_f = any(sp.sympify(e).atoms(sp.core.function.AppliedUndef) for e in exprs.values())
-    use = ("exact" if has_f else "random") if mode == "auto" else mode
-    ck = Checker(coords, exprs, use, points, system.constraints, seed)
-
-    def P(i, j):
-        return ck.e[("P", i, j)] if (i, j) in nonzero else sp.Integer(0)
-
-    def grad(key):
-        return [ck.d(key, m) for m in range(n)]
-
-    dH = grad("H")
-
-    def Y(ev, i):  # (P dH)_i
-        return sum((ev(P(i, j)) * ev(dH[j]) for j in range(n) if (i, j) in nonzero), sp.Integer(0))
+        pieces.extend(system.original.values())
+    has_f = _has_functions(pieces)
+    if mode == "random" and has_f:
+        raise InputError("random mode cannot evaluate undefined functions; use mode='exact'")
+    if mode == "auto":
+        size = sum(sp.count_ops(e) for e in M if e != 0) + sp.count_ops(H) + sp.count_ops(N)
+        use = "random" if not has_f and size > AUTO_EXACT_OPS else "exact"
+    else:
+        use = mode
+    constraints = tuple(system.constraints)
 
     checks: list[dict[str, Any]] = []
     if jacobi:
-        ok, fails, secs, method = _jacobi(ck, n, nonzero)
-        checks.append(_result("Jacobi identity [P,P] = 0", ok, method, secs,
-                              "" if ok else "; ".join(fails[:4])
-                              + (f" (+{len(fails) - 4} more)" if len(fails) > 4 else "")))
-    for name in system.casimirs:
-        dC = grad(("C", name))
-
-        def build(ev, dC=dC):
-            # sum of squares would hide sign cancellations; test each component separately
-            return sp.Matrix([sum((ev(P(i, j)) * ev(dC[j]) for j in range(n)
-                                   if (i, j) in nonzero), sp.Integer(0)) for i in range(n)])
-
-        checks.append(_check(ck, f"Casimir {name}: P dC = 0", _vector(build)))
-    integral_keys = [("F", name) for name in system.integrals]
-    for key in integral_keys:
-        dF = grad(key)
-
-        def build(ev, dF=dF):
-            return ev(ck.e["N"]) * sum((Y(ev, i) * ev(dF[i]) for i in range(n)), sp.Integer(0))
-
-        checks.append(_check(ck, f"first integral {key[1]}: X(F) = 0", build))
-    inv = [k for k in integral_keys if not _proportional(ck, ck.e[k], ck.e["H"])] + ["H"]
-    for a, b in itertools.combinations(inv, 2):
-        da, db = (dH if a == "H" else grad(a)), (dH if b == "H" else grad(b))
-
-        def build(ev, da=da, db=db):
-            return sum((ev(da[i]) * ev(P(i, j)) * ev(db[j]) for (i, j) in nonzero), sp.Integer(0))
-
-        na = "H" if a == "H" else a[1]
-        nb = "H" if b == "H" else b[1]
-        checks.append(_check(ck, f"involution {{{na}, {nb}}} = 0", build))
-    if system.original is not None:
-        def build(ev):
-            return sp.Matrix([ev(ck.e["N"]) * Y(ev, i) - ev(ck.e[("X0", str(x))])
-                              for i, x in enumerate(coords)])
-
-        checks.append(_check(ck, "X = N P dH reproduces the original equations of motion",
-                             _vector(build)))
-    if system.measure is not None:
-        rhoN = ck.e["rho"] * ck.e["N"]
-        d_rhoN = [ck.dexpr(rhoN, m) for m in range(n)]
-
-        def build(ev):
-            # div(rho N P dH) = sum_i d_i(rho N) (P dH)_i + rho N sum_ij d_i P_ij d_j H
-            total = sum((ev(d_rhoN[i]) * Y(ev, i) for i in range(n)), sp.Integer(0))
-            inner = sum((ev(ck.d(("P", i, j), i)) * ev(dH[j]) for (i, j) in nonzero),
-                        sp.Integer(0))
-            return total + ev(rhoN) * inner
-
-        checks.append(_check(ck, f"invariant measure rho = {_short(system.measure)}: "
-                                 "div(rho X) = 0", build))
+        checks.append(_jacobi_check(system, mode, points, seed))
+    for name, C in system.casimirs.items():
+        checks.append(_core_check(f"Casimir {name}: P dC = 0",
+                                  lambda cons, C=C: is_casimir(P, C, constraints=cons),
+                                  constraints))
+    # keys: ("F", name) for an integral, "H" for the Hamiltonian (an integral may be named "H")
+    funcs: dict[Any, sp.Expr] = {("F", k): sp.sympify(F) for k, F in system.integrals.items()}
+    funcs["H"] = H
+    inv = [k for k, F in funcs.items() if k != "H" and not _proportional(F, H, coords, has_f)]
+    pairs = list(itertools.combinations([*inv, "H"], 2))
+    if use == "exact":
+        X = dict(zip(coords, system.vector_field()))
+        for name, F in system.integrals.items():
+            checks.append(_core_check(
+                f"first integral {name}: X(F) = 0",
+                lambda cons, F=F: is_first_integral(X, F, constraints=cons, coords=coords),
+                constraints))
+        for a, b in pairs:
+            na, nb = _label(a), _label(b)
+            checks.append(_core_check(
+                f"involution {{{na}, {nb}}} = 0",
+                lambda cons, a=a, b=b: in_involution(P, [funcs[a], funcs[b]], constraints=cons),
+                constraints))
+        if system.original is not None:
+            checks.append(_core_check(
+                "X = N P dH reproduces the original equations of motion",
+                lambda cons: is_conformally_hamiltonian(system.original, P, H, N,
+                                                        constraints=cons),
+                constraints))
+        if system.measure is not None:
+            checks.append(_core_check(
+                f"invariant measure rho = {_short(system.measure)}: div(rho X) = 0",
+                lambda cons: is_invariant_measure(X, system.measure, constraints=cons,
+                                                  coords=coords),
+                constraints))
+    else:
+        checks.extend(_random_field_checks(system, pairs, points, seed))
     if extra:
         from poissonkit_nonholonomic.claims import CLAIMS
 
@@ -342,7 +318,7 @@ def verify_system(system: HamiltonianSystem, *, mode: str = "auto", points: int 
             checks.append(_result(claim.__doc__.strip().splitlines()[0], ok, method,
                                   time.perf_counter() - t0, detail))
     brackets = {f"{{{coords[i]},{coords[j]}}}": _short(M[i, j])
-                for i in range(n) for j in range(i + 1, n) if (i, j) in nonzero}
+                for i in range(n) for j in range(i + 1, n) if M[i, j] != 0}
     equations = {}
     if system.original is not None:
         equations = {f"d{x}/dt": _short(v) for x, v in system.original.items()}
@@ -366,33 +342,103 @@ def verify_system(system: HamiltonianSystem, *, mode: str = "auto", points: int 
     }
 
 
-def _proportional(ck: Checker, F: sp.Expr, H: sp.Expr) -> bool:
+def _random_field_checks(system: HamiltonianSystem, pairs, points: int,
+                         seed: int) -> list[dict[str, Any]]:
+    """Integrals, involution, equations and measure at random rational points (large systems,
+    where the core's exact proof is 50–300x slower; see the module docstring)."""
+    coords = system.coords
+    n = len(coords)
+    M = system.structure.matrix
+    nonzero = {(i, j) for i in range(n) for j in range(n) if M[i, j] != 0}
+    exprs: dict[Any, sp.Expr] = {("P", i, j): M[i, j] for (i, j) in nonzero}
+    exprs["H"] = sp.sympify(system.hamiltonian)
+    exprs["N"] = sp.sympify(system.multiplier)
+    for name, F in system.integrals.items():
+        exprs[("F", name)] = sp.sympify(F)
+    if system.measure is not None:
+        exprs["rho"] = sp.sympify(system.measure)
+    if system.original is not None:
+        for x, v in system.original.items():
+            exprs[("X0", str(x))] = sp.sympify(v)
+    ck = _RandomPoints(coords, exprs, points, system.constraints, seed)
+
+    def P(i, j):
+        return ck.e[("P", i, j)]
+
+    def grad(key):
+        return [ck.d(key, m) for m in range(n)]
+
+    dH = grad("H")
+
+    def Y(ev, i):  # (P dH)_i
+        return sum((ev(P(i, j)) * ev(dH[j]) for j in range(n) if (i, j) in nonzero), sp.Integer(0))
+
+    out = []
+    for name in system.integrals:
+        dF = grad(("F", name))
+
+        def build(ev, dF=dF):
+            return ev(ck.e["N"]) * sum((Y(ev, i) * ev(dF[i]) for i in range(n)), sp.Integer(0))
+
+        out.append(_random_check(ck, f"first integral {name}: X(F) = 0", build))
+    for a, b in pairs:
+        da, db = grad(a), grad(b)
+
+        def build(ev, da=da, db=db):
+            return sum((ev(da[i]) * ev(P(i, j)) * ev(db[j]) for (i, j) in nonzero), sp.Integer(0))
+
+        out.append(_random_check(ck, f"involution {{{_label(a)}, {_label(b)}}} = 0", build))
+    if system.original is not None:
+        def build(ev):
+            return sp.Matrix([ev(ck.e["N"]) * Y(ev, i) - ev(ck.e[("X0", str(x))])
+                              for i, x in enumerate(coords)])
+
+        out.append(_random_check(ck, "X = N P dH reproduces the original equations of motion",
+                                 _vector(build)))
+    if system.measure is not None:
+        rhoN = ck.e["rho"] * ck.e["N"]
+        d_rhoN = [ck.dexpr(rhoN, m) for m in range(n)]
+
+        def build(ev):
+            # div(rho N P dH) = sum_i d_i(rho N) (P dH)_i + rho N sum_ij d_i P_ij d_j H
+            total = sum((ev(d_rhoN[i]) * Y(ev, i) for i in range(n)), sp.Integer(0))
+            inner = sum((ev(ck.d(("P", i, j), i)) * ev(dH[j]) for (i, j) in nonzero),
+                        sp.Integer(0))
+            return total + ev(rhoN) * inner
+
+        out.append(_random_check(ck, f"invariant measure rho = {_short(system.measure)}: "
+                                     "div(rho X) = 0", build))
+    return out
+
+
+def _label(key: Any) -> str:
+    return "H" if key == "H" else key[1]
+
+
+def _proportional(F: sp.Expr, H: sp.Expr, coords: Sequence[sp.Symbol], has_f: bool) -> bool:
     """Whether ``F = c H`` for a constant ``c`` (then ``{F, H} = 0`` is trivial): tested at two
     random points in floating point; only used to skip redundant checks."""
-    if ck.has_functions:
-        return sp.simplify(F / H).is_number if F != 0 and H != 0 else False
-    import random
-
+    F, H = sp.sympify(F), sp.sympify(H)
+    if F == 0 or H == 0:
+        return False
+    if has_f:
+        return sp.simplify(F / H).is_number
     rng = random.Random(1)
+    syms = sorted(F.free_symbols | H.free_symbols | set(coords), key=str)
     ratios = []
-    syms = list(ck.coords) + list(ck.extra)
     for _ in range(2):
         pt = {x: sp.Float(rng.uniform(-0.5, 0.5)) for x in syms}
-        pt.update({s: sp.sqrt(sp.sympify(Q).xreplace(pt)) for s, Q in ck.rad.roots.items()})
-        h = complex(sp.sympify(H).xreplace(pt).evalf())
+        h = complex(H.xreplace(pt).evalf())
         if abs(h) < 1e-12:
             return False
-        ratios.append(complex(sp.sympify(F).xreplace(pt).evalf()) / h)
+        ratios.append(complex(F.xreplace(pt).evalf()) / h)
     return abs(ratios[0] - ratios[1]) < 1e-9 * max(1.0, abs(ratios[0]))
 
 
 def _vector(build):
-    """Wrap a builder returning a column so that it fails if any component is nonzero.
-
-    The components are combined with independent random-ish weights would be unsafe; instead
-    the zero test is applied to the sum of ``t**i * component_i`` in a fresh symbol ``t`` (a
-    polynomial in ``t`` vanishes iff every coefficient does).
-    """
+    """Wrap a builder returning a column so that it fails if any component is nonzero: the zero
+    test is applied to ``sum_i t**i * component_i`` in a fresh symbol ``t`` (a polynomial in
+    ``t`` vanishes iff every coefficient does)."""
     t = sp.Symbol("_t")
 
     def combined(ev):
@@ -428,17 +474,9 @@ def format_report(report: Mapping[str, Any]) -> str:
 
 
 def jacobiator(matrix: sp.Matrix, coords: Sequence[sp.Symbol]) -> dict[tuple[int, int, int], sp.Expr]:
-    """Symbolic ``Jac^{ijk} = sum_m (P^{im} d_m P^{jk} + P^{jm} d_m P^{ki} + P^{km} d_m P^{ij})``
-    for ``i < j < k`` (FORMULAS.md §0; ``[P, P] = 2 Jac``), square roots restored."""
-    n = len(coords)
-    conv, rad = extract_radicals(list(matrix))
-    P = sp.Matrix(n, n, conv)
-    out = {}
-    for i, j, k in itertools.combinations(range(n), 3):
-        total = sp.Integer(0)
-        for m in range(n):
-            total += P[i, m] * rad.derivative(P[j, k], coords[m]) \
-                + P[j, m] * rad.derivative(P[k, i], coords[m]) \
-                + P[k, m] * rad.derivative(P[i, j], coords[m])
-        out[(i, j, k)] = rad.restore(sp.expand(total))
-    return out
+    """``Jac^{ijk} = sum_m (P^{im} d_m P^{jk} + P^{jm} d_m P^{ki} + P^{km} d_m P^{ij})``
+    for every ``i < j < k`` (FORMULAS.md §0; ``[P, P] = 2 Jac``), expanded, from the core's
+    :func:`poissonkit.structure.jacobi.jacobiator_terms` (triples it skips are zero)."""
+    terms = jacobiator_terms(Bivector.from_matrix(sp.Matrix(matrix), tuple(coords)))
+    return {key: sp.expand(terms.get(key, sp.Integer(0)))
+            for key in itertools.combinations(range(len(coords)), 3)}
