@@ -18,17 +18,18 @@
   decomposition (55) or the Chaplygin–Veselova equivalence (Prop. 4).
 
 Modes. ``"exact"`` is a symbolic proof of every claim. ``"random"`` runs the core's randomized
-Jacobi check (exact arithmetic at random integer points, Schwartz–Zippel bound) and tests the
-field claims (integrals, involution, equations, measure) in exact arithmetic at random rational
-points (:mod:`poissonkit_nonholonomic.algebra`; a false positive has probability at most
-``D / (2 * 10**6 + 1)`` per point, ``D`` the degree of the numerator); Casimirs are always
-proved exactly (cheap). ``"auto"`` (default) lets the core choose the Jacobi method and proves
-the field claims exactly through the core, except for systems whose field is large (the
-rolling-ball systems with ``g = sqrt(...)``, and above all the BMF bivector): there the core's
-exact proof takes 0.5–50 s per claim against 0.02–0.1 s at random points, so the random-point
-path is kept for them (see :data:`AUTO_EXACT_OPS`). ``"random"`` cannot evaluate undefined
+Jacobi check (exact arithmetic at random integer points, Schwartz–Zippel bound) and the core's
+randomized field checks (``method="random"`` of :mod:`poissonkit.structure.checks`: integrals,
+involution, equations, measure in exact arithmetic with exact square roots at seeded random
+rational points, :mod:`poissonkit.structure.randompoints`; a failure is a genuine
+counterexample point, a pass carries the false-positive bound shown in the report); Casimirs
+are always proved exactly (cheap). ``"auto"`` (default) lets the core choose the Jacobi method
+and proves the field claims exactly through the core, except for systems whose field is large
+(the rolling-ball systems with ``g = sqrt(...)``, and above all the BMF bivector): there the
+core's exact proof takes 0.5–50 s per claim against 0.01–0.3 s at random points, so those run
+at random points (see :data:`AUTO_EXACT_OPS`). ``"random"`` cannot evaluate undefined
 functions. An identity that fails on ``R^n`` is re-tested on the constraint set
-(``(gamma, gamma) = 1``) and reported as such.
+(``(gamma, gamma) = 1``, random points on the sphere) and reported as such.
 
 :func:`format_report` prints a report in the style of seed 000's Maple worksheet.
 """
@@ -54,13 +55,8 @@ from poissonkit.structure.checks import (
     is_invariant_measure,
 )
 from poissonkit.structure.jacobi import check_jacobi, jacobiator_terms
+from poissonkit.structure.randompoints import RandomPoints
 from poissonkit.structure.system import HamiltonianSystem
-from poissonkit_nonholonomic.algebra import (
-    PointSampler,
-    Radicals,
-    extract_radicals,
-    vanishes,
-)
 
 __all__ = ["AUTO_EXACT_OPS", "format_report", "jacobiator", "verify_system"]
 
@@ -80,73 +76,6 @@ _EXACT = "exact (symbolic, poissonkit.structure)"
 def _short(expr: Any) -> str:
     text = str(expr)
     return text if len(text) <= _MAX_STR else text[: _MAX_STR - 3] + "..."
-
-
-class _RandomPoints:
-    """Zero tests at random rational points, in exact arithmetic with square roots.
-
-    Only used for the field claims of large systems (see the module docstring); everything else
-    goes through the core. ``zero(build)`` evaluates ``build(ev)`` at each point, ``ev`` mapping
-    a radical-form expression to its exact value there.
-    """
-
-    def __init__(self, coords: Sequence[sp.Symbol], exprs: Mapping[Any, sp.Expr], points: int,
-                 constraints: Sequence[sp.Expr] = (), seed: int = 20140301):
-        self.coords = tuple(coords)
-        keys = list(exprs)
-        converted, self.rad = extract_radicals([exprs[k] for k in keys])
-        self.e = dict(zip(keys, converted))
-        self.points = points
-        self.constraints = tuple(constraints)
-        self.seed = seed
-        syms = set().union(*(x.free_symbols for x in converted)) if converted else set()
-        self.extra = sorted(syms - set(self.coords) - set(self.rad.roots), key=str)
-        self._deriv: dict[tuple[Any, int], sp.Expr] = {}
-        self._point_cache: dict[bool, list[dict]] = {}
-
-    def d(self, key: Any, m: int) -> sp.Expr:
-        """Cached derivative of the stored expression ``key`` along coordinate ``m``."""
-        if (key, m) not in self._deriv:
-            self._deriv[(key, m)] = self.rad.derivative(self.e[key], self.coords[m])
-        return self._deriv[(key, m)]
-
-    def dexpr(self, f: sp.Expr, m: int) -> sp.Expr:
-        """Derivative of an arbitrary radical-form expression."""
-        return self.rad.derivative(f, self.coords[m])
-
-    def _points(self, on_shell: bool) -> list[dict]:
-        if on_shell not in self._point_cache:
-            sampler = PointSampler(self.coords + tuple(self.extra),
-                                   self.constraints if on_shell else (), seed=self.seed)
-            pts = []
-            for _ in range(self.points):
-                p = sampler.draw()
-                local = {s: sp.sympify(Q).subs(p) for s, Q in self.rad.roots.items()}
-                pts.append({"point": p, "radicals": Radicals(local), "cache": {}})
-            self._point_cache[on_shell] = pts
-        return self._point_cache[on_shell]
-
-    def zero(self, build: Callable[[Callable[[sp.Expr], sp.Expr]], sp.Expr],
-             on_shell: bool = False) -> tuple[bool, sp.Expr | None]:
-        """``(ok, witness)``: whether ``build(ev)`` vanishes at every point, else its value."""
-        for pt in self._points(on_shell):
-            point, cache = pt["point"], pt["cache"]
-
-            def ev(f, point=point, cache=cache):
-                # values are memoised per point: the same derivative enters many identities
-                try:
-                    return cache[f]
-                except KeyError:
-                    val = sp.sympify(f).xreplace(point)
-                    cache[f] = val
-                    return val
-
-            value = build(ev)
-            if not vanishes(value, pt["radicals"]):
-                restored = sp.nsimplify(pt["radicals"].restore(value)) if value.free_symbols \
-                    else value
-                return False, sp.radsimp(sp.together(restored))
-        return True, None
 
 
 # ---------------------------------------------------------------------- the checks
@@ -179,17 +108,28 @@ def _core_check(claim: str, run: Callable[[Sequence[sp.Expr]], CheckResult],
     return _result(claim, res.holds, _EXACT, time.perf_counter() - t0, detail, on_shell)
 
 
-def _random_check(ck: _RandomPoints, claim: str, build) -> dict[str, Any]:
+def _random_check(claim: str, run: Callable[[RandomPoints], CheckResult],
+                  free: RandomPoints, shell: Callable[[], RandomPoints | None]) -> dict[str, Any]:
+    """Run a core check at random points of ``R^n``, then (if it fails) on the constraint set."""
     t0 = time.perf_counter()
-    method = f"exact arithmetic at {ck.points} random rational points"
-    ok, witness = ck.zero(build)
+    res = run(free)
     on_shell = False
-    if not ok and ck.constraints:
-        ok2, _ = ck.zero(build, on_shell=True)
-        if ok2:
-            ok, on_shell = True, True
-    detail = _shell_note(ck.constraints) if on_shell else ("" if ok else f"nonzero: {_short(witness)}")
-    return _result(claim, ok, method, time.perf_counter() - t0, detail, on_shell)
+    on = shell() if not res.holds else None
+    if on is not None:
+        res2 = run(on)
+        if res2.holds:
+            res, on_shell = res2, True
+    if on_shell:
+        detail = _shell_note(on.constraints)
+    elif res.holds:
+        detail = ""
+    else:
+        at = ", ".join(f"{k} = {v}" for k, v in (res.point or {}).items())
+        detail = ("nonzero: " + "; ".join(f"{k} = {_short(v)}" for k, v in res.failures[:4])
+                  + (f" at {_short(at)}" if at else ""))
+    method = (f"exact arithmetic at {res.trials} random rational points (poissonkit.structure, "
+              f"method='random'; false-positive bound {res.false_positive_bound:.1e})")
+    return _result(claim, res.holds, method, time.perf_counter() - t0, detail, on_shell)
 
 
 def _jacobi_check(system: HamiltonianSystem, mode: str, points: int, seed: int) -> dict[str, Any]:
@@ -308,7 +248,7 @@ def verify_system(system: HamiltonianSystem, *, mode: str = "auto", points: int 
                                                   coords=coords),
                 constraints))
     else:
-        checks.extend(_random_field_checks(system, pairs, points, seed))
+        checks.extend(_random_field_checks(system, pairs, funcs, points, seed))
     if extra:
         from poissonkit_nonholonomic.claims import CLAIMS
 
@@ -342,73 +282,55 @@ def verify_system(system: HamiltonianSystem, *, mode: str = "auto", points: int 
     }
 
 
-def _random_field_checks(system: HamiltonianSystem, pairs, points: int,
+def _random_field_checks(system: HamiltonianSystem, pairs, funcs, points: int,
                          seed: int) -> list[dict[str, Any]]:
-    """Integrals, involution, equations and measure at random rational points (large systems,
-    where the core's exact proof is 50–300x slower; see the module docstring)."""
+    """Integrals, involution, equations and measure by the core's ``method="random"`` (large
+    systems, where the exact proof is 50–300x slower; see the module docstring). One point set
+    on ``R^n`` and one on the constraint set are shared by all claims (memoised values of
+    ``P``, ``dH``, ...)."""
     coords = system.coords
-    n = len(coords)
-    M = system.structure.matrix
-    nonzero = {(i, j) for i in range(n) for j in range(n) if M[i, j] != 0}
-    exprs: dict[Any, sp.Expr] = {("P", i, j): M[i, j] for (i, j) in nonzero}
-    exprs["H"] = sp.sympify(system.hamiltonian)
-    exprs["N"] = sp.sympify(system.multiplier)
-    for name, F in system.integrals.items():
-        exprs[("F", name)] = sp.sympify(F)
-    if system.measure is not None:
-        exprs["rho"] = sp.sympify(system.measure)
-    if system.original is not None:
-        for x, v in system.original.items():
-            exprs[("X0", str(x))] = sp.sympify(v)
-    ck = _RandomPoints(coords, exprs, points, system.constraints, seed)
+    free = RandomPoints(coords, trials=points, seed=seed)
+    cache: list[RandomPoints | None] = []
 
-    def P(i, j):
-        return ck.e[("P", i, j)]
+    def shell() -> RandomPoints | None:
+        if not cache:
+            cache.append(RandomPoints(coords, system.constraints, trials=points, seed=seed)
+                         if system.constraints else None)
+        return cache[0]
 
-    def grad(key):
-        return [ck.d(key, m) for m in range(n)]
-
-    dH = grad("H")
-
-    def Y(ev, i):  # (P dH)_i
-        return sum((ev(P(i, j)) * ev(dH[j]) for j in range(n) if (i, j) in nonzero), sp.Integer(0))
-
+    P = system.structure
     out = []
-    for name in system.integrals:
-        dF = grad(("F", name))
-
-        def build(ev, dF=dF):
-            return ev(ck.e["N"]) * sum((Y(ev, i) * ev(dF[i]) for i in range(n)), sp.Integer(0))
-
-        out.append(_random_check(ck, f"first integral {name}: X(F) = 0", build))
+    for name, F in system.integrals.items():
+        out.append(_random_check(
+            f"first integral {name}: X(F) = 0",
+            lambda pts, F=F: is_first_integral(system, F, method="random", points=pts),
+            free, shell))
     for a, b in pairs:
-        da, db = grad(a), grad(b)
-
-        def build(ev, da=da, db=db):
-            return sum((ev(da[i]) * ev(P(i, j)) * ev(db[j]) for (i, j) in nonzero), sp.Integer(0))
-
-        out.append(_random_check(ck, f"involution {{{_label(a)}, {_label(b)}}} = 0", build))
+        out.append(_random_check(
+            f"involution {{{_label(a)}, {_label(b)}}} = 0",
+            lambda pts, a=a, b=b: in_involution(P, _pair(a, b, funcs), method="random",
+                                                points=pts),
+            free, shell))
     if system.original is not None:
-        def build(ev):
-            return sp.Matrix([ev(ck.e["N"]) * Y(ev, i) - ev(ck.e[("X0", str(x))])
-                              for i, x in enumerate(coords)])
-
-        out.append(_random_check(ck, "X = N P dH reproduces the original equations of motion",
-                                 _vector(build)))
+        out.append(_random_check(
+            "X = N P dH reproduces the original equations of motion",
+            lambda pts: is_conformally_hamiltonian(system.original, P, system.hamiltonian,
+                                                   system.multiplier, method="random",
+                                                   points=pts),
+            free, shell))
     if system.measure is not None:
-        rhoN = ck.e["rho"] * ck.e["N"]
-        d_rhoN = [ck.dexpr(rhoN, m) for m in range(n)]
-
-        def build(ev):
-            # div(rho N P dH) = sum_i d_i(rho N) (P dH)_i + rho N sum_ij d_i P_ij d_j H
-            total = sum((ev(d_rhoN[i]) * Y(ev, i) for i in range(n)), sp.Integer(0))
-            inner = sum((ev(ck.d(("P", i, j), i)) * ev(dH[j]) for (i, j) in nonzero),
-                        sp.Integer(0))
-            return total + ev(rhoN) * inner
-
-        out.append(_random_check(ck, f"invariant measure rho = {_short(system.measure)}: "
-                                     "div(rho X) = 0", build))
+        out.append(_random_check(
+            f"invariant measure rho = {_short(system.measure)}: div(rho X) = 0",
+            lambda pts: is_invariant_measure(system, system.measure, method="random",
+                                             points=pts),
+            free, shell))
     return out
+
+
+def _pair(a: Any, b: Any, funcs: Mapping[Any, sp.Expr]) -> dict[str, sp.Expr] | list[sp.Expr]:
+    """The two functions named by their labels (a list if the labels coincide)."""
+    la, lb = _label(a), _label(b)
+    return {la: funcs[a], lb: funcs[b]} if la != lb else [funcs[a], funcs[b]]
 
 
 def _label(key: Any) -> str:
@@ -433,19 +355,6 @@ def _proportional(F: sp.Expr, H: sp.Expr, coords: Sequence[sp.Symbol], has_f: bo
             return False
         ratios.append(complex(F.xreplace(pt).evalf()) / h)
     return abs(ratios[0] - ratios[1]) < 1e-9 * max(1.0, abs(ratios[0]))
-
-
-def _vector(build):
-    """Wrap a builder returning a column so that it fails if any component is nonzero: the zero
-    test is applied to ``sum_i t**i * component_i`` in a fresh symbol ``t`` (a polynomial in
-    ``t`` vanishes iff every coefficient does)."""
-    t = sp.Symbol("_t")
-
-    def combined(ev):
-        col = build(ev)
-        return sum((t**i * c for i, c in enumerate(col)), sp.Integer(0))
-
-    return combined
 
 
 def format_report(report: Mapping[str, Any]) -> str:

@@ -27,6 +27,7 @@ from poissonkit.structure.casimirs import (
 )
 from poissonkit.structure.checks import (
     CheckResult,
+    check_vanishing,
     divergence,
     in_involution,
     is_conformally_hamiltonian,
@@ -53,6 +54,7 @@ from poissonkit.structure.poisson_map import (
     jacobian_bracket,
     push_forward,
 )
+from poissonkit.structure.randompoints import RandomPoints, sphere_parametrization
 from poissonkit.structure.schouten import (
     Multivector,
     are_compatible,
@@ -72,6 +74,7 @@ __all__ = [
     "Multivector",
     "PushForward",
     "PushForwardError",
+    "RandomPoints",
     "RankResult",
     "SingularSet",
     "are_compatible",
@@ -81,6 +84,7 @@ __all__ = [
     "chaplygin_ball_system",
     "chaplygin_gyrostat",
     "check_jacobi",
+    "check_vanishing",
     "deform",
     "direct_sum",
     "divergence",
@@ -106,6 +110,7 @@ __all__ = [
     "se3",
     "singular_set",
     "so3",
+    "sphere_parametrization",
     "symmetric_top",
     "vanishes",
     "veselova",

@@ -24,6 +24,16 @@ polynomial form first:
 functions; with constraints it means "not in the ideal the constraints generate", which equals
 "does not vanish on the constraint surface" when that ideal is real radical (e.g. the sphere
 ``(gamma, gamma) - 1``).
+
+Randomized method
+-----------------
+Every field check (and :func:`check_vanishing`) also takes ``method="random"`` (the name
+``check_jacobi`` uses for its randomized check), with ``trials``, ``seed``, ``parametrization``
+and ``points``: the identity is evaluated in exact arithmetic (rationals and exact square roots)
+at seeded random rational points, optionally on a constraint surface; see
+:mod:`poissonkit.structure.randompoints`. A ``False`` is a genuine counterexample (the result's
+``point``), a ``True`` comes with ``false_positive_bound``. ``method="auto"`` proves exactly
+unless the inputs are large (:data:`AUTO_RANDOM_OPS`) and free of undefined functions.
 """
 
 from __future__ import annotations
@@ -41,9 +51,17 @@ from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.system import HamiltonianSystem
 
 __all__ = [
-    "CheckResult", "divergence", "in_involution", "is_conformally_hamiltonian",
-    "is_first_integral", "is_invariant_measure", "vanishes",
+    "AUTO_RANDOM_OPS", "CheckResult", "check_vanishing", "divergence", "in_involution",
+    "is_conformally_hamiltonian", "is_first_integral", "is_invariant_measure", "vanishes",
 ]
+
+_METHODS = ("exact", "random", "auto")
+#: ``method="auto"`` picks the random method above this many operations (``sympy.count_ops``)
+#: in the inputs (bivector entries, Hamiltonian, multiplier, functions), when they contain no
+#: undefined or transcendental function. Measured on the survey's systems: below ~250
+#: operations the exact proof takes at most ~0.5 s per claim; the rolling balls with
+#: ``g = sqrt(Q)`` (320–900 operations) take 0.5–50 s exactly against 0.01–0.3 s at points.
+AUTO_RANDOM_OPS: int = 250
 
 
 # ---------------------------------------------------------------------------------- results
@@ -62,13 +80,29 @@ class CheckResult:
     what
         Short description of what was checked.
     note
-        Method remarks (constraints used, atoms treated as independent, ...).
+        Method remarks (constraints used, atoms treated as independent, seed and degree bound
+        of a random check, ...).
+    method
+        ``"exact"`` (symbolic proof) or ``"random"`` (exact arithmetic at random points).
+    false_positive_bound
+        Upper bound of the probability that a false claim passed (0 for exact, and for a
+        failure); see :mod:`poissonkit.structure.randompoints` for how it is obtained.
+    trials
+        Random points used (random method).
+    point
+        Random method, on failure: the counterexample point ``{symbol: rational}`` (sampled
+        coordinates, parameters and surface parameters); ``failures`` then holds the exact
+        non-zero values there.
     """
 
     holds: bool
     failures: tuple[tuple[str, sp.Expr], ...] = ()
     what: str = ""
     note: str = ""
+    method: str = "exact"
+    false_positive_bound: float = 0.0
+    trials: int = 0
+    point: Mapping[sp.Symbol, sp.Expr] | None = None
 
     def __bool__(self) -> bool:
         return self.holds
@@ -293,7 +327,117 @@ def _derivative_along(cs, comps, F) -> sp.Expr:
     return sp.Add(*[f * sp.diff(F, x) for f, x in zip(comps, cs)])
 
 
-def is_first_integral(X_or_system, F, constraints: Sequence = (), coords=None) -> CheckResult:
+# ---------------------------------------------------------------------------------- methods
+_RANDOM_DOC = """
+    method
+        ``"exact"`` (default: symbolic proof), ``"random"`` (exact arithmetic at seeded random
+        rational points, see :mod:`poissonkit.structure.randompoints`) or ``"auto"`` (random
+        when the inputs exceed :data:`AUTO_RANDOM_OPS` operations).
+    trials, seed, parametrization
+        Random method: number of points, seed (``None``: fresh, reported in ``note``) and
+        ``{coord: expression}`` parametrising the constraint surface (unit spheres and
+        constraints linear in one coordinate are recognised without it).
+    points
+        Random method: a :class:`~poissonkit.structure.randompoints.RandomPoints` to share
+        points and memoised values between checks (its constraints then define the surface;
+        ``constraints`` must be empty or the same)."""
+
+
+def _chosen_method(method: str, pieces: Iterable) -> str:
+    if not isinstance(method, str) or method not in _METHODS:
+        raise InputError(f"unknown method {method!r}; available: {', '.join(_METHODS)}")
+    if method != "auto":
+        return method
+    pieces = [sp.sympify(p) for p in pieces]
+    if any(p.has(AppliedUndef, sp.Derivative, sp.Subs) or _transcendental(p) for p in pieces):
+        return "exact"
+    ops = sum(sp.count_ops(p) for p in pieces if p != 0)
+    return "random" if ops > AUTO_RANDOM_OPS else "exact"
+
+
+def _transcendental(e: sp.Expr) -> bool:
+    return any(isinstance(a, sp.Function) and not isinstance(a, AppliedUndef)
+               for a in sp.preorder_traversal(e))
+
+
+def _random_points(coords, constraints, parametrization, trials, seed, points):
+    """The :class:`RandomPoints` of a random check (given, or built from the arguments)."""
+    from poissonkit.structure.randompoints import RandomPoints
+
+    cons = _as_exprs(constraints)
+    if points is not None:
+        if not isinstance(points, RandomPoints):
+            raise InputError(f"points must be a RandomPoints, got {type(points).__name__}")
+        if cons and {sp.expand(c) for c in cons} != {sp.expand(c) for c in points.constraints}:
+            raise InputError("constraints differ from those of the given points; build "
+                             "RandomPoints(coords, constraints=...) for this surface")
+        return points
+    return RandomPoints(coords, cons, parametrization=parametrization, trials=trials, seed=seed)
+
+
+def _random_result(pts, components, what: str) -> CheckResult:
+    fails, point, bound, note = pts.test(components, what)
+    return CheckResult(not fails, fails, what, note, method="random",
+                       false_positive_bound=bound, trials=pts.trials, point=point)
+
+
+class _PointField:
+    """A vector field for the random method: a system's ``N P dH`` is never formed
+    symbolically (for the Routh sphere that alone takes minutes), only evaluated; derivatives
+    are exact forward-mode derivatives at the point (``ev.d``), never symbolic."""
+
+    def __init__(self, X, coords, pieces=None) -> None:
+        if isinstance(X, HamiltonianSystem):
+            pieces = (X.structure, X.hamiltonian, X.multiplier)
+        if pieces is not None:
+            P, H, N = pieces
+            self.coords = tuple(P.coords)
+            n = len(self.coords)
+            self.P = M = P.matrix
+            self.rows = [[j for j in range(n) if M[i, j] != 0] for i in range(n)]
+            self.H = _expr(H, "Hamiltonian")
+            self.N = _expr(N, "multiplier")
+            self.comps = None
+        else:
+            self.coords, self.comps = _field(X, coords)
+
+    def _PdH(self, ev, i: int):
+        cs, P, H = self.coords, self.P, self.H
+        return _sum(ev(P[i, j]) * ev.d(H, cs[j]) for j in self.rows[i])
+
+    def component(self, ev, i: int):
+        if self.comps is not None:
+            return ev(self.comps[i])
+        return ev(self.N) * self._PdH(ev, i)
+
+    def along(self, ev, F: sp.Expr):
+        """``X(F) = sum_i X_i dF/dx_i``."""
+        return _sum(self.component(ev, i) * ev.d(F, x) for i, x in enumerate(self.coords))
+
+    def weighted_divergence(self, ev, rho: sp.Expr):
+        """``div(rho X)``; for ``X = N P dH``:
+        ``sum_i d_i(rho N) (P dH)_i + rho N sum_ij d_i P_ij d_j H`` (``P`` antisymmetric)."""
+        cs = self.coords
+        if self.comps is not None:
+            return _sum(ev.d(rho * f, x) for f, x in zip(self.comps, cs))
+        rN = rho * self.N
+        first = _sum(ev.d(rN, x) * self._PdH(ev, i) for i, x in enumerate(cs))
+        inner = _sum(ev.d(self.P[i, j], cs[i]) * ev.d(self.H, cs[j])
+                     for i in range(len(cs)) for j in self.rows[i])
+        return first + ev(rN) * inner
+
+
+def _sum(items):
+    total = 0
+    for t in items:
+        total = t + total
+    return total
+
+
+# ---------------------------------------------------------------------------------- checks
+def is_first_integral(X_or_system, F, constraints: Sequence = (), coords=None, *,
+                      method: str = "exact", trials: int = 3, seed: int | None = None,
+                      parametrization: Mapping | None = None, points=None) -> CheckResult:
     """Whether ``X(F) = sum_i X_i dF/dx_i`` vanishes (identically or modulo ``constraints``).
 
     Parameters
@@ -304,7 +448,20 @@ def is_first_integral(X_or_system, F, constraints: Sequence = (), coords=None) -
         The candidate integral, or a mapping ``{name: F}`` of several (all must hold).
     constraints
         Expressions vanishing on the surface of interest. With a system and no constraints
-        given, the system's own ``constraints`` are used.
+        given, the system's own ``constraints`` are used (not with ``points``).
+    coords
+        Coordinates of a field given as a sequence.{random}
+
+    Returns
+    -------
+    CheckResult
+        ``failures``: ``("X(F)", residual)``; random: the exact value at ``point``.
+
+    Raises
+    ------
+    InputError
+        Bad field or function, unknown method; random method: expressions that cannot be
+        evaluated exactly (:class:`~poissonkit.structure.randompoints.RandomPointError`).
 
     Examples
     --------
@@ -313,22 +470,36 @@ def is_first_integral(X_or_system, F, constraints: Sequence = (), coords=None) -
     >>> H = sum(c**2 for c in m) / 2 + nu[2]
     >>> bool(is_first_integral(HamiltonianSystem(P, H), sum(a*b for a, b in zip(nu, m))))
     True
+    >>> bool(is_first_integral(HamiltonianSystem(P, H), m[0], method="random", seed=1))
+    False
     """
-    cs, comps = _field(X_or_system, coords)
-    if not constraints and isinstance(X_or_system, HamiltonianSystem):
-        constraints = X_or_system.constraints
     funcs = {str(k): _expr(v, "first integral") for k, v in
              (F.items() if isinstance(F, Mapping) else [("F", F)])}
     labels = list(funcs)
+    what = "first integral " + ", ".join(labels)
+    sys_pieces = ([X_or_system.hamiltonian, X_or_system.multiplier, *X_or_system.structure.matrix]
+                  if isinstance(X_or_system, HamiltonianSystem) else [])
+    chosen = _chosen_method(method, [*funcs.values(), *sys_pieces])
+    if (not constraints and points is None and isinstance(X_or_system, HamiltonianSystem)):
+        constraints = X_or_system.constraints
+    if chosen == "random":
+        cs = X_or_system.coords if isinstance(X_or_system, HamiltonianSystem) \
+            else _field(X_or_system, coords)[0]
+        pts = _random_points(cs, constraints, parametrization, trials, seed, points)
+        fld = _PointField(X_or_system, coords)
+        comps = [(f"X({k})", lambda ev, F=funcs[k]: fld.along(ev, F)) for k in labels]
+        return _random_result(pts, comps, what)
+    cs, comps = _field(X_or_system, coords)
     rates = [_derivative_along(cs, comps, funcs[k]) for k in labels]
     res = _vanishing(rates, _as_exprs(constraints))
     fails = tuple((f"X({k})", r) for k, r in zip(labels, res) if r != 0)
-    return CheckResult(not fails, fails, "first integral " + ", ".join(labels),
-                       _note(constraints))
+    return CheckResult(not fails, fails, what, _note(constraints))
 
 
 def in_involution(P: Bivector | HamiltonianSystem, functions,
-                  constraints: Sequence = ()) -> CheckResult:
+                  constraints: Sequence = (), *, method: str = "exact", trials: int = 3,
+                  seed: int | None = None, parametrization: Mapping | None = None,
+                  points=None) -> CheckResult:
     """Whether all pairwise brackets ``{F_k, F_l}`` vanish.
 
     Parameters
@@ -338,12 +509,13 @@ def in_involution(P: Bivector | HamiltonianSystem, functions,
     functions
         A sequence of expressions or a mapping ``{name: expr}``; failures name the pair.
     constraints
-        Optional expressions vanishing on the surface of interest.
+        Optional expressions vanishing on the surface of interest.{random}
 
     Returns
     -------
     CheckResult
-        ``failures`` lists ``("{F_k, F_l}", bracket)`` for each failing pair.
+        ``failures`` lists ``("{F_k, F_l}", bracket)`` for each failing pair (random: its
+        exact value at ``point``).
     """
     P = _bivector(P)
     if isinstance(functions, Mapping):
@@ -353,16 +525,31 @@ def in_involution(P: Bivector | HamiltonianSystem, functions,
             raise InputError("in_involution needs a sequence or mapping of functions")
         items = [(f"F{k + 1}", _expr(v, "function")) for k, v in enumerate(functions)]
     pairs = list(combinations(items, 2))
+    what = "involution of " + ", ".join(k for k, _ in items)
+    chosen = _chosen_method(method, [*(v for _, v in items), *P.matrix])
+    if chosen == "random":
+        pts = _random_points(P.coords, constraints, parametrization, trials, seed, points)
+        M, cs = P.matrix, P.coords
+        nz = [(i, j) for i in range(P.dim) for j in range(P.dim) if M[i, j] != 0]
+
+        def bracket(ev, Fa, Fb):
+            return _sum(ev.d(Fa, cs[i]) * ev(M[i, j]) * ev.d(Fb, cs[j]) for i, j in nz)
+
+        comps = [(f"{{{a[0]}, {b[0]}}}", lambda ev, Fa=a[1], Fb=b[1]: bracket(ev, Fa, Fb))
+                 for a, b in pairs]
+        return _random_result(pts, comps, what)
     grads = {k: P.gradient(v) for k, v in items}
     brackets = [(grads[a[0]].T * P.matrix * grads[b[0]])[0, 0] for a, b in pairs]
     res = _vanishing(brackets, _as_exprs(constraints))
     fails = tuple((f"{{{a[0]}, {b[0]}}}", r) for (a, b), r in zip(pairs, res) if r != 0)
-    return CheckResult(not fails, fails, "involution of " + ", ".join(k for k, _ in items),
-                       _note(constraints))
+    return CheckResult(not fails, fails, what, _note(constraints))
 
 
 def is_conformally_hamiltonian(X, P: Bivector | None = None, H=None, N=1,
-                               constraints: Sequence = ()) -> CheckResult:
+                               constraints: Sequence = (), *, method: str = "exact",
+                               trials: int = 3, seed: int | None = None,
+                               parametrization: Mapping | None = None,
+                               points=None) -> CheckResult:
     """Whether ``X = N P dH`` componentwise (survey (7), (40)).
 
     Parameters
@@ -374,12 +561,13 @@ def is_conformally_hamiltonian(X, P: Bivector | None = None, H=None, N=1,
     P, H, N
         Bivector, Hamiltonian and conformal factor (``N = 1``: Hamiltonian).
     constraints
-        Optional expressions vanishing on the surface of interest (e.g. ``(gamma, K) - b``).
+        Optional expressions vanishing on the surface of interest (e.g. ``(gamma, K) - b``).{random}
 
     Returns
     -------
     CheckResult
-        ``failures`` lists ``("xdot_i", X_i - (N P dH)_i)`` for each failing component.
+        ``failures`` lists ``("xdot_i", X_i - (N P dH)_i)`` for each failing component
+        (random: its exact value at ``point``).
     """
     if isinstance(X, HamiltonianSystem):
         sys_ = X
@@ -388,7 +576,7 @@ def is_conformally_hamiltonian(X, P: Bivector | None = None, H=None, N=1,
         P = sys_.structure if P is None else P
         H = sys_.hamiltonian if H is None else H
         N = sys_.multiplier if N == 1 else N
-        if not constraints:
+        if not constraints and points is None:
             constraints = sys_.constraints
         X = sys_.original
     if not isinstance(P, Bivector):
@@ -399,6 +587,13 @@ def is_conformally_hamiltonian(X, P: Bivector | None = None, H=None, N=1,
     cs, comps = _field(X, P.coords)
     if cs != P.coords:
         raise DimensionError("vector field and bivector use different coordinates")
+    chosen = _chosen_method(method, [H, N, *comps, *P.matrix])
+    if chosen == "random":
+        pts = _random_points(cs, constraints, parametrization, trials, seed, points)
+        fld = _PointField(None, None, pieces=(P, H, N))
+        parts = [(f"{x}dot", lambda ev, i=i: ev(comps[i]) - fld.component(ev, i))
+                 for i, x in enumerate(cs)]
+        return _random_result(pts, parts, "X = N P dH")
     rep = N * (P.matrix * P.gradient(H))  # = P.hamiltonian_vector_field(H, N), unexpanded
     diffs = [c - r for c, r in zip(comps, rep)]
     res = _vanishing(diffs, _as_exprs(constraints))
@@ -406,7 +601,10 @@ def is_conformally_hamiltonian(X, P: Bivector | None = None, H=None, N=1,
     return CheckResult(not fails, fails, "X = N P dH", _note(constraints))
 
 
-def is_invariant_measure(X, rho=None, constraints: Sequence = (), coords=None) -> CheckResult:
+def is_invariant_measure(X, rho=None, constraints: Sequence = (), coords=None, *,
+                         method: str = "exact", trials: int = 3, seed: int | None = None,
+                         parametrization: Mapping | None = None,
+                         points=None) -> CheckResult:
     """Whether ``rho dx`` is invariant under ``X``: ``div(rho X) = 0``.
 
     Parameters
@@ -416,19 +614,96 @@ def is_invariant_measure(X, rho=None, constraints: Sequence = (), coords=None) -
     rho
         The density.
     constraints, coords
-        As in :func:`is_first_integral`.
+        As in :func:`is_first_integral`.{random}
+
+    Returns
+    -------
+    CheckResult
+        ``failures``: ``("div(rho X)", residual)`` (random: its exact value at ``point``).
     """
     if rho is None:
         if isinstance(X, HamiltonianSystem) and X.measure is not None:
             rho = X.measure
         else:
             raise InputError("is_invariant_measure needs a density rho")
-    cs, comps = _field(X, coords)
     rho = _expr(rho, "density")
+    sys_pieces = ([X.hamiltonian, X.multiplier, *X.structure.matrix]
+                  if isinstance(X, HamiltonianSystem) else [])
+    chosen = _chosen_method(method, [rho, *sys_pieces])
+    if chosen == "random":
+        cs = X.coords if isinstance(X, HamiltonianSystem) else _field(X, coords)[0]
+        pts = _random_points(cs, constraints, parametrization, trials, seed, points)
+        fld = _PointField(X, coords)
+        return _random_result(pts, [("div(rho X)", lambda ev: fld.weighted_divergence(ev, rho))],
+                              "invariant measure")
+    cs, comps = _field(X, coords)
     div = sp.Add(*[sp.diff(rho * f, x) for f, x in zip(comps, cs)])
     res = _vanishing([div], _as_exprs(constraints))
     fails = (("div(rho X)", res[0]),) if res[0] != 0 else ()
     return CheckResult(not fails, fails, "invariant measure", _note(constraints))
+
+
+def check_vanishing(exprs, constraints: Sequence = (), *, method: str = "exact",
+                    trials: int = 3, seed: int | None = None,
+                    parametrization: Mapping | None = None, points=None,
+                    coords=None) -> CheckResult:
+    """Whether every expression vanishes (identically, or on the constraint surface).
+
+    The generic form of the checks above, for claims that are not one of them (e.g. a
+    decomposition ``X = sum_i g_i P dH_i`` or a push-forward of equations of motion).
+
+    Parameters
+    ----------
+    exprs
+        One expression, a sequence (labels ``e1, e2, ...``) or a mapping ``{label: expr}``.
+        Square roots of rational expressions are handled exactly by both methods.
+    constraints
+        Expressions vanishing on the surface of interest.
+    coords
+        The coordinates (default: every free symbol); parameters are sampled like coordinates
+        by the random method.{random}
+
+    Returns
+    -------
+    CheckResult
+        ``failures``: ``(label, residual)`` (random: the exact non-zero value at ``point``).
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x = sp.Symbol("x", real=True)
+    >>> g = sp.sqrt(1 + x**2)
+    >>> check_vanishing([sp.diff(g, x) - x / g], method="random", seed=1).holds
+    True
+    """
+    if isinstance(exprs, Mapping):
+        items = [(str(k), _expr(v, "expression")) for k, v in exprs.items()]
+    elif isinstance(exprs, (sp.Basic, str, int, float)):
+        items = [("e1", _expr(exprs, "expression"))]
+    else:
+        items = [(f"e{k + 1}", _expr(v, "expression")) for k, v in enumerate(exprs)]
+    what = "vanishing of " + ", ".join(k for k, _ in items[:6]) + (" ..." if len(items) > 6 else "")
+    chosen = _chosen_method(method, [e for _, e in items])
+    if chosen == "random":
+        if coords is None:
+            if points is not None:
+                coords = points.coords
+            else:
+                syms = set().union(*(e.free_symbols for _, e in items),
+                                   *(c.free_symbols for c in _as_exprs(constraints)))
+                coords = sorted(syms, key=str)
+        pts = _random_points(coords, constraints, parametrization, trials, seed, points)
+        return _random_result(pts, [(k, lambda ev, e=e: ev(e)) for k, e in items], what)
+    res = _vanishing([e for _, e in items], _as_exprs(constraints))
+    fails = tuple((k, r) for (k, _), r in zip(items, res) if r != 0)
+    return CheckResult(not fails, fails, what, _note(constraints))
+
+
+for _f in (is_first_integral, in_involution, is_conformally_hamiltonian, is_invariant_measure,
+           check_vanishing):
+    if _f.__doc__:  # None under python -OO
+        _f.__doc__ = _f.__doc__.replace("{random}", _RANDOM_DOC)
+del _f
 
 
 _bivector = as_bivector

@@ -1,0 +1,919 @@
+"""Randomized checks in exact arithmetic: expressions evaluated at seeded random rational points.
+
+This is the ``method="random"`` of the field checks in :mod:`poissonkit.structure.checks`
+(:func:`~poissonkit.structure.checks.is_first_integral`, ``in_involution``,
+``is_conformally_hamiltonian``, ``is_invariant_measure``, ``check_vanishing``), the analogue of
+``check_jacobi(method="random")`` for vector-field identities. It is meant for systems whose
+symbolic proof is slow (the rolling balls with ``g = sqrt(Q)``: seconds to minutes per claim).
+
+How a point is evaluated
+------------------------
+Every sampled symbol (coordinates and parameters) gets a random rational
+``scale * p / SAMPLE_RANGE`` with ``p`` a uniform integer in ``[-SAMPLE_RANGE, SAMPLE_RANGE]``
+(symbols declared ``positive`` or ``negative`` get that sign, ``integer`` ones the integer
+``p``), drawn from a generator seeded by ``(seed, point index, symbol name)``: a run is
+reproducible and does not depend on the order in which symbols are met. The scale is 1 (the
+unit box, where the survey's radicands such as ``1 - d (gamma, A gamma)`` are mostly positive);
+points found outside the domain are replaced by points at scales ``1/8, 8, 1/64, ...``. Sympy expressions are then evaluated bottom-up (sub-expressions
+memoised per point) in exact arithmetic:
+
+* rationals for ``+``, ``*`` and integer powers;
+* ``b**(p/2)`` with ``b`` rational at the point: ``sqrt(b)`` is written over a *coprime base*
+  of the point's radicands, i.e. ``sqrt(b) = c * prod_j sqrt(b_j)`` with ``b_j`` pairwise
+  coprime non-square integers (refined when a new radicand shares a factor with a generator).
+  Products of square roots of distinct subsets of such ``b_j`` are linearly independent over
+  ``Q`` (Besicovitch), so a value is a vector of rational coefficients and **is zero iff every
+  coefficient is zero**: the zero test at a point is exact, with no numerics;
+* a point where a denominator vanishes or a radicand is ``<= 0`` (outside the real domain of the
+  expressions) is skipped and a further point is drawn.
+
+Derivatives (``dH``, ``dF``, ``d_i P_ij``, ``d_i (rho N)``) are never formed symbolically: the
+checks take them at the point by exact forward-mode differentiation of the expression tree
+(``ev.d(e, x)`` in :meth:`RandomPoints.test`), which for the Routh sphere's large entries is
+~100x cheaper than ``sympy.diff``.
+
+Consequently a ``False`` result is always a genuine counterexample: the reported point (exact
+rationals) satisfies the constraints and the reported value there is a non-zero real number.
+
+Constraint surfaces
+-------------------
+With ``constraints``, points are drawn on the surface through a rational parametrisation:
+either given (``parametrization={coord: expression in new symbols}``, checked against the
+constraints) or recognised: the unit sphere ``x**2 + y**2 + z**2 - 1`` in three coordinates
+(inverse stereographic projection ``(2u, 2v, 1 - u**2 - v**2)/(1 + u**2 + v**2)``, which covers
+every rational point but the pole) and constraints linear in one coordinate (solved for it).
+
+The false-positive bound
+------------------------
+If the tested expression ``E`` is not zero on the domain (or the surface), its value is
+``num/den`` with ``num`` a polynomial of total degree ``D`` in the sampled variables (after
+clearing denominators and, for ``k`` distinct square roots, taking the norm, which multiplies
+the degree by at most ``2**k``). Each sampled variable is independent with point masses at most
+``eps = 1/SAMPLE_RANGE``, so by the Schwartz–Zippel lemma (in its form for independent variables
+with bounded point masses) ``E`` vanishes at a point with probability ``<= D * eps``, and passes
+``t`` independent points with probability ``<= (D * eps)**t``. With a parametrisation of degree
+``delta`` the degree is ``D * delta``. This is the ``false_positive_bound`` of the result.
+
+Caveats (honestly): the norm argument needs radicands that are not perfect squares (as
+functions): ``sqrt((x - 1/2)**2) - (x - 1/2)`` vanishes on ``x > 1/2`` and passes at points
+drawn there, so a piecewise identity can pass with a probability the bound does not cover
+(the unit box is sampled first). ``D`` is an upper bound computed structurally from the expression trees
+(degrees add under ``*``, common denominators are formed per distinct factor), which is
+rigorous for rational expressions but *heuristic* for square roots (a radical ``sqrt(b)`` counts
+as half the degree of ``b``; the norm argument is sound, the bookkeeping of repeated radicals in
+denominators is not proved tight). Points outside the domain are rejected, so the points are
+drawn conditionally on the domain: the bound grows by the inverse of the acceptance rate
+(reported in the note). Undefined functions (``g(gamma)``) and transcendental functions are
+not supported here (``RandomPointError``): use the exact method.
+"""
+
+from __future__ import annotations
+
+import random as _random
+from collections.abc import Callable, Mapping, Sequence
+from math import gcd, isqrt
+from typing import Any
+
+import sympy as sp
+from sympy.polys.domains import QQ
+
+from poissonkit.errors import InputError
+from poissonkit.structure._expr import as_expr, as_symbols
+
+__all__ = [
+    "SAMPLE_RANGE", "RandomPointError", "RandomPoints",
+    "sphere_parametrization",
+]
+
+#: Random coordinates are ``scale * p / SAMPLE_RANGE``, ``p`` uniform in ``[-SAMPLE_RANGE, SAMPLE_RANGE]``.
+SAMPLE_RANGE: int = 10**6
+#: Points tried per requested point before giving up (denominators / radicands vanishing).
+MAX_ATTEMPTS_FACTOR: int = 20
+
+_MPQ = QQ.dtype
+_ZERO = _MPQ(0)
+_ONE = _MPQ(1)
+_HALF = _MPQ(1, 2)
+
+
+class RandomPointError(InputError):
+    """An expression cannot be evaluated exactly at random points (undefined or transcendental
+    functions, nested or higher roots, floats that are not finite), or no point of the domain
+    was found."""
+
+
+class _Undefined(Exception):
+    """The expression is not defined (real) at this point: skip the point."""
+
+
+class _Rebase(Exception):
+    """A new radicand shares a factor with a generator: refine the base, re-evaluate."""
+
+    def __init__(self, n: int) -> None:
+        super().__init__(n)
+        self.n = n
+
+
+# ---------------------------------------------------------------------- multi-quadratic numbers
+class _Base:
+    """Pairwise coprime, non-square integers ``b_j`` (generators ``sqrt(b_j)``) of one point."""
+
+    def __init__(self, gens: Sequence[int] = ()) -> None:
+        self.gens: list[int] = list(gens)
+        self._prod: dict[int, int] = {0: 1}
+
+    def product(self, mask: int) -> int:
+        """``prod_{j in mask} b_j``."""
+        p = self._prod.get(mask)
+        if p is None:
+            p = 1
+            for j, b in enumerate(self.gens):
+                if mask >> j & 1:
+                    p *= b
+            self._prod[mask] = p
+        return p
+
+    def express(self, n: int) -> tuple[int, int]:
+        """``(c, mask)`` with ``n = c**2 * prod_{j in mask} b_j``; may append a generator."""
+        c, mask, rem = 1, 0, n
+        for j, b in enumerate(self.gens):
+            k = 0
+            while rem % b == 0:
+                rem //= b
+                k += 1
+            if k:
+                c *= b ** (k // 2)
+                if k % 2:
+                    mask |= 1 << j
+            if gcd(rem, b) > 1:
+                raise _Rebase(n)
+        r = isqrt(rem)
+        if r * r == rem:
+            return c * r, mask
+        # rem is coprime to every generator and not a square: a new independent generator
+        self.gens.append(rem)
+        return c, mask | 1 << (len(self.gens) - 1)
+
+    def refined(self, n: int) -> _Base:
+        """A coprime base of the generators and ``n`` (squares dropped)."""
+        items = [x for x in [*self.gens, n] if x > 1]
+        changed = True
+        while changed:
+            changed = False
+            items = sorted(set(items))
+            for a_i in range(len(items)):
+                for b_i in range(a_i + 1, len(items)):
+                    a, b = items[a_i], items[b_i]
+                    g = gcd(a, b)
+                    if g > 1:
+                        rest = [x for t, x in enumerate(items) if t not in (a_i, b_i)]
+                        items = [x for x in (*rest, a // g, b // g, g) if x > 1]
+                        changed = True
+                        break
+                if changed:
+                    break
+        return _Base([x for x in items if isqrt(x) ** 2 != x])
+
+
+class Surd:
+    """An element ``sum_mask c_mask prod_{j in mask} sqrt(b_j)`` of ``Q(sqrt(b_1), ...)``.
+
+    The coefficients are exact rationals and the generators form a coprime base, so the element
+    is zero iff it has no term. Instances are produced by the evaluator; arithmetic with
+    rationals and with surds of the same point is supported.
+    """
+
+    __slots__ = ("base", "terms")
+
+    def __init__(self, base: _Base, terms: dict[int, Any]) -> None:
+        self.base = base
+        self.terms = terms
+
+    @staticmethod
+    def make(base: _Base, terms: dict[int, Any]):
+        terms = {m: c for m, c in terms.items() if c}
+        if not terms:
+            return _MPQ(0)
+        if len(terms) == 1 and 0 in terms:
+            return terms[0]
+        return Surd(base, terms)
+
+    def _terms(self, other) -> dict[int, Any]:
+        return other.terms if isinstance(other, Surd) else {0: other}
+
+    def __add__(self, other):
+        out = dict(self.terms)
+        for m, c in self._terms(other).items():
+            out[m] = out.get(m, 0) + c
+        return Surd.make(self.base, out)
+
+    __radd__ = __add__
+
+    def __neg__(self):
+        return Surd(self.base, {m: -c for m, c in self.terms.items()})
+
+    def __sub__(self, other):
+        return self + (-other)
+
+    def __rsub__(self, other):
+        return (-self) + other
+
+    def __mul__(self, other):
+        if not isinstance(other, Surd):
+            if not other:
+                return _MPQ(0)
+            return Surd(self.base, {m: c * other for m, c in self.terms.items()})
+        out: dict[int, Any] = {}
+        prod = self.base.product
+        for m1, c1 in self.terms.items():
+            for m2, c2 in other.terms.items():
+                m = m1 ^ m2
+                out[m] = out.get(m, 0) + c1 * c2 * prod(m1 & m2)
+        return Surd.make(self.base, out)
+
+    __rmul__ = __mul__
+
+    def __pow__(self, k: int):
+        result: Any = _MPQ(1)
+        base: Any = self
+        while k:
+            if k & 1:
+                result = base * result
+            k >>= 1
+            if k:
+                base = base * base
+        return result
+
+    def inverse(self):
+        """``1/self`` by successive conjugation (``(a + b t)(a - b t) = a**2 - b**2 t**2``)."""
+        top = max(m.bit_length() for m in self.terms) - 1
+        bit = 1 << top
+        a = Surd.make(self.base, {m: c for m, c in self.terms.items() if not m & bit})
+        b = Surd.make(self.base, {m ^ bit: c for m, c in self.terms.items() if m & bit})
+        conj = a - b * Surd(self.base, {bit: _MPQ(1)})
+        norm = a * a - b * b * self.base.gens[top]
+        return conj * _inverse(norm)
+
+    def __bool__(self) -> bool:
+        return bool(self.terms)
+
+    def to_sympy(self) -> sp.Expr:
+        return sp.Add(*[sp.Rational(c.numerator, c.denominator) * sp.sqrt(self.base.product(m))
+                        for m, c in self.terms.items()])
+
+
+def _inverse(x):
+    if isinstance(x, Surd):
+        return x.inverse()
+    if not x:
+        raise _Undefined
+    return 1 / x
+
+
+def _to_sympy(x) -> sp.Expr:
+    if isinstance(x, Surd):
+        return x.to_sympy()
+    return sp.Rational(x.numerator, x.denominator)
+
+
+# ---------------------------------------------------------------------- degree bookkeeping
+class _Degree:
+    """Upper bounds for a rational expression written ``num / den``: ``num`` total degree and the
+    denominator's distinct factors ``{key: (degree, multiplicity)}``; ``radicals`` are the
+    distinct square-root bases (each doubles the degree of the final norm)."""
+
+    __slots__ = ("den", "num", "radicals")
+
+    def __init__(self, num: int, den: dict | None = None, radicals: frozenset = frozenset()):
+        self.num = num
+        self.den = den or {}
+        self.radicals = radicals
+
+    def den_degree(self) -> int:
+        return sum(d * k for d, k in self.den.values())
+
+    def __add__(self, other):
+        other = _as_degree(other)
+        den = dict(self.den)
+        for key, (d, k) in other.den.items():
+            den[key] = (d, max(k, den.get(key, (d, 0))[1]))
+        total = sum(d * k for d, k in den.values())
+        num = max(self.num + total - self.den_degree(), other.num + total - other.den_degree())
+        return _Degree(num, den, self.radicals | other.radicals)
+
+    __radd__ = __add__
+
+    def __sub__(self, other):
+        return self + other
+
+    __rsub__ = __sub__
+
+    def __neg__(self):
+        return self
+
+    def __mul__(self, other):
+        other = _as_degree(other)
+        den = dict(self.den)
+        for key, (d, k) in other.den.items():
+            den[key] = (d, den.get(key, (d, 0))[1] + k)
+        return _Degree(self.num + other.num, den, self.radicals | other.radicals)
+
+    __rmul__ = __mul__
+
+    def __pow__(self, k: int):
+        return _Degree(self.num * k, {key: (d, m * k) for key, (d, m) in self.den.items()},
+                       self.radicals)
+
+    def inverse(self, key) -> _Degree:
+        return _Degree(self.den_degree(), {key: (self.num, 1)} if self.num else {},
+                       self.radicals)
+
+    def bound(self) -> int:
+        """Degree of the numerator after taking the norm over the square roots."""
+        return max(self.num, 1) * 2 ** len(self.radicals)
+
+
+def _as_degree(x) -> _Degree:
+    return x if isinstance(x, _Degree) else _Degree(0)
+
+
+# ---------------------------------------------------------------------- the point set
+def sphere_parametrization(x: sp.Symbol, y: sp.Symbol, z: sp.Symbol,
+                           u: sp.Symbol | None = None, v: sp.Symbol | None = None
+                           ) -> dict[sp.Symbol, sp.Expr]:
+    """Rational parametrisation of the unit sphere ``x**2 + y**2 + z**2 = 1``.
+
+    Inverse stereographic projection from the south pole:
+    ``(x, y, z) = (2u, 2v, 1 - u**2 - v**2) / (1 + u**2 + v**2)`` (every rational point of the
+    sphere except the pole ``(0, 0, -1)``).
+
+    Parameters
+    ----------
+    x, y, z
+        The three coordinates on the sphere.
+    u, v
+        The parameters; default symbols named after the coordinates (``_u_x_y_z``, ...), so
+        that seeded points are reproducible.
+
+    Returns
+    -------
+    dict
+        ``{x: ..., y: ..., z: ...}``, usable as ``parametrization=`` of the random checks and
+        of :func:`~poissonkit.structure.jacobi.check_jacobi`.
+    """
+    tag = "_".join(str(s) for s in (x, y, z))
+    u = u if u is not None else sp.Symbol(f"_u_{tag}", real=True)
+    v = v if v is not None else sp.Symbol(f"_v_{tag}", real=True)
+    n = 1 + u**2 + v**2
+    return {x: 2 * u / n, y: 2 * v / n, z: (1 - u**2 - v**2) / n}
+
+
+def _recognise(constraints: Sequence[sp.Expr], coords: Sequence[sp.Symbol] | None
+               ) -> dict[sp.Symbol, sp.Expr]:
+    """A parametrisation for unit spheres and constraints linear in one variable."""
+    out: dict[sp.Symbol, sp.Expr] = {}
+    for c in constraints:
+        c = sp.expand(sp.numer(sp.together(c.xreplace(out))))
+        vs = sorted(c.free_symbols, key=str)
+        cand = [x for x in (coords if coords is not None else vs) if x in c.free_symbols]
+        if len(cand) == 3 and not set(cand) & set(out) \
+                and sp.expand(c - sum(x**2 for x in cand) + 1) == 0:
+            out.update(sphere_parametrization(*cand))
+            continue
+        for x in cand:
+            if x in out:
+                continue
+            try:
+                poly = sp.Poly(c, x)
+            except sp.PolynomialError:
+                continue
+            if poly.degree() == 1:
+                a1, a0 = poly.all_coeffs()
+                if a1.is_number and a1 != 0:   # solvable everywhere, no division by zero
+                    out[x] = sp.together(-a0 / a1)
+                    break
+        else:
+            raise InputError(f"random points on the constraint {c} = 0 need a "
+                             "parametrization of the surface (parametrization={coord: expr})")
+    return out
+
+
+def _check_acyclic(param: Mapping[sp.Symbol, sp.Expr]) -> None:
+    """A parametrisation must not define a coordinate through itself (even indirectly)."""
+    state: dict[sp.Symbol, int] = {}
+
+    def visit(s: sp.Symbol) -> None:
+        if state.get(s) == 2:
+            return
+        if state.get(s) == 1:
+            raise InputError(f"parametrization defines {s} through itself")
+        state[s] = 1
+        for t in param[s].free_symbols & set(param):
+            visit(t)
+        state[s] = 2
+
+    for s in param:
+        visit(s)
+
+
+def _param_degree(param: Mapping[sp.Symbol, sp.Expr]) -> int:
+    deg = 1
+    for e in param.values():
+        num, den = sp.fraction(sp.together(e))
+        gens = sorted(e.free_symbols, key=str)
+        if not gens:
+            continue
+        try:
+            deg = max(deg, sp.Poly(num, *gens).total_degree(), sp.Poly(den, *gens).total_degree())
+        except sp.PolynomialError:
+            raise InputError(f"parametrization component {e} is not a rational function") from None
+    return deg
+
+
+class _PointContext:
+    """One random point: sampled values, radical base and memoised sub-expression values."""
+
+    def __init__(self, owner: RandomPoints, index: int) -> None:
+        self.owner = owner
+        self.index = index
+        self.values: dict[sp.Symbol, Any] = {}
+        self.base = _Base()
+        self.memo: dict[sp.Expr, Any] = {}
+        self.dmemo: dict[sp.Symbol, dict[sp.Expr, Any]] = {}
+        #: what builds receive: ``ev(e)`` is the value, ``ev.d(e, x)`` the partial derivative
+        self.ev = _ValueEvaluator(self)
+
+    def _reset(self, n: int) -> None:
+        self.base = self.base.refined(n)
+        self.memo.clear()
+        self.dmemo.clear()
+
+    def symbol(self, s: sp.Symbol):
+        v = self.values.get(s)
+        if v is None:
+            base = self.owner.radical_bases.get(s)
+            if base is not None:   # a square-root symbol of RandomPoints.derivative
+                return self._sqrt(self._ev(base))
+            param = self.owner.parametrization.get(s)
+            v = self.owner.draw(s, self.index) if param is None else self.value(param)
+            self.values[s] = v
+        return v
+
+    def value(self, e: sp.Expr):
+        """Exact value of ``e`` here (raises ``_Undefined`` outside the domain)."""
+        while True:
+            try:
+                return self._ev(e)
+            except _Rebase as r:
+                self._reset(r.n)
+
+    def _ev(self, e):
+        memo = self.memo
+        v = memo.get(e)
+        if v is not None:
+            return v
+        if e.is_Rational:
+            v = _MPQ(int(e.p), int(e.q))
+        elif e.is_Symbol:
+            v = self.symbol(e)
+        elif e.is_Add:
+            it = iter(e.args)
+            v = self._ev(next(it))
+            for a in it:
+                v = v + self._ev(a)
+        elif e.is_Mul:
+            # no short cut at a zero factor: every factor must be defined at the point
+            v = _MPQ(1)
+            for a in e.args:
+                v = self._ev(a) * v
+        elif e.is_Pow:
+            v = self._pow(e)
+        elif isinstance(e, sp.Abs):
+            v = self._ev(e.args[0])
+            if isinstance(v, Surd):
+                raise RandomPointError(f"Abs of an irrational value is not supported: {e}")
+            v = abs(v)
+        elif e.is_Float:
+            if not e.is_finite:
+                raise RandomPointError(f"non-finite number {e} in the expression")
+            r = sp.Rational(e)   # the float's exact binary value
+            v = _MPQ(int(r.p), int(r.q))
+        else:
+            raise RandomPointError(_unsupported(e))
+        memo[e] = v
+        return v
+
+    def _pow(self, e):
+        b, x = e.args
+        if x.is_Integer:
+            bv = self._ev(b)
+            k = int(x)
+            if k >= 0:
+                return bv**k
+            return _inverse(bv) ** (-k)
+        if x.is_Rational and x.q == 2:
+            bv = self._ev(b)
+            return self._sqrt(bv) * bv ** ((int(x.p) - 1) // 2)
+        raise RandomPointError(f"only integer powers and square roots can be evaluated "
+                               f"exactly, got {e}")
+
+    def d(self, e, x: sp.Symbol):
+        """Exact ``d e / d x`` at this point by forward-mode differentiation of the tree
+        (coordinates independent; no symbolic derivative is formed)."""
+        memo = self.dmemo.get(x)
+        if memo is None:
+            memo = self.dmemo[x] = {}
+        v = memo.get(e)
+        if v is not None:
+            return v
+        if e.is_Symbol:
+            base = self.owner.radical_bases.get(e)
+            if base is None:
+                v = _ONE if e == x else _ZERO
+            else:   # s = sqrt(Q): ds = dQ / (2 s)
+                dq = self.d(base, x)
+                v = dq * _inverse(self._ev(e)) * _HALF if dq else _ZERO
+        elif e.is_Rational or e.is_Float:
+            v = _ZERO
+        elif e.is_Add:
+            v = _ZERO
+            for a in e.args:
+                v = self.d(a, x) + v
+        elif e.is_Mul:
+            args = e.args
+            v = _ZERO
+            for i, a in enumerate(args):
+                da = self.d(a, x)
+                if da:
+                    for j, b in enumerate(args):
+                        if j != i:
+                            da = self._ev(b) * da
+                    v = da + v
+            self._ev(e)   # definedness of the product itself
+        elif e.is_Pow:
+            b, k = e.args
+            db = self.d(b, x)
+            val = self._ev(e)
+            if not db:
+                v = _ZERO
+            elif k.is_Integer and k > 0:
+                v = self._ev(b) ** (int(k) - 1) * db * int(k)
+            else:   # k e / b * db, for negative integers and half-integers
+                v = val * _inverse(self._ev(b)) * db * _MPQ(int(k.p), int(k.q))
+        elif isinstance(e, sp.Abs):
+            a = self._ev(e.args[0])
+            if not a:
+                raise _Undefined   # |x| is not differentiable at 0
+            v = self.d(e.args[0], x) if a > 0 else -self.d(e.args[0], x)
+        else:
+            raise RandomPointError(_unsupported(e))
+        memo[e] = v
+        return v
+
+    def _sqrt(self, bv):
+        if isinstance(bv, Surd):
+            raise RandomPointError("nested square roots are not supported")
+        if bv <= 0:
+            raise _Undefined   # outside the real domain (or on its boundary)
+        n, d = int(bv.numerator), int(bv.denominator)
+        c, mask = self.base.express(n * d)
+        return Surd.make(self.base, {mask: _MPQ(c, d)})   # sqrt(n/d) = sqrt(n d)/d
+
+    def value_of(self, build: Callable[[Callable], Any]):
+        """``build(ev)`` at this point, re-run from scratch when the radical base is refined."""
+        while True:
+            try:
+                return build(self.ev)
+            except _Rebase as r:
+                self._reset(r.n)
+
+    def point(self) -> dict[sp.Symbol, sp.Rational]:
+        return {s: sp.Rational(int(v.numerator), int(v.denominator))
+                for s, v in sorted(self.values.items(), key=lambda kv: str(kv[0]))}
+
+
+class _ValueEvaluator:
+    """``ev(e)``: exact value at a point; ``ev.d(e, x)``: exact partial derivative there."""
+
+    __slots__ = ("_ctx",)
+
+    def __init__(self, ctx: _PointContext) -> None:
+        self._ctx = ctx
+
+    def __call__(self, e):
+        return self._ctx._ev(e)
+
+    def d(self, e, x: sp.Symbol):
+        return self._ctx.d(e, x)
+
+
+class _DegreeEvaluator:
+    """The same interface returning degree records (see :class:`_Degree`)."""
+
+    __slots__ = ("_owner",)
+
+    def __init__(self, owner: RandomPoints) -> None:
+        self._owner = owner
+
+    def __call__(self, e):
+        return self._owner.degree(e)
+
+    def d(self, e, x: sp.Symbol):
+        return self._owner.derivative_degree(e)
+
+
+def _unsupported(e: sp.Expr) -> str:
+    from sympy.core.function import AppliedUndef
+
+    if isinstance(e, (AppliedUndef, sp.Derivative, sp.Subs)):
+        return (f"undefined function {e} cannot be evaluated at random points; use "
+                "method='exact' (which proves the claim for every function)")
+    return (f"{type(e).__name__} ({str(e)[:60]}) cannot be evaluated exactly at random points; "
+            "use method='exact'")
+
+
+class RandomPoints:
+    """A reproducible set of random rational points, optionally on a constraint surface.
+
+    Pass one instance as ``points=`` to several checks of :mod:`poissonkit.structure.checks`
+    (``method="random"``) to share the points, the derivatives and the memoised values of
+    common sub-expressions (``P``, ``dH``, ...) between them.
+
+    Parameters
+    ----------
+    coords
+        The coordinates (what derivatives are taken with respect to); a
+        :class:`~poissonkit.structure.Bivector` or a system gives its own.
+    constraints
+        Expressions vanishing on the surface of interest, e.g. ``gx**2 + gy**2 + gz**2 - 1``.
+    parametrization
+        ``{coord: rational expression in new symbols}`` parametrising the surface; recognised
+        automatically for unit spheres and constraints linear in one coordinate.
+    trials
+        Points per check (points where an expression is undefined are replaced by new ones).
+    seed
+        Seed (``None``: a fresh random seed, stored in :attr:`seed` for reproduction).
+
+    Raises
+    ------
+    InputError
+        Bad ``trials``, constraints that cannot be parametrised, or a parametrisation that does
+        not satisfy the constraints.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> x, y = sp.symbols("x y", real=True)
+    >>> pts = RandomPoints((x, y), seed=1)
+    >>> pts.value(x**2 - y**2 - (x - y) * (x + y), 0)
+    0
+    """
+
+    def __init__(self, coords, constraints: Sequence = (),
+                 parametrization: Mapping | None = None, trials: int = 3,
+                 seed: int | None = None) -> None:
+        from poissonkit.structure.bivector import Bivector
+        from poissonkit.structure.system import HamiltonianSystem
+
+        if isinstance(coords, (Bivector, HamiltonianSystem)):
+            coords = coords.coords
+        self.coords: tuple[sp.Symbol, ...] = as_symbols(coords)
+        if isinstance(trials, bool) or not isinstance(trials, int) or trials < 1:
+            raise InputError(f"trials must be a positive int, got {trials!r}")
+        if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int)):
+            raise InputError(f"seed must be an int or None, got {seed!r}")
+        self.trials = trials
+        self.seed: int = seed if seed is not None else _random.SystemRandom().randrange(2**32)
+        if isinstance(constraints, (sp.Basic, str)):
+            constraints = [constraints]
+        self.constraints: tuple[sp.Expr, ...] = tuple(as_expr(c, "constraint")
+                                                      for c in constraints)
+        if parametrization is None:
+            param = _recognise(self.constraints, self.coords) if self.constraints else {}
+        else:
+            if not isinstance(parametrization, Mapping):
+                raise InputError("parametrization must be a mapping {coordinate: expression}")
+            by_name = {str(c): c for c in self.coords}
+            param = {}
+            for k, v in parametrization.items():
+                key = k if isinstance(k, sp.Symbol) else by_name.get(str(k))
+                if key is None:
+                    raise InputError(f"parametrization of unknown coordinate {k!r}")
+                param[key] = as_expr(v, f"parametrization of {k}")
+            for c in self.constraints:
+                if sp.simplify(sp.together(c.xreplace(param))) != 0:
+                    raise InputError(f"parametrization does not satisfy the constraint {c} = 0")
+        _check_acyclic(param)
+        self.parametrization: dict[sp.Symbol, sp.Expr] = param
+        self.param_degree = _param_degree(param) if param else 1
+        self._contexts: list[_PointContext] = []
+        self._deriv: dict[tuple[sp.Expr, sp.Symbol], sp.Expr] = {}
+        self._degrees: dict[sp.Expr, _Degree] = {}
+        #: square-root symbols of :meth:`derivative`: ``{s: Q}`` with ``s = sqrt(Q)``
+        self.radical_bases: dict[sp.Symbol, sp.Expr] = {}
+        self._radical_of: dict[sp.Expr, sp.Symbol] = {}
+        self._radical_form: dict[sp.Expr, sp.Expr] = {}
+
+    def __repr__(self) -> str:
+        surface = f", on {len(self.constraints)} constraint(s)" if self.constraints else ""
+        return f"RandomPoints({len(self.coords)} coords, trials={self.trials}, seed={self.seed}{surface})"
+
+    # -- sampling
+    def draw(self, s: sp.Symbol, index: int):
+        """The random value of symbol ``s`` at point ``index`` (deterministic given the seed).
+
+        ``scale * p / SAMPLE_RANGE`` with ``p`` uniform in ``[-SAMPLE_RANGE, SAMPLE_RANGE]``
+        (``[1, SAMPLE_RANGE]`` for a positive symbol, negated for a negative one; integer
+        symbols: ``p`` itself). The scale is 1 for the first ``trials`` points, then runs
+        through ``1/8, 8, 1/64, 64, ...`` for further points (domains of square roots such as
+        ``1 - d (gamma, A gamma) > 0`` are bounded; others may exclude the unit box).
+        """
+        rng = _random.Random(f"{self.seed}/{index}/{s.name}")
+        # the sign respects the symbol's assumptions: sympy may have simplified with them
+        # (sqrt(I**2) = I for a positive I), so a point violating them could be a false witness
+        if s.is_nonnegative:
+            num = rng.randint(1, SAMPLE_RANGE)
+        elif s.is_nonpositive:
+            num = -rng.randint(1, SAMPLE_RANGE)
+        else:
+            num = rng.randint(-SAMPLE_RANGE, SAMPLE_RANGE)
+        if s.is_integer:
+            return _MPQ(num)
+        level = index // self.trials
+        power = 3 * ((level + 1) // 2)
+        scale = _MPQ(1, 2**power) if level % 2 else _MPQ(2**power)
+        return _MPQ(num, SAMPLE_RANGE) * scale
+
+    def context(self, index: int) -> _PointContext:
+        while len(self._contexts) <= index:
+            self._contexts.append(_PointContext(self, len(self._contexts)))
+        return self._contexts[index]
+
+    def value(self, expr, index: int = 0) -> sp.Expr:
+        """Exact value of ``expr`` at point ``index`` as a sympy number (for inspection).
+
+        Raises
+        ------
+        RandomPointError
+            If ``expr`` is not defined at that point or cannot be evaluated exactly.
+        """
+        try:
+            return _to_sympy(self.context(index).value(as_expr(expr)))
+        except _Undefined:
+            raise RandomPointError(f"expression not defined (real) at point {index}") from None
+
+    def point(self, index: int) -> dict[sp.Symbol, sp.Rational]:
+        """The sampled symbols of point ``index`` so far (coordinates, parameters)."""
+        return self.context(index).point()
+
+    # -- calculus
+    def derivative(self, expr: sp.Expr, x: sp.Symbol) -> sp.Expr:
+        """``d expr / d x``, cached (shared between checks using this instance).
+
+        Square roots ``sqrt(Q)`` are replaced by positive symbols ``s`` (evaluated as
+        ``sqrt(Q)`` at a point) and differentiated by the chain rule ``ds/dx = Q_x / (2 s)``:
+        much cheaper than sympy's derivative of the radicals, and the result is what
+        :meth:`value` evaluates.
+        """
+        key = (expr, x)
+        d = self._deriv.get(key)
+        if d is None:
+            r = self.radical_form(expr)
+            d = sp.diff(r, x)
+            for s in r.free_symbols:
+                base = self.radical_bases.get(s)
+                if base is None:
+                    continue
+                db = self.derivative(base, x)
+                if db != 0:
+                    d += sp.diff(r, s) * db / (2 * s)
+            self._deriv[key] = d
+        return d
+
+    def radical_form(self, expr: sp.Expr) -> sp.Expr:
+        """``expr`` with every ``Q**(p/2)`` replaced by ``s**p``, ``s`` a square-root symbol."""
+        hit = self._radical_form.get(expr)
+        if hit is None:
+            hit = expr.replace(
+                lambda t: t.is_Pow and t.exp.is_Rational and t.exp.q == 2
+                and bool(t.base.free_symbols),
+                lambda t: self._radical_symbol(t.base) ** int(t.exp.p))
+            self._radical_form[expr] = hit
+        return hit
+
+    def _radical_symbol(self, base: sp.Expr) -> sp.Symbol:
+        s = self._radical_of.get(base)
+        if s is None:
+            s = sp.Dummy(f"sqrt{len(self._radical_of)}", positive=True)
+            self._radical_of[base] = s
+            self.radical_bases[s] = base
+        return s
+
+    def degree(self, e: sp.Expr) -> _Degree:
+        """Structural degree bounds of ``e`` (see the module docstring)."""
+        memo = self._degrees
+        hit = memo.get(e)
+        if hit is not None:
+            return hit
+        if e.is_Rational or e.is_Float:
+            out = _Degree(0)
+        elif e.is_Symbol:
+            base = self.radical_bases.get(e)
+            out = _Degree(1) if base is None else self._half(base)
+        elif e.is_Add:
+            out = _Degree(0)
+            for a in e.args:
+                out = out + self.degree(a)
+        elif e.is_Mul:
+            out = _Degree(0)
+            for a in e.args:
+                out = out * self.degree(a)
+        elif e.is_Pow and e.exp.is_Integer:
+            b = self.degree(e.base)
+            k = int(e.exp)
+            out = b**k if k >= 0 else b.inverse(e.base) ** (-k)
+        elif e.is_Pow and e.exp.is_Rational and e.exp.q == 2:
+            b = self.degree(e.base)
+            half = self._half(e.base)
+            p = int(e.exp.p)
+            rest = b ** ((p - 1) // 2) if p > 0 else b.inverse(e.base) ** ((1 - p) // 2)
+            out = half * rest
+        elif isinstance(e, sp.Abs):
+            out = self.degree(e.args[0])   # |f| = f or -f: the same polynomial up to sign
+        else:
+            out = _Degree(1)  # not evaluable anyway; the evaluator raises
+        memo[e] = out
+        return out
+
+    def derivative_degree(self, e: sp.Expr) -> _Degree:
+        """Degree record of any partial derivative of ``e``: for ``A / prod f_k**m_k``, the
+        derivative is ``(...)/prod f_k**(m_k + 1)`` with numerator degree
+        ``<= deg A + sum deg f_k``; a square root ``sqrt(Q)`` adds ``Q`` to the denominator."""
+        rec = self.degree(e)
+        den = {k: (d, m + 1) for k, (d, m) in rec.den.items()}
+        num = rec.num + sum(d for d, _ in rec.den.values())
+        for r in rec.radicals:
+            dr = self.degree(r)
+            den[("sqrt", r)] = (dr.num, 1)
+            num += dr.num
+        return _Degree(num, den, rec.radicals)
+
+    def _half(self, base: sp.Expr) -> _Degree:
+        """Degree record of ``sqrt(base)``: ``sqrt(A/B) = sqrt(A B)/B``, ``sqrt(A B)`` counted
+        as half the degree of ``A B`` (the norm over it doubles the final degree)."""
+        b = self.degree(base)
+        return _Degree((b.num + b.den_degree() + 1) // 2, dict(b.den),
+                       b.radicals | {sp.expand(base)})
+
+    # -- the test
+    def test(self, components: Sequence[tuple[str, Callable[[Callable], Any]]], what: str = ""
+             ) -> tuple[tuple[tuple[str, sp.Expr], ...], dict | None, float, str]:
+        """Evaluate ``build(ev)`` for every ``(label, build)`` at ``trials`` valid points.
+
+        ``ev(e)`` is the exact value of a sympy expression at the point and ``ev.d(e, x)`` its
+        exact partial derivative (forward mode); ``build`` combines values with ``+``, ``-``
+        and ``*`` (so the same ``build`` also computes the degree bound, with ``ev`` returning
+        degree records).
+
+        Returns
+        -------
+        (failures, point, false_positive_bound, note)
+            ``failures``: ``(label, exact non-zero value)`` at the first failing point (then
+            ``point`` is that point and the bound 0); else empty.
+        """
+        D = 1
+        degrees = _DegreeEvaluator(self)
+        for _, build in components:
+            D = max(D, _as_degree(build(degrees)).bound())
+        D *= self.param_degree
+        eps = 1.0 / SAMPLE_RANGE
+        per_point = min(1.0, D * eps)
+        done = 0
+        index = 0
+        skipped = 0
+        limit = MAX_ATTEMPTS_FACTOR * self.trials + 20
+        while done < self.trials:
+            if index >= limit:
+                raise RandomPointError(
+                    f"{what or 'random check'}: found only {done} of {self.trials} points where "
+                    f"the expressions are defined and real in {index} attempts")
+            ctx = self.context(index)
+            index += 1
+            try:
+                vals = [(label, ctx.value_of(build)) for label, build in components]
+            except _Undefined:
+                skipped += 1
+                continue
+            fails = tuple((label, _to_sympy(v)) for label, v in vals if v)
+            if fails:
+                return fails, ctx.point(), 0.0, self._note(index, skipped, D)
+            done += 1
+        return (), None, per_point ** self.trials, self._note(index, skipped, D)
+
+    def _note(self, used: int, skipped: int, D: int) -> str:
+        where = " on the constraint surface (rational parametrisation)" if self.constraints else ""
+        out = (f"exact arithmetic at {used - skipped} random rational point(s){where}, seed "
+               f"{self.seed}, grid 1/{SAMPLE_RANGE}, degree bound D = {D}")
+        if skipped:
+            out += f"; {skipped} point(s) outside the domain skipped (bound is conditional)"
+        return out
