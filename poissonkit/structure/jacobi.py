@@ -301,7 +301,11 @@ class _ZeroTester:
         if ex == 0:
             return ex
         if not self.radicals and self.gb is None:
-            return ex
+            # a sum of fractions with different denominators only cancels over a common one
+            num = _rational_numerator(e)
+            if num is None:
+                num = sp.expand(sp.numer(sp.together(ex)))
+            return sp.Integer(0) if num == 0 else ex
         num = _rational_numerator(e)
         if num is None:
             num = sp.expand(sp.numer(sp.together(ex)))
