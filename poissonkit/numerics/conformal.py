@@ -235,6 +235,11 @@ class ConformalIntegrator:
         ``"compiled"`` (:func:`~poissonkit.numerics.system.compile_system` + the registered
         integrator; numba compilation takes tens of seconds once, runs are fast) or ``"python"``
         (:class:`LambdifiedSystem` + :func:`midpoint_python`; starts in about a second).
+    field
+        Compiled backend only: ``"bivector"`` (default) compiles the ``tau`` field
+        ``sigma P dH``; ``"original"`` compiles ``(dt/dtau) X`` from the system's original
+        equations ``X`` (checked to agree with ``sigma P dH``), usually far smaller than the
+        expanded ``P dH`` (see :func:`~poissonkit.numerics.system.compile_system`).
 
     Examples
     --------
@@ -244,9 +249,13 @@ class ConformalIntegrator:
     """
 
     def __init__(self, hsys: Any, y_ref: Any, method: str = "midpoint",
-                 backend: str = "compiled") -> None:
+                 backend: str = "compiled", field: str = "bivector") -> None:
         if backend not in ("compiled", "python"):
             raise InputError(f"backend must be 'compiled' or 'python', got {backend!r}")
+        if field not in ("bivector", "original"):
+            raise InputError(f"field must be 'bivector' or 'original', got {field!r}")
+        if field == "original" and backend != "compiled":
+            raise InputError("field='original' needs backend='compiled'")
         if backend == "python" and method != "midpoint":
             raise InputError("the python backend only provides method='midpoint'")
         self.hsys = hsys
@@ -256,7 +265,10 @@ class ConformalIntegrator:
         if backend == "compiled":
             from poissonkit.numerics.system import compile_system
 
-            self.compiled = compile_system(tau_sys)
+            if field == "original" and hsys.original:
+                # dx/dtau = (dt/dtau) dx/dt: the tau field from the original equations
+                tau_sys = replace(tau_sys, original={k: v * clock for k, v in hsys.original.items()})
+            self.compiled = compile_system(tau_sys, field=field)
         else:
             self.compiled = LambdifiedSystem(tau_sys)
         clock = sp.sympify(clock).xreplace(_values(hsys))
@@ -346,22 +358,27 @@ class ConformalIntegrator:
 
 
 def solve_conformal(hsys: Any, y0: Any, t_end: float, step: float, method: str = "midpoint",
-                    tol: float | None = None, backend: str = "compiled") -> ConformalSolution:
+                    tol: float | None = None, backend: str = "compiled",
+                    field: str = "bivector") -> ConformalSolution:
     """One-shot :class:`ConformalIntegrator` run (compiles every call; reuse the class in loops)."""
-    return ConformalIntegrator(hsys, y0, method, backend).solve(y0, t_end, step, tol)
+    return ConformalIntegrator(hsys, y0, method, backend, field).solve(y0, t_end, step, tol)
 
 
 def solve_direct(hsys: Any, y0: Any, t_end: float, method: str = "dop853",
                  step: float | None = None, tol: float | None = 1e-10, compiled: Any = None,
-                 backend: str = "compiled"):
+                 backend: str = "compiled", field: str = "bivector"):
     """Integrate ``X = N P dH`` in physical time with a registered integrator.
 
     Returns the :class:`~poissonkit.numerics.solution.Solution` of
     :func:`poissonkit.numerics.solve`; ``compiled`` reuses a compiled system. With
     ``backend="python"`` the field is lambdified and integrated by
     :func:`scipy.integrate.solve_ivp` (``method`` a scipy name such as ``"DOP853"``); the result
-    then has ``t`` and ``y`` (rows are states) like a Solution.
+    then has ``t`` and ``y`` (rows are states) like a Solution. ``field="original"`` compiles
+    the system's original equations instead of ``N P dH`` (compiled backend, see
+    :func:`~poissonkit.numerics.system.compile_system`).
     """
+    if field != "bivector" and backend == "python":
+        raise InputError(f"field={field!r} needs backend='compiled'")
     if backend == "python":
         from scipy.integrate import solve_ivp
 
@@ -376,5 +393,5 @@ def solve_direct(hsys: Any, y0: Any, t_end: float, method: str = "dop853",
     from poissonkit.numerics.solver import solve
     from poissonkit.numerics.system import compile_system
 
-    compiled = compiled if compiled is not None else compile_system(hsys)
+    compiled = compiled if compiled is not None else compile_system(hsys, field=field)
     return solve(compiled, y0, t_end, method=method, step=step, tol=tol)

@@ -4,6 +4,12 @@
 eliminated and numba code is generated for the right-hand side, its Jacobian, the energy and
 the claimed Casimirs / integrals. Works for every bracket of :mod:`poissonkit.structure`,
 including deformed brackets and multipliers ``N ≠ 1``.
+
+Large fields (rational fields with square roots such as the Routh sphere's, whose ``P dH`` has
+~10^5 tree nodes) take the large-expression path of :mod:`poissonkit.numerics.codegen`: plain
+CSE, no expansion or simplification, and a Jacobian by differentiating the generated program.
+With ``field="original"`` the system's own equations of motion (``hsys.original``) are compiled
+instead of ``N P dH``, after a numerical check that both agree.
 """
 
 from __future__ import annotations
@@ -16,7 +22,13 @@ import numpy as np
 import sympy as sp
 
 from poissonkit.errors import DimensionError, InputError
-from poissonkit.numerics.codegen import array_source, check_free_symbols, compile_source
+from poissonkit.numerics.codegen import (
+    array_source,
+    check_free_symbols,
+    compile_source,
+    is_large,
+    jacobian_source,
+)
 from poissonkit.numerics.kernels import Kernels, no_drift
 
 
@@ -59,19 +71,29 @@ class CompiledSystem:
         Coordinate names in state order.
     source
         The generated right-hand-side source (documents the state and parameter order).
+    field
+        ``"bivector"`` (``X = N P dH``) or ``"original"`` (``hsys.original``), see
+        :func:`compile_system`.
     """
 
-    def __init__(self, hsys: Any, params: dict[str, Any] | None = None) -> None:
+    def __init__(self, hsys: Any, params: dict[str, Any] | None = None,
+                 field: str = "bivector") -> None:
         from poissonkit.structure import HamiltonianSystem
 
         if not isinstance(hsys, HamiltonianSystem):
             raise InputError(f"compile_system needs a HamiltonianSystem, got {type(hsys).__name__}")
+        if field not in ("bivector", "original"):
+            raise InputError(f"field must be 'bivector' or 'original', got {field!r}")
+        if field == "original" and not hsys.original:
+            raise InputError(f"field='original': system {hsys.name or 'unnamed'} has no original "
+                             "equations of motion")
         self.hamiltonian_system = hsys
         coords = tuple(hsys.coords)
         values = dict(hsys.params)
         values.update(params or {})
         subs = {}
-        for expr in [hsys.hamiltonian, hsys.multiplier, *hsys.structure.matrix]:
+        original = list(hsys.original.values()) if field == "original" else []
+        for expr in [hsys.hamiltonian, hsys.multiplier, *hsys.structure.matrix, *original]:
             for s in sp.sympify(expr).free_symbols:
                 if s not in coords and s.name in values:
                     subs[s] = sp.Float(_parameter_value(s.name, values[s.name]), 30)
@@ -84,8 +106,13 @@ class CompiledSystem:
         N = prep(hsys.multiplier)
         dH = [sp.diff(H, x) for x in coords]
         n = len(coords)
-        X = [N * sum(P[i, j] * dH[j] for j in range(n) if P[i, j] != 0) for i in range(n)]
         what = f"system {hsys.name or 'unnamed'}"
+        if field == "original":
+            X = _original_field(hsys, coords, prep, what)
+            _check_same_field(X, N, P, dH, coords, what)
+        else:
+            X = [N * sum(P[i, j] * dH[j] for j in range(n) if P[i, j] != 0) for i in range(n)]
+        self.field = field
         check_free_symbols(X + [H], coords, what)
         self._X = X
         self._coords = coords
@@ -96,7 +123,8 @@ class CompiledSystem:
         cas = [prep(e) for e in hsys.casimirs.values()]
         ints = [prep(e) for e in hsys.integrals.values()]
         check_free_symbols(cas + ints, coords, what + " invariants")
-        self.source = array_source("rhs_gen", coords, X, (n,))
+        self._large = is_large(X)
+        self.source = array_source("rhs_gen", coords, X, (n,), large=self._large)
         rhs_gen = compile_source(self.source, "rhs_gen")
         en_gen = compile_source(array_source("energy_gen", coords, [H], (1,)), "energy_gen")
         self._cas = compile_source(array_source("cas_gen", coords, cas or [sp.Integer(0)],
@@ -121,9 +149,10 @@ class CompiledSystem:
     def kernels(self) -> Kernels:
         """Compiled kernels; the Jacobian is differentiated and generated on first access."""
         if self._kernels is None:
-            n = self.dim
-            Jm = [sp.diff(self._X[i], self._coords[j]) for i in range(n) for j in range(n)]
-            jac_gen = compile_source(array_source("jac_gen", self._coords, Jm, (n, n)), "jac_gen")
+            # small fields: symbolic derivatives + CSE (as always); large ones: forward-mode
+            # differentiation of the CSE program (linear in its length)
+            jac_gen = compile_source(jacobian_source("jac_gen", self._coords, self._X,
+                                                     large=self._large), "jac_gen")
 
             @numba.njit(error_model="numpy")
             def jac(y, data, work, out):
@@ -185,10 +214,90 @@ class CompiledSystem:
         return f"CompiledSystem({self.hamiltonian_system.name or 'unnamed'}, dim={self.dim})"
 
 
+def _original_field(hsys: Any, coords: tuple, prep: Any, what: str) -> list[sp.Expr]:
+    """``hsys.original`` in coordinate order, parameters substituted."""
+    missing = [str(c) for c in coords if c not in hsys.original]
+    if missing:
+        raise InputError(f"field='original': {what} gives no equation for {', '.join(missing)}")
+    return [prep(hsys.original[c]) for c in coords]
+
+
+def _check_same_field(X: list[sp.Expr], N: sp.Expr, P: sp.Matrix, dH: list[sp.Expr],
+                      coords: tuple, what: str, points: int = 3, seed: int = 20261122) -> None:
+    """Check ``X = N P dH`` at a few random states in 30-digit arithmetic.
+
+    ``P``, ``dH`` and ``N`` are evaluated separately and multiplied numerically (never the
+    expanded ``P dH``, which is what makes the symbolic route slow). States where either side is
+    undefined are skipped; if no state could be used the check is skipped too (the field is the
+    user's declaration), but a disagreement raises.
+
+    Raises
+    ------
+    InputError
+        If ``X`` differs from ``N P dH`` (relative difference above ``1e-12``).
+    """
+    rng = np.random.default_rng(seed)
+    n = len(coords)
+    pairs = [(i, j) for i in range(n) for j in range(n) if P[i, j] != 0]
+    exprs = [*X, *dH, *(P[i, j] for i, j in pairs), sp.sympify(N)]
+    used = 0
+    for _ in range(4 * points):
+        if used == points:
+            break
+        point = {c: sp.Float(float(v), 30) for c, v in zip(coords, rng.uniform(-1.0, 1.0, n))}
+        try:
+            vals = [complex(v.evalf(30)) for v in _evaluate(exprs, point)]
+        except (TypeError, ValueError, ZeroDivisionError):
+            continue  # undefined there (zoo, nan): another state
+        lhs, dh, nv = vals[:n], vals[n:2 * n], vals[-1]
+        Pn = [[0j] * n for _ in range(n)]
+        for (i, j), v in zip(pairs, vals[2 * n:-1]):
+            Pn[i][j] = v
+        rhs = [nv * sum(Pn[i][j] * dh[j] for j in range(n)) for i in range(n)]
+        vals = lhs + rhs
+        if not all(math.isfinite(v.real) and math.isfinite(v.imag) and abs(v.imag) < 1e-20
+                   for v in vals):
+            continue
+        scale = max(1.0, *(abs(v) for v in vals))
+        worst = max(abs(a - b) for a, b in zip(lhs, rhs))
+        if worst > 1e-12 * scale:
+            raise InputError(f"field='original': the original equations of {what} differ from "
+                             f"N P dH by {worst:.3g} at {[float(v) for v in point.values()]}")
+        used += 1
+
+
+def _evaluate(exprs: list[sp.Expr], point: dict[sp.Symbol, sp.Expr]) -> list[sp.Expr]:
+    """``exprs`` at ``point``, each distinct subtree rebuilt (hence evaluated) once.
+
+    ``xreplace`` walks shared subtrees again at every occurrence, which is what makes the
+    Routh sphere's ``P`` slow to evaluate; this walk is linear in the number of distinct nodes.
+    """
+    memo: dict[sp.Basic, sp.Basic] = dict(point)
+    for e in exprs:
+        stack = [e]
+        while stack:  # iterative post-order over the DAG
+            top = stack[-1]
+            if top in memo:
+                stack.pop()
+                continue
+            if not top.args:
+                memo[top] = top
+                stack.pop()
+                continue
+            pending = [a for a in top.args if a not in memo]
+            if pending:
+                stack.extend(pending)
+                continue
+            stack.pop()
+            memo[top] = top.func(*(memo[a] for a in top.args))
+    return [memo[e] for e in exprs]
+
+
 _compiled: dict[tuple, CompiledSystem] = {}
 
 
-def compile_system(hsys: Any, params: dict[str, Any] | None = None) -> CompiledSystem:
+def compile_system(hsys: Any, params: dict[str, Any] | None = None,
+                   field: str = "bivector") -> CompiledSystem:
     """Compile a :class:`~poissonkit.structure.HamiltonianSystem` (see :class:`CompiledSystem`).
 
     Parameters
@@ -198,23 +307,41 @@ def compile_system(hsys: Any, params: dict[str, Any] | None = None) -> CompiledS
         values to every non-coordinate symbol.
     params
         Extra / overriding parameter values by symbol name.
+    field
+        ``"bivector"`` (default): the right-hand side is ``X = N P dH``. ``"original"``: compile
+        the system's own equations of motion ``hsys.original`` instead (often a much smaller
+        expression than the expanded ``P dH``: the Routh sphere's field is computed from
+        ``omega(M, gamma)`` in a few dozen temporaries); they are first checked to agree with
+        ``N P dH`` at random states, so the dynamics is the same.
 
     Raises
     ------
     InputError
-        If a symbol has no value or the system uses undefined functions.
+        If a symbol has no value, the system uses undefined functions, ``field`` is unknown, or
+        ``field="original"`` and the system has no (or a different) original field.
+
+    Notes
+    -----
+    Large expressions (more than :data:`poissonkit.numerics.codegen.LARGE_TREE` tree nodes)
+    are compiled without sympy's CSE pre-optimisation and get their Jacobian by differentiating
+    the generated program, so the Routh sphere compiles in seconds (docs/numerics.md).
     """
     try:
-        key = (sp.srepr(hsys.structure.matrix), sp.srepr(sp.sympify(hsys.hamiltonian)),
-               sp.srepr(sp.sympify(hsys.multiplier)), tuple(map(str, hsys.coords)),
-               tuple(sorted((k, sp.srepr(v)) for k, v in hsys.casimirs.items())),
-               tuple(sorted((k, sp.srepr(v)) for k, v in hsys.integrals.items())),
+        # sympy objects compare structurally (assumptions included) and cache their hashes;
+        # srepr strings of a large field took seconds to print
+        key = (sp.ImmutableMatrix(hsys.structure.matrix), sp.sympify(hsys.hamiltonian),
+               sp.sympify(hsys.multiplier), tuple(hsys.coords), tuple(map(str, hsys.coords)),
+               tuple(sorted(hsys.casimirs.items())),
+               tuple(sorted(hsys.integrals.items())),
                tuple(sorted((str(k), repr(v)) for k, v in {**hsys.params, **(params or {})}.items())))
+        if field == "original" and hsys.original:
+            key += (tuple(hsys.original.items()),)
     except AttributeError:
-        return CompiledSystem(hsys, params)
+        return CompiledSystem(hsys, params, field)
+    key += (field,)
     hit = _compiled.get(key)
     if hit is None or hit.hamiltonian_system.name != hsys.name:
-        hit = CompiledSystem(hsys, params)
+        hit = CompiledSystem(hsys, params, field)
         _compiled[key] = hit
     return hit
 
