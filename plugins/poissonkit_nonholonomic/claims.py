@@ -12,8 +12,13 @@ from typing import Any
 
 import sympy as sp
 
+from poissonkit.structure.checks import CheckResult, check_vanishing
 from poissonkit.structure.jacobi import is_zero_expression
-from poissonkit_nonholonomic.algebra import Radicals, extract_radicals, vanishes
+from poissonkit.structure.randompoints import RandomPoints
+from poissonkit_nonholonomic.paraboloid import proposition7
+from poissonkit_nonholonomic.reduction import CHAPLYGIN_REDUCTION_CLAIMS, VESELOVA_REDUCTION_CLAIMS
+from poissonkit_nonholonomic.routh import RANK4_CLAIMS as ROUTH_RANK4_CLAIMS
+from poissonkit_nonholonomic.suslov import suslov_prop9, suslov_rank4_casimirs, suslov_rank4_jacobi
 
 Claim = Callable[[Any], tuple[bool, str, str]]
 
@@ -28,11 +33,22 @@ def _zero_vector(exprs) -> tuple[bool, str]:
     return True, ""
 
 
+def _random_outcome(res: CheckResult) -> tuple[bool, str, str]:
+    """``(ok, detail, method)`` of a claim tested by the core's ``check_vanishing`` at random
+    points: a failure names the component, its exact value and the point."""
+    method = (f"exact arithmetic at {res.trials} random rational points (poissonkit.structure."
+              f"check_vanishing; false-positive bound {res.false_positive_bound:.1e})")
+    if res.holds:
+        return True, "", method
+    label, value = res.failures[0]
+    at = ", ".join(f"{k} = {v}" for k, v in (res.point or {}).items())
+    return False, f"component {label} = {str(value)[:120]} at {at}"[:400], method
+
+
 def bmf_decomposition(system) -> tuple[bool, str, str]:
     """BMF (55): X = g1^-1 P_b dH1 + g2^-1 P_b dH2 (and Prop. 3) at random rational points"""
-    # kept on the plugin's random-point zero test (exact square roots at a point): the core's
-    # symbolic proof of (55) for the BMF bivector is far too slow (see verify.AUTO_EXACT_OPS)
-    from poissonkit_nonholonomic.algebra import PointSampler
+    # at random points (exact square roots): the core's symbolic proof of (55) for the BMF
+    # bivector is far too slow (see verify.AUTO_EXACT_OPS)
     from poissonkit_nonholonomic.ball import bmf_parts
 
     p = {k: system.params[k] for k in ("I1", "I2", "I3", "d")}
@@ -44,23 +60,16 @@ def bmf_decomposition(system) -> tuple[bool, str, str]:
     g1 = g * s / ((2 * d * gg - parts["trB"]) * d)
     g2 = g * s / (2 * d)
     P = parts["P"]
-    exprs = list(P) + [sp.diff(parts["H1"], x) for x in coords] \
-        + [sp.diff(parts["H2"], x) for x in coords] + [1 / g1, 1 / g2] \
-        + [system.original[x] for x in coords]
-    conv, rad = extract_radicals(exprs)
-    sampler = PointSampler(coords, seed=7)
-    for _ in range(3):
-        pt = sampler.draw()
-        vals = [e.subs(pt) for e in conv]
-        Pv = sp.Matrix(6, 6, vals[:36])
-        dH1 = sp.Matrix(vals[36:42])
-        dH2 = sp.Matrix(vals[42:48])
-        X = vals[48] * Pv * dH1 + vals[49] * Pv * dH2
-        local = Radicals({k: sp.sympify(Q).subs(pt) for k, Q in rad.roots.items()})
-        for i in range(6):
-            if not vanishes(X[i] - vals[50 + i], local):
-                return False, f"component {i} differs at {pt}", "exact arithmetic, random points"
-    return True, "", "exact arithmetic at 3 random rational points"
+    pts = RandomPoints(coords, trials=3, seed=7)
+    dH1 = [pts.derivative(parts["H1"], x) for x in coords]
+    dH2 = [pts.derivative(parts["H2"], x) for x in coords]
+    comps = {}
+    for i, x in enumerate(coords):
+        row = [(P[i, j], j) for j in range(6) if P[i, j] != 0]
+        field = (sp.Add(*[e * dH1[j] for e, j in row]) / g1
+                 + sp.Add(*[e * dH2[j] for e, j in row]) / g2)
+        comps[f"{x}dot"] = field - system.original[x]
+    return _random_outcome(check_vanishing(comps, method="random", points=pts))
 
 
 def _canonical_radicals(expr: sp.Expr) -> sp.Expr:
@@ -103,7 +112,6 @@ def veselova_chaplygin_equivalence(system) -> tuple[bool, str, str]:
 
 def veselova_pushforward(system) -> tuple[bool, str, str]:
     """(62) is the push-forward of the original Veselova equations (58) under K(gamma, M) of (61)"""
-    from poissonkit_nonholonomic.algebra import PointSampler
     from poissonkit_nonholonomic.veselova import veselova_original_field
 
     a = [system.params[k] for k in ("a1", "a2", "a3")]
@@ -114,15 +122,11 @@ def veselova_pushforward(system) -> tuple[bool, str, str]:
     Kd = [sum(sp.diff(Ki, x) * f for x, f in zip(coords, orig["field"])) for Ki in K]
     target = system.original  # (62) in (gamma, K)
     ksub = dict(zip(system.coords, list(gam) + K))
-    sampler = PointSampler(coords, seed=11)
-    for _ in range(3):
-        pt = sampler.draw()
-        lhs = [sp.sympify(e).xreplace(pt) for e in list(orig["field"][:3]) + Kd]
-        rhs = [sp.sympify(target[x]).xreplace(ksub).xreplace(pt) for x in system.coords]
-        for i in range(6):
-            if not is_zero_expression(lhs[i] - rhs[i]):
-                return False, f"component {i} differs at {pt}", "exact arithmetic, random points"
-    return True, "", "exact arithmetic at 3 random rational points"
+    lhs = list(orig["field"][:3]) + Kd
+    comps = {f"{x}dot": lhs[i] - sp.sympify(target[x]).xreplace(ksub)
+             for i, x in enumerate(system.coords)}
+    return _random_outcome(check_vanishing(comps, method="random", coords=coords, trials=3,
+                                           seed=11))
 
 
 def chaplygin_remark6(system) -> tuple[bool, str, str]:
@@ -155,6 +159,10 @@ def chaplygin_remark6(system) -> tuple[bool, str, str]:
 
 CLAIMS: dict[str, tuple[Claim, ...]] = {
     "nh.chaplygin_ball_sphere_bmf": (bmf_decomposition,),
-    "nh.veselova": (veselova_chaplygin_equivalence, veselova_pushforward),
-    "nh.chaplygin_ball": (chaplygin_remark6,),
+    "nh.veselova": (veselova_chaplygin_equivalence, veselova_pushforward)
+    + VESELOVA_REDUCTION_CLAIMS,
+    "nh.chaplygin_ball": (chaplygin_remark6,) + CHAPLYGIN_REDUCTION_CLAIMS,
+    "nh.routh_sphere_rank4": ROUTH_RANK4_CLAIMS,
+    "nh.ball_on_paraboloid_rank4": (proposition7,),
+    "nh.suslov_rank4": (suslov_rank4_jacobi, suslov_rank4_casimirs, suslov_prop9),
 }

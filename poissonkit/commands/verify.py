@@ -40,7 +40,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--casimir-degree", type=int, default=2, metavar="N",
                         help="search polynomial Casimirs up to this degree (0: skip; default 2)")
     parser.add_argument("--method", choices=("auto", "exact", "random"), default="auto",
-                        help="Jacobi check method (default auto)")
+                        help="method of the Jacobi and field checks (default auto: exact, or "
+                             "exact arithmetic at random rational points for large expressions)")
     parser.add_argument("--seed", type=int, default=None, help="seed of random checks")
     parser.add_argument("--timeout", type=float, default=30.0, metavar="SECONDS",
                         help="time limit of the rank/Casimir search (default 30; 0: none)")
@@ -157,6 +158,13 @@ def load_target(target: str, params: list[str] = ()) -> tuple[str, str, Any]:
     return entry.name, entry.doc, entry.build(**values)
 
 
+def _entry_claims(name: str) -> tuple:
+    """The system-specific claims of a registered entry (none for a JSON file)."""
+    from poissonkit.plugin import names, system
+
+    return tuple(system(name).claims) if name in names("system") else ()
+
+
 # ---------------------------------------------------------------------------------- checks
 class _TimeLimit(Exception):
     pass
@@ -217,11 +225,37 @@ def _casimir_section(P, degree: int, report: dict, notes: list[str], timeout: fl
             report["errors"].append(f"Casimirs: internal error ({_describe(exc)})")
 
 
-def _system_section(sys_, report: dict, notes: list[str]) -> bool:
+class _ClaimResult:
+    """Adapter of a plugin claim's ``(holds, detail, method)`` to the check-result protocol."""
+
+    def __init__(self, outcome: Any) -> None:
+        try:
+            holds, detail, method = outcome
+        except (TypeError, ValueError):
+            raise InputError("a system claim must return (holds, detail, method)") from None
+        if not isinstance(holds, bool):
+            raise InputError("a system claim must return a bool as its first item")
+        self.holds, self.method = holds, str(method)
+        self.failures = () if holds else (("detail", str(detail)),)
+
+    def __bool__(self) -> bool:
+        return self.holds
+
+
+def _claim_name(claim: Any) -> str:
+    doc = (getattr(claim, "__doc__", None) or "").strip()
+    return doc.splitlines()[0] if doc else getattr(claim, "__name__", "claim")
+
+
+def _system_section(sys_, report: dict, notes: list[str], method: str = "auto",
+                    seed: int | None = None, claims: tuple = ()) -> bool:
     """Check the claims of a HamiltonianSystem; returns True if all hold.
 
     A claim whose check raises is recorded with ``status: "error"`` (and the error message) and
-    counts as not holding: an unverified claim must never make the report ok.
+    counts as not holding: an unverified claim must never make the report ok. ``method`` is
+    passed to the field checks (``"auto"``: exact proofs, or exact arithmetic at random
+    rational points for large expressions — the method is reported per check). ``claims``
+    are the entry's system-specific claims (:class:`~poissonkit.plugin.SystemEntry`).
     """
     from poissonkit.structure import casimirs as cas
     from poissonkit.structure import checks
@@ -251,27 +285,34 @@ def _system_section(sys_, report: dict, notes: list[str]) -> bool:
         holds = bool(result)
         ok = ok and holds
         entry = {"what": what, "holds": holds, "status": "holds" if holds else "fails"}
+        if getattr(result, "method", None):
+            entry["method"] = result.method
         fails = getattr(result, "failures", ())
         if not holds and fails:
             entry["failures"] = [f"{lab} = {val}" for lab, val in list(fails)[:5]]
         info["checks"].append(entry)
 
     cons = tuple(sys_.constraints)
+    how = {"method": method, "seed": seed}
     for name, C in sys_.casimirs.items():
         record(f"Casimir {name}", lambda C=C: cas.is_casimir(P, C, constraints=cons))
     for name, F in sys_.integrals.items():
         record(f"first integral {name}",
-               lambda F=F: checks.is_first_integral(sys_, F, constraints=cons))
+               lambda F=F: checks.is_first_integral(sys_, F, constraints=cons, **how))
     if sys_.measure is not None:
-        record(f"invariant measure {sys_.measure}", lambda: checks.is_invariant_measure(sys_))
+        record(f"invariant measure {sys_.measure}",
+               lambda: checks.is_invariant_measure(sys_, **how))
     if sys_.original is not None:
-        record("original equations = N P dH", lambda: checks.is_conformally_hamiltonian(sys_))
+        record("original equations = N P dH",
+               lambda: checks.is_conformally_hamiltonian(sys_, **how))
+    for claim in claims:
+        record(_claim_name(claim), lambda claim=claim: _ClaimResult(claim(sys_)))
     report["system"] = info
     return ok
 
 
 def verify(obj, name: str = "", doc: str = "", *, casimir_degree: int = 2, method: str = "auto",
-           seed: int | None = None, timeout: float = 30.0) -> dict:
+           seed: int | None = None, timeout: float = 30.0, claims: tuple = ()) -> dict:
     """Build the verification report of a bivector or system as a JSON-ready dict.
 
     ``report["ok"]`` is true when ``P`` is Poisson and every claimed property holds;
@@ -309,7 +350,7 @@ def verify(obj, name: str = "", doc: str = "", *, casimir_degree: int = 2, metho
     else:
         notes.append("rank and Casimirs skipped: not a Poisson structure")
     if sys_ is not None:
-        ok = _system_section(sys_, report, notes) and ok
+        ok = _system_section(sys_, report, notes, method, seed, claims) and ok
     ok = ok and not report["errors"]
     report["ok"] = ok
     report["status"] = "error" if report["errors"] else ("ok" if ok else "failed")
@@ -351,7 +392,8 @@ def _print_report(rep: dict) -> None:
             if c.get("status") == "error":
                 print(f"{c['what']}: ERROR ({c['error']})")
                 continue
-            print(f"{c['what']}: {'OK' if c['holds'] else 'FAILED'}")
+            how = f"  ({c['method']})" if c.get("method") and c["method"] != "exact" else ""
+            print(f"{c['what']}: {'OK' if c['holds'] else 'FAILED'}{how}")
             for f in c.get("failures", []):
                 print(f"    {f}")
     for n in rep["notes"]:
@@ -385,7 +427,7 @@ def main(args: argparse.Namespace) -> int:
         raise InputError("--casimir-degree must be >= 0")
     name, doc, obj = load_target(args.target, args.param)
     rep = verify(obj, name, doc, casimir_degree=args.casimir_degree, method=args.method,
-                 seed=args.seed, timeout=args.timeout)
+                 seed=args.seed, timeout=args.timeout, claims=_entry_claims(name))
     if args.json:
         print(json.dumps(rep, indent=2, default=str))
     else:

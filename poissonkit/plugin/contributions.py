@@ -191,11 +191,15 @@ class SystemEntry(Entry):
 
     ``build(**params)`` returns a :class:`poissonkit.structure.Bivector` or a
     :class:`poissonkit.structure.HamiltonianSystem`. ``tags`` groups entries (``"lie-poisson"``,
-    ``"nonholonomic"``, ...).
+    ``"nonholonomic"``, ...). ``claims`` are extra, system-specific statements that
+    ``poissonkit verify`` checks after the generic ones: callables
+    ``claim(built) -> (holds: bool, detail: str, method: str)`` whose docstring's first line
+    names the claim (e.g. a decomposition of the field, or a Poisson map to e(3)).
     """
 
     build: Callable[..., Any] = field(default=lambda **_: None)
     tags: tuple[str, ...] = ()
+    claims: tuple[Callable[[Any], tuple[bool, str, str]], ...] = ()
 
 
 @dataclass(frozen=True)
