@@ -262,3 +262,55 @@ def routh_e3_hamiltonian(system) -> tuple[bool, str, str]:
 
 
 RANK4_CLAIMS = (routh_prop5, routh_field_integrals, routh_poisson_map, routh_e3_hamiltonian)
+
+
+def routh_gyrostat_parts(R: Any = 2, a: Any = sp.Rational(1, 2), m: Any = 3, I1: Any = 5,
+                         I3: Any = 7, u: Any = 10, s: Any = sp.Rational(3, 2)) -> dict[str, Any]:
+    """The Routh sphere with a rotor ``S = (0, 0, s)`` on the axis (survey (95)–(96)) and its
+    shifted linear integrals (not in FORMULAS.md: derived here, checked by the tests).
+
+    The field is (32) with ``M x omega`` replaced by ``(M + S) x omega`` (as in (49)); ``H`` and
+    the measure ``g^{-1}`` are unchanged. The linear integrals shift by functions of ``gamma3``::
+
+        J1_s = (M, r) + s R gamma3
+        J2_s = g omega3 + s R m W(gamma3),   W' = (R gamma3 + a) / g   on (gamma, gamma) = 1,
+
+    with ``g^2 = alpha gamma3^2 + beta gamma3 + delta`` on the sphere, ``alpha = m R^2 (I3 - I1)``,
+    ``beta = 2 m R a I3``, ``delta = I1 I3 + m I1 R^2 + m I3 a^2``. ``W`` is not algebraic
+    (a logarithm for ``I3 > I1``, an arcsine — written as an arctangent — for ``I3 < I1``), as the survey says of the shifted
+    integrals; it is written with ``g`` itself in place of ``sqrt`` of the quadratic, which is
+    the same function on the sphere and keeps a single radical for the exact checks.
+
+    Raises
+    ------
+    InputError
+        ``I1 == I3`` (not implemented), or a logarithm argument that vanishes on the sphere.
+    """
+    p = routh_parts(R, a, m, I1, I3, u)
+    q = p["params"]
+    s = exact(s, "s")
+    R, a, m, I1, I3 = q["R"], q["a"], q["m"], q["I1"], q["I3"]
+    gam, M, om, g = p["gamma"], p["M"], p["omega"], p["g"]
+    z = gam[2]
+    alpha, beta = m * R**2 * (I3 - I1), 2 * m * R * a * I3
+    delta = I1 * I3 + m * I1 * R**2 + m * I3 * a**2
+    if alpha == 0:
+        raise InputError("routh_gyrostat_parts: I1 == I3 is not implemented")
+    if alpha > 0:
+        # on the sphere (2 alpha z + beta)^2 - 4 alpha g^2 = beta^2 - 4 alpha delta, so the
+        # argument 2 sqrt(alpha) g + 2 alpha z + beta is positive for every gamma3 in [-1, 1]
+        # iff beta^2 < 4 alpha delta or 2 alpha z + beta >= 0 already at gamma3 = -1
+        if not (beta**2 < 4 * alpha * delta or beta >= 2 * alpha):
+            raise InputError("routh_gyrostat_parts: the logarithm's argument vanishes on the sphere")
+        arg = 2 * sp.sqrt(alpha) * g + 2 * alpha * z + beta
+        base = sp.log(arg) / sp.sqrt(alpha)
+    else:
+        # -asin((2 alpha z + beta) / sqrt(beta^2 - 4 alpha delta)) / sqrt(-alpha), written as an
+        # arctangent of the same quantity so that g is the only radical (equal on the sphere)
+        base = -sp.atan((2 * alpha * z + beta) / (2 * sp.sqrt(-alpha) * g)) / sp.sqrt(-alpha)
+    W = (R / alpha) * g + (a - R * beta / (2 * alpha)) * base
+    extra = cross([0, 0, s], om)
+    field = list(p["field"][:3]) + [f + e for f, e in zip(p["field"][3:], extra)]
+    return dict(gamma=gam, M=M, omega=om, g=g, H=p["H"], field=field, W=W,
+                J1=p["J1"] + s * R * z, J2=p["J2"] + s * R * m * W,
+                params={**q, "s": s})
