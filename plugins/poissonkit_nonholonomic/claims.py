@@ -15,6 +15,7 @@ import sympy as sp
 from poissonkit.structure.checks import CheckResult, check_vanishing
 from poissonkit.structure.jacobi import is_zero_expression
 from poissonkit.structure.randompoints import RandomPoints
+from poissonkit_nonholonomic.common import claim_outcome
 from poissonkit_nonholonomic.paraboloid import proposition7
 from poissonkit_nonholonomic.reduction import CHAPLYGIN_REDUCTION_CLAIMS, VESELOVA_REDUCTION_CLAIMS
 from poissonkit_nonholonomic.routh import RANK4_CLAIMS as ROUTH_RANK4_CLAIMS
@@ -36,13 +37,9 @@ def _zero_vector(exprs) -> tuple[bool, str]:
 def _random_outcome(res: CheckResult) -> tuple[bool, str, str]:
     """``(ok, detail, method)`` of a claim tested by the core's ``check_vanishing`` at random
     points: a failure names the component, its exact value and the point."""
-    method = (f"exact arithmetic at {res.trials} random rational points (poissonkit.structure."
-              f"check_vanishing; false-positive bound {res.false_positive_bound:.1e})")
-    if res.holds:
-        return True, "", method
-    label, value = res.failures[0]
-    at = ", ".join(f"{k} = {v}" for k, v in (res.point or {}).items())
-    return False, f"component {label} = {str(value)[:120]} at {at}"[:400], method
+    return claim_outcome(res, f"exact arithmetic at {res.trials} random rational points "
+                              f"(poissonkit.structure.check_vanishing; false-positive bound "
+                              f"{res.false_positive_bound:.1e})")
 
 
 def bmf_decomposition(system) -> tuple[bool, str, str]:

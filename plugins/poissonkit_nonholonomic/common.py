@@ -110,3 +110,19 @@ def euler_bivector(field, coords, momenta, hamiltonian) -> sp.Matrix:
             P[i, j] = (field[i] * Z[j] - Z[i] * field[j]) / ZH
             P[j, i] = -P[i, j]
     return P
+
+
+def claim_outcome(res: Any, method: str) -> tuple[bool, str, str]:
+    """``(holds, detail, method)`` of a claim checked by a core check (a ``CheckResult``).
+
+    A failure's detail names the first failing component, its value and, for the random-point
+    method, the exact counterexample point.
+    """
+    if res.holds:
+        return True, "", method
+    label, value = res.failures[0]
+    point = getattr(res, "point", None) or {}
+    at = ", ".join(f"{k} = {v}" for k, v in point.items())
+    return False, (f"component {label} = {str(value)[:120]}" + (f" at {at}" if at else ""))[:400], \
+        method
+

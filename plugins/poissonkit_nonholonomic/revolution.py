@@ -9,7 +9,8 @@ here the construction runs the other way round, which needs no unknown function:
 
 * choose the map first. ``L = A(gamma) M`` is fixed by three linear conditions
 
-  - ``(gamma, L) = (c(gamma), M)`` — the Casimir integral ``J_k`` becomes the Casimir ``(gamma, L)``;
+  - ``(gamma, L) = (c(gamma), M)`` — the Casimir integral ``J_k`` becomes the Casimir
+    ``(gamma, L)``;
   - ``(e3 x gamma, L) = (e3 x gamma, M)`` — the momentum conjugate to the latitude is kept;
   - ``L3 = (p(gamma), M)`` — the other linear integral becomes ``L3``, the generator of ``X_S``;
 
@@ -31,6 +32,7 @@ from collections.abc import Sequence
 import sympy as sp
 
 from poissonkit.errors import InputError
+from poissonkit_nonholonomic.common import claim_outcome
 
 _EPS = sp.LeviCivita
 
@@ -175,6 +177,5 @@ def symmetry_decomposition(field: Sequence[sp.Expr], P: sp.Matrix, H: sp.Expr, N
     sphere = sum(g**2 for g in gamma) - 1
     res = check_vanishing(exprs, (sphere,), coords=coords + list(Ma) + list(Mb),
                           method="random", seed=seed)
-    detail = "" if res.holds else str(res.failures[0])[:300]
-    return res.holds, detail, ("exact arithmetic at random rational points on (gamma, gamma) = 1 "
-                               f"(false-positive bound {res.false_positive_bound:.1e})")
+    return claim_outcome(res, "exact arithmetic at random rational points on (gamma, gamma) = 1 "
+                              f"(false-positive bound {res.false_positive_bound:.1e})")

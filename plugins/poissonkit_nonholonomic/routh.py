@@ -29,6 +29,7 @@ from poissonkit.errors import InputError
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.system import HamiltonianSystem
 from poissonkit_nonholonomic.common import (
+    claim_outcome,
     cross,
     dot,
     euler_bivector,
@@ -194,11 +195,11 @@ def routh_field_integrals(system) -> tuple[bool, str, str]:
     X = dict(zip(coords, p["field"]))
     ints = {"H": p["H"], "C": dot(p["gamma"], p["gamma"]), "J1": p["J1"], "J2": p["J2"]}
     r1 = is_first_integral(X, ints, coords=coords, method="random", seed=5)
+    method = "exact arithmetic at random rational points (off the sphere too)"
     if not r1.holds:
-        return False, str(r1.failures[0])[:300], "exact arithmetic at random rational points"
-    r2 = is_invariant_measure(X, 1 / p["g"], coords=coords, method="random", seed=5)
-    return r2.holds, "" if r2.holds else str(r2.failures[0])[:300], \
-        "exact arithmetic at random rational points (off the sphere too)"
+        return claim_outcome(r1, method)
+    return claim_outcome(is_invariant_measure(X, 1 / p["g"], coords=coords, method="random",
+                                              seed=5), method)
 
 
 def _e3(names=("gamma", "L")) -> Bivector:
@@ -225,9 +226,8 @@ def routh_poisson_map(system) -> tuple[bool, str, str]:
     Jk = p["J1"] if system.params["casimir"] == "jellett" else p["J2"]
     exprs["(gamma, L) - J_k"] = dot(gam, L) - Jk
     res = check_vanishing(exprs, coords=coords, method="random", seed=5)
-    return res.holds, "" if res.holds else str(res.failures[0])[:300], \
-        f"exact arithmetic at random rational points (false-positive bound " \
-        f"{res.false_positive_bound:.1e})"
+    return claim_outcome(res, "exact arithmetic at random rational points (false-positive bound "
+                              f"{res.false_positive_bound:.1e})")
 
 
 def routh_e3_hamiltonian(system) -> tuple[bool, str, str]:
@@ -257,8 +257,7 @@ def routh_e3_hamiltonian(system) -> tuple[bool, str, str]:
              "other integral - const L3": other.xreplace(sub) - scale * L3}
     res = check_vanishing(exprs, (dot(gam, gam) - 1,), coords=list(gam) + [b, K, L3],
                           method="random", seed=5)
-    return res.holds, "" if res.holds else str(res.failures[0])[:300], \
-        "exact arithmetic at random rational points on (gamma,gamma) = 1"
+    return claim_outcome(res, "exact arithmetic at random rational points on (gamma,gamma) = 1")
 
 
 RANK4_CLAIMS = (routh_prop5, routh_field_integrals, routh_poisson_map, routh_e3_hamiltonian)
@@ -276,10 +275,11 @@ def routh_gyrostat_parts(R: Any = 2, a: Any = sp.Rational(1, 2), m: Any = 3, I1:
         J2_s = g omega3 + s R m W(gamma3),   W' = (R gamma3 + a) / g   on (gamma, gamma) = 1,
 
     with ``g^2 = alpha gamma3^2 + beta gamma3 + delta`` on the sphere, ``alpha = m R^2 (I3 - I1)``,
-    ``beta = 2 m R a I3``, ``delta = I1 I3 + m I1 R^2 + m I3 a^2``. ``W`` is not algebraic
-    (a logarithm for ``I3 > I1``, an arcsine — written as an arctangent — for ``I3 < I1``), as the survey says of the shifted
-    integrals; it is written with ``g`` itself in place of ``sqrt`` of the quadratic, which is
-    the same function on the sphere and keeps a single radical for the exact checks.
+    ``beta = 2 m R a I3``, ``delta = I1 I3 + m I1 R^2 + m I3 a^2``. ``W`` is not algebraic (a
+    logarithm for ``I3 > I1``, an arcsine — written as an arctangent — for ``I3 < I1``), as the
+    survey says of the shifted integrals; it is written with ``g`` itself in place of ``sqrt`` of
+    the quadratic, which is the same function on the sphere and keeps a single radical for the
+    exact checks.
 
     Raises
     ------
@@ -301,7 +301,8 @@ def routh_gyrostat_parts(R: Any = 2, a: Any = sp.Rational(1, 2), m: Any = 3, I1:
         # argument 2 sqrt(alpha) g + 2 alpha z + beta is positive for every gamma3 in [-1, 1]
         # iff beta^2 < 4 alpha delta or 2 alpha z + beta >= 0 already at gamma3 = -1
         if not (beta**2 < 4 * alpha * delta or beta >= 2 * alpha):
-            raise InputError("routh_gyrostat_parts: the logarithm's argument vanishes on the sphere")
+            raise InputError("routh_gyrostat_parts: the logarithm's argument vanishes on the "
+                             "sphere")
         arg = 2 * sp.sqrt(alpha) * g + 2 * alpha * z + beta
         base = sp.log(arg) / sp.sqrt(alpha)
     else:
