@@ -1,6 +1,6 @@
 """Seed 000 speed benchmark: time to reach a final-state error of 1e-7.
 
-Two scenes (nondimensional, internal units of :func:`poissonkit.seed000.scales`):
+Two scenes (nondimensional, internal units of :func:`poissonkit_magnets.seed000.scales`):
 
 * **seed orbit** — the circular orbit of the seed (R = 10 mm, P_orb), both axes tilted by
   0.05 rad so that every degree of freedom moves, spin ratio α|m|/ω_orb = 20, 20 periods;
@@ -36,7 +36,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from poissonkit import seed000
+from poissonkit_magnets import seed000
 from poissonkit.numerics import workprecision as wp
 from poissonkit.numerics.solver import solve
 

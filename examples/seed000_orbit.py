@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import mpmath
 
-from poissonkit import cli, seed000
+from poissonkit import cli
+from poissonkit_magnets import seed000
 
 
 def main() -> None:

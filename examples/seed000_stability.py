@@ -17,7 +17,7 @@ import math
 
 import numpy as np
 
-from poissonkit import seed000
+from poissonkit_magnets import seed000
 from poissonkit.numerics.solver import solve
 
 

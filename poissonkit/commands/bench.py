@@ -46,7 +46,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _spec(args: argparse.Namespace):
     if args.scene is None:
-        from poissonkit import seed000
+        from poissonkit_magnets import seed000
 
         if not (math.isfinite(args.periods) and args.periods > 0):
             raise InputError(f"--periods must be > 0, got {args.periods!r}")

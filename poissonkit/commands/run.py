@@ -1,6 +1,6 @@
 """``poissonkit run [SCENE]``: integrate a scene and write summary, trajectory and plots.
 
-Without a scene it runs the built-in seed 000 orbit (:func:`poissonkit.seed000.default_run`):
+Without a scene it runs the built-in seed 000 orbit (:func:`poissonkit_magnets.seed000.default_run`):
 two cylinder magnets (dumbbell model) on the circular orbit of radius 10 mm, 20 periods with
 the order-6 splitting method. Output folder (default ``./poissonkit-output``):
 
@@ -68,7 +68,7 @@ def build_spec(args: argparse.Namespace):
     for name in ("step", "tol", "periods", "duration"):
         _positive(name, getattr(args, name, None))
     if args.scene is None:
-        from poissonkit import seed000
+        from poissonkit_magnets import seed000
 
         periods = args.periods
         if args.duration is not None:

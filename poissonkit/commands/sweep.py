@@ -1,6 +1,6 @@
 """``poissonkit sweep``: run the seed 000 orbit over a grid of parameters and classify each run.
 
-Each grid point is integrated with :func:`poissonkit.seed000.orbit_fate` and classified as
+Each grid point is integrated with :func:`poissonkit_magnets.seed000.orbit_fate` and classified as
 ``bounded``, ``collision`` (the magnets' axis segments come closer than their diameter) or
 ``escape`` (distance above ``--escape`` orbit radii). Results go to ``sweep.csv`` in ``--out``
 and to a table on stdout. Example — the seed's "stable with certain relations between the
@@ -57,7 +57,7 @@ def parse_grid(items: list[str]) -> dict[str, list[float]]:
 
 def main(args: argparse.Namespace) -> int:
     """Run every grid point; write ``sweep.csv``; print the table."""
-    from poissonkit import seed000
+    from poissonkit_magnets import seed000
 
     if args.scene is not None:
         raise InputError("poissonkit sweep supports only the built-in seed 000 scene for now")

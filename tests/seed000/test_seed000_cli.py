@@ -13,7 +13,8 @@ import math
 import numpy as np
 import pytest
 
-from poissonkit import cli, seed000
+from poissonkit import cli
+from poissonkit_magnets import seed000
 
 
 def test_run_writes_summary_trajectory_and_plots(tmp_path):

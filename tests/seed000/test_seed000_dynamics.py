@@ -19,7 +19,7 @@ import mpmath
 import numpy as np
 import pytest
 
-from poissonkit import seed000
+from poissonkit_magnets import seed000
 from poissonkit.numerics.solver import solve
 
 

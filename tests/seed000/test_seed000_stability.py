@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from poissonkit import seed000
+from poissonkit_magnets import seed000
 from poissonkit.numerics.solver import solve
 
 

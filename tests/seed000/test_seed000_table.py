@@ -10,7 +10,7 @@ from __future__ import annotations
 import mpmath
 import pytest
 
-from poissonkit import seed000
+from poissonkit_magnets import seed000
 from poissonkit.errors import InputError
 
 # The seed's printed values (copied from the seed text, not from poissonkit).

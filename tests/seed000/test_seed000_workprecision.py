@@ -52,7 +52,7 @@ def test_csv_round_trip_and_table(tmp_path):
 
 
 def test_reference_agrees_with_closed_form_circular_orbit():
-    from poissonkit import seed000
+    from poissonkit_magnets import seed000
 
     spec = seed000.default_run(periods=2)
     ref = wp.reference(spec.system, spec.y0, spec.t_end)
