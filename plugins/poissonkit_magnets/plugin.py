@@ -2,14 +2,15 @@
 
 Contributes the pair potentials of :mod:`poissonkit_magnets.models` (names and parameters as in
 docs/architecture.md, "Magnet potential names and parameters"; the extra models are documented in
-docs/magnets.md).
+docs/magnets.md) and the built-in scene ``seed000`` (:mod:`poissonkit_magnets.seed000`), the
+default scene of ``poissonkit run``.
 """
 
 from __future__ import annotations
 
 from functools import partial
 
-from poissonkit.plugin.contributions import PairPotential
+from poissonkit.plugin.contributions import PairPotential, Param, SceneEntry
 from poissonkit.plugin.hookspecs import hookimpl
 from poissonkit_magnets.models import MODELS, kernel
 
@@ -27,3 +28,37 @@ _ENTRIES: tuple[PairPotential, ...] = tuple(
 def poissonkit_potentials() -> list[PairPotential]:
     """The magnet pair potentials (SI units)."""
     return list(_ENTRIES)
+
+
+def _seed_scene(**params):
+    from poissonkit_magnets import seed000  # mpmath tables: only when the scene is used
+
+    return seed000.scene_run(**params)
+
+
+#: The seed 000 orbit; its parameters are the run options ``poissonkit run`` passes through.
+SEED_SCENE = SceneEntry(
+    name="seed000",
+    doc="Two cylinder magnets (dumbbell model) on the seed's circular orbit, R_orb = 10 mm; "
+        "order-6 splitting, T_orb/200 steps.",
+    params=(
+        Param("periods", "float", "duration in orbital periods", 20.0, positive=True),
+        Param("duration", "float", "duration [s] (overrides periods)", unit="s", positive=True,
+              optional=True),
+        Param("method", "str", "integrator registry name", "splitting6"),
+        Param("step", "float", "fixed step [s] (default T_orb/200)", unit="s", positive=True,
+              optional=True),
+        Param("tol", "float", "tolerance of adaptive methods", positive=True, optional=True),
+        Param("tilt", "float", "tilt of both axes [rad] (0: the exact circular orbit)", 0.0,
+              unit="rad"),
+        Param("spin_ratio", "float", "alpha|m|/omega_orb of each top", 20.0),
+    ),
+    load=_seed_scene,
+    default=True,
+)
+
+
+@hookimpl
+def poissonkit_scenes() -> list[SceneEntry]:
+    """The built-in seed 000 scene (the default of ``poissonkit run``)."""
+    return [SEED_SCENE]

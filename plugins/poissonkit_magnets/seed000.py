@@ -397,6 +397,41 @@ def default_run(*, periods: float = 20.0, method: str = "splitting6", step: floa
                    method=method, step=step, tol=tol, metadata=meta)
 
 
+def scene_run(*, periods: float = 20.0, duration: float | None = None,
+              method: str = "splitting6", step: float | None = None, tol: float | None = None,
+              tilt: float = 0.0, spin_ratio: float = 20.0):
+    """The registered ``seed000`` scene: :func:`default_run` with run options in SI.
+
+    This is what ``poissonkit run`` (no argument, or ``poissonkit run seed000``) calls through
+    the scene registry.
+
+    Parameters
+    ----------
+    periods
+        Duration in orbital periods (ignored if ``duration`` is given).
+    duration
+        Duration [s]; converted with the orbital period ``T_orb``.
+    method, tol
+        Integrator registry name and tolerance of adaptive methods.
+    step
+        Fixed step [s]; converted to the internal time unit ``1/omega_orb``. Default ``T_orb/200``
+        for fixed-step methods.
+    tilt, spin_ratio
+        See :func:`initial_state`.
+
+    Returns
+    -------
+    RunSpec
+        The seed orbit, ready for :func:`poissonkit.solve`.
+    """
+    if duration is not None:
+        periods = duration / float(circular_orbit().period)
+    if step is not None:  # seconds -> internal time (unit 1/omega_orb)
+        step = step / float(scales().time)
+    return default_run(periods=periods, method=method, step=step, tol=tol, tilt=tilt,
+                       spin_ratio=spin_ratio)
+
+
 def nbody_state(y18: np.ndarray) -> np.ndarray:
     """Two-body state ``(r, p, nu', m', nu'', m'')`` -> N-body state of :func:`nbody_system`.
 

@@ -10,7 +10,7 @@ step sizes (fixed-step methods) or tolerances (adaptive ones), and writes to ``-
 * ``workprecision.png`` — both errors against wall time, log–log;
 * ``workprecision.md`` — the reference check and the table of time-to-error 1e-6 / 1e-9.
 
-Without a scene it uses the seed 000 orbit, perturbed (axes tilted by ``--tilt`` rad, default
+Without a scene it uses the registered default scene (the seed 000 orbit), perturbed (axes tilted by ``--tilt`` rad, default
 0.05) so that every degree of freedom moves, for ``--periods`` orbital periods (default 20).
 """
 
@@ -45,19 +45,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def _spec(args: argparse.Namespace):
-    if args.scene is None:
-        from poissonkit_magnets import seed000
+    path = Path(args.scene) if args.scene is not None else None
+    if path is None or not path.exists():
+        from poissonkit.plugin import names
 
-        if not (math.isfinite(args.periods) and args.periods > 0):
-            raise InputError(f"--periods must be > 0, got {args.periods!r}")
-        return seed000.default_run(periods=args.periods, tilt=args.tilt)
+        if path is None or args.scene in names("scene"):
+            from poissonkit.scene.registered import registered_run
+
+            if not (math.isfinite(args.periods) and args.periods > 0):
+                raise InputError(f"--periods must be > 0, got {args.periods!r}")
+            return registered_run(args.scene, {"periods": args.periods, "tilt": args.tilt})[0]
     try:
         from poissonkit.scene import build_run, load_scene
     except ImportError:
         raise MissingDependencyError(
             "scene files need poissonkit.scene (load_scene/build_run)") from None
-    path = Path(args.scene)
-    return build_run(load_scene(path if path.exists() else args.scene))
+    return build_run(load_scene(path))
 
 
 def main(args: argparse.Namespace) -> int:

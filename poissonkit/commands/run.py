@@ -1,8 +1,8 @@
 """``poissonkit run [SCENE]``: integrate a scene and write summary, trajectory and plots.
 
-Without a scene it runs the built-in seed 000 orbit (:func:`poissonkit_magnets.seed000.default_run`):
-two cylinder magnets (dumbbell model) on the circular orbit of radius 10 mm, 20 periods with
-the order-6 splitting method. Output folder (default ``./poissonkit-output``):
+Without a scene it runs the registered default scene — the seed 000 orbit of the magnets plugin
+(``seed000``, :func:`poissonkit_magnets.seed000.scene_run`): two cylinder magnets (dumbbell model)
+on the circular orbit of radius 10 mm, 20 periods with the order-6 splitting method. Output folder (default ``./poissonkit-output``):
 
 * ``summary.json`` — parameters, ``P_orb``, ``T_orb``, method, steps, wall time (integration;
   the one-time compilation separately), maximum relative energy error, maximum Casimir drift,
@@ -62,51 +62,55 @@ def _positive(name: str, value: float | None) -> None:
 
 
 def build_spec(args: argparse.Namespace):
-    """The :class:`~poissonkit.numerics.runspec.RunSpec` the options describe."""
+    """The :class:`~poissonkit.numerics.runspec.RunSpec` the options describe.
+
+    No scene: the registered default scene (:func:`poissonkit.plugin.default_scene`); an
+    existing path: a TOML scene file; otherwise a registered scene name. Options a registered
+    scene declares are handed to it; the others are applied to the run it returns.
+    """
     from dataclasses import replace
 
     for name in ("step", "tol", "periods", "duration"):
         _positive(name, getattr(args, name, None))
-    if args.scene is None:
-        from poissonkit_magnets import seed000
+    path = Path(args.scene) if args.scene is not None else None
+    consumed: set[str] = set()
+    if path is None or (not path.exists() and _is_registered_scene(args.scene)):
+        from poissonkit.scene.registered import registered_run
 
-        periods = args.periods
-        if args.duration is not None:
-            periods = args.duration / float(seed000.circular_orbit().period)
-        kw: dict[str, Any] = {"periods": periods if periods is not None else 20.0,
-                              "tilt": args.tilt, "spin_ratio": args.spin_ratio}
-        if args.method:
-            kw["method"] = args.method
-        if args.step is not None:  # seconds -> internal time (unit 1/omega_orb)
-            kw["step"] = args.step / float(seed000.scales().time)
-        if args.tol is not None:
-            kw["tol"] = args.tol
-        return seed000.default_run(**kw)
-    try:
-        from poissonkit.scene import build_run, load_scene
-    except ImportError:
-        raise MissingDependencyError(
-            "scene files need poissonkit.scene.load_scene/build_run, which this build lacks"
-        ) from None
-    path = Path(args.scene)
-    spec = build_run(load_scene(path if path.exists() else args.scene))
+        options = {k: getattr(args, k, None) for k in
+                   ("method", "step", "tol", "periods", "duration", "tilt", "spin_ratio")}
+        spec, consumed = registered_run(args.scene, options)
+    else:
+        try:
+            from poissonkit.scene import build_run, load_scene
+        except ImportError:
+            raise MissingDependencyError(
+                "scene files need poissonkit.scene.load_scene/build_run, which this build lacks"
+            ) from None
+        spec = build_run(load_scene(path))
     changes: dict[str, Any] = {}
-    if args.method:
+    if args.method and "method" not in consumed:
         changes["method"] = args.method
     tunit = _time_unit(spec)
-    if args.step is not None:
+    if args.step is not None and "step" not in consumed:
         changes.update(step=args.step / tunit, tol=None)
-    if args.tol is not None:
+    if args.tol is not None and "tol" not in consumed:
         changes.update(tol=args.tol, step=None)
-    if args.duration is not None:
+    if args.duration is not None and "duration" not in consumed:
         changes["t_end"] = args.duration / tunit
-    if args.periods is not None:
+    if args.periods is not None and "periods" not in consumed:
         period = spec.metadata.get("T_orb")
         if not period:
             raise SceneError("--periods needs a scene with an orbital period (T_orb); "
                              "use --duration")
         changes["t_end"] = args.periods * float(period) / tunit
     return replace(spec, **changes) if changes else spec
+
+
+def _is_registered_scene(name: str) -> bool:
+    from poissonkit.plugin import names
+
+    return name in names("scene")
 
 
 def _time_unit(spec) -> float:

@@ -11,10 +11,19 @@ from poissonkit.plugin.contributions import (
 )
 from poissonkit.plugin.hookspecs import hookimpl
 from poissonkit.plugin.manager import entries, plugin_manager, plugin_reports, reset
-from poissonkit.plugin.registry import assembly, integrator, lookup, names, potential, scene, system
+from poissonkit.plugin.registry import (
+    assembly,
+    default_scene,
+    integrator,
+    lookup,
+    names,
+    potential,
+    scene,
+    system,
+)
 
 __all__ = [
     "Assembly", "Entry", "IntegratorEntry", "PairPotential", "Param", "SceneEntry", "SystemEntry",
-    "assembly", "entries", "hookimpl", "integrator", "lookup", "names", "plugin_manager",
+    "assembly", "default_scene", "entries", "hookimpl", "integrator", "lookup", "names", "plugin_manager",
     "plugin_reports", "potential", "reset", "scene", "system",
 ]

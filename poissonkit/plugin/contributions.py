@@ -35,6 +35,9 @@ class Param:
         SI unit, or ``""`` for dimensionless.
     positive
         If true, values must be > 0 (every component, for a vector).
+    optional
+        If true, a parameter without a default may be left out (it is then absent from the
+        resolved parameters, and the entry chooses); otherwise it is required.
     """
 
     name: str
@@ -43,6 +46,7 @@ class Param:
     default: Any = None
     unit: str = ""
     positive: bool = False
+    optional: bool = False
 
     def coerce(self, value: Any, owner: str = "") -> Any:
         """Check and convert one user value; raise :class:`InputError` naming the parameter.
@@ -141,7 +145,7 @@ class Entry:
                 out[p.name] = p.coerce(given[p.name], self.name)
             elif p.default is not None:
                 out[p.name] = p.default
-            else:
+            elif not p.optional:
                 raise InputError(f"{self.name}: missing required parameter {p.name!r} ({p.doc})")
         return out
 
@@ -215,6 +219,16 @@ class IntegratorEntry(Entry):
 
 @dataclass(frozen=True)
 class SceneEntry(Entry):
-    """A built-in scene: ``path`` to its TOML file (or ``load()`` returning a scene object)."""
+    """A built-in scene, runnable by name (``poissonkit run NAME``).
 
-    load: Callable[[], Any] = field(default=lambda: None)
+    ``load(**params)`` returns either a :class:`poissonkit.scene.Scene` (e.g.
+    ``load_scene(path)`` of a TOML file shipped with the plugin) or a ready
+    :class:`poissonkit.numerics.runspec.RunSpec`. Run options the entry declares in
+    :attr:`params` (``method``, ``step`` [s], ``tol``, ``periods``, ``duration`` [s], or
+    scene-specific ones such as ``tilt``) are handed to ``load``; the others are applied to
+    the run it returns. ``default`` marks the scene ``poissonkit run`` uses without an argument
+    (the first one flagged, built-in plugins first).
+    """
+
+    load: Callable[..., Any] = field(default=lambda **_: None)
+    default: bool = False

@@ -47,6 +47,26 @@ def scene(name: str) -> SceneEntry:
     return lookup("scene", name)  # type: ignore[return-value]
 
 
+def default_scene() -> SceneEntry:
+    """The scene ``poissonkit run`` uses without an argument.
+
+    The first scene entry flagged ``default`` in registration order; built-in plugins register
+    before third-party ones, so an installed plugin cannot silently replace it.
+
+    Raises
+    ------
+    SceneError
+        If no registered scene is flagged as the default (e.g. its plugin was blocked).
+    """
+    for entry in entries("scene").values():
+        if getattr(entry, "default", False):
+            return entry  # type: ignore[return-value]
+    from poissonkit.errors import SceneError
+
+    raise SceneError("no default scene is registered (is the magnets plugin blocked or "
+                     "broken? see `poissonkit plugins`); name a scene file or scene")
+
+
 def names(kind: str) -> list[str]:
     """Sorted names in registry ``kind``."""
     return sorted(entries(kind))
