@@ -1,7 +1,14 @@
 """poissonkit — Hamiltonian mechanics on Poisson manifolds.
 
 Declare a bracket, prove it is Poisson, find its Casimirs, then integrate the dynamics fast and
-accurately. Conventions: :mod:`poissonkit.conventions`.
+accurately. ``import poissonkit as pk`` gives the everyday API listed in :data:`__all__`; the
+submodules (:mod:`poissonkit.structure`, :mod:`poissonkit.numerics`, :mod:`poissonkit.scene`,
+:mod:`poissonkit.plugin`, ...) hold the rest for the specialist. Conventions:
+:mod:`poissonkit.conventions`.
+
+The API reference of the documentation is generated from :data:`__all__` (grouped by the
+subpackage each name lives in), so a new public name is added in one place: ``_LAZY`` below
+(or the eager imports plus ``__all__``).
 """
 
 from __future__ import annotations
@@ -16,7 +23,12 @@ from poissonkit.structure import (
     canonical,
     direct_sum,
     e3,
+    find_casimirs,
+    in_involution,
+    is_casimir,
+    is_first_integral,
     lie_poisson,
+    rank,
     so3,
     symmetric_top,
 )
@@ -27,18 +39,35 @@ except PackageNotFoundError:  # running from a source tree without installation
     __version__ = "0.0.0"
 
 # Heavier parts are imported on first use so `import poissonkit` stays fast.
+# name -> module that defines it (the API reference documents it from there).
 _LAZY: dict[str, str] = {
-    "pair_interaction": "poissonkit.interaction",
-    "check_jacobi": "poissonkit.structure.jacobi",
-    "schouten_bracket": "poissonkit.structure.schouten",
-    "find_casimirs": "poissonkit.structure.casimirs",
+    # symbolic structures
     "se3": "poissonkit.structure.blocks",
     "p_gf": "poissonkit.structure.deformed",
     "chaplygin_ball": "poissonkit.structure.deformed",
+    "check_jacobi": "poissonkit.structure.jacobi",
+    "schouten_bracket": "poissonkit.structure.schouten",
+    "is_poisson_map": "poissonkit.structure.poisson_map",
+    "parse_expression": "poissonkit.structure.parsing",
+    "verify": "poissonkit.commands.verify",
+    # numerics
     "solve": "poissonkit.numerics.solver",
-    "load_scene": "poissonkit.scene",
-    "build_run": "poissonkit.scene",
+    "Solution": "poissonkit.numerics.solution",
+    "compile_system": "poissonkit.numerics.system",
+    "NBodySystem": "poissonkit.numerics.nbody",
+    "Body": "poissonkit.numerics.nbody",
+    "RunSpec": "poissonkit.numerics.runspec",
+    # magnets
+    "pair_interaction": "poissonkit.interaction",
     "PairInteraction": "poissonkit.interaction",
+    # scenes
+    "load_scene": "poissonkit.scene.loader",
+    "build_run": "poissonkit.scene.build",
+    # registries (integrators, potentials, ... contributed by plugins)
+    "integrators": "poissonkit.plugin.registry",
+    "integrator": "poissonkit.plugin.registry",
+    "names": "poissonkit.plugin.registry",
+    "plugin_reports": "poissonkit.plugin.manager",
 }
 
 
@@ -49,7 +78,13 @@ def __getattr__(name: str):
     raise AttributeError(f"module 'poissonkit' has no attribute {name!r}")
 
 
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
+
+
+#: The public names of ``import poissonkit as pk`` (the API reference lists exactly these).
 __all__ = [
-    "Bivector", "HamiltonianSystem", "PoissonkitError", "__version__", "canonical",
-    "direct_sum", "e3", "lie_poisson", "so3", "symmetric_top", *_LAZY,
+    "Bivector", "HamiltonianSystem", "PoissonkitError", "canonical", "direct_sum", "e3",
+    "find_casimirs", "in_involution", "is_casimir", "is_first_integral", "lie_poisson", "rank",
+    "so3", "symmetric_top", *_LAZY,
 ]

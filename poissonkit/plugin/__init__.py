@@ -15,6 +15,7 @@ from poissonkit.plugin.registry import (
     assembly,
     default_scene,
     integrator,
+    integrators,
     lookup,
     names,
     potential,
@@ -24,6 +25,7 @@ from poissonkit.plugin.registry import (
 
 __all__ = [
     "Assembly", "Entry", "IntegratorEntry", "PairPotential", "Param", "SceneEntry", "SystemEntry",
-    "assembly", "default_scene", "entries", "hookimpl", "integrator", "lookup", "names", "plugin_manager",
+    "assembly", "default_scene", "entries", "hookimpl", "integrator", "integrators", "lookup",
+    "names", "plugin_manager",
     "plugin_reports", "potential", "reset", "scene", "system",
 ]

@@ -42,6 +42,24 @@ def integrator(name: str) -> IntegratorEntry:
     return lookup("integrator", name)  # type: ignore[return-value]
 
 
+def integrators() -> dict[str, IntegratorEntry]:
+    """Every registered integrator by name (built-in and from plugins).
+
+    Returns
+    -------
+    dict of str to IntegratorEntry
+        Each entry carries its ``doc``, ``order``, ``family`` and typed ``params``; pass the
+        name as ``method=`` to :func:`poissonkit.solve`.
+
+    Examples
+    --------
+    >>> import poissonkit as pk
+    >>> "splitting6" in pk.integrators()
+    True
+    """
+    return entries("integrator")  # type: ignore[return-value]
+
+
 def scene(name: str) -> SceneEntry:
     """The built-in scene registered as ``name``."""
     return lookup("scene", name)  # type: ignore[return-value]
