@@ -21,11 +21,13 @@ import json
 import re
 import signal
 import threading
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 import sympy as sp
 
+from poissonkit._display import html_table, latex_table
 from poissonkit.errors import InputError, ParseError, PoissonkitError
 
 #: Keys a JSON structure file may contain.
@@ -311,13 +313,95 @@ def _system_section(sys_, report: dict, notes: list[str], method: str = "auto",
     return ok
 
 
-def verify(obj, name: str = "", doc: str = "", *, casimir_degree: int = 2, method: str = "auto",
-           seed: int | None = None, timeout: float = 30.0, claims: tuple = ()) -> dict:
-    """Build the verification report of a bivector or system as a JSON-ready dict.
+class VerifyReport(dict):
+    """The report of :func:`verify`: a JSON-ready ``dict`` that also displays itself.
 
-    ``report["ok"]`` is true when ``P`` is Poisson and every claimed property holds;
-    ``report["status"]`` is ``"ok"``, ``"failed"`` (a property does not hold) or ``"error"``
-    (a check raised: listed in ``report["errors"]``; the report is then never ok).
+    ``str(report)`` is the text ``poissonkit verify`` prints; in a notebook it shows as an HTML
+    table (``_repr_html_``) or a LaTeX array (``_repr_latex_``). Being a ``dict``, it goes to
+    ``json.dumps`` unchanged.
+    """
+
+    def __str__(self) -> str:
+        return format_report(self)
+
+    def _repr_pretty_(self, p, cycle: bool) -> None:
+        p.text("VerifyReport(...)" if cycle else str(self))
+
+    def _rows(self) -> list[tuple[str, str]]:
+        jac = self["jacobi"]
+        rows = [("dimension", str(self["dim"])),
+                ("Jacobi identity", ("holds" if jac["is_poisson"] else "FAILS")
+                 + f" ({jac['method']})")]
+        rows += [(k, v) for k, v in jac["failures"].items()]
+        if self.get("rank") is not None:
+            rows.append(("rank (generic)", str(self["rank"])))
+        if self.get("casimirs") is not None:
+            rows.append((f"Casimirs (degree <= {self.get('casimir_degree')})",
+                         ", ".join(self["casimirs"]) or "none"))
+        for c in (self.get("system") or {}).get("checks", []):
+            state = "ERROR" if c.get("status") == "error" else ("holds" if c.get("holds")
+                                                                 else "FAILS")
+            rows.append((c["what"], state))
+        rows += [("note", n) for n in self.get("notes", [])]
+        rows += [("error", e) for e in self.get("errors", [])]
+        return rows
+
+    def _title(self) -> str:
+        return f"{self.get('name') or 'structure'}: {self.get('status', '')}"
+
+    def _repr_html_(self) -> str:
+        """HTML table: Jacobi identity, rank, Casimirs and each claimed property (Jupyter)."""
+        return html_table(self._title(), self._rows(), ok=bool(self.get("ok")))
+
+    def _repr_latex_(self) -> str:
+        """The same summary as a LaTeX array."""
+        return latex_table([("report", self._title()), *self._rows()])
+
+
+def verify(obj, name: str = "", doc: str = "", *, casimir_degree: int = 2, method: str = "auto",
+           seed: int | None = None, timeout: float = 30.0, claims: tuple = ()) -> VerifyReport:
+    """Verify a bivector or system: Jacobi identity, brackets, rank, Casimirs, claims.
+
+    What ``poissonkit verify`` runs, as a function.
+
+    Parameters
+    ----------
+    obj
+        A :class:`~poissonkit.structure.Bivector` or a
+        :class:`~poissonkit.structure.HamiltonianSystem` (whose claimed Casimirs, integrals,
+        invariant measure and original equations are checked too).
+    name, doc
+        Identification for the report.
+    casimir_degree
+        Degree up to which polynomial Casimirs are searched.
+    method
+        ``"auto"``, ``"exact"`` or ``"random"`` (see :func:`poissonkit.check_jacobi`).
+    seed
+        Seed of the random checks (reproducible reports).
+    timeout
+        Seconds allowed for the rank and Casimir search (a note says when it was cut).
+    claims
+        Extra callables ``claim(system) -> (holds, detail, method)``.
+
+    Returns
+    -------
+    VerifyReport
+        A JSON-ready dict. ``report["ok"]`` is true when ``P`` is Poisson and every claimed
+        property holds; ``report["status"]`` is ``"ok"``, ``"failed"`` (a property does not
+        hold) or ``"error"`` (a check raised: listed in ``report["errors"]``; the report is
+        then never ok).
+
+    Raises
+    ------
+    InputError
+        If ``obj`` is neither a bivector nor a system.
+
+    Examples
+    --------
+    >>> import poissonkit as pk
+    >>> report = pk.verify(pk.so3(), name="so3")
+    >>> report["ok"], report["casimirs"]
+    (True, ['m_x**2 + m_y**2 + m_z**2'])
     """
     from poissonkit.structure.bivector import Bivector
     from poissonkit.structure.jacobi import check_jacobi
@@ -334,7 +418,7 @@ def verify(obj, name: str = "", doc: str = "", *, casimir_degree: int = 2, metho
     res = check_jacobi(P, method=method, seed=seed, constraints=sys_.constraints if sys_ else ())
     brackets = {f"{{{P.coords[i]}, {P.coords[j]}}}": str(P.matrix[i, j])
                 for i in range(P.dim) for j in range(i + 1, P.dim) if P.matrix[i, j] != 0}
-    report: dict[str, Any] = {
+    report = VerifyReport({
         "name": name, "doc": doc, "dim": P.dim, "coords": list(P.names),
         "jacobi": {
             "is_poisson": res.is_poisson, "method": res.method,
@@ -343,7 +427,7 @@ def verify(obj, name: str = "", doc: str = "", *, casimir_degree: int = 2, metho
             "seconds": round(res.seconds, 4), "note": res.note,
         },
         "brackets": brackets, "rank": None, "casimirs": None, "notes": notes, "errors": [],
-    }
+    })
     ok = res.is_poisson
     if res.is_poisson:
         _casimir_section(P, casimir_degree, report, notes, timeout)
@@ -358,48 +442,55 @@ def verify(obj, name: str = "", doc: str = "", *, casimir_degree: int = 2, metho
 
 
 # ---------------------------------------------------------------------------------- output
-def _print_report(rep: dict) -> None:
+def format_report(rep: Mapping[str, Any]) -> str:
+    """The text form of a report of :func:`verify` (what ``poissonkit verify`` prints)."""
+    lines: list[str] = []
     jac = rep["jacobi"]
-    print(f"{rep['name']}: {rep['doc']}")
-    print(f"dimension {rep['dim']}, coordinates {', '.join(rep['coords'])}")
+    lines.append(f"{rep['name']}: {rep['doc']}")
+    lines.append(f"dimension {rep['dim']}, coordinates {', '.join(rep['coords'])}")
     if jac["is_poisson"]:
         extra = "" if jac["method"] == "exact" else \
             f", false-positive probability <= {jac['false_positive_bound']:.1e}"
-        print(f"Jacobi identity: OK ({jac['method']}, {jac['seconds']:.3f} s{extra})")
+        lines.append(f"Jacobi identity: OK ({jac['method']}, {jac['seconds']:.3f} s{extra})")
     else:
-        print(f"Jacobi identity: FAILED ({len(jac['failures'])} non-zero component(s))")
+        lines.append(f"Jacobi identity: FAILED ({len(jac['failures'])} non-zero component(s))")
         for k, v in list(jac["failures"].items())[:20]:
-            print(f"    {k} = {v}")
-    print("Brackets of the coordinates:")
+            lines.append(f"    {k} = {v}")
+    lines.append("Brackets of the coordinates:")
     for k, v in rep["brackets"].items():
-        print(f"    {k} = {v}")
+        lines.append(f"    {k} = {v}")
     if not rep["brackets"]:
-        print("    (all zero)")
+        lines.append("    (all zero)")
     if rep["rank"] is not None:
-        print(f"Rank (generic): {rep['rank']}")
+        lines.append(f"Rank (generic): {rep['rank']}")
     if rep["casimirs"] is not None:
         found = rep["casimirs"]
-        print(f"Casimirs (polynomial, degree <= {rep['casimir_degree']}): "
+        lines.append(f"Casimirs (polynomial, degree <= {rep['casimir_degree']}): "
               + (", ".join(found) if found else "none"))
     sys_ = rep.get("system")
     if sys_:
-        print(f"Hamiltonian: H = {sys_['hamiltonian']}")
-        print(f"Multiplier: N = {sys_['multiplier']}   (xdot = N P dH)")
-        print("Equations of motion:")
+        lines.append(f"Hamiltonian: H = {sys_['hamiltonian']}")
+        lines.append(f"Multiplier: N = {sys_['multiplier']}   (xdot = N P dH)")
+        lines.append("Equations of motion:")
         for k, v in sys_["equations_of_motion"].items():
-            print(f"    {k} = {v}")
+            lines.append(f"    {k} = {v}")
         for c in sys_["checks"]:
             if c.get("status") == "error":
-                print(f"{c['what']}: ERROR ({c['error']})")
+                lines.append(f"{c['what']}: ERROR ({c['error']})")
                 continue
             how = f"  ({c['method']})" if c.get("method") and c["method"] != "exact" else ""
-            print(f"{c['what']}: {'OK' if c['holds'] else 'FAILED'}{how}")
+            lines.append(f"{c['what']}: {'OK' if c['holds'] else 'FAILED'}{how}")
             for f in c.get("failures", []):
-                print(f"    {f}")
+                lines.append(f"    {f}")
     for n in rep["notes"]:
-        print(f"note: {n}")
+        lines.append(f"note: {n}")
     for e in rep.get("errors", []):
-        print(f"error: {e}")
+        lines.append(f"error: {e}")
+    return "\n".join(lines)
+
+
+def _print_report(rep: dict) -> None:
+    print(format_report(rep))
 
 
 def _list_entries(as_json: bool) -> int:

@@ -7,7 +7,17 @@ from typing import Any
 
 import numpy as np
 
+from poissonkit._display import html_table, latex_table, text_block
+from poissonkit.errors import InputError, MissingDependencyError
 from poissonkit.numerics.events import EventRecord
+
+#: Invariants :meth:`Solution.plot` can draw: name -> (method, legend label).
+DRIFTS: dict[str, tuple[str, str]] = {
+    "energy": ("energy_error", "|ΔH|/|H|"),
+    "casimirs": ("casimir_drift", "Casimir drift"),
+    "momentum": ("momentum_drift", "|ΔP|/|P|"),
+    "angular_momentum": ("angular_momentum_drift", "|Δj|/|j|"),
+}
 
 
 def _relative(values: np.ndarray, ref: np.ndarray, scale: np.ndarray | float) -> np.ndarray:
@@ -127,3 +137,134 @@ class Solution:
             out["max_momentum_drift"] = float(np.max(self.momentum_drift()))
             out["max_angular_momentum_drift"] = float(np.max(self.angular_momentum_drift()))
         return out
+
+    # ------------------------------------------------------------------ display
+    def __repr__(self) -> str:
+        return (f"Solution(method={self.method!r}, steps={int(self.steps)}, "
+                f"t=[{float(self.t[0]):.6g}, {float(self.t[-1]):.6g}], saved={len(self.t)}, "
+                f"dim={self.y.shape[-1] if self.y.ndim == 2 else 0})")
+
+    def _rows(self) -> list[tuple[str, str]]:
+        s = self.summary()
+        rows = [("method", str(s["method"])), ("steps", str(s["steps"])),
+                ("t", f"{s['t_start']:.6g} .. {s['t_end']:.6g} ({s['saved']} saved states)"),
+                ("wall time", f"{s['wall_time']:.3g} s"),
+                ("step" if s["step"] is not None else "tol",
+                 f"{s['step'] if s['step'] is not None else s['tol']}")]
+        for key, label, needs in (("max_energy_error", "max |ΔH|/|H|", "energy"),
+                                  ("max_casimir_drift", "max Casimir drift", "casimirs"),
+                                  ("max_momentum_drift", "max |ΔP|/|P|", "linear_momentum"),
+                                  ("max_angular_momentum_drift", "max |Δj|/|j|",
+                                   "angular_momentum")):
+            if key in s and hasattr(self.system, needs):  # only what the system defines
+                rows.append((label, f"{s[key]:.2e}"))
+        rows += [("event", f"{e.kind} at t = {e.time:.6g}") for e in self.events]
+        if s["message"]:
+            rows.append(("message", str(s["message"])))
+        return rows
+
+    def __str__(self) -> str:
+        """Method, steps, time span, wall time and the largest invariant drifts."""
+        return text_block(f"Solution ({self._system_name()})", self._rows())
+
+    def _system_name(self) -> str:
+        named = getattr(self.system, "hamiltonian_system", self.system)  # compiled: its source
+        return str(getattr(named, "name", "") or type(self.system).__name__)
+
+    def _repr_pretty_(self, p, cycle: bool) -> None:
+        p.text("Solution(...)" if cycle else str(self))
+
+    def _repr_html_(self) -> str:
+        """HTML table of :meth:`summary` (Jupyter)."""
+        return html_table(f"Solution ({self._system_name()})", self._rows())
+
+    def _repr_latex_(self) -> str:
+        """:meth:`summary` as a LaTeX array."""
+        return latex_table(self._rows())
+
+    # ------------------------------------------------------------------ export
+    def layout(self) -> tuple[str, ...]:
+        """Names of the state components (the system's ``layout``, else ``y0 .. y{n-1}``)."""
+        dim = self.y.shape[-1]
+        names = tuple(str(n) for n in (getattr(self.system, "layout", None) or ()))
+        return names if len(names) == dim else tuple(f"y{i}" for i in range(dim))
+
+    def to_xarray(self):
+        """The run as an :class:`xarray.Dataset` (needs the optional ``xarray`` package).
+
+        Returns
+        -------
+        xarray.Dataset
+            ``y`` with dimensions ``(t, component)`` (component names from the system's
+            layout), the drifts ``energy_error``, ``casimir_drift``, ``momentum_drift``,
+            ``angular_momentum_drift`` along ``t`` when the system is known, and the run's
+            method, steps, wall time, step and tolerance as attributes (``None`` left out, so
+            the dataset writes to netCDF/zarr as is).
+
+        Raises
+        ------
+        MissingDependencyError
+            If xarray is not installed (``pip install xarray``).
+        """
+        try:
+            import xarray as xr
+        except ImportError:
+            raise MissingDependencyError(
+                "Solution.to_xarray needs xarray: pip install xarray") from None
+        data = {"y": (("t", "component"), np.asarray(self.y, dtype=float))}
+        if self.system is not None:
+            for name in ("energy_error", "casimir_drift", "momentum_drift",
+                         "angular_momentum_drift"):
+                data[name] = (("t",), np.asarray(getattr(self, name)(), dtype=float))
+        attrs = {"method": self.method, "steps": int(self.steps), "nfev": int(self.nfev),
+                 "wall_time": float(self.wall_time), "step": self.step, "tol": self.tol,
+                 "message": self.message, "system": self._system_name() if self.system else None}
+        return xr.Dataset(data, coords={"t": np.asarray(self.t, dtype=float),
+                                        "component": list(self.layout())},
+                          attrs={k: v for k, v in attrs.items() if v is not None})
+
+    def plot(self, ax=None, invariants=("energy", "casimirs", "angular_momentum")):
+        """Plot the drift of the invariants against time, log scale.
+
+        Parameters
+        ----------
+        ax
+            A matplotlib ``Axes`` to draw on; a new figure is made if ``None``.
+        invariants
+            Any of ``"energy"``, ``"casimirs"``, ``"momentum"``, ``"angular_momentum"``.
+            Drifts that are zero throughout (e.g. a system without Casimirs) are skipped.
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            The axes drawn on.
+
+        Raises
+        ------
+        InputError
+            For an unknown invariant name, or a solution without its system.
+        """
+        if self.system is None:
+            raise InputError("Solution.plot needs the solution's system (solution.system)")
+        unknown = [n for n in invariants if n not in DRIFTS]
+        if unknown:
+            raise InputError(f"Solution.plot: unknown invariant {unknown[0]!r}; available: "
+                             f"{', '.join(DRIFTS)}")
+        if ax is None:
+            import matplotlib.pyplot as plt
+
+            _fig, ax = plt.subplots(figsize=(6.4, 3.6))
+        t = np.asarray(self.t, dtype=float)
+        for name in invariants:
+            method, label = DRIFTS[name]
+            values = np.asarray(getattr(self, method)(), dtype=float)
+            if not np.any(values > 0):
+                continue
+            # zeros (e.g. at t = 0) cannot be drawn on a log axis
+            ax.semilogy(t, np.where(values > 0, values, np.nan), label=label)
+        ax.set_xlabel("t (internal units)")
+        ax.set_ylabel("relative drift")
+        ax.set_title(f"{self._system_name()}: {self.method}, {int(self.steps)} steps")
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(loc="best")
+        return ax

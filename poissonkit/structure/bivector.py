@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from poissonkit._display import html_table, latex_aligned, text_block
 from poissonkit.errors import DimensionError, InputError, ParseError, UnknownNameError
 from poissonkit.structure._expr import as_expr, as_symbols, as_sympy
 
@@ -244,6 +245,38 @@ class Bivector:
 
     def __repr__(self) -> str:
         return f"Bivector(coords={self.names}, matrix={self.matrix.tolist()})"
+
+    # ------------------------------------------------------------------ display
+    def _nonzero(self) -> list[tuple[int, int]]:
+        n = self.dim
+        return [(i, j) for i in range(n) for j in range(i + 1, n) if self.matrix[i, j] != 0]
+
+    def _title(self) -> str:
+        parts = [f"{name}({stop - start})" for name, start, stop in self.blocks if name]
+        blocks = f", blocks {' + '.join(parts)}" if len(parts) > 1 else ""
+        return f"Bivector on R^{self.dim}{blocks}"
+
+    def __str__(self) -> str:
+        """The non-zero brackets of the coordinates, one per line."""
+        rows = [(f"{{{self.coords[i]}, {self.coords[j]}}}", str(self.matrix[i, j]))
+                for i, j in self._nonzero()]
+        return text_block(f"{self._title()}: coordinates {', '.join(self.names)}",
+                          rows or [("(all brackets zero)", "")])
+
+    def _repr_pretty_(self, p, cycle: bool) -> None:
+        p.text("Bivector(...)" if cycle else str(self))
+
+    def _repr_html_(self) -> str:
+        """HTML table of the non-zero brackets (Jupyter)."""
+        rows = [(f"{{{self.coords[i]}, {self.coords[j]}}}", str(self.matrix[i, j]))
+                for i, j in self._nonzero()]
+        return html_table(f"{self._title()}: coordinates {', '.join(self.names)}", rows)
+
+    def _repr_latex_(self) -> str:
+        """The non-zero brackets as aligned LaTeX equations (Jupyter, Markdown renderers)."""
+        rows = [(f"\\{{{sp.latex(self.coords[i])}, {sp.latex(self.coords[j])}\\}}",
+                 sp.latex(self.matrix[i, j])) for i, j in self._nonzero()]
+        return latex_aligned(rows or [("P", "0")])
 
 
 def direct_sum(*parts: tuple[str, Bivector] | Bivector) -> Bivector:

@@ -45,6 +45,7 @@ from itertools import combinations
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
+from poissonkit._display import html_table, latex_aligned, latex_text, text_block
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.structure._expr import as_bivector, as_expr, as_symbols
 from poissonkit.structure.bivector import Bivector
@@ -110,6 +111,34 @@ class CheckResult:
     def __repr__(self) -> str:
         status = "holds" if self.holds else f"fails ({len(self.failures)} non-zero)"
         return f"CheckResult({self.what}: {status})"
+
+    # ------------------------------------------------------------------ display
+    def _title(self) -> str:
+        how = self.method if self.method == "exact" else \
+            f"{self.method}, false-positive probability <= {self.false_positive_bound:.1e}"
+        status = "holds" if self.holds else f"FAILS ({len(self.failures)} non-zero)"
+        return f"{self.what or 'check'}: {status} ({how})"
+
+    def _rows(self) -> list[tuple[str, str]]:
+        rows = [(str(label), str(v)) for label, v in self.failures]
+        return rows + ([("note", self.note)] if self.note else [])
+
+    def __str__(self) -> str:
+        """What was checked, whether it holds and how, and the non-vanishing residuals."""
+        return text_block(self._title(), self._rows())
+
+    def _repr_pretty_(self, p, cycle: bool) -> None:
+        p.text("CheckResult(...)" if cycle else str(self))
+
+    def _repr_html_(self) -> str:
+        """HTML summary with the residuals (Jupyter)."""
+        return html_table(self._title(), self._rows(), ok=self.holds)
+
+    def _repr_latex_(self) -> str:
+        """The residuals as LaTeX equations (or the statement that the check holds)."""
+        if self.holds:
+            return latex_aligned([(latex_text(self.what or "check"), latex_text("holds"))])
+        return latex_aligned([(latex_text(str(label)), sp.latex(v)) for label, v in self.failures])
 
 
 # ---------------------------------------------------------------------------------- atoms

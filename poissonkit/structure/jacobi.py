@@ -47,6 +47,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
+from poissonkit._display import html_table, latex_aligned, latex_text, text_block
 from poissonkit.errors import InputError, NotPoissonError
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
@@ -106,6 +107,40 @@ class JacobiResult:
             names = [str(self.coords[t]) if self.coords else str(t) for t in (i, j, k)]
             out[f"Jac({', '.join(names)})"] = v
         return out
+
+    # ------------------------------------------------------------------ display
+    def _title(self) -> str:
+        if not self.is_poisson:
+            return f"Jacobi identity: FAILS ({len(self.failures)} non-zero component(s))"
+        extra = "" if self.method == "exact" else \
+            f", false-positive probability <= {self.false_positive_bound:.1e}"
+        return f"Jacobi identity: holds ({self.method}, {self.seconds:.3g} s{extra})"
+
+    def _rows(self) -> list[tuple[str, str]]:
+        rows = [(k, str(v)) for k, v in self.named_failures().items()]
+        return rows + ([("note", self.note)] if self.note else [])
+
+    def __str__(self) -> str:
+        """Whether the identity holds, how it was checked, and the non-zero components."""
+        return text_block(self._title(), self._rows())
+
+    def _repr_pretty_(self, p, cycle: bool) -> None:
+        p.text("JacobiResult(...)" if cycle else str(self))
+
+    def _repr_html_(self) -> str:
+        """HTML summary with the non-zero components (Jupyter)."""
+        return html_table(self._title(), self._rows(), ok=self.is_poisson)
+
+    def _repr_latex_(self) -> str:
+        """The non-zero Jacobiator components as LaTeX equations (or that it vanishes)."""
+        if self.is_poisson:
+            return latex_aligned([("\\operatorname{Jac}", f"0 \\quad {latex_text(self._title())}")])
+        rows = []
+        for (i, j, k), v in self.failures.items():
+            names = ", ".join(sp.latex(self.coords[t]) if self.coords else str(t)
+                              for t in (i, j, k))
+            rows.append((f"\\operatorname{{Jac}}({names})", sp.latex(v)))
+        return latex_aligned(rows)
 
 
 # ---------------------------------------------------------------------- radicals and atoms

@@ -10,6 +10,7 @@ from typing import Any
 
 import sympy as sp
 
+from poissonkit._display import html_table, latex_aligned, latex_text, text_block
 from poissonkit.errors import InputError, UnknownNameError
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
@@ -140,3 +141,44 @@ class HamiltonianSystem:
         merged = dict(self.params)
         merged.update(values)
         return replace(self, params=merged)
+
+    # ------------------------------------------------------------------ display
+    def _rows(self, fmt) -> list[tuple[str, str]]:
+        rows = [("H", fmt(self.hamiltonian))]
+        if self.multiplier != 1:
+            rows.append(("N", fmt(self.multiplier)))
+        rows += [(f"Casimir {k}", fmt(v)) for k, v in self.casimirs.items()]
+        rows += [(f"integral {k}", fmt(v)) for k, v in self.integrals.items()]
+        if self.measure is not None:
+            rows.append(("measure", fmt(self.measure)))
+        rows += [(f"constraint {i + 1}", fmt(c)) for i, c in enumerate(self.constraints)]
+        rows += [(f"param {k}", str(v)) for k, v in self.params.items()]
+        return rows
+
+    def _title(self) -> str:
+        name = f" {self.name!r}" if self.name else ""
+        doc = f" — {self.doc}" if self.doc else ""
+        return (f"HamiltonianSystem{name} on R^{self.structure.dim} "
+                f"({', '.join(self.structure.names)}){doc}")
+
+    def __str__(self) -> str:
+        """Name, coordinates, ``H``, ``N`` and the claimed invariants, one per line."""
+        return text_block(self._title(), self._rows(str))
+
+    def _repr_pretty_(self, p, cycle: bool) -> None:
+        p.text("HamiltonianSystem(...)" if cycle else str(self))
+
+    def _repr_html_(self) -> str:
+        """HTML table of ``H``, ``N`` and the claimed invariants (Jupyter)."""
+        return html_table(self._title(), self._rows(str))
+
+    def _repr_latex_(self) -> str:
+        """``H``, ``N`` and the claimed invariants as aligned LaTeX equations."""
+        rows = [("H", sp.latex(self.hamiltonian))]
+        if self.multiplier != 1:
+            rows.append(("N", sp.latex(self.multiplier)))
+        rows += [(f"C_{{{latex_text(k)}}}", sp.latex(v)) for k, v in self.casimirs.items()]
+        rows += [(f"I_{{{latex_text(k)}}}", sp.latex(v)) for k, v in self.integrals.items()]
+        if self.measure is not None:
+            rows.append(("\\rho", sp.latex(self.measure)))
+        return latex_aligned(rows)
