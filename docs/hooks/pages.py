@@ -13,7 +13,8 @@
 from __future__ import annotations
 
 import ast
-import importlib
+import functools
+import importlib.util
 import logging
 from pathlib import Path
 from typing import Any
@@ -41,6 +42,21 @@ SECTIONS: tuple[tuple[str, str, str, str], ...] = (
 
 
 _PAGES: dict[str, str] = {}
+
+
+@functools.lru_cache(maxsize=None)
+def _roles_module():
+    spec = importlib.util.spec_from_file_location(
+        "poissonkit_docs_sphinx_roles", Path(__file__).with_name("sphinx_roles.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _replace_roles(text: str) -> str:
+    """Sphinx roles as inline code (the griffe extension beside this file does the same for
+    the rendered docstrings)."""
+    return _roles_module().replace_roles(text)
 
 
 def _root(config: Any) -> Path:
@@ -99,7 +115,7 @@ def _api_pages() -> dict[str, str]:
         for name, path in items:
             lines += [f"::: {path}", ""]
             doc = (getattr(poissonkit, name).__doc__ or "").strip().splitlines()
-            summary = doc[0].replace("|", "\\|") if doc else ""
+            summary = _replace_roles(doc[0]).replace("|", "\\|") if doc else ""
             anchor = path
             index.append(f"| [`pk.{name}`]({slug}.md#{anchor}) | {title} | {summary} |")
         pages[f"api/{slug}.md"] = "\n".join(lines)
