@@ -58,3 +58,32 @@ def test_public_api_names_resolve():
         assert getattr(poissonkit, name) is not None, name
     with pytest.raises(AttributeError):
         poissonkit.does_not_exist  # noqa: B018
+
+
+def test_public_surface_has_the_everyday_api_and_stays_lazy():
+    everyday = {"Bivector", "HamiltonianSystem", "canonical", "e3", "so3", "direct_sum",
+                "check_jacobi", "find_casimirs", "rank", "verify", "pair_interaction",
+                "load_scene", "build_run", "solve", "Solution", "integrators", "integrator"}
+    assert everyday <= set(poissonkit.__all__)
+    assert len(poissonkit.__all__) == len(set(poissonkit.__all__))
+    assert set(poissonkit.__all__) <= set(dir(poissonkit))
+    # the numerics are imported on first use, not by `import poissonkit`
+    code = ("import sys, poissonkit; print('poissonkit.numerics.solver' in sys.modules); "
+            "poissonkit.solve; print('poissonkit.numerics.solver' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120)
+    assert out.stdout.split() == ["False", "True"], out.stderr
+
+
+def test_integrator_registry_is_reachable_from_the_top_level():
+    reg = poissonkit.integrators()
+    assert {"splitting2", "splitting4", "splitting6", "splitting8", "midpoint"} <= set(reg)
+    assert poissonkit.integrator("splitting6").order == 6
+    assert reg["splitting4"].order == 4
+
+
+def test_version_option_prints_the_version(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0
+    assert capsys.readouterr().out.strip() == f"poissonkit {poissonkit.__version__}"

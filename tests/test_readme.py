@@ -23,3 +23,10 @@ def test_readme_example_runs_and_prints_what_it_claims():
     energy, force = lines[3].split(" ", 1)
     assert float(energy) < 0                                   # opposite axes side by side attract
     assert float(force.strip("[] ").split()[0]) < 0            # pulled back towards body 1
+
+
+def test_readme_example_uses_the_public_surface_only():
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(), re.S)
+    imports = [line.strip() for b in blocks for line in b.splitlines()
+               if re.match(r"\s*(from|import)\s", line)]
+    assert imports == ["import poissonkit as pk"] * len(blocks), imports

@@ -16,6 +16,10 @@ from poissonkit.structure.bivector import direct_sum
 from poissonkit.structure.blocks import canonical, e3, se3, so3
 
 
+# The two-top structure and system stay in the core although seed 000 introduced them: they are
+# the generic bracket of two interacting rigid bodies with an undefined potential U (no magnet,
+# parameter, orbit or fate in them), like the survey's brackets tagged "seed001"; the tag
+# records provenance. The seed 000 *scene* lives in the magnets plugin.
 def two_tops() -> object:
     """Seed 000 eq. (15): ``canonical(r, p) + e(3) + e(3)`` on R^18."""
     return direct_sum(("orbit", canonical(3, "r", "p")), ("top1", e3()), ("top2", e3()))
