@@ -16,6 +16,7 @@ import ast
 import functools
 import importlib.util
 import logging
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -69,6 +70,8 @@ def public_api() -> dict[str, str]:
 
     out: dict[str, str] = {}
     for name in poissonkit.__all__:
+        if name.startswith("__"):  # __version__ and the like: shown on the index page
+            continue
         if name in poissonkit._LAZY:
             out[name] = f"{poissonkit._LAZY[name]}.{name}"
             continue
@@ -173,6 +176,10 @@ def _gallery_pages(root: Path, figures: dict[str, list[str]]) -> dict[str, str]:
 
 def _generated(config: Any) -> dict[str, str]:
     root = _root(config)
+    # document the tree being built, whatever else is installed
+    for path in (str(root / "plugins"), str(root)):
+        if path not in sys.path:
+            sys.path.insert(0, path)
     api = public_api()
     _check_docstrings(api)
     pages = _api_pages()

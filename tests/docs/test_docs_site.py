@@ -70,11 +70,11 @@ def _documented_roots(site: Path) -> set[str]:
 
 def test_site_builds_strict_and_the_api_reference_is_exactly_the_public_list(site):
     api = _hook().public_api()
-    assert set(api) == set(poissonkit.__all__)
+    assert set(api) == {n for n in poissonkit.__all__ if not n.startswith("__")}
     assert _documented_roots(site) == set(api.values())
     # the index page links every public name
     index = (site / "api" / "index.html").read_text(encoding="utf-8")
-    for name in poissonkit.__all__:
+    for name in api:
         assert f"pk.{name}</code>" in index, name
 
 
