@@ -10,8 +10,9 @@ step sizes (fixed-step methods) or tolerances (adaptive ones), and writes to ``-
 * ``workprecision.png`` — both errors against wall time, log–log;
 * ``workprecision.md`` — the reference check and the table of time-to-error 1e-6 / 1e-9.
 
-Without a scene it uses the registered default scene (the seed 000 orbit), perturbed (axes tilted by ``--tilt`` rad, default
-0.05) so that every degree of freedom moves, for ``--periods`` orbital periods (default 20).
+Without a scene it uses the registered default scene (the seed 000 orbit), perturbed (axes
+tilted by ``--tilt`` rad, default 0.05) so that every degree of freedom moves, for ``--periods``
+orbital periods (default 20).
 """
 
 from __future__ import annotations

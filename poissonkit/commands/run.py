@@ -2,7 +2,8 @@
 
 Without a scene it runs the registered default scene — the seed 000 orbit of the magnets plugin
 (``seed000``, :func:`poissonkit_magnets.seed000.scene_run`): two cylinder magnets (dumbbell model)
-on the circular orbit of radius 10 mm, 20 periods with the order-6 splitting method. Output folder (default ``./poissonkit-output``):
+on the circular orbit of radius 10 mm, 20 periods with the order-6 splitting method. Output
+folder (default ``./poissonkit-output``):
 
 * ``summary.json`` — parameters, ``P_orb``, ``T_orb``, method, steps, wall time (integration;
   the one-time compilation separately), maximum relative energy error, maximum Casimir drift,
