@@ -100,6 +100,15 @@ def _check_docstrings(api: dict[str, str]) -> None:
         obj = getattr(poissonkit, name)
         if not (getattr(obj, "__doc__", None) or "").strip():
             log.warning("public name poissonkit.%s has no docstring", name)
+        if not isinstance(obj, type):
+            continue
+        # public methods and properties a class defines itself appear in its reference too
+        for member, value in vars(obj).items():
+            func = value.fget if isinstance(value, property) else getattr(value, "__func__", value)
+            if member.startswith("_") or not (callable(func) or isinstance(value, property)):
+                continue
+            if not (getattr(func, "__doc__", None) or "").strip():
+                log.warning("public method poissonkit.%s.%s has no docstring", name, member)
 
 
 def _api_pages() -> dict[str, str]:

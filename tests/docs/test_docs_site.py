@@ -101,11 +101,21 @@ def test_hook_warns_about_a_public_name_without_docstring(monkeypatch, caplog):
     def undocumented():
         pass
 
+    class Documented:
+        """A class whose method lacks a docstring."""
+
+        def method(self):
+            pass
+
     monkeypatch.setattr(poissonkit, "undocumented", undocumented, raising=False)
-    monkeypatch.setattr(poissonkit, "__all__", [*poissonkit.__all__, "undocumented"])
+    monkeypatch.setattr(poissonkit, "Documented", Documented, raising=False)
+    monkeypatch.setattr(poissonkit, "__all__", [*poissonkit.__all__, "undocumented",
+                                                "Documented"])
     with caplog.at_level(logging.WARNING, logger=hook.log.name):
         hook._check_docstrings(hook.public_api())
     assert "poissonkit.undocumented has no docstring" in caplog.text
+    assert "poissonkit.Documented.method has no docstring" in caplog.text
+    assert "poissonkit.solve" not in caplog.text and "Solution" not in caplog.text
     # strict mode counts warnings of loggers under "mkdocs."
     assert hook.log.name.startswith("mkdocs.")
 
