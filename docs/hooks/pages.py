@@ -118,7 +118,8 @@ def _api_pages() -> dict[str, str]:
              "Everything below is importable as `import poissonkit as pk`; `pk.__all__` is "
              "exactly this list. The submodules (`poissonkit.structure`, `poissonkit.numerics`, "
              "`poissonkit.scene`, `poissonkit.plugin`, ...) hold more for the specialist. "
-             "Signs, index orders and units: [Conventions](../conventions.md).", "",
+             "Signs, index orders and units: [Conventions](../conventions.md). "
+             "`pk.__version__` is the installed version (`poissonkit --version`).", "",
              "| name | group | summary |", "|---|---|---|"]
     import poissonkit
 

@@ -231,7 +231,7 @@ class Solution:
         ax
             A matplotlib ``Axes`` to draw on; a new figure is made if ``None``.
         invariants
-            Any of ``"energy"``, ``"casimirs"``, ``"momentum"``, ``"angular_momentum"``.
+            One or more of ``"energy"``, ``"casimirs"``, ``"momentum"``, ``"angular_momentum"``.
             Drifts that are zero throughout (e.g. a system without Casimirs) are skipped.
 
         Returns
@@ -246,6 +246,8 @@ class Solution:
         """
         if self.system is None:
             raise InputError("Solution.plot needs the solution's system (solution.system)")
+        if isinstance(invariants, str):  # one name, not its letters
+            invariants = (invariants,)
         unknown = [n for n in invariants if n not in DRIFTS]
         if unknown:
             raise InputError(f"Solution.plot: unknown invariant {unknown[0]!r}; available: "

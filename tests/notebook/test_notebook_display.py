@@ -165,6 +165,7 @@ def test_plot_draws_the_nonzero_drifts_and_returns_the_axes(free_top_solution):
     assert ax.get_yscale() == "log"
     np.testing.assert_allclose(ax.get_lines()[0].get_xdata(), sol.t)
     assert isinstance(sol.plot(), matplotlib.axes.Axes)
+    assert [ln.get_label() for ln in sol.plot(invariants="energy").get_lines()] == ["|ΔH|/|H|"]
     with pytest.raises(InputError, match="available"):
         sol.plot(invariants=("entropy",))
     plt.close("all")
