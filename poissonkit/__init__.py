@@ -39,6 +39,7 @@ _LAZY: dict[str, str] = {
     "load_scene": "poissonkit.scene",
     "build_run": "poissonkit.scene",
     "PairInteraction": "poissonkit.interaction",
+    "sweep": "poissonkit.sweep",
 }
 
 
