@@ -79,9 +79,10 @@ SEED_PARAMETERS: Mapping[str, tuple[str, str]] = {
     "tilt": ("rad", "tilt of both axes towards the line of centres"),
     "radius_factor": ("1", "initial distance / R_orb"),
     "momentum_factor": ("1", "initial momentum / P_orb"),
+    "orbit_radius": ("1", "radius of the circular orbit / magnet length h (seed: 0.5)"),
 }
 SEED_DEFAULTS: Mapping[str, float] = {"spin_ratio": 20.0, "tilt": 0.0, "radius_factor": 1.0,
-                                      "momentum_factor": 1.0}
+                                      "momentum_factor": 1.0, "orbit_radius": 0.5}
 
 
 @dataclass(frozen=True)
@@ -165,11 +166,14 @@ class SeedScene:
         kw.update({self.check(k): float(v) for k, v in self.fixed.items()})
         kw.update({self.check(k): float(v) for k, v in values.items()})
         system = prep["system"]
-        y0 = seed000.initial_state(orbit=prep["orbit"], table=prep["table"], **kw)
-        t_end = 2 * math.pi * self.periods
+        y0, ratio = _seed_state(prep, kw)
+        # durations, steps and the escape radius follow the orbit's own period and radius;
+        # the state is in the units of the seed orbit (R_orb = 10 mm), where the kernels live
+        t_end = 2 * math.pi * self.periods * ratio["time"]
+        step = self.step * ratio["time"]
         # the two-body escape test measures a body's distance from the centre of mass (r/2)
-        sol = solve(system, y0, t_end, method=self.method, step=self.step,
-                    events=(Escape(self.escape / 2),))
+        sol = solve(system, y0, t_end, method=self.method, step=step,
+                    events=(Escape(self.escape * ratio["length"] / 2),))
         fate = sol.events[0].kind if sol.events else "bounded"
         fate_t = sol.events[0].time if sol.events else math.nan
         y = np.asarray(sol.y)
@@ -184,7 +188,39 @@ class SeedScene:
         tu, eu, ju = _units(prep["scales"])
         dist = np.linalg.norm(np.asarray(sol.y)[:, :3], axis=1) * prep["scales"].length
         return RunRecord(sol, fate, fate_t * tu if math.isfinite(fate_t) else math.nan, dist,
-                         tu, eu, ju, (system, y0, float(sol.t[-1]), self.method, self.step))
+                         tu, eu, ju, (system, y0, float(sol.t[-1]), self.method, step))
+
+
+def _seed_state(prep: dict[str, Any], kw: Mapping[str, float]
+                ) -> tuple[np.ndarray, dict[str, float]]:
+    """Initial state of a seed point in the units of the seed orbit, and the ratios of the
+    point's orbit units (length, time) to those units.
+
+    ``orbit_radius`` other than the seed's picks the circular orbit of that radius
+    (:func:`poissonkit_magnets.seed000.circular_orbit`, cached per worker); its state, built in
+    its own units by :func:`~poissonkit_magnets.seed000.initial_state`, is converted to the seed
+    orbit's units so that one compiled system serves every radius.
+    """
+    from poissonkit_magnets import seed000
+
+    t = prep["table"]
+    radius = float(kw["orbit_radius"])
+    if not (math.isfinite(radius) and radius > 0):
+        raise InputError(f"seed000: orbit_radius must be > 0, got {radius!r}")
+    state_kw = {k: kw[k] for k in ("spin_ratio", "tilt", "radius_factor", "momentum_factor")}
+    orbits = prep.setdefault("orbits", {})
+    if radius not in orbits:
+        orbits[radius] = seed000.circular_orbit(radius * float(t.h), table=t)
+    o = orbits[radius]
+    y = seed000.initial_state(orbit=o, table=t, **state_kw)
+    s0, s1 = prep["scales"], seed000.scales(o, t)
+    ratio = {"length": s1.length / s0.length, "time": s1.time / s0.time}
+    conv = np.ones(18)
+    conv[0:3] = ratio["length"]
+    conv[3:6] = s1.unit("momentum") / s0.unit("momentum")
+    for block in (9, 15):  # spins m', m'' (the axes nu are unit vectors in any units)
+        conv[block:block + 3] = s1.unit("angular_momentum") / s0.unit("angular_momentum")
+    return y * conv, ratio
 
 
 def _cut(sol: Any, k: int) -> Any:

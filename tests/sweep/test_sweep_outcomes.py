@@ -59,3 +59,17 @@ def test_no_spin_collides_and_wide_start_escapes(seed):
                       DEFAULT_OUTCOMES)
     assert FATES[wide["fate"]] == "escape"
     assert wide["min_distance"] == pytest.approx(1.3 * R_ORB, rel=1e-6)  # it starts at apsis
+
+
+def test_other_orbit_radius_is_the_circular_orbit_of_that_radius(seed):
+    # truth: seed000.circular_orbit balances centrifugal and magnetic force at 20 mm (mpmath)
+    from poissonkit_magnets import seed000
+
+    scene, prep = seed
+    out = reduce_run(scene.run(prep, {"spin_ratio": 20.0, "orbit_radius": 1.0}),
+                     DEFAULT_OUTCOMES)
+    orbit = seed000.circular_orbit(0.02)
+    assert FATES[out["fate"]] == "bounded"
+    assert out["end_time"] == pytest.approx(4 * float(orbit.period), rel=1e-12)
+    assert out["min_distance"] == pytest.approx(0.02, rel=1e-7)
+    assert out["final_angular_momentum"] == pytest.approx(0.02 * float(orbit.momentum), rel=1e-9)
