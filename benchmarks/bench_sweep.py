@@ -6,10 +6,11 @@ periods per run, default outcomes (no MEGNO), batches chosen by the sweep. Measu
 process, in this order:
 
 1. the plain loop: :meth:`SeedScene.run` + the outcome reduction per point, after one warm-up
-   run (the baseline: no Dask, no store);
+   run (the baseline: no Dask, no store), in this process;
 2. for 1 and 2 workers: start a ``LocalCluster`` (timed separately, includes each worker's
    one-off build of the system and its kernels through a warm-up sweep of one point per worker),
-   then time the full sweep with a Zarr store.
+   run the same plain loop inside one worker process (the baseline under the same scheduling
+   as the sweep), then time the full sweep with a Zarr store.
 
 Printed: runs/s of each, speed-up on 2 workers over 1, and the overhead of the sweep against the
 loop at equal work per core (``t_sweep * workers / t_loop - 1``). On a machine that other jobs
@@ -35,6 +36,17 @@ from poissonkit.sweep.params import Design
 from poissonkit.sweep.scenes import SeedScene
 
 
+def plain_loop(scene: SeedScene, design: Design) -> float:
+    """Wall time of every point in a plain loop in the calling process (system built and
+    warmed up first, not timed)."""
+    prep = scene.prepare()
+    reduce_run(scene.run(prep, {"spin_ratio": 20.0, "tilt": 0.02}), DEFAULT_OUTCOMES)
+    t0 = time.perf_counter()
+    for _k, values in design.points():
+        reduce_run(scene.run(prep, values), DEFAULT_OUTCOMES)
+    return time.perf_counter() - t0
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=20, help="grid points per axis")
@@ -45,14 +57,8 @@ def main() -> None:
     design = Design(axes=tuple(axes))
     scene = SeedScene(periods=args.periods)
     print(f"{design.size} runs of {args.periods:g} periods; load average {os.getloadavg()}")
-
-    prep = scene.prepare()
-    reduce_run(scene.run(prep, {"spin_ratio": 20.0, "tilt": 0.02}), DEFAULT_OUTCOMES)
-    t0 = time.perf_counter()
-    for _k, values in design.points():
-        reduce_run(scene.run(prep, values), DEFAULT_OUTCOMES)
-    t_loop = time.perf_counter() - t0
-    print(f"plain loop (1 process):     {t_loop:7.2f} s  {design.size / t_loop:7.1f} runs/s")
+    t_loop = plain_loop(scene, design)
+    print(f"plain loop, this process:   {t_loop:7.2f} s  {design.size / t_loop:7.1f} runs/s")
 
     tmp = Path(tempfile.mkdtemp(prefix="bench-sweep-"))
     rates = {}
@@ -65,6 +71,8 @@ def main() -> None:
                 sweep(scene, {"tilt": [0.01 * k for k in range(w)]}, client=client,
                       progress=False, batch_size=1)
                 t_start = time.perf_counter() - t0
+                # baseline under the same conditions: the plain loop inside one worker process
+                t_in_worker = client.submit(plain_loop, scene, design, pure=False).result()
                 t0 = time.perf_counter()
                 sweep(scene, list(axes), client=client, store=tmp / f"w{w}.zarr",
                       progress=False)
@@ -73,8 +81,10 @@ def main() -> None:
                 close()
             rates[w] = design.size / t
             print(f"sweep, {w} worker(s):       {t:7.2f} s  {rates[w]:7.1f} runs/s   "
-                  f"(cluster start + warm-up {t_start:.1f} s; overhead vs loop at equal work "
-                  f"per core {100 * (t * w / t_loop - 1):+.0f} %)")
+                  f"cluster start + warm-up {t_start:.1f} s; plain loop in a worker "
+                  f"{t_in_worker:.2f} s; overhead at equal work per core "
+                  f"{100 * (t * w / t_in_worker - 1):+.0f} % (vs this process's loop "
+                  f"{100 * (t * w / t_loop - 1):+.0f} %)")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     if 1 in rates and 2 in rates:
