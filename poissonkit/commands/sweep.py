@@ -73,10 +73,17 @@ def main(args: argparse.Namespace) -> int:
         raise InputError(f"scene {args.scene!r}: give seed000 or a scene file (.toml)")
     out = Path(args.out)
     store = default_store(out)
-    ds = sweep(args.scene, params, outcomes=args.outcomes, store=store,
-               scheduler=args.scheduler, workers=args.workers, samples=args.random,
-               seed=args.seed, resume=args.resume, overwrite=args.overwrite,
-               batch_size=args.batch_size, progress=not args.no_progress, **options)
+    try:
+        ds = sweep(args.scene, params, outcomes=args.outcomes, store=store,
+                   scheduler=args.scheduler, workers=args.workers, samples=args.random,
+                   seed=args.seed, resume=args.resume, overwrite=args.overwrite,
+                   batch_size=args.batch_size, progress=not args.no_progress, **options)
+    except KeyboardInterrupt:
+        import sys
+
+        print(f"\npoissonkit sweep: interrupted; finished points are in {store}; run the same "
+              "command with --resume to compute the rest", file=sys.stderr)
+        return 130
     counts = {name: int(((ds["fate"] == k) & ~ds["failed"]).sum())
               for k, name in enumerate(("bounded", "collision", "escape"))}
     failed = int(ds["failed"].sum())

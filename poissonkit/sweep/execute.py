@@ -110,13 +110,25 @@ def make_client(client: Any = None, scheduler: str | None = None,
     n = workers if workers is not None else min(4, os.cpu_count() or 1)
     if not isinstance(n, (int, np.integer)) or n < 1:
         raise InputError(f"workers must be a positive integer, got {workers!r}")
+    # loopback only; the diagnostics page on a free port (a fixed one clashes with other
+    # clusters on the machine)
     cluster = LocalCluster(n_workers=int(n), threads_per_worker=1, processes=True,
-                           host="127.0.0.1", dashboard_address=None)
+                           host="127.0.0.1", dashboard_address="127.0.0.1:0")
     c = Client(cluster)
 
     def close() -> None:
-        c.close()
-        cluster.close()
+        import logging
+
+        # the nanny logs a warning when a worker process takes a few seconds to exit at the
+        # end (interpreter and LLVM teardown); nothing is lost then, so keep it quiet
+        log = logging.getLogger("distributed.nanny")
+        level = log.level
+        log.setLevel(logging.ERROR)
+        try:
+            c.close()
+            cluster.close()
+        finally:
+            log.setLevel(level)
 
     return c, close
 
