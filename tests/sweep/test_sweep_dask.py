@@ -73,9 +73,11 @@ def test_sweep_dataset_store_and_kernels_built_once_per_worker(dask_client, refe
     assert_matches(again, reference)
 
 
-def test_failed_point_is_recorded_with_its_message(dask_client):
-    ds = sweep("seed000", {"radius_factor": [1.0, -1.0]}, client=dask_client, progress=False,
+def test_failed_point_is_recorded_with_its_message(dask_client, capsys):
+    ds = sweep("seed000", {"radius_factor": [1.0, -1.0]}, client=dask_client, progress=True,
                fixed={"spin_ratio": 20.0}, **SEED_OPTIONS)
+    bar = capsys.readouterr().err
+    assert "2/2" in bar and "failures=1" in bar  # progress: runs done / total, failures
     assert ds["failed"].values.tolist() == [False, True]
     assert "radius_factor must be > 0" in str(ds["error"].values[1])
     assert ds["fate"].values.tolist() == [0, -1] and bool(ds["completed"].all())
@@ -95,6 +97,7 @@ def test_killed_worker_costs_only_its_tasks(dask_client, reference, tmp_path):
     ds = sweep("seed000", PARAMS, client=dask_client, store=tmp_path / "k.zarr", batch_size=1,
                progress=False, on_batch=kill_once, **SEED_OPTIONS)
     assert killed and killed[0] < 6
+    assert victim not in dask_client.run(os.getpid).values()  # it really died
     assert_matches(ds, reference)
     assert_matches(xr.open_zarr(tmp_path / "k.zarr").load(), reference)
     dask_client.wait_for_workers(2, timeout=120)  # the nanny restarted it
@@ -110,6 +113,23 @@ def test_existing_store_needs_resume_or_overwrite(dask_client, tmp_path):
     with pytest.raises(InputError, match="design"):
         sweep("seed000", ["tilt=0,0.1"], client=dask_client, store=store, resume=True,
               progress=False, **SEED_OPTIONS)
+
+
+def test_random_design_through_a_scheduler_address(dask_client, reference):
+    # the same sweep through --scheduler tcp://...: a client of its own on the running cluster
+    address = dask_client.scheduler.address
+    assert address.startswith("tcp://127.0.0.1:")
+    ds = sweep("seed000", {"spin_ratio": (0.0, 20.0), "tilt": (0.0, 0.1)}, samples=4, seed=3,
+               scheduler=address, progress=False, **SEED_OPTIONS)
+    assert ds["fate"].dims == ("sample",) and ds.sizes["sample"] == 4
+    assert ds["tilt"].dims == ("sample",) and ds["tilt"].attrs["units"] == "rad"
+    scene = SeedScene(**SEED_OPTIONS)
+    prep = scene.prepare()
+    for k in range(4):
+        values = {"spin_ratio": float(ds["spin_ratio"][k]), "tilt": float(ds["tilt"][k])}
+        ref = reduce_run(scene.run(prep, values), OUTS)
+        assert float(ds["min_distance"][k]) == ref["min_distance"]
+        assert int(ds["fate"][k]) == ref["fate"]
 
 
 @pytest.mark.slow  # compiles the N-body kernels on every worker (about a minute when loaded)
