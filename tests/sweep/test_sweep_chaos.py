@@ -13,7 +13,6 @@ import math
 
 import numpy as np
 import pytest
-import sympy as sp
 from scipy.integrate import solve_ivp
 
 from poissonkit.errors import InputError
