@@ -361,7 +361,8 @@ class TomlScene:
     @property
     def key(self) -> str:
         """Identifies what :meth:`prepare` builds (the worker cache key)."""
-        return "toml:" + hashlib.sha256(self.text.encode()).hexdigest()[:16]
+        fixed = repr(sorted((str(k), float(v)) for k, v in self.fixed.items()))
+        return "toml:" + hashlib.sha256((self.text + fixed).encode()).hexdigest()[:16]
 
     def settings(self) -> dict[str, Any]:
         """Attributes recorded in the dataset."""
