@@ -68,6 +68,8 @@ _LAZY: dict[str, str] = {
     "integrator": "poissonkit.plugin.registry",
     "names": "poissonkit.plugin.registry",
     "plugin_reports": "poissonkit.plugin.manager",
+    # sweeps (poissonkit.sweeps holds outcomes, designs and plots for the specialist)
+    "sweep": "poissonkit.sweeps.api",
 }
 
 

@@ -18,7 +18,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "verify": ("poissonkit.commands.verify", "check a Poisson structure: Jacobi, rank, Casimirs"),
     "bench": ("poissonkit.commands.bench", "speed against error of every integrator on a scene"),
     "plugins": ("poissonkit.commands.plugins", "list plugins and what they contribute"),
-    "sweep": ("poissonkit.commands.sweep", "run a scene over a grid of parameters"),
+    "sweep": ("poissonkit.commands.sweep", "run a scene over a grid or sample of parameters on Dask"),
 }
 
 

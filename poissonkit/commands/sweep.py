@@ -1,87 +1,101 @@
-"""``poissonkit sweep``: run the seed 000 orbit over a grid of parameters and classify each run.
+"""``poissonkit sweep``: run a scene over a grid or random sample of parameters on Dask.
 
-Each grid point is integrated with :func:`poissonkit_magnets.seed000.orbit_fate` and classified as
-``bounded``, ``collision`` (the magnets' axis segments come closer than their diameter) or
-``escape`` (distance above ``--escape`` orbit radii). Results go to ``sweep.csv`` in ``--out``
-and to a table on stdout. Example — the seed's "stable with certain relations between the
-parameters", spin against tilt::
+Any scene: ``seed000`` (the built-in seed orbit, named parameters ``spin_ratio``, ``tilt``,
+``radius_factor``, ``momentum_factor``) or a TOML scene file whose numbers are addressed by
+path (``bodies.right.r.0``, ``run.step``, ``bodies.top1.spin``). Results go to
+``OUT/sweep.zarr`` (an xarray Dataset, written as batches finish) and, for a two-parameter sweep,
+a stability map ``OUT/stability_map.png``. Guide: ``docs/sweeps.md``. Example::
 
-    poissonkit sweep --grid spin_ratio=0,2,5,10,20 --grid tilt=0.02,0.1
+    poissonkit sweep seed000 --param spin_ratio=0:20:11 --param tilt=0:0.2:5 --workers 2
+
+    poissonkit sweep seed000 --param spin_ratio=0:20:11 --param tilt=0:0.2:5 --resume
 """
 
 from __future__ import annotations
 
 import argparse
-import csv
-import itertools
 import math
 from pathlib import Path
 
-from poissonkit.errors import InputError, UnknownNameError
-
-#: Parameters of the seed scene a sweep may vary (keywords of ``seed000.orbit_fate``).
-PARAMETERS = ("spin_ratio", "tilt", "radius_factor", "momentum_factor")
-DEFAULTS = {"spin_ratio": 20.0, "tilt": 0.02, "radius_factor": 1.0, "momentum_factor": 1.0}
+from poissonkit.errors import InputError
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``poissonkit sweep``."""
-    parser.add_argument("scene", nargs="?", default=None,
-                        help="only the built-in seed 000 scene is supported (leave empty)")
+    parser.add_argument("scene", nargs="?", default="seed000",
+                        help="seed000 (default) or a scene file (.toml)")
+    parser.add_argument("--param", action="append", default=[], metavar="PATH=SPEC",
+                        help="swept parameter: PATH=start:stop:count (grid), PATH=v1,v2,... "
+                             "(list) or PATH=low:high (with --random); repeatable")
     parser.add_argument("--grid", action="append", default=[], metavar="NAME=V1,V2,...",
-                        help=f"values of one parameter ({', '.join(PARAMETERS)}); repeatable")
-    parser.add_argument("--periods", type=float, default=20.0, help="orbital periods per run")
-    parser.add_argument("--escape", type=float, default=3.0, help="escape distance in R_orb")
+                        help="same as --param NAME=V1,V2,... (kept for older scripts)")
+    parser.add_argument("--random", type=int, default=None, metavar="N",
+                        help="N random points (uniform in the low:high ranges)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the random points")
+    parser.add_argument("--outcomes", default=None, metavar="A,B,...",
+                        help="outcomes to record (default: all but megno); see docs/sweeps.md")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
+                       help="run on an existing Dask cluster")
+    where.add_argument("--workers", type=int, default=None,
+                       help="worker processes of a local cluster (default: CPUs, at most 4)")
+    parser.add_argument("--batch-size", type=int, default=None, help="runs per task")
     parser.add_argument("--out", default="poissonkit-sweep", help="output folder")
-
-
-def parse_grid(items: list[str]) -> dict[str, list[float]]:
-    """``["spin_ratio=0,20", ...]`` -> ``{"spin_ratio": [0.0, 20.0], ...}`` (typed errors)."""
-    grid: dict[str, list[float]] = {}
-    for item in items:
-        name, sep, values = item.partition("=")
-        name = name.strip()
-        if not sep:
-            raise InputError(f"--grid expects NAME=V1,V2,..., got {item!r}")
-        if name not in PARAMETERS:
-            raise UnknownNameError("sweep parameter", name, PARAMETERS)
-        try:
-            vals = [float(v) for v in values.split(",") if v.strip()]
-        except ValueError:
-            raise InputError(f"--grid {name}: values must be numbers, got {values!r}") from None
-        if not vals or not all(math.isfinite(v) for v in vals):
-            raise InputError(f"--grid {name}: give at least one finite value")
-        grid[name] = vals
-    return grid
+    parser.add_argument("--resume", action="store_true",
+                        help="finish an interrupted sweep in --out (only missing points run)")
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing sweep")
+    parser.add_argument("--periods", type=float, default=20.0,
+                        help="seed000: orbital periods per run")
+    parser.add_argument("--escape", type=float, default=None,
+                        help="escape distance (seed000: orbit radii, default 3; scene file: "
+                             "times the initial size, default 10)")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument("--no-plot", action="store_true", help="no stability map")
 
 
 def main(args: argparse.Namespace) -> int:
-    """Run every grid point; write ``sweep.csv``; print the table."""
-    from poissonkit_magnets import seed000
+    """Run the sweep, write the store and the map, print a short summary."""
+    from poissonkit.sweeps import sweep
+    from poissonkit.sweeps.execute import default_store
 
-    if args.scene is not None:
-        raise InputError("poissonkit sweep supports only the built-in seed 000 scene for now")
     if not (math.isfinite(args.periods) and args.periods > 0):
         raise InputError(f"--periods must be > 0, got {args.periods!r}")
-    grid = parse_grid(args.grid) or {"spin_ratio": [0.0, 2.0, 20.0]}
-    names = list(grid)
+    params = list(args.param) + list(args.grid)
+    if not params:
+        raise InputError("give at least one --param PATH=start:stop:count (e.g. "
+                         "--param spin_ratio=0:20:5)")
+    options: dict = {}
+    if args.escape is not None:
+        options["escape"] = args.escape
+    if args.scene == "seed000":
+        options["periods"] = args.periods
+    elif not Path(args.scene).suffix == ".toml" and not Path(args.scene).exists():
+        raise InputError(f"scene {args.scene!r}: give seed000 or a scene file (.toml)")
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    rows = []
-    print(" ".join(f"{n:>15s}" for n in names) + "      fate   r_min   r_max  periods  |dH|/H")
-    for values in itertools.product(*(grid[n] for n in names)):
-        kw = dict(DEFAULTS)
-        kw.update(zip(names, values))
-        fate = seed000.orbit_fate(periods=args.periods, escape_distance=args.escape, **kw)
-        row = {**kw, "fate": fate.kind, "r_min": fate.r_min, "r_max": fate.r_max,
-               "periods": fate.t_end, "max_energy_error": fate.max_energy_error}
-        rows.append(row)
-        print(" ".join(f"{v:15.4g}" for v in values)
-              + f" {fate.kind:>9s} {fate.r_min:7.3f} {fate.r_max:7.3f} {fate.t_end:8.3f} "
-              f"{fate.max_energy_error:7.1e}", flush=True)
-    with (out / "sweep.csv").open("w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    print(f"wrote {out / 'sweep.csv'}")
+    store = default_store(out)
+    try:
+        ds = sweep(args.scene, params, outcomes=args.outcomes, store=store,
+                   scheduler=args.scheduler, workers=args.workers, samples=args.random,
+                   seed=args.seed, resume=args.resume, overwrite=args.overwrite,
+                   batch_size=args.batch_size, progress=not args.no_progress, **options)
+    except KeyboardInterrupt:
+        import sys
+
+        print(f"\npoissonkit sweep: interrupted; finished points are in {store}; run the same "
+              "command with --resume to compute the rest", file=sys.stderr)
+        return 130
+    counts = {name: int(((ds["fate"] == k) & ~ds["failed"]).sum())
+              for k, name in enumerate(("bounded", "collision", "escape"))}
+    failed = int(ds["failed"].sum())
+    dims = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items())
+    print(f"sweep of {ds.attrs.get('scene')} ({dims}): "
+          + ", ".join(f"{v} {k}" for k, v in counts.items()) + f", {failed} failed")
+    print(f"wrote {store}")
+    if not args.no_plot and len(ds["fate"].dims) == 2:
+        from poissonkit.sweeps.plot import stability_map
+
+        png = stability_map(ds, out / "stability_map.png",
+                            chaos="megno" if "megno" in ds else None,
+                            title=f"{ds.attrs.get('scene')}: stability map")
+        print(f"wrote {png}")
     return 0

@@ -1,0 +1,36 @@
+"""Sweeps and ensembles: a scene over a grid or random sample of parameters, on Dask.
+
+``poissonkit.sweep(scene, params, outcomes=..., client=None, store=...)`` runs every point on a
+Dask cluster (a local one by default), reduces each run to outcomes from a typed registry
+(:data:`OUTCOMES`), and returns an :class:`xarray.Dataset` that is also written to Zarr batch by
+batch, so an interrupted sweep resumes where it stopped. Guide: ``docs/sweeps.md``.
+
+Modules: :mod:`~poissonkit.sweeps.params` (design), :mod:`~poissonkit.sweeps.scenes` (what one run
+is), :mod:`~poissonkit.sweeps.outcomes` (registry), :mod:`~poissonkit.sweeps.chaos` (MEGNO),
+:mod:`~poissonkit.sweeps.execute` (Dask), :mod:`~poissonkit.sweeps.store` (Zarr),
+:mod:`~poissonkit.sweeps.plot` (stability maps).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from poissonkit.sweeps.api import sweep
+from poissonkit.sweeps.chaos import megno
+from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, OUTCOMES, Outcome
+from poissonkit.sweeps.params import Axis, Design, Range, grid, parse_param
+from poissonkit.sweeps.scenes import FATES, SeedScene, TomlScene, sweep_scene
+
+
+def stability_map(*args: Any, **kwargs: Any) -> Any:
+    """Draw a stability map to PNG (see :func:`poissonkit.sweeps.plot.stability_map`)."""
+    from poissonkit.sweeps.plot import stability_map as draw
+
+    return draw(*args, **kwargs)
+
+
+
+__all__ = [
+    "DEFAULT_OUTCOMES", "FATES", "OUTCOMES", "Axis", "Design", "Outcome", "Range", "SeedScene",
+    "TomlScene", "grid", "megno", "parse_param", "stability_map", "sweep", "sweep_scene",
+]

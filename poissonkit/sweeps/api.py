@@ -1,0 +1,147 @@
+"""``sweep``: run a scene over a parameter design on Dask and collect an xarray Dataset."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from poissonkit.errors import InputError
+from poissonkit.sweeps.execute import execute, make_client, resolve_units
+from poissonkit.sweeps.outcomes import OUTCOMES, resolve_outcomes
+from poissonkit.sweeps.params import Axis, Range, design_from
+from poissonkit.sweeps.scenes import sweep_scene
+from poissonkit.sweeps.store import (
+    ZarrWriter,
+    check_resumable,
+    create_store,
+    empty_dataset,
+    open_store,
+)
+
+
+def sweep(scene: Any, params: Sequence[Axis | Range | str] | Mapping[str, Any],
+          outcomes: Sequence[str] | str | None = None, client: Any = None,
+          store: str | Path | None = None, *, scheduler: str | None = None,
+          workers: int | None = None, samples: int | None = None, seed: int = 0,
+          resume: bool = False, overwrite: bool = False, batch_size: int | None = None,
+          retries: int = 2, progress: bool = True,
+          on_batch: Callable[[int, int], None] | None = None, **scene_options: Any):
+    """Run ``scene`` at every point of a parameter design; return the results as a Dataset.
+
+    Parameters
+    ----------
+    scene
+        ``"seed000"`` (the built-in seed orbit), the path of a TOML scene file, or a
+        :class:`~poissonkit.sweeps.scenes.SeedScene` / :class:`~poissonkit.sweeps.scenes.TomlScene`.
+    params
+        Swept parameters by path (``docs/sweeps.md``): :func:`~poissonkit.sweeps.params.grid`
+        axes, :class:`~poissonkit.sweeps.params.Axis` lists, command-line strings
+        (``"tilt=0:0.2:5"``), or a mapping ``{path: values}``; with ``samples``, ranges
+        ``{path: (low, high)}`` for a seeded random design.
+    outcomes
+        Names from :data:`~poissonkit.sweeps.outcomes.OUTCOMES` (default: all but ``megno``).
+    client
+        A :class:`distributed.Client` of any cluster; otherwise ``scheduler`` (an address) or a
+        new local cluster of ``workers`` processes on the loopback interface.
+    store
+        Zarr store written incrementally as batches finish (``None``: results only in memory).
+    samples, seed
+        Random design: number of points and the seed of their draw.
+    resume
+        Continue the sweep in ``store``: only points not completed are run (none if finished).
+    overwrite
+        Replace an existing store instead of refusing.
+    batch_size
+        Runs per task (default: about 8 tasks per worker, at most 64 runs each).
+    retries
+        Dask retries of a task that raised (a lost worker's tasks are rescheduled anyway).
+    progress
+        Show a progress bar (runs done / total, failures).
+    on_batch
+        Called as ``on_batch(done, total)`` after each finished batch.
+    **scene_options
+        Options of the scene (seed: ``periods``, ``method``, ``step``, ``escape``, ``fixed``;
+        TOML: ``escape``, ``fixed``).
+
+    Returns
+    -------
+    xarray.Dataset
+        One dimension per swept parameter (``sample`` for a random design), coordinates with
+        units, one variable per outcome, ``completed``/``failed``/``error`` per point.
+
+    Raises
+    ------
+    InputError
+        Unknown parameter paths or outcomes, a store that exists (without ``resume`` or
+        ``overwrite``) or belongs to another sweep, a bad scheduler address.
+    """
+    from poissonkit import __version__
+
+    sc = sweep_scene(scene, **scene_options)
+    design = design_from(params, samples=samples, seed=seed)
+    names = resolve_outcomes(outcomes)
+    units = resolve_units(sc, design.paths)
+    attrs = {**sc.settings(), "scene_key": sc.key, "design": json.dumps(design.describe()),
+             "outcomes": ",".join(names), "poissonkit_version": __version__,
+             "chaos_indicator": "MEGNO from two nearby runs (shadow orbit, renormalised)"}
+    ds = empty_dataset(design, names, attrs, units)
+    writer = None
+    if store is not None:
+        path = Path(store)
+        if path.exists() and resume:
+            old = open_store(path)
+            check_resumable(old, ds)
+            ds = old
+        elif path.exists() and not overwrite:
+            raise InputError(f"store {str(path)!r} exists: resume it (resume=True, --resume) or "
+                             "overwrite it (overwrite=True, --overwrite)")
+        else:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            create_store(path, ds)
+        writer = ZarrWriter(path, [*names, "completed", "failed", "error"])
+    elif resume:
+        raise InputError("resume needs a store")
+
+    shape = design.shape
+    completed = np.asarray(ds["completed"].values, dtype=bool).reshape(-1)
+    todo = [(k, v) for k, v in design.points() if not completed[k]]
+    total = design.size
+    done = int(completed.sum())
+    failures = int(np.asarray(ds["failed"].values).sum())
+    if not todo:
+        return ds
+    arrays = {n: np.array(ds[n].values) for n in [*names, "completed", "failed", "error"]}
+    count = [done]
+
+    def on_results(results: list[tuple[int, Any, str]]) -> None:
+        flat = np.array([r[0] for r in results], dtype=np.int64)
+        index = np.unravel_index(flat, shape)
+        values: dict[str, np.ndarray] = {}
+        for n in names:
+            o = OUTCOMES[n]
+            col = [o.fill if r[1] is None else r[1][n] for r in results]
+            values[n] = np.asarray(col, dtype=o.dtype)
+        values["failed"] = np.array([r[1] is None for r in results])
+        values["error"] = np.array([r[2] for r in results], dtype=object)
+        values["completed"] = np.ones(len(results), dtype=bool)
+        for n, v in values.items():
+            arrays[n][index] = v
+        if writer is not None:
+            writer.write(index, values)
+        count[0] += len(results)
+        if on_batch is not None:
+            on_batch(count[0], total)
+
+    c, close = make_client(client, scheduler, workers)
+    try:
+        execute(sc, todo, names, c, on_results=on_results, batch_size=batch_size,
+                retries=retries, progress=progress, total=total, done=done, failures=failures)
+    finally:
+        close()
+    for n, v in arrays.items():
+        ds[n].values = v
+    return ds

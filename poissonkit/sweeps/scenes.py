@@ -1,0 +1,558 @@
+"""Scenes a sweep can run: the built-in seed 000 orbit and any TOML scene file.
+
+A sweep scene is a small picklable description (sent to every worker) with three steps:
+
+* :meth:`prepare` builds what every run shares -- the system and its compiled kernels, the
+  seed's parameter table -- once per worker process (:mod:`poissonkit.sweeps.execute` caches it
+  by :attr:`key`);
+* :meth:`check` validates a parameter path on the client, before any work is sent;
+* :meth:`run` integrates one point and classifies its fate, returning a :class:`RunRecord`
+  that the outcome registry (:mod:`poissonkit.sweeps.outcomes`) reduces to numbers.
+
+Fates: ``bounded`` (the run reached its end), ``collision`` (two bodies' shapes touched, or the
+integration broke down at a close encounter), ``escape`` (a body went farther than ``escape``
+times the initial size of the system from the centre of mass).
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import math
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from poissonkit.errors import InputError, SceneError, UnknownNameError
+
+#: Codes of the ``fate`` outcome (stored as integers; ``-1`` marks a point not computed).
+FATES: tuple[str, ...] = ("bounded", "collision", "escape")
+
+
+@dataclass
+class RunRecord:
+    """One finished run, as the outcome functions see it.
+
+    Attributes
+    ----------
+    solution
+        The :class:`~poissonkit.numerics.solution.Solution`, cut at the first collision.
+    fate
+        One of :data:`FATES`.
+    fate_time
+        Time of the collision / escape [s] (``nan`` if bounded).
+    distance
+        Smallest centre distance between two bodies at each saved state [m].
+    time_unit
+        SI value of the internal time unit [s].
+    energy_unit, angular_momentum_unit
+        SI values of the internal units [J], [kg m^2/s].
+    megno_inputs
+        ``(system, y0, t_end, method, step)`` for the chaos indicator's nearby run.
+    """
+
+    solution: Any
+    fate: str
+    fate_time: float
+    distance: np.ndarray
+    time_unit: float
+    energy_unit: float
+    angular_momentum_unit: float
+    megno_inputs: tuple[Any, ...] = ()
+
+
+def _units(scales: Any) -> tuple[float, float, float]:
+    if scales is None:
+        return 1.0, 1.0, 1.0
+    return scales.time, scales.energy, scales.unit("angular_momentum")
+
+
+# ------------------------------------------------------------------------------ seed 000
+
+#: Named parameters of the seed scene: units and meaning (``initial.<name>`` is an alias).
+SEED_PARAMETERS: Mapping[str, tuple[str, str]] = {
+    "spin_ratio": ("1", "alpha |m| / omega_orb of each magnet"),
+    "tilt": ("rad", "tilt of both axes towards the line of centres"),
+    "radius_factor": ("1", "initial distance / R_orb"),
+    "momentum_factor": ("1", "initial momentum / P_orb"),
+    "orbit_radius": ("1", "radius of the circular orbit / magnet length h (seed: 0.5)"),
+}
+SEED_DEFAULTS: Mapping[str, float] = {"spin_ratio": 20.0, "tilt": 0.0, "radius_factor": 1.0,
+                                      "momentum_factor": 1.0, "orbit_radius": 0.5}
+
+
+@dataclass(frozen=True)
+class SeedScene:
+    """The seed 000 orbit (two cylinder magnets, dumbbell model, 18-variable two-body form).
+
+    Parameters
+    ----------
+    periods
+        Duration of each run in orbital periods.
+    method, step
+        Integrator and fixed step (internal time; the orbital period is ``2 pi``).
+    escape
+        Escape distance in orbit radii.
+    fixed
+        Values of named parameters that are not swept (defaults: :data:`SEED_DEFAULTS`).
+    """
+
+    periods: float = 20.0
+    method: str = "splitting8"
+    step: float = 2 * math.pi / 400
+    escape: float = 3.0
+    fixed: Mapping[str, float] = field(default_factory=dict)
+
+    name = "seed000"
+
+    def __post_init__(self) -> None:
+        for k, v in (("periods", self.periods), ("step", self.step), ("escape", self.escape)):
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise InputError(f"seed000 sweep: {k} must be a positive number, got {v!r}")
+        if self.escape <= 1:
+            raise InputError(f"seed000 sweep: escape must exceed 1 orbit radius, got {self.escape}")
+        for k in self.fixed:
+            self.check(k)
+
+    @property
+    def key(self) -> str:
+        """Identifies what :meth:`prepare` builds (the worker cache key)."""
+        return "seed000"
+
+    def settings(self) -> dict[str, Any]:
+        """Attributes recorded in the dataset."""
+        return {"scene": "seed000", "method": self.method, "step": self.step,
+                "step_units": "internal time (orbital period = 2 pi)",
+                "duration_periods": self.periods, "escape_orbit_radii": self.escape}
+
+    def check(self, path: str) -> str:
+        """The named parameter ``path`` refers to (``initial.`` stripped); units via
+        :meth:`units`. Raises :class:`UnknownNameError` listing the parameters."""
+        name = path[len("initial."):] if path.startswith("initial.") else path
+        if name not in SEED_PARAMETERS:
+            raise UnknownNameError("seed000 sweep parameter", path, SEED_PARAMETERS)
+        return name
+
+    def units(self, path: str) -> str:
+        """Units of a parameter's values."""
+        return SEED_PARAMETERS[self.check(path)][0]
+
+    def prepare(self) -> dict[str, Any]:
+        """Parameter table, orbit, system (kernels compiled by a short warm-up run)."""
+        from poissonkit_magnets import seed000
+
+        from poissonkit.numerics.solver import solve
+
+        t = seed000.parameter_table()
+        o = seed000.circular_orbit(table=t)
+        system = seed000.seed_system(t, o)
+        y0 = seed000.initial_state(orbit=o, table=t)
+        solve(system, y0, 4 * self.step, method=self.method, step=self.step)  # compile now
+        return {"table": t, "orbit": o, "system": system, "scales": seed000.scales(o, t),
+                "contact": float(2 * t.a / o.radius), "half_length": float(t.l / o.radius)}
+
+    def run(self, prep: Mapping[str, Any], values: Mapping[str, float]) -> RunRecord:
+        """Integrate one point (``values`` by parameter path) and classify its fate."""
+        from poissonkit_magnets import seed000
+
+        from poissonkit.numerics.events import Escape
+        from poissonkit.numerics.solver import solve
+
+        kw = dict(SEED_DEFAULTS)
+        kw.update({self.check(k): float(v) for k, v in self.fixed.items()})
+        kw.update({self.check(k): float(v) for k, v in values.items()})
+        system = prep["system"]
+        y0, ratio = _seed_state(prep, kw)
+        # durations, steps and the escape radius follow the orbit's own period and radius;
+        # the state is in the units of the seed orbit (R_orb = 10 mm), where the kernels live
+        t_end = 2 * math.pi * self.periods * ratio["time"]
+        step = self.step * ratio["time"]
+        # the two-body escape test measures a body's distance from the centre of mass (r/2)
+        sol = solve(system, y0, t_end, method=self.method, step=step,
+                    events=(Escape(self.escape * ratio["length"] / 2),))
+        fate = sol.events[0].kind if sol.events else "bounded"
+        fate_t = sol.events[0].time if sol.events else math.nan
+        y = np.asarray(sol.y)
+        ok = np.all(np.isfinite(y), axis=1)
+        touch = seed000.axis_distance(np.where(ok[:, None], y, 0.0), prep["half_length"])
+        hit = np.nonzero(~ok | (touch < prep["contact"]))[0]
+        if hit.size:
+            fate = "collision"
+            k = int(hit[0])
+            fate_t = float(sol.t[k])
+            sol = _cut(sol, max(k + 1 if ok[k] else k, 1))  # keep the first contact state
+        tu, eu, ju = _units(prep["scales"])
+        dist = np.linalg.norm(np.asarray(sol.y)[:, :3], axis=1) * prep["scales"].length
+        return RunRecord(sol, fate, fate_t * tu if math.isfinite(fate_t) else math.nan, dist,
+                         tu, eu, ju, (system, y0, float(sol.t[-1]), self.method, step))
+
+
+def _seed_state(prep: dict[str, Any], kw: Mapping[str, float]
+                ) -> tuple[np.ndarray, dict[str, float]]:
+    """Initial state of a seed point in the units of the seed orbit, and the ratios of the
+    point's orbit units (length, time) to those units.
+
+    ``orbit_radius`` other than the seed's picks the circular orbit of that radius
+    (:func:`poissonkit_magnets.seed000.circular_orbit`, cached per worker); its state, built in
+    its own units by :func:`~poissonkit_magnets.seed000.initial_state`, is converted to the seed
+    orbit's units so that one compiled system serves every radius.
+    """
+    from poissonkit_magnets import seed000
+
+    t = prep["table"]
+    radius = float(kw["orbit_radius"])
+    if not (math.isfinite(radius) and radius > 0):
+        raise InputError(f"seed000: orbit_radius must be > 0, got {radius!r}")
+    state_kw = {k: kw[k] for k in ("spin_ratio", "tilt", "radius_factor", "momentum_factor")}
+    orbits = prep.setdefault("orbits", {})
+    if radius not in orbits:
+        orbits[radius] = seed000.circular_orbit(radius * float(t.h), table=t)
+    o = orbits[radius]
+    y = seed000.initial_state(orbit=o, table=t, **state_kw)
+    s0, s1 = prep["scales"], seed000.scales(o, t)
+    ratio = {"length": s1.length / s0.length, "time": s1.time / s0.time}
+    conv = np.ones(18)
+    conv[0:3] = ratio["length"]
+    conv[3:6] = s1.unit("momentum") / s0.unit("momentum")
+    for block in (9, 15):  # spins m', m'' (the axes nu are unit vectors in any units)
+        conv[block:block + 3] = s1.unit("angular_momentum") / s0.unit("angular_momentum")
+    return y * conv, ratio
+
+
+def _cut(sol: Any, k: int) -> Any:
+    """The solution up to (excluding) saved state ``k``: the part before contact."""
+    from dataclasses import replace
+
+    return replace(sol, t=np.asarray(sol.t)[:k], y=np.asarray(sol.y)[:k])
+
+
+# ------------------------------------------------------------------------------ TOML scenes
+
+_SPIN = "spin"
+
+
+def _descend(node: Any, seg: str, where: str) -> Any:
+    if isinstance(node, list):
+        if seg.lstrip("-").isdigit():
+            k = int(seg)
+            if not -len(node) <= k < len(node):
+                raise SceneError(f"{where}: index {k} out of range (0..{len(node) - 1})")
+            return k
+        names = [e.get("name") for e in node if isinstance(e, Mapping)]
+        if seg in names:
+            return names.index(seg)
+        raise UnknownNameError(f"entry of {where}", seg,
+                               [str(n) for n in names if n is not None] or
+                               [str(i) for i in range(len(node))])
+    if isinstance(node, Mapping):
+        return seg
+    raise SceneError(f"{where}: is a value, cannot go into {seg!r}")
+
+
+def set_path(data: dict[str, Any], path: str, value: float) -> None:
+    """Set the number at ``path`` in a parsed scene mapping (in place).
+
+    Segments are table keys, array indices or the ``name`` of an array entry
+    (``bodies.right.r.0``). Shorthands: ``bodies.<name>.spin`` sets the angular momentum
+    ``m = spin * nu/|nu|`` [kg m^2/s] (spin about the body's own axis) and
+    ``interactions.<k>.<param>`` means ``interactions.pair.<k>.params.<param>``.
+    Unknown keys are allowed only where the scene schema allows them; the scene is validated
+    after all values are set (:func:`poissonkit.scene.scene_from_mapping`).
+    """
+    segs = path.split(".")
+    if len(segs) >= 3 and segs[0] == "interactions" and segs[1].lstrip("-").isdigit():
+        rest = segs[3:] if len(segs) > 3 and segs[2] == "params" else segs[2:]
+        from poissonkit.scene.schema import PAIR_KEYS
+
+        if rest[0] not in PAIR_KEYS:
+            segs = ["interactions", "pair", segs[1], "params", *rest]
+    node: Any = data
+    where = ""
+    for depth, seg in enumerate(segs[:-1]):
+        key = _descend(node, seg, where or "scene")
+        where = f"{where}.{seg}" if where else seg
+        if isinstance(node, Mapping) and key not in node:
+            # allow creating a missing table only where the next segment names a field
+            node[key] = {}
+        node = node[key]
+        if (depth == 1 and segs[0] == "bodies" and segs[-1] == _SPIN and len(segs) == 3):
+            nu = node.get("nu", data.get("defaults", {}).get("nu"))
+            if nu is None:
+                raise SceneError(f"{path}: body has no axis nu, so it has no spin")
+            n = math.sqrt(sum(float(x) ** 2 for x in nu))
+            if n == 0:
+                raise SceneError(f"{path}: body axis nu is zero")
+            node["m"] = [float(value) * float(x) / n for x in nu]
+            return
+    last = segs[-1]
+    key = _descend(node, last, where or "scene")
+    if isinstance(node, list):
+        old = node[key]
+    else:
+        old = node.get(key, None)
+    if isinstance(old, (list, dict)):
+        raise SceneError(f"{path}: is a {'table' if isinstance(old, dict) else 'vector'}; "
+                         "address one number (e.g. append .0 for x)")
+    if isinstance(old, bool) or isinstance(old, str):
+        raise SceneError(f"{path}: holds {old!r}, not a number")
+    if isinstance(old, int) and not isinstance(old, bool) and float(value).is_integer():
+        value = int(value)  # integer fields (counts) stay integers
+    node[key] = value
+
+
+#: SI units of the scene fields a sweep may vary (by the last key of the path).
+FIELD_UNITS: Mapping[str, str] = {
+    "mass": "kg", "alpha": "1/(kg m^2)", "inertia": "kg m^2", "r": "m", "p": "kg m/s",
+    "nu": "1", "m": "kg m^2/s", "spin": "kg m^2/s", "moment": "A m^2", "magnetization": "A/m",
+    "radius": "m", "length": "m", "half_length": "m", "step": "s", "duration": "s", "tol": "1",
+    "cutoff": "m", "spacing": "m", "mu0": "T m/A",
+}
+
+
+@dataclass(frozen=True)
+class TomlScene:
+    """A scene file (``docs/scenes.md``) whose numbers are addressed by path.
+
+    Parameters
+    ----------
+    text
+        The TOML text.
+    source
+        Where it came from (for messages and the dataset's attributes).
+    escape
+        Escape distance as a multiple of the initial size of the system (largest distance of a
+        moving body from the moving bodies' centre of mass; at least the largest body size).
+    """
+
+    text: str
+    source: str = ""
+    escape: float = 10.0
+    fixed: Mapping[str, float] = field(default_factory=dict)
+
+    @classmethod
+    def from_file(cls, path: str | Path, **kw: Any) -> TomlScene:
+        """Read a scene file (errors as :func:`poissonkit.scene.load_scene`)."""
+        from poissonkit.scene import load_scene
+
+        load_scene(path)  # validates the file, typed errors naming the field
+        return cls(Path(path).read_text(encoding="utf-8"), source=str(path), **kw)
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.escape) and self.escape > 1):
+            raise InputError(f"scene sweep: escape must be > 1, got {self.escape!r}")
+
+    @property
+    def raw(self) -> dict[str, Any]:
+        """The parsed TOML mapping."""
+        try:
+            return tomllib.loads(self.text)
+        except tomllib.TOMLDecodeError as exc:
+            raise SceneError(f"invalid TOML in {self.source or 'scene'}: {exc}") from None
+
+    @property
+    def name(self) -> str:
+        """The scene's name."""
+        return str(self.raw.get("name", "scene"))
+
+    @property
+    def key(self) -> str:
+        """Identifies what :meth:`prepare` builds (the worker cache key)."""
+        fixed = repr(sorted((str(k), float(v)) for k, v in self.fixed.items()))
+        return "toml:" + hashlib.sha256((self.text + fixed).encode()).hexdigest()[:16]
+
+    def settings(self) -> dict[str, Any]:
+        """Attributes recorded in the dataset."""
+        run = self.raw.get("run", {})
+        return {"scene": self.name, "scene_source": self.source, "scene_toml": self.text,
+                "method": run.get("method", "splitting4"), "step": run.get("step", math.nan),
+                "step_units": "s", "tol": run.get("tol", math.nan),
+                "duration_s": run.get("duration", math.nan), "escape_factor": self.escape}
+
+    def check(self, path: str) -> str:
+        """Validate ``path`` by setting it in a copy of the scene.
+
+        A path the file leaves out is accepted when it names a scene field
+        (:data:`FIELD_UNITS`) or a potential parameter (``...params.<name>``); the scene itself
+        is validated per point. Raises :class:`SceneError` / :class:`UnknownNameError` naming
+        the path.
+        """
+        data = self.raw
+        node: Any = data
+        present = True
+        try:
+            for seg in path.split("."):
+                node = node[_descend(node, seg, "scene")]
+        except (KeyError, IndexError, TypeError):
+            present = False
+        segs = [x for x in path.split(".") if not x.lstrip("-").isdigit()]
+        if not present and not (segs[-1] in FIELD_UNITS or (len(segs) > 1 and segs[-2] ==
+                                                              "params")):
+            raise SceneError(f"{path}: not in scene {self.name!r} (give the path of a number, "
+                             "e.g. bodies.<name>.mass, bodies.<name>.r.0, run.step)")
+        set_path(copy.deepcopy(data), path, 1.0)
+        return path
+
+    def units(self, path: str) -> str:
+        """SI units of the values of ``path`` (from its field name)."""
+        segs = [s for s in path.split(".") if not s.lstrip("-").isdigit()]
+        return FIELD_UNITS.get(segs[-1], "1") if segs else "1"
+
+    def scene_with(self, values: Mapping[str, float]) -> Any:
+        """The validated :class:`~poissonkit.scene.Scene` with ``values`` set."""
+        from poissonkit.scene import scene_from_mapping
+
+        data = self.raw
+        for k, v in {**self.fixed, **values}.items():
+            set_path(data, k, float(v))
+        return scene_from_mapping(data, source=self.source)
+
+    def prepare(self) -> dict[str, Any]:
+        """Build the scene once: its internal units, and its kernels compiled by a short run.
+
+        Every point is then built in these same units, so points that differ only in geometry,
+        initial state, masses or run settings share the compiled kernels (kernels are keyed by
+        the potential and its parameters in internal units, see
+        :class:`~poissonkit.numerics.nbody.NBodySystem`); a swept potential parameter or magnet
+        moment compiles once per distinct value.
+        """
+        from poissonkit.numerics.solver import solve
+        from poissonkit.scene import build_run
+
+        spec = build_run(self.scene_with({}))
+        h = spec.step if spec.step is not None else spec.t_end / 1000
+        solve(spec.system, spec.y0, 2 * h, method=spec.method, step=spec.step,
+              tol=spec.tol)  # compile now
+        return {"scene": spec.name, "scales": spec.system.scales}
+
+    def run(self, prep: Mapping[str, Any], values: Mapping[str, float]) -> RunRecord:
+        """Integrate one point and classify its fate (shape contact, escape)."""
+        from poissonkit.numerics.events import Escape
+        from poissonkit.numerics.solver import solve
+
+        scene = self.scene_with(values)
+        system, y0, t_end, step, models = _build(scene, prep["scales"])
+        L = system.scales.length if system.scales is not None else 1.0
+        moving = [b for b in models if not b.fixed]
+        r0 = np.array([b.r for b in moving], dtype=float) / L
+        size = max([float(np.max(np.linalg.norm(r0 - r0.mean(axis=0), axis=1)))] +
+                   [b.bounding_radius / L for b in models])
+        events = (Escape(self.escape * size),) if len(moving) > 1 else ()
+        fate, fate_t = "bounded", math.nan
+        # an integration that breaks down raises: the point is recorded as failed, with the
+        # message (typically a singular force at an unresolved encounter)
+        sol = solve(system, y0, t_end, method=scene.run.method, step=step, tol=scene.run.tol,
+                    events=events)
+        if sol.events:
+            fate, fate_t = sol.events[0].kind, float(sol.events[0].time)
+        pos = _all_positions(system, models, np.asarray(sol.y))
+        touch = _contact_index(models, pos)
+        if touch is not None:
+            fate, fate_t = "collision", float(sol.t[touch])
+            keep = max(touch + 1 if np.all(np.isfinite(pos[touch])) else touch, 1)
+            sol = _cut(sol, keep)
+            pos = pos[:keep]
+        r = pos[:, :, :3]
+        d = np.linalg.norm(r[:, :, None, :] - r[:, None, :, :], axis=-1)
+        iu = np.triu_indices(len(models), 1)
+        dist = d[:, iu[0], iu[1]].min(axis=1) if iu[0].size else np.full(len(pos), np.nan)
+        tu, eu, ju = _units(system.scales)
+        return RunRecord(sol, fate, fate_t * tu if math.isfinite(fate_t) else math.nan, dist,
+                         tu, eu, ju, (system, y0, float(sol.t[-1]), scene.run.method, step))
+
+
+def _build(scene: Any, scales: Any) -> tuple[Any, np.ndarray, float, float | None, list[Any]]:
+    """System, initial state, duration and step (internal units) and body models of a scene,
+    in the given internal units (as :func:`poissonkit.scene.build_run`, which picks its own)."""
+    from poissonkit_nbody import bodies_of, edges_of, pairs_of, state_of, system_of
+
+    from poissonkit.errors import PoissonkitError
+    from poissonkit.scene import scene_graph
+
+    G = scene_graph(scene)
+    try:
+        bodies = bodies_of(G)
+        if scene.planner is not None:
+            from poissonkit.scene.planner import Planner
+
+            bodies, pairs, _plan = Planner.from_spec(scene.planner).prepare(bodies, edges_of(G))
+        else:
+            pairs = pairs_of(G, bodies)
+        system = system_of(bodies, pairs, cutoff=scene.cutoff, scales=scales)
+        y0 = state_of(bodies, system)
+    except SceneError:
+        raise
+    except PoissonkitError as exc:
+        raise SceneError(f"scene {scene.name!r}: {exc}") from None
+    tu = scales.time if scales is not None else 1.0
+    step = None if scene.run.step is None else scene.run.step / tu
+    return system, y0, scene.run.duration / tu, step, bodies
+
+
+def _all_positions(system: Any, models: list[Any], y: np.ndarray) -> np.ndarray:
+    """Positions [m] of every body (fixed ones included) and axes, per saved state:
+    shape ``(n, bodies, 6)`` = ``(r, nu)``."""
+    parts = system.unpack(y, si=True)
+    n = y.shape[0]
+    out = np.zeros((n, len(models), 6))
+    mk = tk = 0
+    for k, b in enumerate(models):
+        if b.fixed:
+            out[:, k, :3] = b.r
+            if b.nu is not None:
+                out[:, k, 3:] = np.asarray(b.nu) / np.linalg.norm(b.nu)
+        else:
+            out[:, k, :3] = parts["r"][:, mk]
+            mk += 1
+            if b.is_top:
+                out[:, k, 3:] = parts["nu"][:, tk]
+                tk += 1
+    return out
+
+
+def _contact_index(models: list[Any], pos: np.ndarray) -> int | None:
+    """First saved state where two bodies' shapes touch (cylinders, balls), or ``None``."""
+    from poissonkit.scene.geometry import overlapping, shape_of
+
+    bound = np.array([b.bounding_radius for b in models])
+    if not np.any(bound > 0):
+        return None
+    finite = np.all(np.isfinite(pos.reshape(len(pos), -1)), axis=1)
+    for i in range(len(models)):
+        for j in range(i + 1, len(models)):
+            if bound[i] == 0 and bound[j] == 0:
+                continue
+            gap = np.linalg.norm(pos[:, i, :3] - pos[:, j, :3], axis=1)
+            near = np.nonzero(~finite | (gap <= bound[i] + bound[j]))[0]
+            for s in near:  # exact shape test only where the bounding spheres meet
+                if not finite[s]:
+                    return int(s)
+                a, b = models[i], models[j]
+                sa = shape_of(pos[s, i, :3], pos[s, i, 3:] if a.is_top else None,
+                              a.magnet.get("radius", 0.0), a.magnet.get("half_length", 0.0))
+                sb = shape_of(pos[s, j, :3], pos[s, j, 3:] if b.is_top else None,
+                              b.magnet.get("radius", 0.0), b.magnet.get("half_length", 0.0))
+                if overlapping(sa, sb):
+                    return int(s)
+    return None
+
+
+def sweep_scene(scene: Any, **kw: Any) -> SeedScene | TomlScene:
+    """A sweep scene from ``"seed000"``, a TOML path, a :class:`SeedScene`/:class:`TomlScene`.
+
+    Raises
+    ------
+    SceneError
+        If the file does not exist or is invalid (naming the field).
+    """
+    if isinstance(scene, (SeedScene, TomlScene)):
+        return scene
+    if isinstance(scene, str) and scene == "seed000":
+        return SeedScene(**kw)
+    if isinstance(scene, (str, Path)):
+        return TomlScene.from_file(scene, **{k: v for k, v in kw.items()
+                                             if k in ("escape", "fixed")})
+    raise InputError(f"scene must be 'seed000', a scene file path or a sweep scene, got {scene!r}")
