@@ -33,7 +33,7 @@ from poissonkit.sweeps import grid, sweep
 from poissonkit.sweeps.execute import make_client
 from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, reduce_run
 from poissonkit.sweeps.params import Design
-from poissonkit.sweeps.scenes import SeedScene
+from poissonkit_magnets.seed000_sweep import SeedScene
 
 
 def plain_loop(scene: SeedScene, design: Design) -> float:

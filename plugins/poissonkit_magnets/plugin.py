@@ -30,6 +30,12 @@ def poissonkit_potentials() -> list[PairPotential]:
     return list(_ENTRIES)
 
 
+def _seed_sweep(**options):
+    from poissonkit_magnets.seed000_sweep import SeedScene
+
+    return SeedScene(**options)
+
+
 def _seed_scene(**params):
     from poissonkit_magnets import seed000  # mpmath tables: only when the scene is used
 
@@ -55,6 +61,7 @@ SEED_SCENE = SceneEntry(
     ),
     load=_seed_scene,
     default=True,
+    sweep=_seed_sweep,
 )
 
 

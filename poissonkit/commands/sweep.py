@@ -1,7 +1,8 @@
 """``poissonkit sweep``: run a scene over a grid or random sample of parameters on Dask.
 
-Any scene: ``seed000`` (the built-in seed orbit, named parameters ``spin_ratio``, ``tilt``,
-``radius_factor``, ``momentum_factor``) or a TOML scene file whose numbers are addressed by
+Any scene: a registered scene by name (default: the registered default scene, the magnets
+plugin's ``seed000`` orbit with named parameters ``spin_ratio``, ``tilt``, ``radius_factor``,
+``momentum_factor``, ``orbit_radius``) or a TOML scene file whose numbers are addressed by
 path (``bodies.right.r.0``, ``run.step``, ``bodies.top1.spin``). Results go to
 ``OUT/sweep.zarr`` (an xarray Dataset, written as batches finish) and, for a two-parameter sweep,
 a stability map ``OUT/stability_map.png``. Guide: ``docs/sweeps.md``. Example::
@@ -22,8 +23,9 @@ from poissonkit.errors import InputError
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``poissonkit sweep``."""
-    parser.add_argument("scene", nargs="?", default="seed000",
-                        help="seed000 (default) or a scene file (.toml)")
+    parser.add_argument("scene", nargs="?", default=None,
+                        help="registered scene name (default: the default scene, seed000) or a "
+                             "scene file (.toml)")
     parser.add_argument("--param", action="append", default=[], metavar="PATH=SPEC",
                         help="swept parameter: PATH=start:stop:count (grid), PATH=v1,v2,... "
                              "(list) or PATH=low:high (with --random); repeatable")
@@ -64,13 +66,15 @@ def main(args: argparse.Namespace) -> int:
     if not params:
         raise InputError("give at least one --param PATH=start:stop:count (e.g. "
                          "--param spin_ratio=0:20:5)")
+    if args.scene is None:
+        from poissonkit.plugin.registry import default_scene
+
+        args.scene = default_scene().name
     options: dict = {}
     if args.escape is not None:
         options["escape"] = args.escape
-    if args.scene == "seed000":
-        options["periods"] = args.periods
-    elif not Path(args.scene).suffix == ".toml" and not Path(args.scene).exists():
-        raise InputError(f"scene {args.scene!r}: give seed000 or a scene file (.toml)")
+    if Path(args.scene).suffix != ".toml" and not Path(args.scene).exists():
+        options["periods"] = args.periods  # a registered scene (e.g. seed000) by name
     out = Path(args.out)
     store = default_store(out)
     try:

@@ -227,8 +227,11 @@ class SceneEntry(Entry):
     :attr:`params` (``method``, ``step`` [s], ``tol``, ``periods``, ``duration`` [s], or
     scene-specific ones such as ``tilt``) are handed to ``load``; the others are applied to
     the run it returns. ``default`` marks the scene ``poissonkit run`` uses without an argument
-    (the first one flagged, built-in plugins first).
+    (the first one flagged, built-in plugins first). ``sweep(**options)``, if given, returns the
+    scene's sweep adapter for ``poissonkit sweep NAME`` (an object with ``key``, ``settings``,
+    ``check``, ``units``, ``prepare`` and ``run``; see :mod:`poissonkit.sweeps.scenes`).
     """
 
     load: Callable[..., Any] = field(default=lambda **_: None)
     default: bool = False
+    sweep: Callable[..., Any] | None = None

@@ -19,7 +19,7 @@ from poissonkit.sweeps.api import sweep
 from poissonkit.sweeps.chaos import megno
 from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, OUTCOMES, Outcome
 from poissonkit.sweeps.params import Axis, Design, Range, grid, parse_param
-from poissonkit.sweeps.scenes import FATES, SeedScene, TomlScene, sweep_scene
+from poissonkit.sweeps.scenes import FATES, TomlScene, sweep_scene
 
 
 def stability_map(*args: Any, **kwargs: Any) -> Any:
@@ -31,6 +31,6 @@ def stability_map(*args: Any, **kwargs: Any) -> Any:
 
 
 __all__ = [
-    "DEFAULT_OUTCOMES", "FATES", "OUTCOMES", "Axis", "Design", "Outcome", "Range", "SeedScene",
+    "DEFAULT_OUTCOMES", "FATES", "OUTCOMES", "Axis", "Design", "Outcome", "Range",
     "TomlScene", "grid", "megno", "parse_param", "stability_map", "sweep", "sweep_scene",
 ]

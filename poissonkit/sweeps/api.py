@@ -35,8 +35,10 @@ def sweep(scene: Any, params: Sequence[Axis | Range | str] | Mapping[str, Any],
     Parameters
     ----------
     scene
-        ``"seed000"`` (the built-in seed orbit), the path of a TOML scene file, or a
-        :class:`~poissonkit.sweeps.scenes.SeedScene` / :class:`~poissonkit.sweeps.scenes.TomlScene`.
+        A registered scene name (e.g. ``"seed000"``, swept through its entry's ``sweep``
+        factory), the path of a TOML scene file, or a ready sweep scene
+        (:class:`~poissonkit.sweeps.scenes.TomlScene` or a plugin's, e.g.
+        ``poissonkit_magnets.seed000_sweep.SeedScene``).
     params
         Swept parameters by path (``docs/sweeps.md``): :func:`~poissonkit.sweeps.params.grid`
         axes, :class:`~poissonkit.sweeps.params.Axis` lists, command-line strings

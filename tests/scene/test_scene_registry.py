@@ -43,9 +43,13 @@ def test_default_scene_is_the_seed_orbit_registered_by_the_magnets_plugin():
 def test_the_core_holds_no_scene_module_and_the_commands_name_no_scene():
     pkg = ROOT / "poissonkit"
     assert not [p.name for p in pkg.glob("*.py") if "seed" in p.name]
-    for cmd in ("run.py", "bench.py"):
+    for cmd in ("run.py", "bench.py", "sweep.py"):
         text = (pkg / "commands" / cmd).read_text()
         assert not re.search(r"(from|import) poissonkit_magnets", text), cmd
+    # the sweep layer reaches the seed scene only through its registered entry
+    for module in sorted((pkg / "sweeps").glob("*.py")):
+        text = module.read_text()
+        assert not re.search(r"(from|import) poissonkit_magnets", text), module.name
 
 
 def test_run_without_scene_and_run_by_name_are_the_same_problem():

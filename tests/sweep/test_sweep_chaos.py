@@ -72,7 +72,7 @@ def test_chaotic_henon_heiles_orbit_grows(henon_heiles):
 
 
 def test_circular_seed_orbit_is_regular():
-    from poissonkit.sweeps.scenes import SeedScene
+    from poissonkit_magnets.seed000_sweep import SeedScene
 
     scene = SeedScene(periods=20)
     prep = scene.prepare()

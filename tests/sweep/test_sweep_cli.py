@@ -19,7 +19,7 @@ import xarray as xr
 from poissonkit import cli
 from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, reduce_run
 from poissonkit.sweeps.params import design_from
-from poissonkit.sweeps.scenes import SeedScene
+from poissonkit_magnets.seed000_sweep import SeedScene
 
 ROOT = Path(__file__).resolve().parents[2]
 ARGS = ["--param", "spin_ratio=0:20:3", "--param", "tilt=0:0.1:3", "--periods", "4"]

@@ -20,7 +20,7 @@ from poissonkit.sweeps import sweep
 from poissonkit.sweeps.execute import builds
 from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, reduce_run
 from poissonkit.sweeps.params import design_from
-from poissonkit.sweeps.scenes import SeedScene
+from poissonkit_magnets.seed000_sweep import SeedScene
 
 SEED_OPTIONS = {"periods": 4.0}  # short runs, small grids
 

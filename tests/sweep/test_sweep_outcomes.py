@@ -15,7 +15,8 @@ import pytest
 
 from poissonkit.errors import UnknownNameError
 from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, OUTCOMES, reduce_run, resolve_outcomes
-from poissonkit.sweeps.scenes import FATES, SeedScene
+from poissonkit.sweeps.scenes import FATES
+from poissonkit_magnets.seed000_sweep import SeedScene
 
 P_ORB = 6.4910356642626862477e-4  # N s, seed 000
 R_ORB = 0.01  # m

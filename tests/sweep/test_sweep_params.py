@@ -10,7 +10,9 @@ import pytest
 
 from poissonkit.errors import InputError, PoissonkitError, SceneError, UnknownNameError
 from poissonkit.sweeps.params import Axis, Range, design_from, grid, parse_param
-from poissonkit.sweeps.scenes import SeedScene, TomlScene, set_path
+from poissonkit_magnets.seed000_sweep import SeedScene
+
+from poissonkit.sweeps.scenes import TomlScene, set_path
 
 TWO_MAGNETS = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "two_magnets.toml"
 
