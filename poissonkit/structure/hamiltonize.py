@@ -425,12 +425,22 @@ def _prefactor_and_multiplier(problem, multiplier, prefactor):
             (sp.Integer(1) if prefactor is None else as_expr(prefactor, "prefactor"))
         return N, s, how
     if isinstance(multiplier, tuple):
-        if len(multiplier) != 2 or multiplier[0] != "polynomial" or \
-                not isinstance(multiplier[1], int) or multiplier[1] < 0:
-            raise InputError("a multiplier ansatz is ('polynomial', degree >= 0), got "
-                             f"{multiplier!r}")
-        s = sp.Integer(1) if prefactor is None else as_expr(prefactor, "prefactor")
-        return None, s, f"N = 1/mu, mu polynomial of degree <= {multiplier[1]}"
+        if len(multiplier) not in (2, 3) or multiplier[0] != "polynomial" or \
+                isinstance(multiplier[1], bool) or not isinstance(multiplier[1], int) or \
+                multiplier[1] < 0:
+            raise InputError("a multiplier ansatz is ('polynomial', degree >= 0) or "
+                             f"('polynomial', degree, base), got {multiplier!r}")
+        base = multiplier[2] if len(multiplier) == 3 else 1
+        if isinstance(base, str):
+            if base != "measure" or rho is None:
+                raise InputError("the base of a multiplier ansatz is an expression or "
+                                 "'measure' (with a measure given)")
+            base = rho
+        base = as_expr(base, "multiplier base")
+        s = (base if problem.hamiltonian is not None else sp.Integer(1)) \
+            if prefactor is None else as_expr(prefactor, "prefactor")
+        return base, s, (f"N = ({base})/mu, mu polynomial of degree <= {multiplier[1]} in all "
+                         "coordinates")
     N = as_expr(multiplier, "multiplier")
     if N == 0:
         raise InputError("multiplier must not be zero")
@@ -459,11 +469,12 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
         Degree of the coefficients in the positions (default 1).
     multiplier
         ``"auto"`` (``N = rho`` if a measure is known, else 1), ``"measure"``, ``"one"``, an
-        expression, or ``("polynomial", k)``: ``N = 1/mu`` with ``mu`` an unknown polynomial of
-        degree ``<= k`` in all coordinates.
+        expression, or ``("polynomial", k)`` / ``("polynomial", k, base)``: ``N = base/mu``
+        with ``mu`` an unknown polynomial of degree ``<= k`` in all coordinates (``base`` an
+        expression or ``"measure"``; default 1).
     prefactor
-        ``s`` in ``P = s Q``. Default: ``N`` when ``N`` comes from the measure and a Hamiltonian
-        is given (``P = rho Q``, Theorem 2), else 1.
+        ``s`` in ``P = s Q``. Default: ``N`` (or the base of a multiplier ansatz) when it comes
+        from the measure and a Hamiltonian is given (``P = rho Q``, Theorem 2), else 1.
     hamiltonian
         Override of ``H``; ``None`` drops the condition ``X = N P dH``.
     casimirs
@@ -501,6 +512,7 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
     coords = problem.coords
     n = len(coords)
     N, s, how = _prefactor_and_multiplier(problem, multiplier, prefactor)
+    poly_mult = isinstance(multiplier, tuple)
     if ansatz is None:
         pos, mom = _default_split(coords)
         if positions is not None:
@@ -539,7 +551,6 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
             if (i, j) in ansatz.zero:
                 continue
             columns.extend(("P", i, j, mono) for mono in mono_list)
-    poly_mult = N is None
     if poly_mult:
         columns.extend(("mu", None, None, mono)
                        for mono in _monomials(n, range(n), multiplier[1]))
@@ -548,8 +559,7 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
     exprs = list(problem.field) + list(problem.casimirs.values()) + [s]
     if problem.hamiltonian is not None:
         exprs.append(problem.hamiltonian)
-    if N is not None:
-        exprs.append(N)
+    exprs.append(N)
     fld = _Field(coords, [sp.sympify(e) for e in exprs])
     K, R = fld.K, fld.R
     rows: dict[tuple, dict[int, object]] = {}
@@ -569,11 +579,9 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
     # X = N s Q dH  <=>  Q dH = X / (N s)   (fixed N)   or   s Q dH - mu X = 0 (mu = 1/N)
     if problem.hamiltonian is not None:
         dH = [fld.convert(sp.diff(problem.hamiltonian, x), "dH") for x in coords]
-        if poly_mult:
-            r = [fld.convert(sp.sympify(problem.field[i]) / s, f"X_{i}/s") for i in range(n)]
-        else:
-            r = [fld.convert(sp.sympify(problem.field[i]) / (N * s), f"X_{i}/(N s)")
-                 for i in range(n)]
+        # fixed N: Q dH = X/(N s); polynomial ansatz N = base/mu: Q dH - mu X/(base s) = 0
+        r = [fld.convert(sp.sympify(problem.field[i]) / (N * s), f"X_{i}/(N s)")
+             for i in range(n)]
         cleared = []
         for i in range(n):
             D, parts = fld.cleared(dH + [r[i]])
@@ -614,10 +622,13 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
         return HamiltonizeResult(status=status, ansatz=ansatz, problem=problem, stats=stats, **kw)
 
     if not sol.consistent:
-        y = inconsistency_certificate(row_list, rhs_list, len(columns), K)
-        if y is None or not check_certificate(row_list, rhs_list, len(columns), y, K):
+        keep = _inconsistent_core(labels, row_list, rhs_list, len(columns), K)
+        sub_rows = [row_list[r] for r in keep]
+        sub_rhs = [rhs_list[r] for r in keep]
+        y = inconsistency_certificate(sub_rows, sub_rhs, len(columns), K)
+        if y is None or not check_certificate(sub_rows, sub_rhs, len(columns), y, K):
             raise RuntimeError("internal error: inconsistent system without a certificate")
-        combo = {_label(labels[r], coords): K.to_sympy(v) for r, v in y.items()}
+        combo = {_label(labels[keep[r]], coords): K.to_sympy(v) for r, v in y.items()}
         stats["seconds_certificate"] = time.perf_counter() - t3
         return finish("no_linear_solution", multiplier=N, certificate=Certificate(
             "linear", combo, (), f"The linear conditions are inconsistent: a combination of "
@@ -648,7 +659,7 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
             Qm[j, i] -= term
         else:
             mu += term
-    Nfam = (1 / mu) if poly_mult else N
+    Nfam = (N / mu) if poly_mult else N
     family = Bivector(coords, sp.ImmutableMatrix(Qm * s))
 
     # --- Jacobi on the family
@@ -682,11 +693,9 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
     members, mults = [], []
     for sd in sols:
         Pm = family.subs(sd)
-        Nm = sp.sympify(Nfam).subs(sd)
-        if poly_mult and Nm.has(sp.zoo, sp.nan):
-            continue
-        if poly_mult and sp.simplify(1 / Nm) == 0:
+        if poly_mult and sp.expand(mu.subs(sd)) == 0:
             continue  # mu = 0 is not a multiplier
+        Nm = sp.sympify(Nfam).subs(sd)
         members.append(Pm)
         mults.append(Nm)
     stats["seconds_jacobi"] = time.perf_counter() - t4
@@ -719,6 +728,27 @@ def _zero_pairs(zero, coords, pos, mom) -> frozenset:
         else:
             pairs.add(tuple(item))
     return frozenset(pairs)
+
+
+def _inconsistent_core(labels, rows, rhs, ncols, K) -> list[int]:
+    """Rows of a still-inconsistent subsystem, found by dropping whole condition groups.
+
+    A group is one component of one condition (``(X - N P dH)_i`` or ``P dC`` row ``i``). The
+    certificate is then computed on the smaller system: the transposed solve costs in
+    proportion to the number of equations.
+    """
+    groups: dict[tuple, list[int]] = {}
+    for r, key in enumerate(labels):
+        groups.setdefault(key[:-1], []).append(r)
+    live = list(groups)
+    for g in list(live):
+        trial = [r for h in live if h != g for r in groups[h]]
+        if not trial:
+            continue
+        sol = solve_sparse([rows[r] for r in trial], [rhs[r] for r in trial], ncols, K)
+        if not sol.consistent:
+            live.remove(g)
+    return [r for h in live for r in groups[h]]
 
 
 def _label(key: tuple, coords) -> tuple:
