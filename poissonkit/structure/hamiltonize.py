@@ -289,7 +289,7 @@ class HamiltonizeResult:
         The Poisson members: one :class:`Bivector` per solution component (free parameters
         that stay free remain symbols), each paired with its multiplier in ``multipliers``.
     multipliers
-        ``N`` for each entry of ``solutions``.
+        ``N`` for each entry of ``solutions`` (``None`` without a Hamiltonian).
     certificate
         Proof of non-existence within the ansatz, or ``None``.
     stats
@@ -340,8 +340,8 @@ class HamiltonizeResult:
             for k, P in enumerate(self.solutions):
                 free = sorted({str(s) for e in P.matrix for s in e.free_symbols}
                               & {str(t) for t in self.parameters})
-                lines.append(f"    [{k}] free parameters: {', '.join(free) or 'none'}; "
-                             f"N = {self.multipliers[k]}")
+                mult = "" if self.multipliers[k] is None else f"; N = {self.multipliers[k]}"
+                lines.append(f"    [{k}] free parameters: {', '.join(free) or 'none'}{mult}")
         elif self.certificate is not None:
             lines.append(f"  result     : no bracket in this ansatz. {self.certificate.text}")
         else:
@@ -660,6 +660,8 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
         else:
             mu += term
     Nfam = (N / mu) if poly_mult else N
+    if problem.hamiltonian is None:
+        Nfam = None  # no field condition: the multiplier plays no part
     family = Bivector(coords, sp.ImmutableMatrix(Qm * s))
 
     # --- Jacobi on the family
@@ -695,7 +697,7 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
         Pm = family.subs(sd)
         if poly_mult and sp.expand(mu.subs(sd)) == 0:
             continue  # mu = 0 is not a multiplier
-        Nm = sp.sympify(Nfam).subs(sd)
+        Nm = None if Nfam is None else sp.sympify(Nfam).subs(sd)
         members.append(Pm)
         mults.append(Nm)
     stats["seconds_jacobi"] = time.perf_counter() - t4
@@ -814,5 +816,29 @@ def _jacobi_equations(Qm: sp.Matrix, s: sp.Expr, coords, tau, fld: _Field) -> li
     return list(eqs)
 
 
+def result_record(res: HamiltonizeResult) -> dict:
+    """A JSON-ready dict of a :class:`HamiltonizeResult` (expressions as strings)."""
+    rec: dict = {"name": res.problem.name, "status": res.status, "found": res.found,
+                 "proved_absent": res.proved_absent,
+                 "ansatz": res.ansatz.describe(res.problem.coords),
+                 "multiplier": None if res.multiplier is None else str(res.multiplier),
+                 "parameters": [str(t) for t in res.parameters],
+                 "jacobi_equations": [str(e) for e in res.jacobi_equations],
+                 "stats": dict(res.stats)}
+    coords = res.problem.coords
+    rec["solutions"] = [
+        {"N": None if N is None else str(N),
+         "brackets": {f"{coords[i]},{coords[j]}": str(P.matrix[i, j])
+                      for i in range(len(coords)) for j in range(i + 1, len(coords))
+                      if P.matrix[i, j] != 0}}
+        for P, N in zip(res.solutions, res.multipliers)]
+    if res.certificate is not None:
+        rec["certificate"] = {"kind": res.certificate.kind, "text": res.certificate.text,
+                              "combination": {f"{k[0]} [{k[1]}]": str(v) for k, v in
+                                              res.certificate.combination.items()},
+                              "equations": [str(e) for e in res.certificate.equations]}
+    return rec
+
+
 __all__ = ["Ansatz", "Certificate", "HamiltonizationProblem", "HamiltonizeResult",
-           "hamiltonize", "problem_from"]
+           "hamiltonize", "problem_from", "result_record"]
