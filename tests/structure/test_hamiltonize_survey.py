@@ -32,7 +32,7 @@ from poissonkit_nonholonomic.ball import (
 )
 from poissonkit_nonholonomic.common import cross, dot, gamma_M
 from poissonkit_nonholonomic.general import p_gf_system
-from poissonkit_nonholonomic.suslov import suslov
+from poissonkit_nonholonomic.suslov import suslov, suslov_potential
 from poissonkit_nonholonomic.veselova import veselova
 
 R = sp.Rational
@@ -234,3 +234,32 @@ def test_bad_input_is_typed():
         hamiltonize(prob, ansatz=Ansatz(prob.coords[:3], prob.coords[3:]), degree=2)
     with pytest.raises(InputError):   # nothing to search for
         hamiltonize(prob, hamiltonian=None, casimirs={})
+
+
+# ------------------------------------------------------------------ Suslov in a potential, §7.2
+def test_suslov_potential_jacobi_selects_the_survey_bracket():
+    """U = 3 gamma3 + gamma1^2 gamma2 (Poisson case): the linear conditions leave 9 free
+    parameters at degree 3; Jacobi (Groebner basis) fixes them to the survey's bracket, checked
+    against the FORMULAS.md §12 oracle matrix."""
+    system = suslov_potential(I11=2, I22=1, U="3*gamma_z + gamma_x**2*gamma_y")
+    res = hamiltonize(system, degree=3)
+    assert res.found and len(res.parameters) == 9 and len(res.solutions) == 1
+    P = res.solutions[0]
+    assert not set().union(*(e.free_symbols for e in P.matrix)) & set(res.parameters)
+    point = dict(zip(P.coords, GAMMA + (1, -2, 0)))
+    oracle = sp.Matrix([[0, 0, 2, 0, 3, 0], [0, 0, 1, R(-3, 2), 0, 0],
+                        [-2, -1, 0, R(2, 9), R(-4, 9), 0], [0, R(3, 2), R(-2, 9), 0, 0, 0],
+                        [-3, 0, R(4, 9), 0, 0, 0], [0, 0, 0, 0, 0, 0]])
+    assert P.matrix.subs(point) == oracle
+
+
+def test_suslov_potential_quadratic_in_gamma3_is_not_poisson_proved():
+    """U = gamma3^2/2 + gamma1^2 gamma2: the survey states Jacobi fails (FORMULAS.md §12). At
+    degree 2 the linear conditions fix P and [P,P] != 0; at degree 3 the Jacobi equations in
+    the 7 free parameters generate the unit ideal."""
+    system = suslov_potential(I11=2, I22=1, U="gamma_z**2/2 + gamma_x**2*gamma_y")
+    unique = hamiltonize(system, degree=2)
+    assert unique.status == "no_jacobi_solution" and unique.parameters == ()
+    family = hamiltonize(system, degree=3)
+    assert family.status == "no_jacobi_solution" and len(family.parameters) == 7
+    assert family.certificate.equations == (1,)
