@@ -270,8 +270,9 @@ class HamiltonizeResult:
     ----------
     status
         ``"found"``; ``"no_linear_solution"`` / ``"no_multiplier"`` / ``"no_jacobi_solution"``
-        (proved: see ``certificate``); ``"jacobi_unsolved"`` (the Jacobi system was too large
-        to solve; ``jacobi_equations`` lists it, nothing is claimed).
+        (proved: see ``certificate``); ``"jacobi_unsolved"`` (too many free parameters for the
+        Jacobi step, or sympy found no real solution of a system whose ideal is not ``[1]``;
+        ``jacobi_equations`` lists it, nothing is claimed).
     ansatz
         The space searched (``ansatz.describe()``).
     problem
@@ -511,34 +512,83 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
     t0 = time.perf_counter()
     problem = problem_from(system, hamiltonian=hamiltonian, casimirs=casimirs)
     coords = problem.coords
-    n = len(coords)
     N, s, how = _prefactor_and_multiplier(problem, multiplier, prefactor)
     poly_mult = isinstance(multiplier, tuple)
     if ansatz is None:
-        pos, mom = _default_split(coords)
-        if positions is not None:
-            pos = tuple(_coord(coords, c) for c in positions)
-        if momenta is not None:
-            mom = tuple(_coord(coords, c) for c in momenta)
-        elif positions is not None:
-            mom = tuple(c for c in coords if c not in pos)
-        ansatz = Ansatz(pos, mom, 1 if degree is None else degree,
-                        momentum_terms if mom else "none", s, _zero_pairs(zero, coords, pos, mom))
+        ansatz = _build_ansatz(coords, positions, momenta, degree, momentum_terms, s, zero)
     elif degree is not None or prefactor is not None:
         raise InputError("give either an Ansatz or degree/prefactor, not both")
     for c in ansatz.positions + ansatz.momenta:
         if c not in coords:
             raise InputError(f"Ansatz coordinate {c} is not a coordinate of the system")
-    s = ansatz.prefactor
     if problem.hamiltonian is None and not problem.casimirs:
         raise InputError("nothing to search for: no Hamiltonian and no Casimirs given")
+    columns = _columns(ansatz, coords, multiplier[1] if poly_mult else None)
+    t1 = time.perf_counter()
+    system_ = _assemble(problem, ansatz.prefactor, N, columns, poly_mult)
+    t2 = time.perf_counter()
+    stats: dict[str, object] = {"unknowns": len(columns), "equations": len(system_.labels),
+                                "multiplier_rule": how, "seconds_assemble": t2 - t1}
 
-    # --- the unknowns: (i, j, monomial) with Q^{ij} += u * monomial
+    def finish(status, **kw):
+        stats["seconds_total"] = time.perf_counter() - t0
+        return HamiltonizeResult(status=status, ansatz=ansatz, problem=problem, stats=stats, **kw)
+
+    K = system_.fld.K
+    if poly_mult:
+        sol = nullspace_sparse(system_.rows, len(columns), K)
+    else:
+        sol = solve_sparse(system_.rows, system_.rhs, len(columns), K)
+    t3 = time.perf_counter()
+    stats.update(rank=sol.rank, seconds_linear=t3 - t2)
+    if not sol.consistent:
+        cert = _linear_certificate(system_, len(columns), coords)
+        stats["seconds_certificate"] = time.perf_counter() - t3
+        return finish("no_linear_solution", multiplier=N, certificate=cert)
+    mu_cols = [c for c, col in enumerate(columns) if col[0] == "mu"]
+    if poly_mult and not any(any(d.get(c) for c in mu_cols) for d in sol.directions):
+        return finish("no_multiplier", certificate=Certificate(
+            "multiplier", text=f"Every solution of the {len(system_.labels)} linear equations "
+            f"has mu = 1/N = 0: no multiplier of degree <= {multiplier[1]} exists (exact "
+            "elimination)."))
+
+    tau, Qm, mu = _family(sol, columns, coords, K)
+    Nfam = (N / mu) if poly_mult else N
+    if problem.hamiltonian is None:
+        Nfam = None  # no field condition: the multiplier plays no part
+    family = Bivector(coords, sp.ImmutableMatrix(Qm * ansatz.prefactor))
+    stats["parameters"] = len(tau)
+    if len(tau) > max_jacobi_parameters:
+        return finish("jacobi_unsolved", multiplier=Nfam, family=family, parameters=tau)
+    t4 = time.perf_counter()
+    status, out = _impose_jacobi(Qm, ansatz.prefactor, coords, tau, system_.fld, family, Nfam,
+                                 mu if poly_mult else None)
+    stats["jacobi_equations"] = out.pop("count")
+    stats["seconds_jacobi"] = time.perf_counter() - t4
+    return finish(status, multiplier=Nfam, family=family, **out)
+
+
+def _build_ansatz(coords, positions, momenta, degree, momentum_terms, s, zero) -> Ansatz:
+    """The :class:`Ansatz` from :func:`hamiltonize`'s keyword arguments."""
+    pos, mom = _default_split(coords)
+    if positions is not None:
+        pos = tuple(_coord(coords, c) for c in positions)
+    if momenta is not None:
+        mom = tuple(_coord(coords, c) for c in momenta)
+    elif positions is not None:
+        mom = tuple(c for c in coords if c not in pos)
+    return Ansatz(pos, mom, 1 if degree is None else degree,
+                  momentum_terms if mom else "none", s, _zero_pairs(zero, coords, pos, mom))
+
+
+def _columns(ansatz: Ansatz, coords, mu_degree: int | None) -> list[tuple]:
+    """The unknowns: ``("P", i, j, monomial)`` (``Q^{ij} += u * monomial``, ``i < j``) and, for a
+    multiplier ansatz, ``("mu", None, None, monomial)``."""
+    n = len(coords)
     pidx = [coords.index(c) for c in ansatz.positions]
     midx = [coords.index(c) for c in ansatz.momenta]
-    base = _monomials(n, pidx, ansatz.degree)
     mono_list = []
-    for b in base:
+    for b in _monomials(n, pidx, ansatz.degree):
         if ansatz.momentum_terms in ("affine", "none") or not midx:
             mono_list.append(b)
         if ansatz.momentum_terms != "none":
@@ -549,44 +599,54 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
     columns: list[tuple] = []
     for i in range(n):
         for j in range(i + 1, n):
-            if (i, j) in ansatz.zero:
-                continue
-            columns.extend(("P", i, j, mono) for mono in mono_list)
-    if poly_mult:
-        columns.extend(("mu", None, None, mono)
-                       for mono in _monomials(n, range(n), multiplier[1]))
+            if (i, j) not in ansatz.zero:
+                columns.extend(("P", i, j, mono) for mono in mono_list)
+    if mu_degree is not None:
+        columns.extend(("mu", None, None, mono) for mono in _monomials(n, range(n), mu_degree))
+    return columns
 
-    # --- exact rational functions of everything involved
-    exprs = list(problem.field) + list(problem.casimirs.values()) + [s]
+
+@dataclass
+class _LinearSystem:
+    """The coefficient equations: ``rows[r] . u = rhs[r]``, labelled ``labels[r]``."""
+
+    labels: list[tuple]
+    rows: list[dict[int, object]]
+    rhs: list[object]
+    fld: _Field
+
+
+def _assemble(problem: HamiltonizationProblem, s, N, columns, poly_mult: bool) -> _LinearSystem:
+    """Clear denominators and split ``X = N s Q dH`` and ``s Q dC = 0`` over monomials.
+
+    Fixed ``N``: ``Q dH = X/(N s)``. Multiplier ansatz ``N = base/mu``: ``Q dH - mu X/(base s)
+    = 0`` (homogeneous; ``N`` is the base here).
+    """
+    coords = problem.coords
+    n = len(coords)
+    exprs = list(problem.field) + list(problem.casimirs.values()) + [s, N]
     if problem.hamiltonian is not None:
         exprs.append(problem.hamiltonian)
-    exprs.append(N)
     fld = _Field(coords, [sp.sympify(e) for e in exprs])
-    K, R = fld.K, fld.R
+    K = fld.K
     rows: dict[tuple, dict[int, object]] = {}
     rhs: dict[tuple, object] = {}
 
     def add(label_stem, poly, col=None, sign=1):
         for monom, coeff in poly.terms():
             key = label_stem + (monom,)
+            row = rows.setdefault(key, {})
             if col is None:
                 rhs[key] = rhs.get(key, K.zero) + sign * coeff
-                rows.setdefault(key, {})
             else:
-                row = rows.setdefault(key, {})
                 row[col] = row.get(col, K.zero) + sign * coeff
 
-    t1 = time.perf_counter()
-    # X = N s Q dH  <=>  Q dH = X / (N s)   (fixed N)   or   s Q dH - mu X = 0 (mu = 1/N)
     if problem.hamiltonian is not None:
         dH = [fld.convert(sp.diff(problem.hamiltonian, x), "dH") for x in coords]
-        # fixed N: Q dH = X/(N s); polynomial ansatz N = base/mu: Q dH - mu X/(base s) = 0
         r = [fld.convert(sp.sympify(problem.field[i]) / (N * s), f"X_{i}/(N s)")
              for i in range(n)]
-        cleared = []
-        for i in range(n):
-            D, parts = fld.cleared(dH + [r[i]])
-            cleared.append(parts)
+        # row i, cleared by its own denominator: [D_i dH_1, ..., D_i dH_n, D_i r_i]
+        cleared = [fld.cleared(dH + [r[i]])[1] for i in range(n)]
         for c, (kind, i, j, mono) in enumerate(columns):
             if kind == "P":
                 add(("X", i), cleared[i][j].mul_monom(mono), c)
@@ -605,54 +665,38 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
                 add(("C", cname, i), cc[j].mul_monom(mono), c)
                 add(("C", cname, j), cc[i].mul_monom(mono), c, -1)
     labels = list(rows)
-    row_list = [rows[k] for k in labels]
-    rhs_list = [rhs.get(k, K.zero) for k in labels]
-    t2 = time.perf_counter()
-    stats: dict[str, object] = {"unknowns": len(columns), "equations": len(labels),
-                                "multiplier_rule": how, "seconds_assemble": t2 - t1}
+    return _LinearSystem(labels, [rows[k] for k in labels], [rhs.get(k, K.zero) for k in labels],
+                         fld)
 
-    if poly_mult:
-        sol = nullspace_sparse(row_list, len(columns), K)
-    else:
-        sol = solve_sparse(row_list, rhs_list, len(columns), K)
-    t3 = time.perf_counter()
-    stats.update(rank=sol.rank, seconds_linear=t3 - t2)
 
-    def finish(status, **kw):
-        stats["seconds_total"] = time.perf_counter() - t0
-        return HamiltonizeResult(status=status, ansatz=ansatz, problem=problem, stats=stats, **kw)
+def _linear_certificate(ls: _LinearSystem, ncols: int, coords) -> Certificate:
+    """A short, re-checked combination of the equations that reads ``0 = 1``."""
+    K = ls.fld.K
+    keep = _inconsistent_core(ls.labels, ls.rows, ls.rhs, ncols, K)
+    sub_rows = [ls.rows[r] for r in keep]
+    sub_rhs = [ls.rhs[r] for r in keep]
+    y = inconsistency_certificate(sub_rows, sub_rhs, ncols, K)
+    if y is None or not check_certificate(sub_rows, sub_rhs, ncols, y, K):
+        raise RuntimeError("internal error: inconsistent system without a certificate")
+    combo = {_label(ls.labels[keep[r]], coords): K.to_sympy(v) for r, v in y.items()}
+    return Certificate("linear", combo, (), (
+        f"The linear conditions are inconsistent: a combination of {len(combo)} of the "
+        f"{len(ls.labels)} coefficient equations has left-hand side 0 and right-hand side 1 "
+        "(exact, re-checked)."))
 
-    if not sol.consistent:
-        keep = _inconsistent_core(labels, row_list, rhs_list, len(columns), K)
-        sub_rows = [row_list[r] for r in keep]
-        sub_rhs = [rhs_list[r] for r in keep]
-        y = inconsistency_certificate(sub_rows, sub_rhs, len(columns), K)
-        if y is None or not check_certificate(sub_rows, sub_rhs, len(columns), y, K):
-            raise RuntimeError("internal error: inconsistent system without a certificate")
-        combo = {_label(labels[keep[r]], coords): K.to_sympy(v) for r, v in y.items()}
-        stats["seconds_certificate"] = time.perf_counter() - t3
-        return finish("no_linear_solution", multiplier=N, certificate=Certificate(
-            "linear", combo, (), f"The linear conditions are inconsistent: a combination of "
-            f"{len(combo)} of the {len(labels)} coefficient equations has left-hand side 0 and "
-            "right-hand side 1 (exact, re-checked)."))
 
-    mu_cols = [c for c, col in enumerate(columns) if col[0] == "mu"]
-    if poly_mult and not any(any(d.get(c) for c in mu_cols) for d in sol.directions):
-        return finish("no_multiplier", certificate=Certificate(
-            "multiplier", text=f"Every solution of the {len(labels)} linear equations has "
-            f"mu = 1/N = 0: no multiplier of degree <= {multiplier[1]} exists (exact "
-            "elimination)."))
-
-    # --- the family with free parameters t1..tk
+def _family(sol, columns, coords, K):
+    """``(tau, Q, mu)``: the solution family with free parameters ``t1..tk`` as sympy objects."""
+    n = len(coords)
     k = len(sol.free)
     tau = sp.symbols(f"{PARAMETER_STEM}1:{k + 1}", real=True) if k else ()
-    coeff_expr: dict[int, sp.Expr] = {c: K.to_sympy(v) for c, v in sol.particular.items()}
+    coeff: dict[int, sp.Expr] = {c: K.to_sympy(v) for c, v in sol.particular.items()}
     for t, d in zip(tau, sol.directions):
         for c, v in d.items():
-            coeff_expr[c] = coeff_expr.get(c, sp.Integer(0)) + K.to_sympy(v) * t
+            coeff[c] = coeff.get(c, sp.Integer(0)) + K.to_sympy(v) * t
     Qm = sp.zeros(n, n)
     mu = sp.Integer(0)
-    for c, val in coeff_expr.items():
+    for c, val in coeff.items():
         kind, i, j, mono = columns[c]
         term = val * sp.Mul(*[x**e for x, e in zip(coords, mono)])
         if kind == "P":
@@ -660,55 +704,46 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
             Qm[j, i] -= term
         else:
             mu += term
-    Nfam = (N / mu) if poly_mult else N
-    if problem.hamiltonian is None:
-        Nfam = None  # no field condition: the multiplier plays no part
-    family = Bivector(coords, sp.ImmutableMatrix(Qm * s))
+    return tau, Qm, mu
 
-    # --- Jacobi on the family
-    t4 = time.perf_counter()
-    stats["parameters"] = k
-    if k > max_jacobi_parameters:
-        return finish("jacobi_unsolved", multiplier=Nfam, family=family, parameters=tau)
+
+def _impose_jacobi(Qm, s, coords, tau, fld, family, Nfam, mu) -> tuple[str, dict]:
+    """Jacobi on the family: ``(status, fields of the result)``; ``mu`` for a multiplier ansatz."""
     eqs = _jacobi_equations(Qm, s, coords, tau, fld)
-    stats["jacobi_equations"] = len(eqs)
-    if not tau or not eqs:
-        stats["seconds_jacobi"] = time.perf_counter() - t4
-        if eqs:
-            return finish("no_jacobi_solution", multiplier=Nfam, family=family,
-                          jacobi_equations=tuple(eqs), certificate=Certificate(
-                              "jacobi", equations=tuple(eqs[:5]), text=(
-                                  "The linear conditions fix P uniquely and [P,P] != 0: "
-                                  f"{len(eqs)} non-zero coefficients of the Jacobiator.")))
-        return finish("found", multiplier=Nfam, family=family, parameters=tau,
-                      solutions=(family,), multipliers=(Nfam,))
-    G = sp.groebner(eqs, *tau, order="grevlex")
-    basis = tuple(G.exprs)
+    if not eqs:      # every member is Poisson
+        return "found", dict(count=0, parameters=tau, solutions=(family,), multipliers=(Nfam,))
+    if not tau:
+        return "no_jacobi_solution", dict(
+            count=len(eqs), jacobi_equations=tuple(eqs), certificate=Certificate(
+                "jacobi", equations=tuple(eqs[:5]), text=(
+                    "The linear conditions fix P uniquely and [P,P] != 0: "
+                    f"{len(eqs)} non-zero coefficients of the Jacobiator.")))
+    basis = tuple(sp.groebner(eqs, *tau, order="grevlex").exprs)
     if basis == (1,):
-        stats["seconds_jacobi"] = time.perf_counter() - t4
-        return finish("no_jacobi_solution", multiplier=Nfam, family=family, parameters=tau,
-                      jacobi_equations=basis, certificate=Certificate(
-                          "jacobi", equations=basis, text=(
-                              f"The {len(eqs)} Jacobi equations in the {k} free parameters "
-                              "generate the unit ideal (reduced Groebner basis [1]): no member "
-                              "of the family is Poisson.")))
+        return "no_jacobi_solution", dict(
+            count=len(eqs), parameters=tau, jacobi_equations=basis, certificate=Certificate(
+                "jacobi", equations=basis, text=(
+                    f"The {len(eqs)} Jacobi equations in the {len(tau)} free parameters "
+                    "generate the unit ideal (reduced Groebner basis [1]): no member of the "
+                    "family is Poisson.")))
     sols = sp.solve(list(basis), list(tau), dict=True)
+    if not sols:
+        # no real solution found by sympy's solver: not a proof (the ideal is not [1])
+        return "jacobi_unsolved", dict(count=len(eqs), parameters=tau, jacobi_equations=basis)
     members, mults = [], []
     for sd in sols:
-        Pm = family.subs(sd)
-        if poly_mult and sp.expand(mu.subs(sd)) == 0:
+        if mu is not None and sp.expand(mu.subs(sd)) == 0:
             continue  # mu = 0 is not a multiplier
-        Nm = None if Nfam is None else sp.sympify(Nfam).subs(sd)
-        members.append(Pm)
-        mults.append(Nm)
-    stats["seconds_jacobi"] = time.perf_counter() - t4
+        members.append(family.subs(sd))
+        mults.append(None if Nfam is None else sp.sympify(Nfam).subs(sd))
     if not members:
-        return finish("no_jacobi_solution", multiplier=Nfam, family=family, parameters=tau,
-                      jacobi_equations=basis, certificate=Certificate(
-                          "jacobi", equations=basis, text=(
-                              "Every solution of the Jacobi equations has mu = 0.")))
-    return finish("found", multiplier=Nfam, family=family, parameters=tau,
-                  jacobi_equations=basis, solutions=tuple(members), multipliers=tuple(mults))
+        return "no_jacobi_solution", dict(
+            count=len(eqs), parameters=tau, jacobi_equations=basis, certificate=Certificate(
+                "jacobi", equations=basis, text=(
+                    "Every solution of the Jacobi equations has mu = 0: none is a "
+                    "multiplier.")))
+    return "found", dict(count=len(eqs), parameters=tau, jacobi_equations=basis,
+                         solutions=tuple(members), multipliers=tuple(mults))
 
 
 def _coord(coords, c) -> sp.Symbol:
