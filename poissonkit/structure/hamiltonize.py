@@ -375,7 +375,12 @@ def _has_radical(e: sp.Expr) -> bool:
 
 
 class _Field:
-    """Exact rational functions in the coordinates over ``K = QQ(parameters)``."""
+    """Exact rational functions of the coordinates and parameters.
+
+    Everything is computed over ``QQ`` with the parameters as extra generators (multivariate
+    gcds over ``QQ`` are fast; over ``QQ(parameters)`` they took minutes). :meth:`split` then
+    reads a polynomial as ``{coordinate monomial: coefficient in K = QQ(parameters)}``.
+    """
 
     def __init__(self, coords: Sequence[sp.Symbol], exprs: Sequence[sp.Expr]) -> None:
         params: set = set()
@@ -383,8 +388,9 @@ class _Field:
             params |= e.free_symbols
         params -= set(coords)
         self.params = tuple(sorted(params, key=str))
+        self.nc = len(coords)
         self.K = sp.QQ.frac_field(*self.params) if self.params else sp.QQ
-        self.F, *_ = sp.polys.fields.field(list(coords), self.K)
+        self.F, *_ = sp.polys.fields.field(list(coords) + list(self.params), sp.QQ)
         self.R = self.F.ring
 
     def convert(self, e: sp.Expr, what: str):
@@ -407,6 +413,24 @@ class _Field:
             if f:
                 den = den.lcm(f.denom)
         return den, [(f.numer * den.exquo(f.denom)) if f else self.R.zero for f in items]
+
+    def shift(self, mono: tuple[int, ...]) -> tuple[int, ...]:
+        """A coordinate monomial as a monomial of ``R`` (parameter exponents 0)."""
+        return tuple(mono) + (0,) * len(self.params)
+
+    def to_K(self, part: Mapping[tuple[int, ...], object]):
+        """``{parameter monomial: rational}`` as an element of ``K``."""
+        if not self.params:
+            return sum(part.values(), sp.QQ.zero)
+        ring = self.K.field.ring
+        return self.K.field.field_new(ring({m: sp.QQ(c) for m, c in part.items() if c}))
+
+    def split(self, poly) -> dict[tuple[int, ...], object]:
+        """``{coordinate monomial: coefficient in K}`` of a polynomial of ``R``."""
+        acc: dict[tuple, dict] = {}
+        for monom, coeff in poly.terms():
+            acc.setdefault(monom[:self.nc], {})[monom[self.nc:]] = coeff
+        return {cm: self.to_K(part) for cm, part in acc.items()}
 
 
 def _prefactor_and_multiplier(problem, multiplier, prefactor):
@@ -628,18 +652,17 @@ def _assemble(problem: HamiltonizationProblem, s, N, columns, poly_mult: bool) -
     if problem.hamiltonian is not None:
         exprs.append(problem.hamiltonian)
     fld = _Field(coords, [sp.sympify(e) for e in exprs])
-    K = fld.K
-    rows: dict[tuple, dict[int, object]] = {}
-    rhs: dict[tuple, object] = {}
+    rows: dict[tuple, dict[int, dict]] = {}
+    rhs: dict[tuple, dict] = {}
 
+    # accumulate {parameter monomial: rational} per entry; converted to K once at the end
     def add(label_stem, poly, col=None, sign=1):
         for monom, coeff in poly.terms():
-            key = label_stem + (monom,)
+            key = label_stem + (monom[:fld.nc],)
             row = rows.setdefault(key, {})
-            if col is None:
-                rhs[key] = rhs.get(key, K.zero) + sign * coeff
-            else:
-                row[col] = row.get(col, K.zero) + sign * coeff
+            slot = rhs.setdefault(key, {}) if col is None else row.setdefault(col, {})
+            pm = monom[fld.nc:]
+            slot[pm] = slot.get(pm, 0) + (coeff if sign > 0 else -coeff)
 
     if problem.hamiltonian is not None:
         dH = [fld.convert(sp.diff(problem.hamiltonian, x), "dH") for x in coords]
@@ -649,11 +672,11 @@ def _assemble(problem: HamiltonizationProblem, s, N, columns, poly_mult: bool) -
         cleared = [fld.cleared(dH + [r[i]])[1] for i in range(n)]
         for c, (kind, i, j, mono) in enumerate(columns):
             if kind == "P":
-                add(("X", i), cleared[i][j].mul_monom(mono), c)
-                add(("X", j), cleared[j][i].mul_monom(mono), c, -1)
+                add(("X", i), cleared[i][j].mul_monom(fld.shift(mono)), c)
+                add(("X", j), cleared[j][i].mul_monom(fld.shift(mono)), c, -1)
             else:
                 for k in range(n):
-                    add(("X", k), cleared[k][n].mul_monom(mono), c, -1)
+                    add(("X", k), cleared[k][n].mul_monom(fld.shift(mono)), c, -1)
         if not poly_mult:
             for i in range(n):
                 add(("X", i), cleared[i][n])
@@ -662,11 +685,11 @@ def _assemble(problem: HamiltonizationProblem, s, N, columns, poly_mult: bool) -
         _, cc = fld.cleared(dC)
         for c, (kind, i, j, mono) in enumerate(columns):
             if kind == "P":
-                add(("C", cname, i), cc[j].mul_monom(mono), c)
-                add(("C", cname, j), cc[i].mul_monom(mono), c, -1)
+                add(("C", cname, i), cc[j].mul_monom(fld.shift(mono)), c)
+                add(("C", cname, j), cc[i].mul_monom(fld.shift(mono)), c, -1)
     labels = list(rows)
-    return _LinearSystem(labels, [rows[k] for k in labels], [rhs.get(k, K.zero) for k in labels],
-                         fld)
+    return _LinearSystem(labels, [{c: fld.to_K(v) for c, v in rows[k].items()} for k in labels],
+                         [fld.to_K(rhs.get(k, {})) for k in labels], fld)
 
 
 def _linear_certificate(ls: _LinearSystem, ncols: int, coords) -> Certificate:
@@ -812,7 +835,7 @@ def _jacobi_equations(Qm: sp.Matrix, s: sp.Expr, coords, tau, fld: _Field) -> li
     nc = len(coords)
 
     def lift(p):
-        return R2({m + (0,) * len(tau): c for m, c in p.terms()}) if p else R2.zero
+        return R2({m + (0,) * len(tau): c for m, c in fld.split(p).items()}) if p else R2.zero
 
     delta2 = lift(delta)
     ell2 = [lift(e) for e in ell]

@@ -263,3 +263,28 @@ def test_suslov_potential_quadratic_in_gamma3_is_not_poisson_proved():
     family = hamiltonize(system, degree=3)
     assert family.status == "no_jacobi_solution" and len(family.parameters) == 7
     assert family.certificate.equations == (1,)
+
+
+# ------------------------------------------------------------------ symbolic parameters
+def test_veselova_for_all_moments_of_inertia():
+    """Solved over QQ(a1, a2, a3): the bracket (65) for every A at once."""
+    a = sp.symbols("a1:4", positive=True)
+    system = veselova(*a)
+    res = hamiltonize(system, degree=3)
+    assert res.found and res.parameters == ()
+    g = sp.sqrt(sum(ai * x**2 for ai, x in zip(a, system.coords[:3])))
+    assert _same(res.solutions[0], -veselova_bracket(a=a), factor=g)
+
+
+@pytest.mark.slow
+def test_chaplygin_ball_for_all_parameters():
+    """Solved over QQ(I1, I2, I3, d) (about 30 s)."""
+    I = sp.symbols("I1:4", positive=True)
+    d = sp.Symbol("d", positive=True)
+    system = chaplygin_ball(*I, d)
+    res = hamiltonize(system, degree=3)
+    assert res.found and res.parameters == ()
+    a = [1 / (Ii + d) for Ii in I]
+    g = sp.sqrt(1 - d * sum(ai * x**2 for ai, x in zip(a, system.coords[:3])))
+    diff = (res.solutions[0].matrix + ball_bracket(I=I, d=d).matrix) * g
+    assert all(sp.simplify(sp.powsimp(e)) == 0 for e in diff)
