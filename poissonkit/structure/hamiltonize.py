@@ -113,15 +113,15 @@ class HamiltonizationProblem:
 
 
 def problem_from(system, *, hamiltonian=..., casimirs=None) -> HamiltonizationProblem:
-    """A :class:`HamiltonizationProblem` from a system, never reading its bracket.
+    """A :class:`HamiltonizationProblem` from a system: field, Hamiltonian, Casimirs, measure.
 
     Parameters
     ----------
     system
         A :class:`HamiltonizationProblem` (returned as is, with overrides applied), a
         :class:`~poissonkit.structure.system.HamiltonianSystem` (its ``original`` equations of
-        motion, or ``N P dH`` if it has none; its Hamiltonian, Casimir claims and measure), or
-        the name of a registered system (built with default parameters).
+        motion; only a system without them has its field computed as ``N P dH``, the one use
+        of its bracket), or the name of a registered system (built with default parameters).
     hamiltonian
         Override of ``H`` (``None``: no ``X = N P dH`` condition).
     casimirs
@@ -484,8 +484,8 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
     Parameters
     ----------
     system
-        A :class:`~poissonkit.structure.system.HamiltonianSystem` (only its equations of motion,
-        Hamiltonian, Casimir claims and measure are read, never its bracket), a
+        A :class:`~poissonkit.structure.system.HamiltonianSystem` (its equations of motion,
+        Hamiltonian, Casimir claims and measure are read; see :func:`problem_from`), a
         :class:`HamiltonizationProblem`, or a registered system name.
     ansatz
         The searched space (:class:`Ansatz`). If omitted it is built from ``positions``,
