@@ -76,7 +76,7 @@ def solve_sparse(rows: Sequence[dict[int, object]], rhs: Sequence[object], ncols
 
 
 def nullspace_sparse(rows: Sequence[dict[int, object]], ncols: int, K) -> LinearSolution:
-    """The null space of ``A`` (homogeneous system), as a :class:`LinearSolution` with ``u0 = 0``."""
+    """The null space of ``A``, as a :class:`LinearSolution` with ``u0 = 0``."""
     return solve_sparse(rows, [K.zero] * len(rows), ncols, K)
 
 

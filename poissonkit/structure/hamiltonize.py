@@ -322,7 +322,8 @@ class HamiltonizeResult:
     def summary(self) -> str:
         """A short human-readable report: what was searched, found or ruled out."""
         coords = self.problem.coords
-        lines = [f"Hamiltonisation search{(' of ' + self.problem.name) if self.problem.name else ''}",
+        title = f" of {self.problem.name}" if self.problem.name else ""
+        lines = [f"Hamiltonisation search{title}",
                  f"  ansatz     : {self.ansatz.describe(coords)}"]
         cond = []
         if self.problem.hamiltonian is not None:

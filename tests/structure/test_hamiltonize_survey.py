@@ -288,3 +288,19 @@ def test_chaplygin_ball_for_all_parameters():
     g = sp.sqrt(1 - d * sum(ai * x**2 for ai, x in zip(a, system.coords[:3])))
     diff = (res.solutions[0].matrix + ball_bracket(I=I, d=d).matrix) * g
     assert all(sp.simplify(sp.powsimp(e)) == 0 for e in diff)
+
+
+# ------------------------------------------------------------------ gyrostats (49), (70)
+@pytest.mark.parametrize("name", ["nh.chaplygin_gyrostat", "nh.veselova_gyrostat"])
+def test_gyrostat_brackets_from_their_equations(name):
+    """The registry's stated brackets P_sg (49) and P_k (70) (checked against FORMULAS.md
+    §7, §10 by the plugin's tests) are recovered, unique in the ansatz, with N = 1/g."""
+    from poissonkit.plugin import system as entry
+
+    e = entry(name)
+    system = e.build(**e.resolve_params({}))
+    res = hamiltonize(name, degree=3)
+    assert res.found and res.parameters == ()
+    g = 1 / res.multiplier
+    assert sp.simplify(res.multiplier + system.multiplier) == 0     # N = -(-1/g)
+    assert _same(res.solutions[0], -system.structure, factor=g)
