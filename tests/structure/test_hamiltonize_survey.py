@@ -18,6 +18,8 @@ from poissonkit.structure import check_jacobi
 from poissonkit.structure.deformed import chaplygin_ball as ball_bracket
 from poissonkit.structure import e3
 from poissonkit.structure.deformed import p_gf
+from poissonkit.structure.casimirs import is_casimir
+from poissonkit.structure.checks import is_conformally_hamiltonian
 from poissonkit.structure.deformed import veselova as veselova_bracket
 from poissonkit.structure.hamiltonize import (
     Ansatz,
@@ -101,6 +103,11 @@ def test_chaplygin_ball_bracket_and_multiplier_from_its_measure():
     assert [-_value(P, "gamma_x", "M_y", point), -_value(P, "M_x", "M_z", point),
             -_value(P, "M_y", "M_z", point)] == [2 * s / 27, 143 * s / 612, 3 * s / 34]
     assert check_jacobi(P, method="exact").is_poisson
+    # X = N P dH re-proved by the project's own check (random exact points, off the sphere too)
+    rep = is_conformally_hamiltonian(system.original, P, system.hamiltonian, res.multiplier,
+                                     method="random", trials=2, seed=3)
+    assert rep.holds
+    assert all(is_casimir(P, C).holds for C in system.casimirs.values())
 
 
 def test_chaplygin_ball_needs_degree_three():
