@@ -404,8 +404,10 @@ class _Field:
         try:
             return self.F.from_expr(e)
         except (ValueError, sp.PolynomialError, sp.CoercionFailed, TypeError) as exc:
-            raise InputError(f"{what} is not a rational function of the coordinates: {exc}") \
-                from None
+            raise InputError(
+                f"{what} is not a rational function of the coordinates and parameters "
+                "(undefined functions such as g(gamma) must be replaced by concrete "
+                f"expressions): {str(exc)[-160:]}") from None
 
     def cleared(self, items):
         """``(D, [f * D])`` with ``D`` the lcm of the denominators (polynomials in R)."""

@@ -229,6 +229,8 @@ def test_bad_input_is_typed():
                     multiplier="measure")
     with pytest.raises(InputError):   # a radical left in X/(N s)
         hamiltonize(chaplygin_ball(), degree=1, prefactor=1)
+    with pytest.raises(InputError, match="undefined functions"):   # arbitrary g, f, U
+        hamiltonize(p_gf_system())
     with pytest.raises(UnknownNameError):
         problem_from(chaplygin_ball(), casimirs=["no such integral"])
     with pytest.raises(InputError):
