@@ -50,6 +50,7 @@ _LAZY: dict[str, str] = {
     "is_poisson_map": "poissonkit.structure.poisson_map",
     "parse_expression": "poissonkit.structure.parsing",
     "verify": "poissonkit.commands.verify",
+    "hamiltonize": "poissonkit.structure.hamiltonize",
     # numerics
     "solve": "poissonkit.numerics.solver",
     "Solution": "poissonkit.numerics.solution",

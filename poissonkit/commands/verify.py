@@ -49,6 +49,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="time limit of the rank/Casimir search (default 30; 0: none)")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="parameter of a registered entry (repeatable)")
+    parser.add_argument("--hamiltonize", nargs="?", type=int, const=-1, default=None,
+                        metavar="DEGREE",
+                        help="instead of checking the stated bracket, search one from the "
+                             "equations of motion (survey ansatz, coefficients of degree "
+                             "DEGREE; without a value: degrees 1..4 until found)")
 
 
 # ---------------------------------------------------------------------------------- loading
@@ -517,6 +522,8 @@ def main(args: argparse.Namespace) -> int:
     if args.casimir_degree < 0:
         raise InputError("--casimir-degree must be >= 0")
     name, doc, obj = load_target(args.target, args.param)
+    if args.hamiltonize is not None:
+        return _run_hamiltonize(obj, args.hamiltonize, args.json)
     rep = verify(obj, name, doc, casimir_degree=args.casimir_degree, method=args.method,
                  seed=args.seed, timeout=args.timeout, claims=_entry_claims(name))
     if args.json:
@@ -524,3 +531,17 @@ def main(args: argparse.Namespace) -> int:
     else:
         _print_report(rep)
     return 0 if rep["ok"] else 1
+
+
+def _run_hamiltonize(obj: Any, degree: int, as_json: bool) -> int:
+    """``verify NAME --hamiltonize``: print the search result; 0 iff a bracket was found."""
+    from poissonkit.structure.hamiltonize import hamiltonize, result_record
+
+    if degree < -1:
+        raise InputError("--hamiltonize DEGREE must be >= 0")
+    for d in ([degree] if degree >= 0 else [1, 2, 3, 4]):
+        res = hamiltonize(obj, degree=d)
+        if res.found:
+            break
+    print(json.dumps(result_record(res), indent=2, default=str) if as_json else res.summary())
+    return 0 if res.found else 1

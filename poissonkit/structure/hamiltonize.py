@@ -1,0 +1,906 @@
+"""Hamiltonisation search: find a bivector ``P`` and a multiplier ``N`` with ``X = N P dH``.
+
+Given a vector field ``X`` (equations of motion), a Hamiltonian ``H`` (or none), functions that
+must be Casimirs and optionally an invariant-measure density ``rho``, :func:`hamiltonize` looks
+for ``P`` inside an :class:`Ansatz` such that
+
+* ``X = N P dH``  (sign convention ``xdot = N {x, H}``, :mod:`poissonkit.conventions`),
+* ``P dC = 0`` for every requested Casimir ``C``,
+* ``[P, P] = 0``.
+
+Method (survey of Borisov, Mamaev and Tsiganov, eq. (12)/(13), and its Theorem 2)
+---------------------------------------------------------------------------------
+1. **Ansatz.** ``P = s(x) Q(x)`` where ``s`` is a fixed prefactor and every entry ``Q^{ij}`` is a
+   polynomial with unknown coefficients: monomials in the *positions* up to ``degree``, times
+   ``1`` or a *momentum* (affine in the momenta, survey (13)). With the multiplier taken from
+   the invariant measure, ``N = rho`` and ``s = rho`` by default: for the survey's systems
+   ``rho = g^{-1}`` with ``g^2`` a polynomial, and ``g P`` is then polynomial (Theorem 2:
+   ``P = P_0'/rho``).
+2. **Linear conditions.** For fixed ``N`` the conditions ``X = N P dH`` and ``P dC = 0`` are
+   linear in the unknown coefficients. Denominators are cleared exactly and the identities
+   are split over the monomials in the coordinates; the resulting sparse system over ``QQ``
+   (or ``QQ(parameters)``) is solved exactly (sparse reduced echelon form). With a polynomial
+   multiplier ansatz, ``N = 1/mu`` with ``mu`` polynomial, the condition ``mu X = s Q dH`` is
+   linear homogeneous in ``(mu, Q)``.
+3. **Jacobi.** On the remaining affine family ``Q = Q_0 + sum_t t_t Q_t`` the identity
+   ``[P, P] = 0`` is a system of quadratic equations in the free parameters ``t``: it is
+   computed in a sparse polynomial ring (``Jac(s Q)/s^2 = Jac(Q) + sum (d log s) Q Q``), split
+   over coordinate monomials and solved exactly with a Groebner basis.
+
+A negative answer is a **proof within the ansatz**: either a vector ``y`` with ``y^T A = 0``,
+``y^T b = 1`` (a combination of the linear conditions that reads ``0 = 1``; re-checked
+independently before it is reported), or, for a polynomial multiplier, the elimination forces
+``mu = 0``, or the Jacobi equations generate the unit ideal (reduced Groebner basis ``[1]``).
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from poissonkit.errors import InputError
+from poissonkit.structure._exact_linear import (
+    check_certificate,
+    inconsistency_certificate,
+    nullspace_sparse,
+    solve_sparse,
+)
+from poissonkit.structure._expr import as_expr
+from poissonkit.structure.bivector import Bivector
+
+_STATUSES = ("found", "no_linear_solution", "no_multiplier", "no_jacobi_solution",
+             "jacobi_unsolved")
+#: Name stem of the free parameters of a solution family (``t1, t2, ...``).
+PARAMETER_STEM = "t"
+_POSITION_STEMS = ("gamma", "q", "nu")
+
+
+# ------------------------------------------------------------------------------ inputs
+@dataclass(frozen=True)
+class HamiltonizationProblem:
+    """What :func:`hamiltonize` is asked: a field, a Hamiltonian, Casimirs, a measure.
+
+    Parameters
+    ----------
+    coords
+        State coordinates, in order.
+    field
+        ``X``: one expression per coordinate (the equations of motion ``xdot = X``).
+    hamiltonian
+        ``H`` for the condition ``X = N P dH``; ``None`` drops that condition (then only the
+        Casimir conditions and Jacobi are imposed, survey eq. (12)).
+    casimirs
+        ``{name: C}``: functions that must be Casimirs of ``P``.
+    measure
+        Invariant-measure density ``rho`` (``div(rho X) = 0``) or ``None``.
+    name
+        Label for reports.
+    """
+
+    coords: tuple[sp.Symbol, ...]
+    field: tuple[sp.Expr, ...]
+    hamiltonian: sp.Expr | None = None
+    casimirs: Mapping[str, sp.Expr] = field(default_factory=dict)
+    measure: sp.Expr | None = None
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        put = object.__setattr__
+        coords = tuple(self.coords)
+        if not coords or not all(isinstance(c, sp.Symbol) for c in coords):
+            raise InputError("HamiltonizationProblem.coords must be a non-empty sequence of "
+                             "sympy symbols")
+        if len(set(coords)) != len(coords):
+            raise InputError("HamiltonizationProblem.coords repeats a coordinate")
+        put(self, "coords", coords)
+        fld = tuple(as_expr(e, f"field component {k}") for k, e in enumerate(self.field))
+        if len(fld) != len(coords):
+            raise InputError(f"HamiltonizationProblem.field has {len(fld)} components for "
+                             f"{len(coords)} coordinates")
+        put(self, "field", fld)
+        if self.hamiltonian is not None:
+            put(self, "hamiltonian", as_expr(self.hamiltonian, "hamiltonian"))
+        if not isinstance(self.casimirs, Mapping):
+            raise InputError("HamiltonizationProblem.casimirs must be a mapping name -> expression")
+        put(self, "casimirs", {str(k): as_expr(v, f"Casimir {k!r}")
+                               for k, v in self.casimirs.items()})
+        if self.measure is not None:
+            put(self, "measure", as_expr(self.measure, "measure"))
+
+
+def problem_from(system, *, hamiltonian=..., casimirs=None) -> HamiltonizationProblem:
+    """A :class:`HamiltonizationProblem` from a system: field, Hamiltonian, Casimirs, measure.
+
+    Parameters
+    ----------
+    system
+        A :class:`HamiltonizationProblem` (returned as is, with overrides applied), a
+        :class:`~poissonkit.structure.system.HamiltonianSystem` (its ``original`` equations of
+        motion; only a system without them has its field computed as ``N P dH``, the one use
+        of its bracket), or the name of a registered system (built with default parameters).
+    hamiltonian
+        Override of ``H`` (``None``: no ``X = N P dH`` condition).
+    casimirs
+        Override of the Casimirs: a mapping, or a sequence of names among the system's
+        Casimirs and integrals.
+    """
+    from poissonkit.structure.system import HamiltonianSystem
+
+    if isinstance(system, str):
+        from poissonkit.plugin import system as registry_entry
+
+        entry = registry_entry(system)
+        system = entry.build(**entry.resolve_params({}))
+    if isinstance(system, HamiltonizationProblem):
+        prob = system
+        known = dict(prob.casimirs)
+    elif isinstance(system, HamiltonianSystem):
+        coords = system.coords
+        if system.original:
+            fld = tuple(system.original[c] for c in coords)
+        else:  # the field is the equations of motion, however the system states them
+            fld = tuple(system.vector_field())
+        H = system.hamiltonian if system.hamiltonian != 0 else None
+        prob = HamiltonizationProblem(coords, fld, H, dict(system.casimirs), system.measure,
+                                      system.name)
+        known = {**dict(system.casimirs), **dict(system.integrals)}
+    else:
+        raise InputError(f"hamiltonize: system must be a HamiltonianSystem, a "
+                         f"HamiltonizationProblem or a registered name, got "
+                         f"{type(system).__name__}")
+    H = prob.hamiltonian if hamiltonian is ... else hamiltonian
+    cas = prob.casimirs
+    if casimirs is not None:
+        if isinstance(casimirs, Mapping):
+            cas = dict(casimirs)
+        else:
+            try:
+                cas = {str(k): known[str(k)] for k in casimirs}
+            except KeyError as exc:
+                from poissonkit.errors import UnknownNameError
+
+                raise UnknownNameError("Casimir", str(exc.args[0]), known) from None
+    return HamiltonizationProblem(prob.coords, prob.field, H, cas, prob.measure, prob.name)
+
+
+@dataclass(frozen=True)
+class Ansatz:
+    """The space searched: ``P = prefactor * Q``, each ``Q^{ij}`` polynomial with unknown
+    coefficients (survey eq. (13) when ``momentum_terms="affine"``).
+
+    Parameters
+    ----------
+    positions
+        Coordinates in which the coefficients are polynomials (``gamma``).
+    momenta
+        Coordinates in which ``Q`` is affine / linear (``M``, ``K``, ``omega``).
+    degree
+        Maximal total degree of the coefficients in the positions.
+    momentum_terms
+        ``"affine"`` (``c^k_ij(pos) p_k + d_ij(pos)``, survey (13)), ``"linear"`` (no
+        ``d_ij``) or ``"none"`` (coefficients only).
+    prefactor
+        Fixed scalar ``s(x)``; ``d log s`` must be rational (``s = g^{-1}`` with ``g^2``
+        polynomial is fine).
+    zero
+        Index pairs ``(i, j)`` (0-based, coordinate order) forced to vanish, e.g. the
+        ``{gamma_i, gamma_j}`` block.
+    """
+
+    positions: tuple[sp.Symbol, ...]
+    momenta: tuple[sp.Symbol, ...] = ()
+    degree: int = 1
+    momentum_terms: str = "affine"
+    prefactor: sp.Expr = sp.Integer(1)
+    zero: frozenset[tuple[int, int]] = frozenset()
+
+    def __post_init__(self) -> None:
+        put = object.__setattr__
+        put(self, "positions", tuple(self.positions))
+        put(self, "momenta", tuple(self.momenta))
+        if set(self.positions) & set(self.momenta):
+            raise InputError("Ansatz: a coordinate cannot be both a position and a momentum")
+        if isinstance(self.degree, bool) or not isinstance(self.degree, int) or self.degree < 0:
+            raise InputError(f"Ansatz.degree must be an integer >= 0, got {self.degree!r}")
+        if self.momentum_terms not in ("affine", "linear", "none"):
+            raise InputError(f"Ansatz.momentum_terms must be 'affine', 'linear' or 'none', got "
+                             f"{self.momentum_terms!r}")
+        put(self, "prefactor", as_expr(self.prefactor, "Ansatz.prefactor"))
+        if self.prefactor == 0:
+            raise InputError("Ansatz.prefactor must not be zero")
+        zero = set()
+        for pair in self.zero:
+            try:
+                i, j = (int(k) for k in pair)
+            except (TypeError, ValueError):
+                raise InputError(f"Ansatz.zero: {pair!r} is not an index pair") from None
+            zero.add((min(i, j), max(i, j)))
+        put(self, "zero", frozenset(zero))
+
+    def describe(self, coords: Sequence[sp.Symbol] = ()) -> str:
+        """One line stating the searched space."""
+        mom = {"affine": "affine in", "linear": "linear in", "none": "independent of"}[
+            self.momentum_terms]
+        text = (f"P = ({self.prefactor}) * Q, Q^ij {mom} ({', '.join(map(str, self.momenta))})"
+                f" with coefficients polynomial of degree <= {self.degree} in "
+                f"({', '.join(map(str, self.positions))})")
+        if self.zero and coords:
+            names = ", ".join(f"{{{coords[i]},{coords[j]}}}" for i, j in sorted(self.zero))
+            text += f"; forced zero: {names}"
+        return text
+
+
+# ------------------------------------------------------------------------------ result
+@dataclass(frozen=True)
+class Certificate:
+    """Why no bracket of the ansatz exists.
+
+    Attributes
+    ----------
+    kind
+        ``"linear"``: ``combination`` of the linear conditions reads ``0 = value``;
+        ``"multiplier"``: the linear conditions force the multiplier ansatz ``mu`` to vanish;
+        ``"jacobi"``: the Jacobi equations in the free parameters have reduced Groebner basis
+        ``[1]`` (or, without free parameters, a non-zero coefficient ``equations[0]``).
+    combination
+        For ``"linear"``: ``{(condition, monomial): weight}``; the weighted sum of those
+        equations has zero left-hand side and non-zero right-hand side. Re-checked exactly.
+    equations
+        For ``"jacobi"``: the polynomial equations in the parameters (or the offending
+        non-zero coefficients).
+    text
+        A sentence for reports.
+    """
+
+    kind: str
+    combination: Mapping[tuple, sp.Expr] = field(default_factory=dict)
+    equations: tuple[sp.Expr, ...] = ()
+    text: str = ""
+
+
+@dataclass(frozen=True)
+class HamiltonizeResult:
+    """Outcome of :func:`hamiltonize`.
+
+    Attributes
+    ----------
+    status
+        ``"found"``; ``"no_linear_solution"`` / ``"no_multiplier"`` / ``"no_jacobi_solution"``
+        (proved: see ``certificate``); ``"jacobi_unsolved"`` (too many free parameters for the
+        Jacobi step, or sympy found no real solution of a system whose ideal is not ``[1]``;
+        ``jacobi_equations`` lists it, nothing is claimed).
+    ansatz
+        The space searched (``ansatz.describe()``).
+    problem
+        The problem (field, Hamiltonian, Casimirs, measure).
+    multiplier
+        ``N`` (an expression; in the free parameters for a polynomial multiplier ansatz).
+    family
+        The bivector solving the linear conditions, with free parameters ``t1, t2, ...``.
+    parameters
+        The free parameters of ``family``.
+    jacobi_equations
+        Polynomial equations in ``parameters`` equivalent to ``[P, P] = 0`` on ``family``
+        (a reduced Groebner basis when solved; empty if Jacobi holds identically).
+    solutions
+        The Poisson members: one :class:`Bivector` per solution component (free parameters
+        that stay free remain symbols), each paired with its multiplier in ``multipliers``.
+    multipliers
+        ``N`` for each entry of ``solutions`` (``None`` without a Hamiltonian).
+    certificate
+        Proof of non-existence within the ansatz, or ``None``.
+    stats
+        Sizes and timings: unknowns, equations, rank, seconds per phase.
+    """
+
+    status: str
+    ansatz: Ansatz
+    problem: HamiltonizationProblem
+    multiplier: sp.Expr | None = None
+    family: Bivector | None = None
+    parameters: tuple[sp.Symbol, ...] = ()
+    jacobi_equations: tuple[sp.Expr, ...] = ()
+    solutions: tuple[Bivector, ...] = ()
+    multipliers: tuple[sp.Expr, ...] = ()
+    certificate: Certificate | None = None
+    stats: Mapping[str, object] = field(default_factory=dict)
+
+    @property
+    def found(self) -> bool:
+        """Whether a Poisson bivector of the ansatz was found."""
+        return self.status == "found"
+
+    @property
+    def proved_absent(self) -> bool:
+        """Whether non-existence within the ansatz is proved (``certificate`` says how)."""
+        return self.status in ("no_linear_solution", "no_multiplier", "no_jacobi_solution")
+
+    def summary(self) -> str:
+        """A short human-readable report: what was searched, found or ruled out."""
+        coords = self.problem.coords
+        title = f" of {self.problem.name}" if self.problem.name else ""
+        lines = [f"Hamiltonisation search{title}",
+                 f"  ansatz     : {self.ansatz.describe(coords)}"]
+        cond = []
+        if self.problem.hamiltonian is not None:
+            cond.append("X = N P dH")
+        if self.problem.casimirs:
+            cond.append("Casimirs " + ", ".join(self.problem.casimirs))
+        cond.append("[P,P] = 0")
+        lines.append(f"  conditions : {'; '.join(cond)}")
+        if self.multiplier is not None:
+            lines.append(f"  multiplier : N = {self.multiplier}")
+        st = self.stats
+        lines.append(f"  linear     : {st.get('unknowns')} unknowns, {st.get('equations')} "
+                     f"equations, rank {st.get('rank')}, {len(self.parameters)} free parameters")
+        if self.found:
+            lines.append(f"  result     : {len(self.solutions)} Poisson component(s)")
+            for k, P in enumerate(self.solutions):
+                free = sorted({str(s) for e in P.matrix for s in e.free_symbols}
+                              & {str(t) for t in self.parameters})
+                mult = "" if self.multipliers[k] is None else f"; N = {self.multipliers[k]}"
+                lines.append(f"    [{k}] free parameters: {', '.join(free) or 'none'}{mult}")
+        elif self.certificate is not None:
+            lines.append(f"  result     : no bracket in this ansatz. {self.certificate.text}")
+        else:
+            lines.append(f"  result     : {self.status} ({len(self.jacobi_equations)} "
+                         "Jacobi equations left unsolved; nothing is claimed)")
+        return "\n".join(lines)
+
+
+# ------------------------------------------------------------------------------ helpers
+def _default_split(coords: Sequence[sp.Symbol]) -> tuple[tuple, tuple]:
+    pos = tuple(c for c in coords if str(c).split(".")[-1].split("_")[0] in _POSITION_STEMS)
+    if not pos:
+        return tuple(coords), ()
+    return pos, tuple(c for c in coords if c not in pos)
+
+
+def _monomials(n: int, idx: Sequence[int], degree: int) -> list[tuple[int, ...]]:
+    out = []
+    for d in range(degree + 1):
+        for combo in itertools.combinations_with_replacement(idx, d):
+            e = [0] * n
+            for j in combo:
+                e[j] += 1
+            out.append(tuple(e))
+    return out
+
+
+def _has_radical(e: sp.Expr) -> bool:
+    return any(isinstance(a, sp.Pow) and not a.exp.is_Integer for a in sp.preorder_traversal(e))
+
+
+class _Field:
+    """Exact rational functions of the coordinates and parameters.
+
+    Everything is computed over ``QQ`` with the parameters as extra generators (multivariate
+    gcds over ``QQ`` are fast; over ``QQ(parameters)`` they took minutes). :meth:`split` then
+    reads a polynomial as ``{coordinate monomial: coefficient in K = QQ(parameters)}``.
+    """
+
+    def __init__(self, coords: Sequence[sp.Symbol], exprs: Sequence[sp.Expr]) -> None:
+        params: set = set()
+        for e in exprs:
+            params |= e.free_symbols
+        params -= set(coords)
+        self.params = tuple(sorted(params, key=str))
+        self.nc = len(coords)
+        self.K = sp.QQ.frac_field(*self.params) if self.params else sp.QQ
+        self.F, *_ = sp.polys.fields.field(list(coords) + list(self.params), sp.QQ)
+        self.R = self.F.ring
+
+    def convert(self, e: sp.Expr, what: str):
+        if _has_radical(e):
+            e = sp.powsimp(sp.together(e))
+        if _has_radical(e):
+            raise InputError(f"{what} is not rational in the coordinates after the prefactor "
+                             f"and multiplier are applied ({e}); state a prefactor that "
+                             "absorbs the square root (Ansatz.prefactor)")
+        try:
+            return self.F.from_expr(e)
+        except (ValueError, sp.PolynomialError, sp.CoercionFailed, TypeError) as exc:
+            raise InputError(
+                f"{what} is not a rational function of the coordinates and parameters "
+                "(undefined functions such as g(gamma) must be replaced by concrete "
+                f"expressions): {str(exc)[-160:]}") from None
+
+    def cleared(self, items):
+        """``(D, [f * D])`` with ``D`` the lcm of the denominators (polynomials in R)."""
+        den = self.R.one
+        for f in items:
+            if f:
+                den = den.lcm(f.denom)
+        return den, [(f.numer * den.exquo(f.denom)) if f else self.R.zero for f in items]
+
+    def shift(self, mono: tuple[int, ...]) -> tuple[int, ...]:
+        """A coordinate monomial as a monomial of ``R`` (parameter exponents 0)."""
+        return tuple(mono) + (0,) * len(self.params)
+
+    def to_K(self, part: Mapping[tuple[int, ...], object]):
+        """``{parameter monomial: rational}`` as an element of ``K``."""
+        if not self.params:
+            return sum(part.values(), sp.QQ.zero)
+        ring = self.K.field.ring
+        return self.K.field.field_new(ring({m: sp.QQ(c) for m, c in part.items() if c}))
+
+    def split(self, poly) -> dict[tuple[int, ...], object]:
+        """``{coordinate monomial: coefficient in K}`` of a polynomial of ``R``."""
+        acc: dict[tuple, dict] = {}
+        for monom, coeff in poly.terms():
+            acc.setdefault(monom[:self.nc], {})[monom[self.nc:]] = coeff
+        return {cm: self.to_K(part) for cm, part in acc.items()}
+
+
+def _prefactor_and_multiplier(problem, multiplier, prefactor):
+    """``(N or None, s, how)``: ``N is None`` means a polynomial multiplier ansatz."""
+    rho = problem.measure
+    if isinstance(multiplier, str):
+        if multiplier not in ("auto", "measure", "one"):
+            raise InputError(f"multiplier must be 'auto', 'measure', 'one', an expression or "
+                             f"('polynomial', degree), got {multiplier!r}")
+        if multiplier == "measure" and rho is None:
+            raise InputError("multiplier='measure' needs an invariant measure (none given)")
+        if multiplier == "one" or rho is None:
+            N, how = sp.Integer(1), "N = 1"
+        else:
+            N, how = rho, "N = rho (density of the invariant measure)"
+        s = N if prefactor is None and problem.hamiltonian is not None else \
+            (sp.Integer(1) if prefactor is None else as_expr(prefactor, "prefactor"))
+        return N, s, how
+    if isinstance(multiplier, tuple):
+        if len(multiplier) not in (2, 3) or multiplier[0] != "polynomial" or \
+                isinstance(multiplier[1], bool) or not isinstance(multiplier[1], int) or \
+                multiplier[1] < 0:
+            raise InputError("a multiplier ansatz is ('polynomial', degree >= 0) or "
+                             f"('polynomial', degree, base), got {multiplier!r}")
+        base = multiplier[2] if len(multiplier) == 3 else 1
+        if isinstance(base, str):
+            if base != "measure" or rho is None:
+                raise InputError("the base of a multiplier ansatz is an expression or "
+                                 "'measure' (with a measure given)")
+            base = rho
+        base = as_expr(base, "multiplier base")
+        s = (base if problem.hamiltonian is not None else sp.Integer(1)) \
+            if prefactor is None else as_expr(prefactor, "prefactor")
+        return base, s, (f"N = ({base})/mu, mu polynomial of degree <= {multiplier[1]} in all "
+                         "coordinates")
+    N = as_expr(multiplier, "multiplier")
+    if N == 0:
+        raise InputError("multiplier must not be zero")
+    s = sp.Integer(1) if prefactor is None else as_expr(prefactor, "prefactor")
+    return N, s, "N given"
+
+
+# ------------------------------------------------------------------------------ main
+def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = None,
+                multiplier="auto", prefactor=None, hamiltonian=..., casimirs=None,
+                positions: Sequence | None = None, momenta: Sequence | None = None,
+                momentum_terms: str = "affine", zero: Sequence = (),
+                max_jacobi_parameters: int = 12) -> HamiltonizeResult:
+    """Search a Poisson bivector ``P`` and multiplier ``N`` with ``X = N P dH``.
+
+    Parameters
+    ----------
+    system
+        A :class:`~poissonkit.structure.system.HamiltonianSystem` (its equations of motion,
+        Hamiltonian, Casimir claims and measure are read; see :func:`problem_from`), a
+        :class:`HamiltonizationProblem`, or a registered system name.
+    ansatz
+        The searched space (:class:`Ansatz`). If omitted it is built from ``positions``,
+        ``momenta``, ``degree``, ``momentum_terms``, ``prefactor`` and ``zero``.
+    degree
+        Degree of the coefficients in the positions (default 1).
+    multiplier
+        ``"auto"`` (``N = rho`` if a measure is known, else 1), ``"measure"``, ``"one"``, an
+        expression, or ``("polynomial", k)`` / ``("polynomial", k, base)``: ``N = base/mu``
+        with ``mu`` an unknown polynomial of degree ``<= k`` in all coordinates (``base`` an
+        expression or ``"measure"``; default 1).
+    prefactor
+        ``s`` in ``P = s Q``. Default: ``N`` (or the base of a multiplier ansatz) when it comes
+        from the measure and a Hamiltonian is given (``P = rho Q``, Theorem 2), else 1.
+    hamiltonian
+        Override of ``H``; ``None`` drops the condition ``X = N P dH``.
+    casimirs
+        Override of the Casimirs (mapping, or names among the system's Casimirs/integrals).
+    positions, momenta
+        Default: coordinates named ``gamma_*`` (or ``q_*``, ``nu_*``) are positions, the others
+        momenta; without such names every coordinate is a position.
+    momentum_terms, zero
+        See :class:`Ansatz`; ``zero`` may also be ``"positions"`` / ``"momenta"`` to force the
+        whole ``{pos, pos}`` / ``{mom, mom}`` block to vanish (or a list of index pairs).
+    max_jacobi_parameters
+        Above this number of free parameters the Jacobi system is not attempted (status
+        ``"jacobi_unsolved"``).
+
+    Returns
+    -------
+    HamiltonizeResult
+        The family, its Poisson members, or a certificate of non-existence.
+
+    Raises
+    ------
+    InputError
+        Malformed input, or a field/prefactor that is not rational in the coordinates.
+
+    Examples
+    --------
+    >>> from poissonkit.structure.hamiltonize import hamiltonize
+    >>> hamiltonize("nh.chaplygin_ball", degree=2).status  # doctest: +SKIP
+    'no_linear_solution'
+    >>> res = hamiltonize("nh.chaplygin_ball", degree=3)   # doctest: +SKIP
+    >>> res.found, res.parameters                          # doctest: +SKIP
+    (True, ())
+    """
+    t0 = time.perf_counter()
+    problem = problem_from(system, hamiltonian=hamiltonian, casimirs=casimirs)
+    coords = problem.coords
+    N, s, how = _prefactor_and_multiplier(problem, multiplier, prefactor)
+    poly_mult = isinstance(multiplier, tuple)
+    if ansatz is None:
+        ansatz = _build_ansatz(coords, positions, momenta, degree, momentum_terms, s, zero)
+    elif degree is not None or prefactor is not None:
+        raise InputError("give either an Ansatz or degree/prefactor, not both")
+    for c in ansatz.positions + ansatz.momenta:
+        if c not in coords:
+            raise InputError(f"Ansatz coordinate {c} is not a coordinate of the system")
+    if problem.hamiltonian is None and not problem.casimirs:
+        raise InputError("nothing to search for: no Hamiltonian and no Casimirs given")
+    columns = _columns(ansatz, coords, multiplier[1] if poly_mult else None)
+    t1 = time.perf_counter()
+    system_ = _assemble(problem, ansatz.prefactor, N, columns, poly_mult)
+    t2 = time.perf_counter()
+    stats: dict[str, object] = {"unknowns": len(columns), "equations": len(system_.labels),
+                                "multiplier_rule": how, "seconds_assemble": t2 - t1}
+
+    def finish(status, **kw):
+        stats["seconds_total"] = time.perf_counter() - t0
+        return HamiltonizeResult(status=status, ansatz=ansatz, problem=problem, stats=stats, **kw)
+
+    K = system_.fld.K
+    if poly_mult:
+        sol = nullspace_sparse(system_.rows, len(columns), K)
+    else:
+        sol = solve_sparse(system_.rows, system_.rhs, len(columns), K)
+    t3 = time.perf_counter()
+    stats.update(rank=sol.rank, seconds_linear=t3 - t2)
+    if not sol.consistent:
+        cert = _linear_certificate(system_, len(columns), coords)
+        stats["seconds_certificate"] = time.perf_counter() - t3
+        return finish("no_linear_solution", multiplier=N, certificate=cert)
+    mu_cols = [c for c, col in enumerate(columns) if col[0] == "mu"]
+    if poly_mult and not any(any(d.get(c) for c in mu_cols) for d in sol.directions):
+        return finish("no_multiplier", certificate=Certificate(
+            "multiplier", text=f"Every solution of the {len(system_.labels)} linear equations "
+            f"has mu = 1/N = 0: no multiplier of degree <= {multiplier[1]} exists (exact "
+            "elimination)."))
+
+    tau, Qm, mu = _family(sol, columns, coords, K)
+    Nfam = (N / mu) if poly_mult else N
+    if problem.hamiltonian is None:
+        Nfam = None  # no field condition: the multiplier plays no part
+    family = Bivector(coords, sp.ImmutableMatrix(Qm * ansatz.prefactor))
+    stats["parameters"] = len(tau)
+    if len(tau) > max_jacobi_parameters:
+        return finish("jacobi_unsolved", multiplier=Nfam, family=family, parameters=tau)
+    t4 = time.perf_counter()
+    status, out = _impose_jacobi(Qm, ansatz.prefactor, coords, tau, system_.fld, family, Nfam,
+                                 mu if poly_mult else None)
+    stats["jacobi_equations"] = out.pop("count")
+    stats["seconds_jacobi"] = time.perf_counter() - t4
+    return finish(status, multiplier=Nfam, family=family, **out)
+
+
+def _build_ansatz(coords, positions, momenta, degree, momentum_terms, s, zero) -> Ansatz:
+    """The :class:`Ansatz` from :func:`hamiltonize`'s keyword arguments."""
+    pos, mom = _default_split(coords)
+    if positions is not None:
+        pos = tuple(_coord(coords, c) for c in positions)
+    if momenta is not None:
+        mom = tuple(_coord(coords, c) for c in momenta)
+    elif positions is not None:
+        mom = tuple(c for c in coords if c not in pos)
+    return Ansatz(pos, mom, 1 if degree is None else degree,
+                  momentum_terms if mom else "none", s, _zero_pairs(zero, coords, pos, mom))
+
+
+def _columns(ansatz: Ansatz, coords, mu_degree: int | None) -> list[tuple]:
+    """The unknowns: ``("P", i, j, monomial)`` (``Q^{ij} += u * monomial``, ``i < j``) and, for a
+    multiplier ansatz, ``("mu", None, None, monomial)``."""
+    n = len(coords)
+    pidx = [coords.index(c) for c in ansatz.positions]
+    midx = [coords.index(c) for c in ansatz.momenta]
+    mono_list = []
+    for b in _monomials(n, pidx, ansatz.degree):
+        if ansatz.momentum_terms in ("affine", "none") or not midx:
+            mono_list.append(b)
+        if ansatz.momentum_terms != "none":
+            for m in midx:
+                e = list(b)
+                e[m] += 1
+                mono_list.append(tuple(e))
+    columns: list[tuple] = []
+    for i in range(n):
+        for j in range(i + 1, n):
+            if (i, j) not in ansatz.zero:
+                columns.extend(("P", i, j, mono) for mono in mono_list)
+    if mu_degree is not None:
+        columns.extend(("mu", None, None, mono) for mono in _monomials(n, range(n), mu_degree))
+    return columns
+
+
+@dataclass
+class _LinearSystem:
+    """The coefficient equations: ``rows[r] . u = rhs[r]``, labelled ``labels[r]``."""
+
+    labels: list[tuple]
+    rows: list[dict[int, object]]
+    rhs: list[object]
+    fld: _Field
+
+
+def _assemble(problem: HamiltonizationProblem, s, N, columns, poly_mult: bool) -> _LinearSystem:
+    """Clear denominators and split ``X = N s Q dH`` and ``s Q dC = 0`` over monomials.
+
+    Fixed ``N``: ``Q dH = X/(N s)``. Multiplier ansatz ``N = base/mu``: ``Q dH - mu X/(base s)
+    = 0`` (homogeneous; ``N`` is the base here).
+    """
+    coords = problem.coords
+    n = len(coords)
+    exprs = list(problem.field) + list(problem.casimirs.values()) + [s, N]
+    if problem.hamiltonian is not None:
+        exprs.append(problem.hamiltonian)
+    fld = _Field(coords, [sp.sympify(e) for e in exprs])
+    rows: dict[tuple, dict[int, dict]] = {}
+    rhs: dict[tuple, dict] = {}
+
+    # accumulate {parameter monomial: rational} per entry; converted to K once at the end
+    def add(label_stem, poly, col=None, sign=1):
+        for monom, coeff in poly.terms():
+            key = label_stem + (monom[:fld.nc],)
+            row = rows.setdefault(key, {})
+            slot = rhs.setdefault(key, {}) if col is None else row.setdefault(col, {})
+            pm = monom[fld.nc:]
+            slot[pm] = slot.get(pm, 0) + (coeff if sign > 0 else -coeff)
+
+    if problem.hamiltonian is not None:
+        dH = [fld.convert(sp.diff(problem.hamiltonian, x), "dH") for x in coords]
+        r = [fld.convert(sp.sympify(problem.field[i]) / (N * s), f"X_{i}/(N s)")
+             for i in range(n)]
+        # row i, cleared by its own denominator: [D_i dH_1, ..., D_i dH_n, D_i r_i]
+        cleared = [fld.cleared(dH + [r[i]])[1] for i in range(n)]
+        for c, (kind, i, j, mono) in enumerate(columns):
+            if kind == "P":
+                add(("X", i), cleared[i][j].mul_monom(fld.shift(mono)), c)
+                add(("X", j), cleared[j][i].mul_monom(fld.shift(mono)), c, -1)
+            else:
+                for k in range(n):
+                    add(("X", k), cleared[k][n].mul_monom(fld.shift(mono)), c, -1)
+        if not poly_mult:
+            for i in range(n):
+                add(("X", i), cleared[i][n])
+    for cname, C in problem.casimirs.items():
+        dC = [fld.convert(sp.diff(C, x), f"d({cname})") for x in coords]
+        _, cc = fld.cleared(dC)
+        for c, (kind, i, j, mono) in enumerate(columns):
+            if kind == "P":
+                add(("C", cname, i), cc[j].mul_monom(fld.shift(mono)), c)
+                add(("C", cname, j), cc[i].mul_monom(fld.shift(mono)), c, -1)
+    labels = list(rows)
+    return _LinearSystem(labels, [{c: fld.to_K(v) for c, v in rows[k].items()} for k in labels],
+                         [fld.to_K(rhs.get(k, {})) for k in labels], fld)
+
+
+def _linear_certificate(ls: _LinearSystem, ncols: int, coords) -> Certificate:
+    """A short, re-checked combination of the equations that reads ``0 = 1``."""
+    K = ls.fld.K
+    keep = _inconsistent_core(ls.labels, ls.rows, ls.rhs, ncols, K)
+    sub_rows = [ls.rows[r] for r in keep]
+    sub_rhs = [ls.rhs[r] for r in keep]
+    y = inconsistency_certificate(sub_rows, sub_rhs, ncols, K)
+    if y is None or not check_certificate(sub_rows, sub_rhs, ncols, y, K):
+        raise RuntimeError("internal error: inconsistent system without a certificate")
+    combo = {_label(ls.labels[keep[r]], coords): K.to_sympy(v) for r, v in y.items()}
+    return Certificate("linear", combo, (), (
+        f"The linear conditions are inconsistent: a combination of {len(combo)} of the "
+        f"{len(ls.labels)} coefficient equations has left-hand side 0 and right-hand side 1 "
+        "(exact, re-checked)."))
+
+
+def _family(sol, columns, coords, K):
+    """``(tau, Q, mu)``: the solution family with free parameters ``t1..tk`` as sympy objects."""
+    n = len(coords)
+    k = len(sol.free)
+    tau = sp.symbols(f"{PARAMETER_STEM}1:{k + 1}", real=True) if k else ()
+    coeff: dict[int, sp.Expr] = {c: K.to_sympy(v) for c, v in sol.particular.items()}
+    for t, d in zip(tau, sol.directions):
+        for c, v in d.items():
+            coeff[c] = coeff.get(c, sp.Integer(0)) + K.to_sympy(v) * t
+    Qm = sp.zeros(n, n)
+    mu = sp.Integer(0)
+    for c, val in coeff.items():
+        kind, i, j, mono = columns[c]
+        term = val * sp.Mul(*[x**e for x, e in zip(coords, mono)])
+        if kind == "P":
+            Qm[i, j] += term
+            Qm[j, i] -= term
+        else:
+            mu += term
+    return tau, Qm, mu
+
+
+def _impose_jacobi(Qm, s, coords, tau, fld, family, Nfam, mu) -> tuple[str, dict]:
+    """Jacobi on the family: ``(status, fields of the result)``; ``mu`` for a multiplier ansatz."""
+    eqs = _jacobi_equations(Qm, s, coords, tau, fld)
+    if not eqs:      # every member is Poisson
+        return "found", dict(count=0, parameters=tau, solutions=(family,), multipliers=(Nfam,))
+    if not tau:
+        return "no_jacobi_solution", dict(
+            count=len(eqs), jacobi_equations=tuple(eqs), certificate=Certificate(
+                "jacobi", equations=tuple(eqs[:5]), text=(
+                    "The linear conditions fix P uniquely and [P,P] != 0: "
+                    f"{len(eqs)} non-zero coefficients of the Jacobiator.")))
+    basis = tuple(sp.groebner(eqs, *tau, order="grevlex").exprs)
+    if basis == (1,):
+        return "no_jacobi_solution", dict(
+            count=len(eqs), parameters=tau, jacobi_equations=basis, certificate=Certificate(
+                "jacobi", equations=basis, text=(
+                    f"The {len(eqs)} Jacobi equations in the {len(tau)} free parameters "
+                    "generate the unit ideal (reduced Groebner basis [1]): no member of the "
+                    "family is Poisson.")))
+    sols = sp.solve(list(basis), list(tau), dict=True)
+    if not sols:
+        # no real solution found by sympy's solver: not a proof (the ideal is not [1])
+        return "jacobi_unsolved", dict(count=len(eqs), parameters=tau, jacobi_equations=basis)
+    members, mults = [], []
+    for sd in sols:
+        if mu is not None and sp.expand(mu.subs(sd)) == 0:
+            continue  # mu = 0 is not a multiplier
+        members.append(family.subs(sd))
+        mults.append(None if Nfam is None else sp.sympify(Nfam).subs(sd))
+    if not members:
+        return "no_jacobi_solution", dict(
+            count=len(eqs), parameters=tau, jacobi_equations=basis, certificate=Certificate(
+                "jacobi", equations=basis, text=(
+                    "Every solution of the Jacobi equations has mu = 0: none is a "
+                    "multiplier.")))
+    return "found", dict(count=len(eqs), parameters=tau, jacobi_equations=basis,
+                         solutions=tuple(members), multipliers=tuple(mults))
+
+
+def _coord(coords, c) -> sp.Symbol:
+    for x in coords:
+        if x == c or str(x) == str(c):
+            return x
+    from poissonkit.errors import UnknownNameError
+
+    raise UnknownNameError("coordinate", str(c), [str(x) for x in coords])
+
+
+def _zero_pairs(zero, coords, pos, mom) -> frozenset:
+    if isinstance(zero, str):
+        zero = (zero,)
+    pairs = set()
+    for item in zero:
+        if item in ("positions", "momenta"):
+            group = [coords.index(c) for c in (pos if item == "positions" else mom)]
+            pairs |= {(a, b) for a, b in itertools.combinations(sorted(group), 2)}
+        else:
+            pairs.add(tuple(item))
+    return frozenset(pairs)
+
+
+def _inconsistent_core(labels, rows, rhs, ncols, K) -> list[int]:
+    """Rows of a still-inconsistent subsystem, found by dropping whole condition groups.
+
+    A group is one component of one condition (``(X - N P dH)_i`` or ``P dC`` row ``i``). The
+    certificate is then computed on the smaller system: the transposed solve costs in
+    proportion to the number of equations.
+    """
+    groups: dict[tuple, list[int]] = {}
+    for r, key in enumerate(labels):
+        groups.setdefault(key[:-1], []).append(r)
+    live = list(groups)
+    for g in list(live):
+        trial = [r for h in live if h != g for r in groups[h]]
+        if not trial:
+            continue
+        sol = solve_sparse([rows[r] for r in trial], [rhs[r] for r in trial], ncols, K)
+        if not sol.consistent:
+            live.remove(g)
+    return [r for h in live for r in groups[h]]
+
+
+def _label(key: tuple, coords) -> tuple:
+    """Readable label of an equation: ``(condition, component, monomial as expression)``."""
+    *stem, monom = key
+    mono = sp.Mul(*[x**e for x, e in zip(coords, monom)])
+    if stem[0] == "X":
+        return (f"(X - N P dH)_{coords[stem[1]]}", mono)
+    return (f"P d({stem[1]})_{coords[stem[2]]}", mono)
+
+
+def _jacobi_equations(Qm: sp.Matrix, s: sp.Expr, coords, tau, fld: _Field) -> list[sp.Expr]:
+    """Coefficients (over coordinate monomials) of ``delta * Jac(s Q) / s^2``, in ``tau``.
+
+    ``Jac(s Q)/s^2 = Jac(Q) + sum_m (d_m log s) (Q^{im} Q^{jk} + cyclic)``; ``delta`` clears the
+    denominators of ``d log s``. Computed in a sparse polynomial ring over the coordinates and
+    the parameters ``tau``.
+    """
+    n = len(coords)
+    dlog = [fld.convert(sp.diff(s, x) / s, "d log(prefactor)") for x in coords]
+    delta, ell = fld.cleared(dlog)
+    R2, *gens = sp.ring(list(coords) + list(tau), fld.K)
+    nc = len(coords)
+
+    def lift(p):
+        return R2({m + (0,) * len(tau): c for m, c in fld.split(p).items()}) if p else R2.zero
+
+    delta2 = lift(delta)
+    ell2 = [lift(e) for e in ell]
+    Q = [[R2.zero] * n for _ in range(n)]
+    for i in range(n):
+        for j in range(n):
+            if Qm[i, j] != 0:
+                Q[i][j] = R2.from_expr(sp.expand(Qm[i, j]))
+    dQ = [[[Q[i][j].diff(gens[m]) if Q[i][j] else R2.zero for m in range(n)]
+           for j in range(n)] for i in range(n)]
+    eqs: dict = {}
+    for i, j, k in itertools.combinations(range(n), 3):
+        acc = R2.zero
+        for (a, b, c) in ((i, j, k), (j, k, i), (k, i, j)):
+            for m in range(n):
+                if not Q[a][m]:
+                    continue
+                if dQ[b][c][m]:
+                    acc += delta2 * Q[a][m] * dQ[b][c][m]
+                if ell2[m] and Q[b][c]:
+                    acc += ell2[m] * Q[a][m] * Q[b][c]
+        if not acc:
+            continue
+        split: dict = {}
+        for monom, coeff in acc.terms():
+            key = monom[:nc]
+            split.setdefault(key, {})
+            split[key][monom[nc:]] = coeff
+        for part in split.values():
+            expr = sum((fld.K.to_sympy(cf) * sp.Mul(*[t**e for t, e in zip(tau, mt)])
+                        for mt, cf in part.items()), sp.Integer(0))
+            expr = sp.expand(expr)
+            if expr != 0:
+                # normalise so that equal equations are kept once
+                lead = sp.Poly(expr, *tau).LC() if tau else expr
+                eqs[sp.expand(expr / lead) if tau else expr] = True
+    return list(eqs)
+
+
+def result_record(res: HamiltonizeResult) -> dict:
+    """A JSON-ready dict of a :class:`HamiltonizeResult` (expressions as strings)."""
+    rec: dict = {"name": res.problem.name, "status": res.status, "found": res.found,
+                 "proved_absent": res.proved_absent,
+                 "ansatz": res.ansatz.describe(res.problem.coords),
+                 "multiplier": None if res.multiplier is None else str(res.multiplier),
+                 "parameters": [str(t) for t in res.parameters],
+                 "jacobi_equations": [str(e) for e in res.jacobi_equations],
+                 "stats": dict(res.stats)}
+    coords = res.problem.coords
+    rec["solutions"] = [
+        {"N": None if N is None else str(N),
+         "brackets": {f"{coords[i]},{coords[j]}": str(P.matrix[i, j])
+                      for i in range(len(coords)) for j in range(i + 1, len(coords))
+                      if P.matrix[i, j] != 0}}
+        for P, N in zip(res.solutions, res.multipliers)]
+    if res.certificate is not None:
+        rec["certificate"] = {"kind": res.certificate.kind, "text": res.certificate.text,
+                              "combination": {f"{k[0]} [{k[1]}]": str(v) for k, v in
+                                              res.certificate.combination.items()},
+                              "equations": [str(e) for e in res.certificate.equations]}
+    return rec
+
+
+__all__ = ["Ansatz", "Certificate", "HamiltonizationProblem", "HamiltonizeResult",
+           "hamiltonize", "problem_from", "result_record"]
