@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -33,17 +34,21 @@ class SaveBuffer:
 
     With a ``sink`` (e.g. :class:`~poissonkit.numerics.checkpoint.TrajectoryStream`) the rows
     are handed over whenever more than ``sink.max_rows`` are held (:meth:`spill`), so memory
-    stays bounded however long the run; :attr:`peak_rows` records the most rows ever held.
+    stays bounded however long the run: at most ``2 max_rows + 1`` rows (held rows plus the
+    compiled chunk's buffer); :attr:`peak_rows` records the most rows ever held.
     """
 
     def __init__(self, dim: int, chunk: int, sink: Any = None) -> None:
         self.dim = dim
+        if sink is not None:  # a compiled chunk never holds more rows than one part
+            chunk = min(int(chunk), int(sink.max_rows))
         self.chunk = max(int(chunk), 2)
         self.sink = sink
         self.ts: list[np.ndarray] = []
         self.ys: list[np.ndarray] = []
         self.held = 0
         self.peak_rows = 0
+        self.last_t = math.nan  # time of the newest row, held or already handed to the sink
         self.new()
 
     def new(self) -> None:
@@ -63,12 +68,14 @@ class SaveBuffer:
         if n:
             self.ts.append(self.cur_t[:n].copy())
             self.ys.append(self.cur_y[:n].copy())
+            self.last_t = float(self.cur_t[n - 1])
             self._note(n)
 
     def add(self, t: float, y: np.ndarray) -> None:
         """Append one saved point ``(t, y)`` directly (e.g. the initial state)."""
         self.ts.append(np.array([t]))
         self.ys.append(np.asarray(y, dtype=float).reshape(1, -1).copy())
+        self.last_t = float(t)
         self._note(1)
 
     def drop_after(self, t: float) -> None:
@@ -79,6 +86,7 @@ class SaveBuffer:
         keep = ts <= t
         self.ts, self.ys = [ts[keep]], [ys[keep]]
         self.held = int(keep.sum())
+        self.last_t = float(ts[keep][-1]) if self.held else math.nan
 
     def spill(self, force: bool = False) -> None:
         """Hand held rows to the sink when there are too many (or always with ``force``)."""

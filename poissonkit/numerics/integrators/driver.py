@@ -223,6 +223,8 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
                 status_msg = f"interrupted at step {st.steps} (t = {st.t:.10g})"
                 if ck is not None:
                     save_checkpoint()
+                if buf.last_t != st.t:  # the partial result ends where it stopped
+                    buf.add(st.t, st.y)
                 break
     finally:
         if bar is not None:
