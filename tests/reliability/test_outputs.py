@@ -16,6 +16,7 @@ import pytest
 from reliability_helpers import bound_pair, orbit_state  # type: ignore[import-not-found]
 
 from poissonkit import cli
+from poissonkit.errors import InputError
 from poissonkit.numerics import solve
 from poissonkit.numerics.checkpoint import TrajectoryStream, checkpoints, read_trajectory
 from poissonkit.report import atomic
@@ -37,17 +38,20 @@ def test_atomic_write_keeps_old_content_on_failure(tmp_path):
 
 def test_existing_output_folder_is_refused_unless_overwrite(tmp_path):
     out = tmp_path / "out"
+    out.mkdir()
+    (out / "summary.json").write_text('{"scene": "an earlier run"}')
+    (out / "stray.txt").write_text("from another run")
     args = ["run", str(TWO), "--duration", "0.001", "--out", str(out), "--no-progress",
             "--no-plots"]
-    assert cli.main(args) == 0
-    before = (out / "summary.json").read_bytes()
-    (out / "stray.txt").write_text("from another run")
-    assert cli.main(args) == 1  # refused: typed error, nothing touched
-    assert (out / "summary.json").read_bytes() == before and (out / "stray.txt").exists()
+    assert cli.main(args) == 1  # refused with a typed error before anything runs
+    assert (out / "summary.json").read_text() == '{"scene": "an earlier run"}'
     with pytest.raises(atomic.OutputExistsError, match="--overwrite"):
         atomic.prepare_output_dir(out)
-    assert cli.main(args + ["--overwrite"]) == 0
-    assert not (out / "stray.txt").exists()  # the folder holds one run's files only
+    atomic.prepare_output_dir(out, overwrite=True)  # what --overwrite does
+    assert not any(out.iterdir())
+    with pytest.raises(InputError, match="not a folder"):
+        (out / "x").write_text("")
+        atomic.prepare_output_dir(out / "x")
 
 
 def test_streamed_trajectory_keeps_memory_bounded(tmp_path):
