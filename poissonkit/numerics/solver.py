@@ -83,12 +83,14 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
         bit-identical to an uninterrupted run's.
     stream
         Folder or :class:`~poissonkit.numerics.checkpoint.TrajectoryStream`: saved rows go to disk
-        in parts (memory stays bounded); the returned solution then holds only the start and the
-        final state, ``extra["stream"]`` names the folder
+        in parts (memory stays bounded for the fixed-step methods; scipy methods write their rows
+        when they finish); the returned solution then holds only the start and the final state,
+        ``extra["stream"]`` names the folder
         (:func:`~poissonkit.numerics.checkpoint.read_trajectory` reads it).
     stop
         Callable checked between chunks of steps; when it returns true the run stops cleanly
-        (``extra["interrupted"]``, ``message`` says where), writing a last checkpoint.
+        (``extra["interrupted"]``, ``message`` says where), writing a last checkpoint. Not
+        honoured by the scipy methods.
 
     Returns
     -------
@@ -133,12 +135,16 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
     integ = make_integrator(method, options)
     kwargs: dict[str, Any] = {}
     control = _control(checkpoint, resume, stream, stop)
+    late_stream = None
     if control is not None:
-        if not getattr(integ, "supports_control", False):
-            raise InputError(f"checkpoint/resume/stream/stop need a fixed-step method "
+        if getattr(integ, "supports_control", False):
+            kwargs["control"] = control
+        elif control.checkpoint is not None or control.resume:
+            raise InputError(f"checkpoint/resume need a fixed-step method "
                              f"(splitting2/4/6/8, midpoint); {getattr(integ, 'name', method)} "
                              "cannot be checkpointed")
-        kwargs["control"] = control
+        else:  # e.g. scipy: rows are streamed once the run is over, stop is not honoured
+            late_stream = control.stream
     start = time.perf_counter()
     try:
         raw = integ.integrate(system, y0, t_end, step=step, tol=tol, events=events,
@@ -148,6 +154,11 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
         raise IntegrationError(f"{getattr(integ, 'name', method)}: division by zero in a "
                                "compiled kernel (two bodies at the same place?)") from None
     wall = time.perf_counter() - start
+    if late_stream is not None:
+        late_stream.write(raw.t, raw.y)
+        raw.extra.update(stream=str(late_stream.folder), streamed_rows=late_stream.rows,
+                         interrupted=False)
+        raw.t, raw.y = raw.t[[0, -1]], raw.y[[0, -1]]
     return Solution(t=raw.t, y=raw.y, method=getattr(integ, "name", str(method)), steps=raw.steps,
                     wall_time=wall, system=system, nfev=raw.nfev, events=raw.events, step=step,
                     tol=tol, message=raw.message, extra=raw.extra)

@@ -11,6 +11,7 @@ the same whatever the chunk sizes, and resuming a checkpoint is bit-identical.
 from __future__ import annotations
 
 import json
+import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from typing import Any
@@ -46,8 +47,10 @@ from poissonkit.numerics.integrators.base import (
 )
 from poissonkit.numerics.locate import Window, locate
 
-#: Largest chunk (steps) between two looks at a stop request.
-STOP_CHUNK = 1024
+#: First chunk (steps) between two looks at a stop request; it then adapts so that a look
+#: comes every 0.05–0.2 s, up to MAX_STOP_CHUNK steps (chunking never changes the arithmetic).
+STOP_CHUNK = 256
+MAX_STOP_CHUNK = 1 << 16
 
 
 @dataclass
@@ -184,7 +187,14 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
             if next_ck is not None:
                 max_steps = min(max_steps, next_ck - st.steps)
             t_before = st.t
+            tic = time.perf_counter()
             status, t_new, k, nsave, nf, value = chunk(st, max_steps, buf)
+            if control.stop is not None:  # look at stop requests about 10 times a second
+                took = time.perf_counter() - tic
+                if took > 0.2 and cap > 1:
+                    cap = max(1, cap // 2)
+                elif took < 0.05 and k == max_steps:
+                    cap = min(2 * cap, MAX_STOP_CHUNK)
             buf.commit(nsave)
             st.steps += k
             st.nfev += nf
