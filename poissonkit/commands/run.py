@@ -7,8 +7,16 @@ the order-6 splitting method. Output folder (default ``./poissonkit-output``):
 * ``summary.json`` — parameters, ``P_orb``, ``T_orb``, method, steps, wall time (integration;
   the one-time compilation separately), maximum relative energy error, maximum Casimir drift,
   maximum ``|Δj|/|j|``;
-* ``trajectory.npz`` — ``t`` (internal), ``t_si``, ``y`` (rows), ``layout``;
+* ``trajectory.npz`` — ``t`` (internal), ``t_si``, ``y`` (rows), ``layout`` (runs saving more
+  than :data:`MAX_NPZ_ROWS` rows keep them in ``trajectory.parts/`` instead: the trajectory is
+  streamed to disk while the run goes, so memory stays bounded);
 * ``angular_momentum_z.png``, ``radius_and_x.png``, ``orbit.png``, ``drifts.png``.
+
+Every file is written atomically; a folder holding another run's files is refused unless
+``--overwrite``. ``--checkpoint-every N`` / ``--resume`` checkpoint and continue a run; SIGINT
+stops it cleanly with a partial result. Scenes stop at a located contact of their finite-size
+bodies. Exit codes: :data:`EXIT_OK`, 1 (bad input), :data:`EXIT_ENERGY`, :data:`EXIT_CONTACT`,
+:data:`EXIT_INTERRUPTED` (``docs/reliability.md``).
 """
 
 from __future__ import annotations

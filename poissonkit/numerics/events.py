@@ -138,8 +138,12 @@ class Contact:
         return b[0] + b[1]
 
     def value(self, system: Any, y: np.ndarray) -> float:
-        """``g(y)``: smallest gap between two shapes (0 once they overlap, then negative by the
-        overlap of their bounding spheres so that bisection has a sign change)."""
+        """``g(y)``: positive while no two shapes touch, negative once they do.
+
+        Its sign is exact; its value is the gap where cheap — a lower bound (bounding spheres,
+        then the capsules around the cylinders) while that is positive, the distance by
+        alternating projections otherwise — and, once shapes overlap, minus the overlap of
+        their bounding spheres (bisection needs only the sign)."""
         from poissonkit.scene.geometry import distance, shape_of
 
         pos, axes, fixed = body_frames(system, y)
@@ -164,6 +168,10 @@ class Contact:
                 reach = a.bounding_radius + b.bounding_radius
                 if centre > reach:
                     best = min(best, centre - reach)  # a lower bound is enough far away
+                    continue
+                bound = _capsule_gap(a, b)
+                if bound > 0:  # the capsules around the cylinders are apart: so are they
+                    best = min(best, bound)
                     continue
                 d = distance(a, b)
                 best = min(best, d if d > 0 else centre - reach)
@@ -318,3 +326,31 @@ def body_frames(system: Any, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.
             q = 6 * nm + 6 * t
             axes[k] = y[q:q + 3]
     return pos, axes, fixed
+
+
+def _segment_distance(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2: np.ndarray) -> float:
+    """Distance between the segments ``p1 q1`` and ``p2 q2`` (clamped closest points, C. Ericson,
+    Real-Time Collision Detection, 2005, §5.1.9)."""
+    d1, d2, r = q1 - p1, q2 - p2, p1 - p2
+    a, e, f = float(d1 @ d1), float(d2 @ d2), float(d2 @ r)
+    c, b = float(d1 @ r), float(d1 @ d2)
+    denom = a * e - b * b
+    s = min(max((b * f - c * e) / denom, 0.0), 1.0) if denom > 1e-300 * max(a * e, 1.0) else 0.0
+    t = (b * s + f) / e if e > 0 else 0.0
+    if t < 0.0:
+        t, s = 0.0, min(max(-c / a, 0.0), 1.0) if a > 0 else 0.0
+    elif t > 1.0:
+        t, s = 1.0, min(max((b - c) / a, 0.0), 1.0) if a > 0 else 0.0
+    return float(np.linalg.norm((p1 + s * d1) - (p2 + t * d2)))
+
+
+def _capsule_gap(a: Any, b: Any) -> float:
+    """Gap between the capsules (axis segment swept by a ball of the radius) around two shapes;
+    a lower bound of the shapes' own gap, since each capsule contains its cylinder or ball."""
+    def segment(sh: Any) -> tuple[np.ndarray, np.ndarray]:
+        if sh.kind == "cylinder":
+            return sh.center - sh.half_length * sh.axis, sh.center + sh.half_length * sh.axis
+        return sh.center, sh.center
+
+    (p1, q1), (p2, q2) = segment(a), segment(b)
+    return _segment_distance(p1, q1, p2, q2) - a.radius - b.radius

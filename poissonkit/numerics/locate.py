@@ -185,6 +185,7 @@ def locate(system: Any, events: Sequence[Any], window: Window, last_step: int, g
         a, b = us[max(j - 1, 0)], us[min(j + 1, n)]
         um, dm = _golden_min(lambda u: centre_distance(system, window.state(u)), a, b, tol_of(ev))
         if dm < ev.distance and um < best_u and 0.0 < um < window.length:
-            recorded.append((ev, EventRecord(ev.kind, step_index(um), float(window.time(um)), float(dm),
-                                             time_error=tol_of(ev))))
+            rec = EventRecord(ev.kind, step_index(um), float(window.time(um)), float(dm),
+                              time_error=tol_of(ev))
+            recorded.append((ev, rec))
     return recorded, found

@@ -125,3 +125,25 @@ def test_energy_error_above_tolerance_warns_and_exits_nonzero(tmp_path, capsys):
     assert s["max_abs_angular_momentum_drift"] < 1e-12
     assert s["max_abs_energy_error"] == pytest.approx(
         s["max_rel_energy_error"] * abs(s["energy_reference"]))
+
+
+def test_long_trajectory_stays_on_disk_in_parts(tmp_path, monkeypatch, capsys):
+    """Above MAX_NPZ_ROWS saved rows the trajectory is not gathered into memory: it stays in
+    parts, and the summary's maxima still cover every row (computed part by part)."""
+    from poissonkit.commands import run
+    from poissonkit.numerics.checkpoint import read_trajectory
+    from poissonkit.report import diagnostics
+    from poissonkit.scene import build_run, load_scene
+
+    monkeypatch.setattr(run, "MAX_NPZ_ROWS", 100)
+    monkeypatch.setattr(run, "PLOT_ROWS", 40)
+    out = tmp_path / "out"
+    scene = ROOT / "examples" / "scenes" / "two_magnets.toml"
+    assert cli.main(["run", str(scene), "--duration", "0.02", "--out", str(out),
+                     "--no-progress", "--no-plots"]) == 0
+    s = _summary(out)
+    assert "trajectory.parts" in s["trajectory"] and not (out / "trajectory.npz").exists()
+    t, y = read_trajectory(out / "trajectory.parts")
+    assert len(t) == 201 and t[-1] == pytest.approx(s["t_end"])
+    full = diagnostics(build_run(load_scene(scene)).system, t, y).maxima()
+    assert s["max_rel_energy_error"] == full["max_rel_energy_error"]

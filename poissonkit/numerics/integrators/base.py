@@ -13,7 +13,8 @@ from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
 from poissonkit.numerics.events import EventRecord
 
 # status codes returned by the compiled loops
-RUNNING, NONFINITE, COLLISION, ESCAPE, BUFFER_FULL, DONE, NO_CONVERGENCE, GRAZE = 0, 1, 2, 3, 4, 5, 6, 7
+# GRAZE: the smallest distance has a local minimum between step ends worth a closer look
+RUNNING, NONFINITE, COLLISION, ESCAPE, BUFFER_FULL, DONE, NO_CONVERGENCE, GRAZE = range(8)
 
 
 @dataclass

@@ -106,8 +106,9 @@ class ScipyIVP:
                     value = (ev.radius - g) if ev.kind == "escape" else \
                         g if ev.kind == "contact" else g + ev.distance
                     # scipy's root finder (brentq on the dense output) stops at 4 eps |t|
+                    bracket = 4 * np.finfo(float).eps * max(abs(te[0]), 1.0)
                     rec = EventRecord(ev.kind, steps, float(te[0]), float(value),
-                                      time_error=float(4 * np.finfo(float).eps * max(abs(te[0]), 1.0)))
+                                      time_error=float(bracket))
                     raise_or_record(ev, rec, records)
                     ts[-1], ys[-1] = te[0], yv
                     break

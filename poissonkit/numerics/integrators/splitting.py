@@ -169,13 +169,14 @@ def _runner(kernels) -> Any:
                 hist[2] = d
                 d0 = hist[0]
                 d1 = hist[1]
-                if contact > 0.0 and d < contact:
-                    flag = 2
-                    value = d
-                elif watch > 0.0 and d1 <= d0 and d > d1 and \
+                # a grazing window takes precedence: its search also covers the step end
+                if watch > 0.0 and d1 <= d0 and d > d1 and \
                         d1 - 2.0 * max(d0 - d1, d - d1) < watch:
                     flag = 7
                     value = d1
+                elif contact > 0.0 and d < contact:
+                    flag = 2
+                    value = d
             if flag == 0 and escape > 0.0:
                 d = max_radius(y, data)
                 if d > escape:
