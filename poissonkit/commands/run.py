@@ -315,13 +315,18 @@ def _report(args: argparse.Namespace, spec: Any, sol: Any, out: Path, parts: Pat
         "t_reached": float(sol.t[-1]),
         "t_reached_s": float(sol.t[-1]) * tunit,
         "status": ("interrupted" if interrupted else "contact" if touching
-                   else "event" if sol.events else "done"),
+                   else "escape" if any(e.kind == "escape" for e in sol.events) else "done"),
         "message": sol.message,
         "events": [dict(e.__dict__, time_s=e.time * tunit, time_error_s=e.time_error * tunit)
                    for e in sol.events],
         "energy_tol": tol,
         **invariants,
     }
+    if sc is not None and getattr(sc, "energy", None):
+        summary.update(energy_reference_J=summary["energy_reference"] * float(sc.energy),
+                       max_abs_energy_error_J=summary["max_abs_energy_error"] * float(sc.energy))
+    summary["units_note"] = ("absolute figures and references are in internal units (the "
+                             "scene's scales: parameters.scales); *_J in joules")
     if "resumed_from" in sol.extra:
         summary["resumed_from"] = Path(sol.extra["resumed_from"]).name
     if rel is not None:
