@@ -85,6 +85,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="continue the run in --out from its newest valid checkpoint (same "
                         "scene and options); the final state is bit-identical to an "
                         "uninterrupted run's")
+    parser.add_argument("--no-contact", action="store_true",
+                        help="do not stop when finite-size bodies touch (the default event of "
+                        "every scene; bodies that stay within each other's bounding spheres, "
+                        "like the seed's side-by-side magnets, are checked in Python every step)")
     parser.add_argument("--energy-tol", type=float, default=None,
                         help="largest accepted max |ΔH|/|H(0)| (default: the scene's "
                         "run.energy_tol, 1e-6 for the seed scene); above it the run warns and "
@@ -240,6 +244,12 @@ def main(args: argparse.Namespace) -> int:
     energy_tol = getattr(args, "energy_tol", None)
     _positive("energy-tol", energy_tol)
     spec = build_spec(args)
+    if getattr(args, "no_contact", False):
+        from dataclasses import replace as _replace
+
+        spec = _replace(spec, events=())
+    else:
+        spec = _with_contact(spec)
     out = Path(args.out)
     if resume:
         if not (out / "checkpoints").is_dir():
@@ -271,6 +281,23 @@ def main(args: argparse.Namespace) -> int:
                      stop=stop, **control)
     wall = getattr(sol, "wall_time", None) or (time.perf_counter() - t0)
     return _report(args, spec, sol, out, parts, wall, compile_time, energy_tol)
+
+
+def _with_contact(spec: Any) -> Any:
+    """The seed scene (two-body form) gets the same geometric contact event as scene files:
+    its cylinders' radius ``a`` and height ``h`` are in ``metadata["parameters_SI"]``."""
+    from dataclasses import replace
+
+    si = (spec.metadata or {}).get("parameters_SI") or {}
+    if getattr(spec, "events", ()) or not {"a", "h"} <= set(si) \
+            or getattr(spec.system, "bodies", None) is not None:
+        return spec
+    from poissonkit.numerics.events import TWO_BODY_NAMES, BodyShape, Contact
+
+    length = float(getattr(getattr(spec.system, "scales", None), "length", 1.0))
+    shapes = tuple(BodyShape(n, float(si["a"]) / length, float(si["h"]) / 2 / length)
+                   for n in TWO_BODY_NAMES)
+    return replace(spec, events=(Contact(shapes),))
 
 
 def _checkpoint_every_of(out: Path) -> int:

@@ -147,7 +147,7 @@ class Contact:
         from poissonkit.scene.geometry import distance, shape_of
 
         pos, axes, fixed = body_frames(system, y)
-        index = {b.name: k for k, b in enumerate(system.bodies)}
+        index = {name: k for k, name in enumerate(body_names(system))}
         placed = []
         for s in self.shapes:
             k = index.get(s.name)
@@ -305,12 +305,30 @@ def centre_distance(system: Any, y: np.ndarray) -> float:
     return float(system.kernels.min_distance(np.ascontiguousarray(y), system.data, system.work()))
 
 
-def body_frames(system: Any, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Positions, axes and fixed flags of every body of an N-body system (internal length).
+#: Body names of the two-body (centre-of-mass) form, which has no ``bodies``.
+TWO_BODY_NAMES = ("body1", "body2")
 
-    Moving point masses get a zero axis; fixed bodies their fixed position and axis.
+
+def body_names(system: Any) -> tuple[str, ...]:
+    """Names of a system's bodies (``body1``, ``body2`` for the two-body form)."""
+    bodies = getattr(system, "bodies", None)
+    if bodies is None:
+        return TWO_BODY_NAMES
+    return tuple(b.name for b in bodies)
+
+
+def body_frames(system: Any, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Positions, axes and fixed flags of every body (internal length).
+
+    N-body systems: moving point masses get a zero axis; fixed bodies their fixed position and
+    axis. The two-body form (``r = r2 − r1``, ``ν1``, ``ν2``) places body 1 at the origin,
+    which leaves every distance unchanged.
     """
     y = np.asarray(y, dtype=float)
+    if getattr(system, "bodies", None) is None:
+        u = system.unpack(y)
+        return (np.array([np.zeros(3), u["r"]]), np.array([u["nu1"], u["nu2"]]),
+                np.zeros(2, dtype=bool))
     n = len(system.bodies)
     mass, alpha, bslot, tslot, fpos, fnu = system.data[:6]
     nm = mass.shape[0]
