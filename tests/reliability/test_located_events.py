@@ -148,3 +148,31 @@ def test_event_as_error_and_bad_events(pair):
                 lambda: solve(pair, head_on(pair), 1.0, "dop853", events=[ClosestApproach(1)])):
         with pytest.raises(InputError):
             bad()
+
+
+def test_seed_magnets_touching_on_an_unstable_orbit_are_located():
+    """The seed's two-body form with the run command's contact event: on an unstable tilted
+    orbit the 20 mm cylinders touch; just before the located time they are apart, at it they
+    touch (geometric distance of the two cylinders, computed here from the states)."""
+    from poissonkit_magnets import seed000
+
+    from poissonkit.commands.run import _with_contact
+    from poissonkit.scene.geometry import distance, shape_of
+
+    spec = _with_contact(seed000.default_run(periods=0.1, spin_ratio=2.0, tilt=0.3))
+    (contact,) = spec.events
+    sol = solve(spec.system, spec.y0, spec.t_end, spec.method, step=spec.step,
+                events=spec.events)
+    (ev,) = sol.events
+    assert ev.kind == "contact" and ev.time < spec.t_end
+
+    def gap(y):
+        u = spec.system.unpack(y)
+        a, h = contact.shapes[0].radius, contact.shapes[0].half_length
+        return distance(shape_of(np.zeros(3), u["nu1"], a, h), shape_of(u["r"], u["nu2"], a, h),
+                        rtol=1e-14)
+
+    # the last saved step end before the contact: apart; the located state: touching
+    assert gap(sol.y[-2]) > 1e-3 * contact.shapes[0].radius
+    assert gap(sol.y[-1]) < 1e-6 * contact.shapes[0].radius
+    assert ev.time_error <= 1e-9 * spec.step
