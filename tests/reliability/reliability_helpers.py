@@ -51,6 +51,6 @@ def orbit_state() -> np.ndarray:
 #: the long runs of the kill/resume tests, per method: end time, step size, checkpoint interval,
 #: saved rows (several seconds of stepping, so that the kill lands mid-run)
 KILL_RUNS = {
-    "splitting4": {"t_end": 2000.0, "step": 1e-3, "every": 100_000, "save_every": 10_000},
-    "midpoint": {"t_end": 300.0, "step": 1e-3, "every": 20_000, "save_every": 1_000},
+    "splitting4": {"t_end": 3000.0, "step": 1e-3, "every": 100_000, "save_every": 10_000},
+    "midpoint": {"t_end": 1000.0, "step": 1e-3, "every": 20_000, "save_every": 1_000},
 }

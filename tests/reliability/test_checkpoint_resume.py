@@ -42,14 +42,16 @@ def _kill_after_first_checkpoint(folder: Path, method: str) -> None:
     deadline = time.monotonic() + 600
     try:
         while not checkpoints(folder / "checkpoints"):
-            assert proc.poll() is None, proc.stderr.read().decode()
+            if proc.poll() is not None:
+                out, err = proc.communicate()
+                raise AssertionError(f"the run ended early ({proc.returncode}): {err.decode()}")
             assert time.monotonic() < deadline, "no checkpoint appeared"
             time.sleep(0.05)
-        time.sleep(0.3)  # let it run on past the checkpoint, so that work is lost
+        time.sleep(0.1)  # let it run on past the checkpoint, so that work is lost
     finally:
         proc.send_signal(signal.SIGKILL)
         proc.wait()
-    assert proc.returncode == -signal.SIGKILL
+    assert proc.returncode == -signal.SIGKILL, proc.stderr.read().decode()
     assert not (folder / "final.npy").exists(), "the run finished before it was killed"
 
 
