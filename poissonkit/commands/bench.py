@@ -22,6 +22,7 @@ import math
 from pathlib import Path
 
 from poissonkit.errors import InputError, MissingDependencyError
+from poissonkit.report import atomic
 
 DEFAULT_METHODS = ("splitting2", "splitting4", "splitting6", "splitting8", "midpoint", "rk45",
                    "dop853", "lsoda")
@@ -38,6 +39,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--tilt", type=float, default=0.05,
                         help="seed scene: initial tilt of both axes [rad] (default 0.05)")
     parser.add_argument("--out", default="poissonkit-bench", help="output folder")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace the files of an earlier run in --out (default: refuse)")
     parser.add_argument("--quick", action="store_true",
                         help="fewer settings per method (a smoke run)")
     parser.add_argument("--budget", type=float, default=10.0,
@@ -77,8 +80,7 @@ def main(args: argparse.Namespace) -> int:
 
         raise UnknownNameError("integrator", unknown[0], known)
     spec = _spec(args)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    out = atomic.prepare_output_dir(args.out, overwrite=args.overwrite)
     t_end = float(spec.t_end)
     print(f"bench {spec.name}: t_end = {t_end:.6g} (internal), computing reference ...", flush=True)
     ref = wp.reference(spec.system, spec.y0, t_end)
@@ -103,7 +105,7 @@ def main(args: argparse.Namespace) -> int:
     wp.plot(out / "workprecision.png", pts,
             title=f"{spec.name}: work-precision (reference agreement {ref.agreement:.1e})")
     tab = wp.table(pts, (1e-6, 1e-9))
-    (out / "workprecision.md").write_text(
+    atomic.write_text(out / "workprecision.md",
         f"# Work-precision: {spec.name}\n\n"
         f"Reference: {ref.primary} checked by {ref.secondary}; agreement "
         f"{ref.agreement:.2e} (block-relative final-state error).\n\n{tab}\n")

@@ -8,8 +8,16 @@ folder (default ``./poissonkit-output``):
 * ``summary.json`` — parameters, ``P_orb``, ``T_orb``, method, steps, wall time (integration;
   the one-time compilation separately), maximum relative energy error, maximum Casimir drift,
   maximum ``|Δj|/|j|``;
-* ``trajectory.npz`` — ``t`` (internal), ``t_si``, ``y`` (rows), ``layout``;
+* ``trajectory.npz`` — ``t`` (internal), ``t_si``, ``y`` (rows), ``layout`` (runs saving more
+  than :data:`MAX_NPZ_ROWS` rows keep them in ``trajectory.parts/`` instead: the trajectory is
+  streamed to disk while the run goes, so memory stays bounded);
 * ``angular_momentum_z.png``, ``radius_and_x.png``, ``orbit.png``, ``drifts.png``.
+
+Every file is written atomically; a folder holding another run's files is refused unless
+``--overwrite``. ``--checkpoint-every N`` / ``--resume`` checkpoint and continue a run; SIGINT
+stops it cleanly with a partial result. Scenes stop at a located contact of their finite-size
+bodies. Exit codes: :data:`EXIT_OK`, 1 (bad input), :data:`EXIT_ENERGY`, :data:`EXIT_CONTACT`,
+:data:`EXIT_INTERRUPTED` (``docs/reliability.md``).
 """
 
 from __future__ import annotations
@@ -26,6 +34,19 @@ import numpy as np
 from poissonkit.errors import InputError, MissingDependencyError, SceneError
 
 DEFAULT_OUT = "poissonkit-output"
+
+#: Exit codes of ``poissonkit run`` (1: bad input, 2: usage, as for every command).
+EXIT_OK = 0
+EXIT_ENERGY = 3  #: energy error above the scene's tolerance
+EXIT_CONTACT = 4  #: stopped by a contact / collision event (bodies touched)
+EXIT_INTERRUPTED = 130  #: stopped by SIGINT (128 + 2, the shell's convention)
+
+#: Default relative energy tolerance when neither the scene nor --energy-tol gives one.
+DEFAULT_ENERGY_TOL = 1e-6
+#: Saved rows above which the trajectory stays as parts (trajectory.parts/) instead of one npz.
+MAX_NPZ_ROWS = 1 << 20
+#: Rows kept for the figures of a streamed run.
+PLOT_ROWS = 20000
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -55,6 +76,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--save-every", type=int, default=1, help="keep every k-th step")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument("--no-plots", action="store_true", help="do not write PNG figures")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace the files of an earlier run in --out (default: refuse a "
+                        "non-empty folder)")
+    parser.add_argument("--checkpoint-every", type=int, default=None, metavar="N",
+                        help="write an atomic, checksummed checkpoint every N steps into "
+                        "OUT/checkpoints (fixed-step methods: splitting*, midpoint)")
+    parser.add_argument("--resume", action="store_true",
+                        help="continue the run in --out from its newest valid checkpoint (same "
+                        "scene and options); the final state is bit-identical to an "
+                        "uninterrupted run's")
+    parser.add_argument("--no-contact", action="store_true",
+                        help="do not stop when finite-size bodies touch (the default event of "
+                        "every scene; bodies that stay within each other's bounding spheres, "
+                        "like the seed's side-by-side magnets, are checked in Python every step)")
+    parser.add_argument("--energy-tol", type=float, default=None,
+                        help="largest accepted max |ΔH|/|H(0)| (default: the scene's "
+                        "run.energy_tol, 1e-6 for the seed scene); above it the run warns and "
+                        f"exits with code {3}")
 
 
 def _positive(name: str, value: float | None) -> None:
@@ -122,14 +161,15 @@ def _time_unit(spec) -> float:
     return float(s.time) if s is not None else 1.0
 
 
-def _solve(spec, progress: bool, save_every: int):
+def _solve(spec, progress: bool, save_every: int, **control: Any):
     try:
         from poissonkit.numerics.solver import solve
     except ImportError:
         raise MissingDependencyError(
             "poissonkit.numerics.solver is not available in this build") from None
     return solve(spec.system, spec.y0, spec.t_end, method=spec.method, step=spec.step,
-                 tol=spec.tol, progress=progress, save_every=save_every)
+                 tol=spec.tol, progress=progress, save_every=save_every,
+                 events=getattr(spec, "events", ()), **control)
 
 
 def trajectory_rows(sol) -> tuple[np.ndarray, np.ndarray]:
@@ -155,36 +195,143 @@ def relative_position(spec, y: np.ndarray) -> np.ndarray | None:
     return None
 
 
+class _StopOnSigint:
+    """SIGINT handler for the duration of a run: the first Ctrl-C asks the integration to stop
+    at the end of the current chunk of steps (files stay consistent); a second one aborts."""
+
+    def __init__(self) -> None:
+        self.requested = False
+        self._old: Any = None
+
+    def __enter__(self) -> _StopOnSigint:
+        import signal
+
+        def handler(signum, frame):  # noqa: ARG001 - signal API
+            if self.requested:
+                raise KeyboardInterrupt
+            self.requested = True
+            print("\ninterrupt: stopping after the current chunk of steps "
+                  "(Ctrl-C again to abort)", file=sys.stderr, flush=True)
+
+        try:
+            self._old = signal.signal(signal.SIGINT, handler)
+        except ValueError:  # not the main thread: no handler, no clean stop
+            self._old = None
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        import signal
+
+        if self._old is not None:
+            signal.signal(signal.SIGINT, self._old)
+
+    def __call__(self) -> bool:
+        return self.requested
+
+
 def main(args: argparse.Namespace) -> int:
-    """Run, write ``summary.json``, ``trajectory.npz`` and the figures; print a short summary."""
+    """Run, write ``summary.json``, ``trajectory.npz`` and the figures; print a short summary.
+
+    Returns :data:`EXIT_OK`, :data:`EXIT_ENERGY`, :data:`EXIT_CONTACT` or
+    :data:`EXIT_INTERRUPTED` (see ``docs/reliability.md``).
+    """
     from dataclasses import replace
 
-    from poissonkit.report import diagnostics, write_summary, write_trajectory
+    from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
+    from poissonkit.report import atomic
 
     if args.save_every < 1:
         raise InputError(f"--save-every must be >= 1, got {args.save_every}")
+    every = getattr(args, "checkpoint_every", None)
+    if every is not None and every < 1:
+        raise InputError(f"--checkpoint-every must be >= 1, got {every}")
+    resume = bool(getattr(args, "resume", False))
+    energy_tol = getattr(args, "energy_tol", None)
+    _positive("energy-tol", energy_tol)
     spec = build_spec(args)
+    if getattr(args, "no_contact", False):
+        from dataclasses import replace as _replace
+
+        spec = _replace(spec, events=())
+    else:
+        spec = _with_contact(spec)
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    if resume:
+        if not (out / "checkpoints").is_dir():
+            from poissonkit.numerics.checkpoint import CheckpointError
+
+            raise CheckpointError(f"--resume: {out} has no checkpoints folder; nothing to resume")
+        for name in ("summary.json", "trajectory.npz"):  # outputs of the interrupted attempt
+            (out / name).unlink(missing_ok=True)
+    else:
+        atomic.prepare_output_dir(out, overwrite=getattr(args, "overwrite", False))
+    if every is None and resume:
+        every = _checkpoint_every_of(out)
     # compile the kernels on a one-step run first, so that the progress bar and the reported
     # wall time show the integration itself (compilation is reported separately)
     tc = time.perf_counter()
     if not args.no_progress:
         print("compiling kernels (first run in a process: numba) ...", file=sys.stderr, flush=True)
-    warm = replace(spec, t_end=min(float(spec.t_end), float(spec.step or spec.t_end * 1e-3)))
+    warm = replace(spec, t_end=min(float(spec.t_end), float(spec.step or spec.t_end * 1e-3)),
+                   events=())
     _solve(warm, progress=False, save_every=1)
     compile_time = time.perf_counter() - tc
+    parts = out / "trajectory.parts"
+    control: dict[str, Any] = {"stream": TrajectoryStream(parts)}
+    if every is not None:
+        control.update(checkpoint=Checkpoint(out / "checkpoints", every), resume=resume)
     t0 = time.perf_counter()
-    sol = _solve(spec, progress=not args.no_progress, save_every=args.save_every)
+    with _StopOnSigint() as stop:
+        sol = _solve(spec, progress=not args.no_progress, save_every=args.save_every,
+                     stop=stop, **control)
     wall = getattr(sol, "wall_time", None) or (time.perf_counter() - t0)
-    t, y = trajectory_rows(sol)
-    diag = diagnostics(spec.system, t, y)
+    return _report(args, spec, sol, out, parts, wall, compile_time, energy_tol)
+
+
+def _with_contact(spec: Any) -> Any:
+    """The seed scene (two-body form) gets the same geometric contact event as scene files:
+    its cylinders' radius ``a`` and height ``h`` are in ``metadata["parameters_SI"]``."""
+    from dataclasses import replace
+
+    si = (spec.metadata or {}).get("parameters_SI") or {}
+    if getattr(spec, "events", ()) or not {"a", "h"} <= set(si) \
+            or getattr(spec.system, "bodies", None) is not None:
+        return spec
+    from poissonkit.numerics.events import TWO_BODY_NAMES, BodyShape, Contact
+
+    length = float(getattr(getattr(spec.system, "scales", None), "length", 1.0))
+    shapes = tuple(BodyShape(n, float(si["a"]) / length, float(si["h"]) / 2 / length)
+                   for n in TWO_BODY_NAMES)
+    return replace(spec, events=(Contact(shapes),))
+
+
+def _checkpoint_every_of(out: Path) -> int:
+    """The checkpoint interval of the run being resumed (recorded in its checkpoints)."""
+    from poissonkit.numerics.checkpoint import newest_checkpoint
+
+    return int(newest_checkpoint(out / "checkpoints")[2]["every"])
+
+
+def _report(args: argparse.Namespace, spec: Any, sol: Any, out: Path, parts: Path, wall: float,
+            compile_time: float, energy_tol: float | None) -> int:
+    """Diagnostics, files and the printed summary of a finished (or stopped) run."""
+    from poissonkit.numerics.checkpoint import read_trajectory
+    from poissonkit.report import invariant_report, streamed_diagnostics, write_summary
+    from poissonkit.report import write_trajectory
+
+    nrows = int(sol.extra.get("streamed_rows", len(sol.t)))
+    diag, t, y = streamed_diagnostics(spec.system, parts, plot_rows=PLOT_ROWS)
     tunit = _time_unit(spec)
     sc = getattr(spec.system, "scales", None)
     lunit = float(sc.length) if sc is not None else 1.0
     jscale = float(sc.unit("angular_momentum")) if sc is not None else 1.0
     rel = relative_position(spec, y)
     meta = dict(spec.metadata or {})
+    tol = energy_tol if energy_tol is not None else (getattr(spec, "energy_tol", None)
+                                                     or DEFAULT_ENERGY_TOL)
+    invariants = invariant_report(spec.system, diag)
+    interrupted = bool(sol.extra.get("interrupted"))
+    touching = [e for e in sol.events if e.kind in ("contact", "collision")]
     summary: dict[str, Any] = {
         "scene": spec.name,
         "method": getattr(sol, "method", spec.method),
@@ -197,20 +344,48 @@ def main(args: argparse.Namespace) -> int:
                           "(plus one step) done before it",
         "t_end": float(spec.t_end),
         "t_end_s": float(spec.t_end) * tunit,
-        **diag.maxima(),
-        "max_rel_angular_momentum_drift_note": "|Δj|/|j|, j = Σ r×p + Σ m (seed eq. 21)",
+        "t_reached": float(sol.t[-1]),
+        "t_reached_s": float(sol.t[-1]) * tunit,
+        "status": ("interrupted" if interrupted else "contact" if touching
+                   else "escape" if any(e.kind == "escape" for e in sol.events) else "done"),
+        "message": sol.message,
+        "events": [dict(e.__dict__, time_s=e.time * tunit, time_error_s=e.time_error * tunit)
+                   for e in sol.events],
+        "energy_tol": tol,
+        **invariants,
     }
+    if sc is not None and getattr(sc, "energy", None):
+        summary.update(energy_reference_J=summary["energy_reference"] * float(sc.energy),
+                       max_abs_energy_error_J=summary["max_abs_energy_error"] * float(sc.energy))
+    summary["units_note"] = ("absolute figures and references are in internal units (the "
+                             "scene's scales: parameters.scales); *_J in joules")
+    if "resumed_from" in sol.extra:
+        summary["resumed_from"] = Path(sol.extra["resumed_from"]).name
     if rel is not None:
         rn = np.linalg.norm(rel, axis=1) * lunit
-        summary.update(min_distance_m=float(rn.min()), max_distance_m=float(rn.max()))
+        summary.update(min_distance_m=float(rn.min()), max_distance_m=float(rn.max()),
+                       distance_note="over the saved states (every --save-every steps)"
+                       if nrows <= PLOT_ROWS else f"over {len(t)} of {nrows} saved states")
     for key in ("P_orb", "T_orb", "R_orb"):
         if key in meta:
             summary[key] = meta[key]
     summary["parameters"] = meta
+    layout = tuple(getattr(spec.system, "layout", ()))
+    if nrows <= MAX_NPZ_ROWS:
+        tf, yf = read_trajectory(parts)
+        relf = relative_position(spec, yf)
+        extra = {} if relf is None else {"r_rel_si": relf * lunit}
+        write_trajectory(out / "trajectory.npz", tf, yf, layout=layout, time_unit=tunit,
+                         **extra)
+        _remove_tree(parts)
+        files = ["summary.json", "trajectory.npz"]
+    else:
+        summary["trajectory"] = ("trajectory.parts/ (read with "
+                                 "poissonkit.numerics.checkpoint.read_trajectory)")
+        files = ["summary.json", "trajectory.parts/"]
+    problems = _problems(summary, tol, interrupted, touching, tunit)
+    summary["warnings"] = problems
     write_summary(out / "summary.json", summary)
-    extra = {} if rel is None else {"r_rel_si": rel * lunit}
-    write_trajectory(out / "trajectory.npz", t, y, layout=tuple(getattr(spec.system, "layout", ())),
-                     time_unit=tunit, **extra)
     figures: list[str] = []
     if not args.no_plots and rel is not None:
         from poissonkit.report import plots
@@ -218,11 +393,43 @@ def main(args: argparse.Namespace) -> int:
         figures = [p.name for p in plots.seed_figures(out, t * tunit, rel * lunit,
                                                       diag.angular_momentum[:, 2] * jscale, diag,
                                                       time_scale=tunit)]
+    shown = [f"max |ΔH|/|H| = {summary['max_rel_energy_error']:.2e}"]
+    if "max_casimir_drift" in summary:
+        shown.append(f"max Casimir drift = {summary['max_casimir_drift']:.2e}")
+    if summary.get("max_rel_angular_momentum_drift") is not None:
+        shown.append(f"max |Δj|/|j| = {summary['max_rel_angular_momentum_drift']:.2e}")
     print(f"{spec.name}: {summary['method']}, {summary['steps']} steps in {wall:.3g} s; "
-          f"max |ΔH|/|H| = {summary['max_rel_energy_error']:.2e}, "
-          f"max Casimir drift = {summary['max_casimir_drift']:.2e}, "
-          f"max |Δj|/|j| = {summary['max_rel_angular_momentum_drift']:.2e} "
-          f"(compilation {compile_time:.3g} s)")
-    print(f"wrote {out / 'summary.json'}, {out / 'trajectory.npz'}"
+          + ", ".join(shown) + f" (compilation {compile_time:.3g} s)")
+    print(f"wrote {', '.join(str(out / f) for f in files)}"
           + (f", {', '.join(figures)}" if figures else ""), file=sys.stdout)
-    return 0
+    for p in problems:
+        print(f"warning: {p}", file=sys.stderr)
+    if interrupted:
+        return EXIT_INTERRUPTED
+    if touching:
+        return EXIT_CONTACT
+    if summary["max_rel_energy_error"] > tol:
+        return EXIT_ENERGY
+    return EXIT_OK
+
+
+def _problems(summary: dict[str, Any], tol: float, interrupted: bool, touching: list,
+              tunit: float) -> list[str]:
+    out = []
+    if interrupted:
+        out.append(f"run interrupted: {summary['message']}; partial results written "
+                   "(resume with --resume if --checkpoint-every was given)")
+    for e in touching:
+        out.append(f"bodies touched ({e.kind}) at t = {e.time * tunit:.9g} s "
+                   f"(located to {e.time_error * tunit:.2g} s, step {e.step}); the run stopped "
+                   "there — the scene's bodies interpenetrate beyond this time")
+    if summary["max_rel_energy_error"] > tol:
+        out.append(f"energy error max |ΔH|/|H(0)| = {summary['max_rel_energy_error']:.3g} "
+                   f"exceeds the scene's tolerance {tol:g}")
+    return out
+
+
+def _remove_tree(path: Path) -> None:
+    import shutil
+
+    shutil.rmtree(path, ignore_errors=True)

@@ -1,33 +1,181 @@
-"""Typed events checked after every step: collision and escape.
+"""Typed events located inside the step: collision, geometric contact, escape, closest approach.
 
-Events are terminal: integration stops at the end of the first step where one fires. With
-``error=True`` a :class:`~poissonkit.errors.CollisionError` / :class:`~poissonkit.errors.EscapeError`
-is raised instead of recording the event in :attr:`Solution.events`.
+Every event has a continuous *event function* ``g(y)`` that is positive while nothing happens:
+
+* :class:`Collision` — smallest centre distance minus ``distance``;
+* :class:`Contact` — smallest geometric gap between finite-size bodies (cylinders, balls);
+* :class:`Escape` — ``radius`` minus the largest distance from the centre of mass;
+* :class:`ClosestApproach` — not terminal: records every local minimum of the smallest centre
+  distance that falls below ``distance`` (time and value), the run goes on.
+
+How they are located (see :mod:`poissonkit.numerics.locate`): the compiled time loops
+(splitting, midpoint) keep the two previous states and flag a step when ``g`` changed sign, or
+when the smallest centre distance has a local minimum among three consecutive step ends that may
+dip below the watched distance inside a step (the *grazing* test, see
+:func:`~poissonkit.numerics.locate.graze_suspect`). The step is then re-integrated from its start
+state with the same method and a shorter step ``s``; the root of ``g`` in ``s`` is bracketed by
+bisection until the bracket is shorter than ``time_tol``, and the recorded time is the bracket's
+upper end (the first time found with ``g < 0``) with :attr:`EventRecord.time_error` its width.
+The bound is on locating the root of the *numerical* trajectory; the integrator's own error adds
+to it. The scipy methods hand ``g`` to ``solve_ivp``, which locates sign changes on the dense
+output (``time_error`` is then scipy's root-finder tolerance); a dip within one scipy step is
+not seen there.
+
+Terminal events stop the integration at the located time, and the last saved state is the state
+there. With ``error=True`` a :class:`~poissonkit.errors.CollisionError` /
+:class:`~poissonkit.errors.EscapeError` is raised instead of recording the event.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
 
 from poissonkit.errors import CollisionError, EscapeError, InputError
+
+#: Default bisection tolerance on the event time, relative to the step size.
+DEFAULT_RELATIVE_TIME_TOL = 1e-9
+
+
+def _positive(value: Any, what: str) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{what} must be a positive number, got {value!r}") from None
+    if not (math.isfinite(v) and v > 0):
+        raise InputError(f"{what} must be positive, got {value!r}")
+    return v
+
+
+def _time_tol(value: Any, what: str) -> float | None:
+    return None if value is None else _positive(value, f"{what} time_tol")
 
 
 @dataclass(frozen=True)
 class Collision:
-    """Fires when two bodies come closer than ``distance`` (internal length unit).
+    """Fires when two bodies' centres come closer than ``distance`` (internal length unit).
 
-    The splitting integrators check the state after each full step, so an encounter that
-    dips below ``distance`` only inside a step is missed; pick the step accordingly.
+    Parameters
+    ----------
+    distance
+        Threshold on the smallest centre distance.
+    error
+        Raise :class:`~poissonkit.errors.CollisionError` instead of recording.
+    time_tol
+        Bracket width of the located time (internal time); default ``1e-9 × step``.
     """
 
     distance: float
     error: bool = False
+    time_tol: float | None = None
+    kind = "collision"
+    terminal = True
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.distance) and self.distance > 0):
-            raise InputError(f"Collision distance must be positive, got {self.distance!r}")
+        object.__setattr__(self, "distance", _positive(self.distance, "Collision distance"))
+        object.__setattr__(self, "time_tol", _time_tol(self.time_tol, "Collision"))
+
+    @property
+    def watch(self) -> float:
+        """Centre distance below which the compiled loop hands the step to the locator."""
+        return self.distance
+
+    def value(self, system: Any, y: np.ndarray) -> float:
+        """``g(y)``: smallest centre distance minus ``distance``."""
+        return centre_distance(system, y) - self.distance
+
+
+@dataclass(frozen=True)
+class BodyShape:
+    """Shape of one body of a system for :class:`Contact` (internal length unit).
+
+    ``radius`` and ``half_length`` > 0 make a solid cylinder about the body's axis ``ν`` (the
+    fixed axis for a fixed body); only ``radius``: a ball.
+    """
+
+    name: str
+    radius: float
+    half_length: float = 0.0
+
+
+@dataclass(frozen=True)
+class Contact:
+    """Fires when two finite-size bodies touch (geometric gap 0).
+
+    Parameters
+    ----------
+    shapes
+        One :class:`BodyShape` per finite-size body, named as in ``system.bodies``.
+    error
+        Raise :class:`~poissonkit.errors.CollisionError` instead of recording.
+    time_tol
+        Bracket width of the located time (internal time); default ``1e-9 × step``.
+    """
+
+    shapes: tuple[BodyShape, ...]
+    error: bool = False
+    time_tol: float | None = None
+    kind = "contact"
+    terminal = True
+
+    def __post_init__(self) -> None:
+        shapes = tuple(self.shapes)
+        if len(shapes) < 2:
+            raise InputError("Contact needs at least two finite-size bodies")
+        for s in shapes:
+            _positive(s.radius, f"Contact shape {s.name!r} radius")
+        object.__setattr__(self, "shapes", shapes)
+        object.__setattr__(self, "time_tol", _time_tol(self.time_tol, "Contact"))
+
+    @property
+    def watch(self) -> float:
+        """Centre distance below which two bodies' bounding spheres can touch."""
+        b = sorted((math.hypot(s.radius, s.half_length) for s in self.shapes), reverse=True)
+        return b[0] + b[1]
+
+    def value(self, system: Any, y: np.ndarray) -> float:
+        """``g(y)``: positive while no two shapes touch, negative once they do.
+
+        Its sign is exact; its value is the gap where cheap — a lower bound (bounding spheres,
+        then the capsules around the cylinders) while that is positive, the distance by
+        alternating projections otherwise — and, once shapes overlap, minus the overlap of
+        their bounding spheres (bisection needs only the sign)."""
+        from poissonkit.scene.geometry import distance, shape_of
+
+        pos, axes, fixed = body_frames(system, y)
+        index = {name: k for k, name in enumerate(body_names(system))}
+        placed = []
+        for s in self.shapes:
+            k = index.get(s.name)
+            if k is None:
+                raise InputError(f"Contact: no body named {s.name!r} in the system")
+            if s.half_length > 0 and np.any(axes[k]):
+                shape = shape_of(pos[k], axes[k], s.radius, s.half_length)
+            else:  # no orientation in the state (point mass): its bounding ball, conservatively
+                shape = shape_of(pos[k], None, math.hypot(s.radius, s.half_length))
+            placed.append((k, s, shape))
+        best = math.inf
+        for i in range(len(placed)):
+            for j in range(i + 1, len(placed)):
+                (ki, si, a), (kj, sj, b) = placed[i], placed[j]
+                if fixed[ki] and fixed[kj]:
+                    continue
+                centre = float(np.linalg.norm(pos[ki] - pos[kj]))
+                reach = a.bounding_radius + b.bounding_radius
+                if centre > reach:
+                    best = min(best, centre - reach)  # a lower bound is enough far away
+                    continue
+                bound = _capsule_gap(a, b)
+                if bound > 0:  # the capsules around the cylinders are apart: so are they
+                    best = min(best, bound)
+                    continue
+                d = distance(a, b)
+                best = min(best, d if d > 0 else centre - reach)
+        return best
 
 
 @dataclass(frozen=True)
@@ -37,43 +185,190 @@ class Escape:
 
     radius: float
     error: bool = False
+    time_tol: float | None = None
+    kind = "escape"
+    terminal = True
 
     def __post_init__(self) -> None:
-        if not (math.isfinite(self.radius) and self.radius > 0):
-            raise InputError(f"Escape radius must be positive, got {self.radius!r}")
+        object.__setattr__(self, "radius", _positive(self.radius, "Escape radius"))
+        object.__setattr__(self, "time_tol", _time_tol(self.time_tol, "Escape"))
+
+    def value(self, system: Any, y: np.ndarray) -> float:
+        """``g(y)``: ``radius`` minus the largest distance from the centre of mass."""
+        return self.radius - float(system.kernels.max_radius(np.ascontiguousarray(y),
+                                                             system.data))
+
+
+@dataclass(frozen=True)
+class ClosestApproach:
+    """Records (does not stop at) each local minimum of the smallest centre distance below
+    ``distance``, located to ``time_tol``."""
+
+    distance: float
+    time_tol: float | None = None
+    kind = "closest_approach"
+    terminal = False
+    error = False
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "distance", _positive(self.distance, "ClosestApproach distance"))
+        object.__setattr__(self, "time_tol", _time_tol(self.time_tol, "ClosestApproach"))
+
+    @property
+    def watch(self) -> float:
+        """Centre distance watched by the grazing test."""
+        return self.distance
+
+    def value(self, system: Any, y: np.ndarray) -> float:
+        """Smallest centre distance minus ``distance`` (negative inside the watched zone)."""
+        return centre_distance(system, y) - self.distance
+
+
+Event = Collision | Contact | Escape | ClosestApproach
 
 
 @dataclass(frozen=True)
 class EventRecord:
-    """An event that happened: ``kind`` ("collision"/"escape"), step index, time, value."""
+    """An event that happened.
+
+    Attributes
+    ----------
+    kind
+        ``"collision"``, ``"contact"``, ``"escape"`` or ``"closest_approach"``.
+    step
+        Index of the step inside which it happened (1-based).
+    time
+        Located time (internal unit): the first time found with ``g < 0`` (for a closest
+        approach: the time of the minimum).
+    value
+        Smallest centre distance (collision, contact, closest approach) or largest radius
+        (escape) at ``time``.
+    time_error
+        Width of the final bracket: the true root of the numerical trajectory lies in
+        ``[time - time_error, time]`` (closest approach: within ``± time_error``).
+    """
 
     kind: str
     step: int
     time: float
     value: float
+    time_error: float = 0.0
+    detail: dict[str, Any] = field(default_factory=dict)
 
 
-def event_thresholds(events: Sequence[Collision | Escape]) -> tuple[float, float, bool, bool]:
-    """``(contact, escape, contact_error, escape_error)``; 0 disables a check."""
-    contact = escape = 0.0
-    cerr = eerr = False
-    for ev in events:
-        if isinstance(ev, Collision):
-            contact = max(contact, ev.distance)
-            cerr = cerr or ev.error
-        elif isinstance(ev, Escape):
+def check_events(events: Sequence[Any]) -> tuple[Any, ...]:
+    """Validate an ``events`` sequence; :class:`InputError` for anything unknown."""
+    if events is None:
+        return ()
+    if isinstance(events, (Collision, Contact, Escape, ClosestApproach)):
+        events = (events,)
+    out = tuple(events)
+    for ev in out:
+        if not isinstance(ev, (Collision, Contact, Escape, ClosestApproach)):
+            raise InputError(f"events: unknown event {ev!r}; use numerics.events.Collision, "
+                             "Contact, Escape or ClosestApproach")
+    return out
+
+
+def event_thresholds(events: Sequence[Any]) -> tuple[float, float, float]:
+    """``(contact, escape, watch)`` thresholds of the compiled loops; 0 disables a check.
+
+    ``contact``: centre distance below which a step end is handed to the locator; ``escape``:
+    radius beyond which it is; ``watch``: the grazing test's distance.
+    """
+    contact = escape = watch = 0.0
+    for ev in check_events(events):
+        if isinstance(ev, (Collision, Contact)):
+            contact = max(contact, ev.watch)
+        if isinstance(ev, (Collision, Contact, ClosestApproach)):
+            watch = max(watch, ev.watch)
+        if isinstance(ev, Escape):
             escape = ev.radius if escape == 0.0 else min(escape, ev.radius)
-            eerr = eerr or ev.error
-        else:
-            raise InputError(f"unknown event {ev!r}; use numerics.events.Collision or Escape")
-    return contact, escape, cerr, eerr
+    return contact, escape, watch
 
 
-def raise_or_record(kind: str, step: int, time: float, value: float, as_error: bool,
-                    records: list[EventRecord]) -> None:
-    """Raise the typed error of an event, or append its record."""
-    if as_error:
-        if kind == "collision":
-            raise CollisionError(f"bodies came within {value:.6g} at step {step} (t = {time:.6g})")
-        raise EscapeError(f"a body reached distance {value:.6g} at step {step} (t = {time:.6g})")
-    records.append(EventRecord(kind, step, time, value))
+def raise_or_record(ev: Any, record: EventRecord, records: list[EventRecord]) -> None:
+    """Raise the typed error of a terminal event asked as error, or append its record."""
+    if ev.error:
+        where = (f"at step {record.step} (t = {record.time:.10g} "
+                 f"- [0, {record.time_error:.2g}])")
+        if ev.kind == "escape":
+            raise EscapeError(f"a body reached distance {record.value:.6g} {where}")
+        what = "touched" if ev.kind == "contact" else f"came within {record.value:.6g}"
+        raise CollisionError(f"bodies {what} {where}")
+    records.append(record)
+
+
+# ------------------------------------------------------------------ geometry of a state
+def centre_distance(system: Any, y: np.ndarray) -> float:
+    """Smallest centre distance between two bodies (not both fixed), internal length."""
+    return float(system.kernels.min_distance(np.ascontiguousarray(y), system.data, system.work()))
+
+
+#: Body names of the two-body (centre-of-mass) form, which has no ``bodies``.
+TWO_BODY_NAMES = ("body1", "body2")
+
+
+def body_names(system: Any) -> tuple[str, ...]:
+    """Names of a system's bodies (``body1``, ``body2`` for the two-body form)."""
+    bodies = getattr(system, "bodies", None)
+    if bodies is None:
+        return TWO_BODY_NAMES
+    return tuple(b.name for b in bodies)
+
+
+def body_frames(system: Any, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Positions, axes and fixed flags of every body (internal length).
+
+    N-body systems: moving point masses get a zero axis; fixed bodies their fixed position and
+    axis. The two-body form (``r = r2 − r1``, ``ν1``, ``ν2``) places body 1 at the origin,
+    which leaves every distance unchanged.
+    """
+    y = np.asarray(y, dtype=float)
+    if getattr(system, "bodies", None) is None:
+        u = system.unpack(y)
+        return (np.array([np.zeros(3), u["r"]]), np.array([u["nu1"], u["nu2"]]),
+                np.zeros(2, dtype=bool))
+    n = len(system.bodies)
+    mass, alpha, bslot, tslot, fpos, fnu = system.data[:6]
+    nm = mass.shape[0]
+    pos = np.array(fpos, dtype=float).copy()
+    axes = np.array(fnu, dtype=float).copy()
+    fixed = np.array([b.fixed for b in system.bodies], dtype=bool)
+    for k in range(n):
+        s = int(bslot[k])
+        if s >= 0:
+            pos[k] = y[6 * s:6 * s + 3]
+        t = int(tslot[k])
+        if t >= 0:
+            q = 6 * nm + 6 * t
+            axes[k] = y[q:q + 3]
+    return pos, axes, fixed
+
+
+def _segment_distance(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2: np.ndarray) -> float:
+    """Distance between the segments ``p1 q1`` and ``p2 q2`` (clamped closest points, C. Ericson,
+    Real-Time Collision Detection, 2005, §5.1.9)."""
+    d1, d2, r = q1 - p1, q2 - p2, p1 - p2
+    a, e, f = float(d1 @ d1), float(d2 @ d2), float(d2 @ r)
+    c, b = float(d1 @ r), float(d1 @ d2)
+    denom = a * e - b * b
+    s = min(max((b * f - c * e) / denom, 0.0), 1.0) if denom > 1e-300 * max(a * e, 1.0) else 0.0
+    t = (b * s + f) / e if e > 0 else 0.0
+    if t < 0.0:
+        t, s = 0.0, min(max(-c / a, 0.0), 1.0) if a > 0 else 0.0
+    elif t > 1.0:
+        t, s = 1.0, min(max((b - c) / a, 0.0), 1.0) if a > 0 else 0.0
+    return float(np.linalg.norm((p1 + s * d1) - (p2 + t * d2)))
+
+
+def _capsule_gap(a: Any, b: Any) -> float:
+    """Gap between the capsules (axis segment swept by a ball of the radius) around two shapes;
+    a lower bound of the shapes' own gap, since each capsule contains its cylinder or ball."""
+    def segment(sh: Any) -> tuple[np.ndarray, np.ndarray]:
+        if sh.kind == "cylinder":
+            return sh.center - sh.half_length * sh.axis, sh.center + sh.half_length * sh.axis
+        return sh.center, sh.center
+
+    (p1, q1), (p2, q2) = segment(a), segment(b)
+    return _segment_distance(p1, q1, p2, q2) - a.radius - b.radius

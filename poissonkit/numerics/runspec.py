@@ -32,6 +32,12 @@ class RunSpec:
         Tolerance for adaptive methods, or ``None``.
     metadata
         Anything reports should carry (SI parameters, derived quantities, time scale ...).
+    events
+        Events of the run (e.g. the geometric :class:`~poissonkit.numerics.events.Contact` of
+        finite-size bodies, which scenes add by default).
+    energy_tol
+        Largest acceptable relative energy error ``max |ΔH|/|H(0)|``; ``poissonkit run`` warns
+        and exits non-zero above it. ``None``: the run command's default.
     """
 
     name: str
@@ -42,3 +48,5 @@ class RunSpec:
     step: float | None = None
     tol: float | None = None
     metadata: Mapping[str, Any] = field(default_factory=dict)
+    events: tuple[Any, ...] = ()
+    energy_tol: float | None = None

@@ -40,8 +40,9 @@ def _finite_number(value: Any, name: str) -> float:
 
 def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: float | None = None,
           tol: float | None = None, events: Sequence[Any] = (), progress: bool = False,
-          save_every: int = 1, options: Mapping[str, Any] | None = None, t0: float = 0.0
-          ) -> Solution:
+          save_every: int = 1, options: Mapping[str, Any] | None = None, t0: float = 0.0,
+          checkpoint: Any = None, resume: bool = False, stream: Any = None,
+          stop: Any = None) -> Solution:
     """Integrate ``system`` from ``y0`` at ``t0`` to ``t_end``.
 
     Parameters
@@ -62,7 +63,10 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
     tol
         Tolerance of adaptive methods (scipy: ``rtol = atol = tol``; midpoint: Newton tolerance).
     events
-        :class:`~poissonkit.numerics.events.Collision` / :class:`~poissonkit.numerics.events.Escape`.
+        :class:`~poissonkit.numerics.events.Collision`, :class:`~poissonkit.numerics.events.Contact`,
+        :class:`~poissonkit.numerics.events.Escape`,
+        :class:`~poissonkit.numerics.events.ClosestApproach` — located inside the step to their
+        ``time_tol`` (see :mod:`poissonkit.numerics.events`).
     progress
         Show a tqdm progress bar.
     save_every
@@ -71,10 +75,33 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
         Parameters of the integrator's registry entry (e.g. ``{"adaptive": True}``).
     t0
         Start time.
+    checkpoint
+        :class:`~poissonkit.numerics.checkpoint.Checkpoint` (folder, every ``n`` steps): atomic,
+        checksummed checkpoints. Fixed-step methods only (splittings, midpoint).
+    resume
+        Continue from the newest valid checkpoint of ``checkpoint.folder``; the final state is
+        bit-identical to an uninterrupted run's.
+    stream
+        Folder or :class:`~poissonkit.numerics.checkpoint.TrajectoryStream`: saved rows go to disk
+        in parts (memory stays bounded for the fixed-step methods; scipy methods write their rows
+        when they finish); the returned solution then holds only the start and the final state,
+        ``extra["stream"]`` names the folder
+        (:func:`~poissonkit.numerics.checkpoint.read_trajectory` reads it).
+    stop
+        Callable checked between chunks of steps; when it returns true the run stops cleanly
+        (``extra["interrupted"]``, ``message`` says where), writing a last checkpoint. Not
+        honoured by the scipy methods.
 
     Returns
     -------
     Solution
+
+    Raises
+    ------
+    InputError
+        Bad arguments (named); checkpoint/stream/stop with a method that cannot honour them.
+    CheckpointError
+        ``resume`` without a valid checkpoint, or one of another problem.
     """
     try:
         y0 = np.array(y0, dtype=float)
@@ -102,16 +129,56 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
     overlap = getattr(system, "check_overlap", None)
     if callable(overlap):  # coincident bodies: singular forces whatever the method
         overlap(y0)
+    from poissonkit.numerics.events import check_events
+
+    events = check_events(events)
     integ = make_integrator(method, options)
+    kwargs: dict[str, Any] = {}
+    control = _control(checkpoint, resume, stream, stop)
+    late_stream = None
+    if control is not None:
+        if getattr(integ, "supports_control", False):
+            kwargs["control"] = control
+        elif control.checkpoint is not None or control.resume:
+            raise InputError(f"checkpoint/resume need a fixed-step method "
+                             f"(splitting2/4/6/8, midpoint); {getattr(integ, 'name', method)} "
+                             "cannot be checkpointed")
+        else:  # e.g. scipy: rows are streamed once the run is over, stop is not honoured
+            late_stream = control.stream
     start = time.perf_counter()
     try:
-        raw = integ.integrate(system, y0, t_end, step=step, tol=tol, events=tuple(events),
-                              progress=progress, save_every=int(save_every), t0=t0)
+        raw = integ.integrate(system, y0, t_end, step=step, tol=tol, events=events,
+                              progress=progress, save_every=int(save_every), t0=t0, **kwargs)
     except ZeroDivisionError:
         # built-in integrators name the step themselves; this catches third-party ones
         raise IntegrationError(f"{getattr(integ, 'name', method)}: division by zero in a "
                                "compiled kernel (two bodies at the same place?)") from None
     wall = time.perf_counter() - start
+    if late_stream is not None:
+        late_stream.write(raw.t, raw.y)
+        raw.extra.update(stream=str(late_stream.folder), streamed_rows=late_stream.rows,
+                         interrupted=False)
+        raw.t, raw.y = raw.t[[0, -1]], raw.y[[0, -1]]
     return Solution(t=raw.t, y=raw.y, method=getattr(integ, "name", str(method)), steps=raw.steps,
                     wall_time=wall, system=system, nfev=raw.nfev, events=raw.events, step=step,
                     tol=tol, message=raw.message, extra=raw.extra)
+
+
+def _control(checkpoint: Any, resume: bool, stream: Any, stop: Any) -> Any:
+    """The driver's :class:`~poissonkit.numerics.integrators.driver.Control`, or ``None``."""
+    if checkpoint is None and not resume and stream is None and stop is None:
+        return None
+    from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
+    from poissonkit.numerics.integrators.driver import Control
+
+    if checkpoint is not None and not isinstance(checkpoint, Checkpoint):
+        raise InputError(f"checkpoint must be a Checkpoint(folder, every), got {checkpoint!r}")
+    if resume and checkpoint is None:
+        raise InputError("resume=True needs checkpoint=Checkpoint(folder, every)")
+    if stream is not None and not isinstance(stream, TrajectoryStream):
+        if not isinstance(stream, (str, bytes)) and not hasattr(stream, "__fspath__"):
+            raise InputError(f"stream must be a folder or a TrajectoryStream, got {stream!r}")
+        stream = TrajectoryStream(stream)
+    if stop is not None and not callable(stop):
+        raise InputError(f"stop must be a callable returning a bool, got {stop!r}")
+    return Control(checkpoint=checkpoint, resume=bool(resume), stream=stream, stop=stop)

@@ -285,10 +285,11 @@ CSV_FIELDS = ("method", "kind", "setting", "steps", "wall_time", "final_error", 
 
 
 def write_csv(path: str | Path, points: Iterable[WorkPoint]) -> Path:
-    """One row per point, columns :data:`CSV_FIELDS`."""
+    """One row per point, columns :data:`CSV_FIELDS` (written atomically)."""
+    from poissonkit.report.atomic import atomic_path
+
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as fh:
+    with atomic_path(path) as tmp, tmp.open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=CSV_FIELDS)
         w.writeheader()
         for p in points:
@@ -344,8 +345,10 @@ def plot(path: str | Path, points: Sequence[WorkPoint], *, title: str = "") -> P
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
+    from poissonkit.report.atomic import atomic_path
+
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format=path.suffix.lstrip(".") or "png")
     plt.close(fig)
     return path

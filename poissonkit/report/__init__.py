@@ -2,10 +2,22 @@
 
 * :func:`diagnostics` — energy error, Casimir drift, momentum drifts over time, from any system
   exposing ``energy``, ``casimirs``, ``angular_momentum`` (and optionally ``linear_momentum``).
-* :func:`write_summary`, :func:`write_trajectory` — files of ``poissonkit run``.
+* :func:`write_summary`, :func:`write_trajectory` — files of ``poissonkit run`` (atomic,
+  :mod:`poissonkit.report.atomic`);
+* :func:`invariant_report` — only the invariants a system really has, absolute and relative;
+* :func:`streamed_diagnostics` — diagnostics of a trajectory streamed to disk in parts.
 * :mod:`poissonkit.report.plots` — the seed's MATLAB figures (imported lazily: matplotlib).
 """
 
-from poissonkit.report.summary import Diagnostics, diagnostics, write_summary, write_trajectory
+from poissonkit.report.summary import (
+    Diagnostics,
+    conserved_quantities,
+    diagnostics,
+    invariant_report,
+    streamed_diagnostics,
+    write_summary,
+    write_trajectory,
+)
 
-__all__ = ["Diagnostics", "diagnostics", "write_summary", "write_trajectory"]
+__all__ = ["Diagnostics", "conserved_quantities", "diagnostics", "invariant_report",
+           "streamed_diagnostics", "write_summary", "write_trajectory"]

@@ -31,9 +31,11 @@ def _figure(title: str):
 def _save(fig, path: Path) -> Path:
     import matplotlib.pyplot as plt
 
-    path.parent.mkdir(parents=True, exist_ok=True)
+    from poissonkit.report.atomic import atomic_path
+
     fig.tight_layout()
-    fig.savefig(path)
+    with atomic_path(path) as tmp:  # a killed run never leaves half a PNG
+        fig.savefig(tmp, format=path.suffix.lstrip(".") or "png")
     plt.close(fig)
     return path
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -33,6 +32,14 @@ class Diagnostics:
         ``|P(t) - P(0)|`` divided by the momentum scale ``max_t |p_i|`` (0 if not available).
     angular_momentum
         ``j(t)`` itself, shape ``(n, 3)``.
+    energy_reference, angular_momentum_reference, linear_momentum_reference
+        ``H(0)``, ``|j(0)|``, ``|P(0)|`` (internal units): absolute figure = relative × reference
+        (when the reference is 0 the relative arrays hold the absolute error).
+    linear_momentum_scale
+        The momentum scale the linear drift is divided by.
+    overall
+        Maxima over *all* saved states when the arrays hold only a thinned copy (streamed runs);
+        :meth:`maxima` returns it then.
     """
 
     t: np.ndarray
@@ -41,9 +48,16 @@ class Diagnostics:
     angular_momentum_drift: np.ndarray
     linear_momentum_drift: np.ndarray
     angular_momentum: np.ndarray
+    energy_reference: float = math.nan
+    angular_momentum_reference: float = math.nan
+    linear_momentum_reference: float = math.nan
+    linear_momentum_scale: float = 1.0
+    overall: Mapping[str, float] | None = None
 
     def maxima(self) -> dict[str, float]:
         """The largest value of each drift (what ``summary.json`` reports)."""
+        if self.overall is not None:
+            return dict(self.overall)
         return {
             "max_rel_energy_error": float(np.max(np.abs(self.energy_error))),
             "max_casimir_drift": float(np.max(self.casimir_drift)),
@@ -100,8 +114,121 @@ def diagnostics(system: Any, t: np.ndarray, y: np.ndarray) -> Diagnostics:
         ld = np.linalg.norm(P - P[0], axis=1) / pscale
     else:
         ld = np.zeros(y.shape[0])
+        P = np.zeros((y.shape[0], 3))
+        pscale = 1.0
     return Diagnostics(t=t, energy_error=ee, casimir_drift=cd, angular_momentum_drift=jd,
-                       linear_momentum_drift=ld, angular_momentum=j)
+                       linear_momentum_drift=ld, angular_momentum=j,
+                       energy_reference=float(H[0]),
+                       angular_momentum_reference=float(np.linalg.norm(j[0])),
+                       linear_momentum_reference=float(np.linalg.norm(P[0])),
+                       linear_momentum_scale=pscale)
+
+
+def conserved_quantities(system: Any) -> dict[str, str]:
+    """Which invariants the system really has: ``{name: reason}`` of those *not* conserved.
+
+    Energy and the Casimirs are invariants of every autonomous Hamiltonian system here. Total
+    linear and angular momentum are conserved only by a closed system: fixed bodies (or external
+    fields, declared by a system attribute ``external_fields``) exert outside forces and torques.
+    A system may declare ``not_conserved`` (a mapping name → reason) itself.
+    """
+    declared = getattr(system, "not_conserved", None)
+    if declared is not None:
+        return dict(declared)
+    out: dict[str, str] = {}
+    bodies = getattr(system, "bodies", None) or ()
+    fixed = [getattr(b, "name", "?") for b in bodies if getattr(b, "fixed", False)]
+    external = getattr(system, "external_fields", None)
+    reason = (f"fixed bodies ({', '.join(fixed)}) exert outside forces and torques" if fixed
+              else "external fields act on the bodies" if external else None)
+    if reason:
+        out["linear_momentum"] = reason
+        out["angular_momentum"] = reason
+    if not hasattr(system, "linear_momentum"):
+        out.setdefault("linear_momentum", "the system does not define it")
+    return out
+
+
+def invariant_report(system: Any, diag: Diagnostics) -> dict[str, Any]:
+    """The summary's invariant figures: only invariants the system has, each with an absolute
+    and a relative figure (the relative one is ``None`` when its reference value is 0 — then
+    only the absolute figure means something) and the list of quantities left out, with why."""
+    m = diag.maxima()
+    out: dict[str, Any] = {}
+    ref = diag.energy_reference
+    out["energy_reference"] = ref
+    if ref != 0:
+        out["max_rel_energy_error"] = m["max_rel_energy_error"]
+        out["max_abs_energy_error"] = m["max_rel_energy_error"] * abs(ref)
+    else:
+        out["max_abs_energy_error"] = m["max_rel_energy_error"]
+        out["max_rel_energy_error"] = m["max_rel_energy_error"]
+        out["energy_note"] = "H(0) = 0: max_rel_energy_error is the absolute error"
+    if hasattr(system, "casimirs"):
+        out["max_casimir_drift"] = m["max_casimir_drift"]
+    skipped = conserved_quantities(system)
+    if "angular_momentum" not in skipped:
+        jref = diag.angular_momentum_reference
+        absolute = m["max_rel_angular_momentum_drift"] * (jref if jref > 0 else 1.0)
+        out["max_abs_angular_momentum_drift"] = absolute
+        out["max_rel_angular_momentum_drift"] = (m["max_rel_angular_momentum_drift"]
+                                                 if jref > 0 else None)
+        out["angular_momentum_reference"] = jref
+        out["max_rel_angular_momentum_drift_note"] = (
+            "|Δj|/|j(0)|, j = Σ r×p + Σ m (seed eq. 21)" if jref > 0 else
+            "|j(0)| = 0: only the absolute drift |Δj| is meaningful")
+    if "linear_momentum" not in skipped:
+        out["max_abs_linear_momentum_drift"] = (m["max_linear_momentum_drift"]
+                                                * diag.linear_momentum_scale)
+        out["max_linear_momentum_drift"] = m["max_linear_momentum_drift"]
+        out["max_linear_momentum_drift_note"] = (
+            "|ΔP| divided by the largest single-body momentum at t = 0 (|P(0)| = "
+            f"{diag.linear_momentum_reference:.3g})")
+    out["not_reported"] = skipped
+    return out
+
+
+def streamed_diagnostics(system: Any, folder: str | Path, plot_rows: int = 20000
+                         ) -> tuple[Diagnostics, np.ndarray, np.ndarray]:
+    """Diagnostics of a streamed trajectory (``part-*.npz`` of
+    :class:`~poissonkit.numerics.checkpoint.TrajectoryStream`), one part in memory at a time.
+
+    Returns ``(diagnostics, t, y)`` where ``t, y`` (and the diagnostics' arrays) are every k-th
+    saved row, at most ``plot_rows`` of them, plus the last row; the maxima cover every row.
+    """
+    files = sorted(Path(folder).glob("part-*.npz"))
+    if not files:
+        raise InputError(f"no trajectory parts in {folder}")
+    total = 0
+    for f in files:
+        with np.load(f, allow_pickle=False) as z:
+            total += len(z["t"])
+    every = max(1, math.ceil(total / plot_rows))
+    first: np.ndarray | None = None
+    overall: dict[str, float] = {}
+    keep_t: list[np.ndarray] = []
+    keep_y: list[np.ndarray] = []
+    offset = 0
+    for f in files:
+        with np.load(f, allow_pickle=False) as z:
+            t, y = z["t"], z["y"]
+        if first is None:
+            first_t, first = t[:1], y[:1]
+        d = diagnostics(system, np.concatenate([first_t, t]), np.vstack([first, y]))
+        for k, v in d.maxima().items():
+            overall[k] = max(overall.get(k, 0.0), v)
+        sel = np.arange((-offset) % every, len(t), every)
+        keep_t.append(t[sel])
+        keep_y.append(y[sel])
+        offset += len(t)
+        last_t, last_y = t[-1:], y[-1:]
+    t_all, y_all = np.concatenate(keep_t), np.concatenate(keep_y)
+    if t_all[-1] != last_t[0]:
+        t_all, y_all = np.concatenate([t_all, last_t]), np.vstack([y_all, last_y])
+    d = diagnostics(system, t_all, y_all)
+    from dataclasses import replace
+
+    return replace(d, overall=overall), t_all, y_all
 
 
 def _jsonable(x: Any) -> Any:
@@ -120,21 +247,23 @@ def _jsonable(x: Any) -> Any:
 
 
 def write_summary(path: str | Path, summary: Mapping[str, Any]) -> Path:
-    """Write ``summary`` as pretty JSON (numpy values converted, non-finite floats as strings)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(_jsonable(summary), indent=2) + "\n")
-    return path
+    """Write ``summary`` as pretty JSON (numpy values converted, non-finite floats as strings),
+    atomically."""
+    from poissonkit.report.atomic import write_json
+
+    return write_json(path, _jsonable(summary))
 
 
 def write_trajectory(path: str | Path, t: np.ndarray, y: np.ndarray, *,
                      layout: tuple[str, ...] = (), time_unit: float = 1.0,
                      **extra: np.ndarray) -> Path:
     """Write ``t`` (internal), ``t_si`` (``t * time_unit``), ``y`` (rows), ``layout`` and any
-    extra arrays to a compressed ``.npz``."""
+    extra arrays to a compressed ``.npz``, atomically."""
+    from poissonkit.report.atomic import atomic_path
+
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     t = np.asarray(t, dtype=float)
-    np.savez_compressed(path, t=t, t_si=t * float(time_unit), y=np.asarray(y, dtype=float),
-                        layout=np.array(layout, dtype=str), **extra)
+    with atomic_path(path) as tmp:
+        np.savez_compressed(tmp, t=t, t_si=t * float(time_unit), y=np.asarray(y, dtype=float),
+                            layout=np.array(layout, dtype=str), **extra)
     return path

@@ -85,6 +85,8 @@ def build_run(scene: Scene) -> RunSpec:
     except PoissonkitError as exc:
         raise SceneError(f"scene {scene.name!r}: {exc}") from None
     time_unit = system.scales.time if system.scales is not None else 1.0
+    length_unit = system.scales.length if system.scales is not None else 1.0
+    events = () if scene.run.contact == "ignore" else contact_events(bodies, length_unit)
     metadata["time_unit_s"] = time_unit
     metadata["scales"] = None if system.scales is None else {
         "length": system.scales.length, "mass": system.scales.mass, "time": system.scales.time}
@@ -92,4 +94,20 @@ def build_run(scene: Scene) -> RunSpec:
         name=scene.name, system=system, y0=y0, t_end=scene.run.duration / time_unit,
         method=scene.run.method,
         step=None if scene.run.step is None else scene.run.step / time_unit,
-        tol=scene.run.tol, metadata=metadata)
+        tol=scene.run.tol, metadata=metadata, events=events, energy_tol=scene.run.energy_tol)
+
+
+def contact_events(bodies: Any, length_unit: float = 1.0) -> tuple[Any, ...]:
+    """The default event of a scene: :class:`~poissonkit.numerics.events.Contact` of its
+    finite-size bodies (magnets with ``radius`` and ``length``: cylinders; ``radius`` only:
+    balls), in the system's internal length unit; ``()`` with fewer than two such bodies."""
+    from poissonkit.numerics.events import BodyShape, Contact
+
+    shapes = []
+    for b in bodies:
+        mag = getattr(b, "magnet", None) or {}
+        radius = float(mag.get("radius", 0.0))
+        if radius > 0:
+            shapes.append(BodyShape(b.name, radius / length_unit,
+                                    float(mag.get("half_length", 0.0)) / length_unit))
+    return (Contact(tuple(shapes)),) if len(shapes) >= 2 else ()

@@ -21,7 +21,7 @@ BODY_KEYS = ("name", "mass", "alpha", "inertia", "r", "p", "nu", "m", "fixed", "
 INTERACTION_KEYS = ("potential", "params", "pairs", "cutoff", "pair")
 PAIR_KEYS = ("bodies", "potential", "params")
 ASSEMBLY_KEYS = ("name", "params", "overrides")
-RUN_KEYS = ("method", "step", "tol", "duration", "save_every")
+RUN_KEYS = ("method", "step", "tol", "duration", "save_every", "energy_tol", "contact")
 PLANNER_KEYS = ("tol", "models", "replan_every", "hysteresis", "cutoff")
 
 _FLOAT_FIELDS = ("mass", "alpha", "inertia", "moment", "magnetization", "radius", "length",
@@ -51,13 +51,18 @@ class PlannerSpec:
 
 @dataclass(frozen=True)
 class RunSettings:
-    """The ``[run]`` table: integrator name, step [s] or tolerance, duration [s]."""
+    """The ``[run]`` table: integrator name, step [s] or tolerance, duration [s], the accepted
+    relative energy error and what to do when finite-size bodies touch (``contact``:
+    ``"stop"``, the default, or ``"ignore"`` for scenes that declare overlapping bodies
+    meaningful)."""
 
     duration: float
     method: str = "splitting4"
     step: float | None = None
     tol: float | None = None
     save_every: int = 1
+    energy_tol: float = 1e-6
+    contact: str = "stop"
 
 
 @dataclass(frozen=True)
@@ -230,7 +235,11 @@ def _run(raw: Any) -> RunSettings:
     if step is not None and step > duration:
         raise SceneError(f"run.step: {step:g} s is longer than run.duration {duration:g} s")
     save_every = _integer(table.get("save_every", 1), "run.save_every")
-    return RunSettings(duration, method, step, tol, save_every)
+    energy_tol = _number(table.get("energy_tol", 1e-6), "run.energy_tol", positive=True)
+    contact = _string(table.get("contact", "stop"), "run.contact")
+    if contact not in ("stop", "ignore"):
+        raise SceneError(f"run.contact: must be \"stop\" or \"ignore\", got {contact!r}")
+    return RunSettings(duration, method, step, tol, save_every, energy_tol, contact)
 
 
 def _planner(raw: Any) -> PlannerSpec:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -12,7 +13,8 @@ from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
 from poissonkit.numerics.events import EventRecord
 
 # status codes returned by the compiled loops
-RUNNING, NONFINITE, COLLISION, ESCAPE, BUFFER_FULL, DONE, NO_CONVERGENCE = 0, 1, 2, 3, 4, 5, 6
+# GRAZE: the smallest distance has a local minimum between step ends worth a closer look
+RUNNING, NONFINITE, COLLISION, ESCAPE, BUFFER_FULL, DONE, NO_CONVERGENCE, GRAZE = range(8)
 
 
 @dataclass
@@ -29,13 +31,25 @@ class RawResult:
 
 
 class SaveBuffer:
-    """Growable (t, y) storage filled by compiled loops in chunks."""
+    """Growable (t, y) storage filled by compiled loops in chunks.
 
-    def __init__(self, dim: int, chunk: int) -> None:
+    With a ``sink`` (e.g. :class:`~poissonkit.numerics.checkpoint.TrajectoryStream`) the rows
+    are handed over whenever more than ``sink.max_rows`` are held (:meth:`spill`), so memory
+    stays bounded however long the run: at most ``2 max_rows + 1`` rows (held rows plus the
+    compiled chunk's buffer); :attr:`peak_rows` records the most rows ever held.
+    """
+
+    def __init__(self, dim: int, chunk: int, sink: Any = None) -> None:
         self.dim = dim
+        if sink is not None:  # a compiled chunk never holds more rows than one part
+            chunk = min(int(chunk), int(sink.max_rows))
         self.chunk = max(int(chunk), 2)
+        self.sink = sink
         self.ts: list[np.ndarray] = []
         self.ys: list[np.ndarray] = []
+        self.held = 0
+        self.peak_rows = 0
+        self.last_t = math.nan  # time of the newest row, held or already handed to the sink
         self.new()
 
     def new(self) -> None:
@@ -43,20 +57,48 @@ class SaveBuffer:
         self.cur_t = np.empty(self.chunk)
         self.cur_y = np.empty((self.chunk, self.dim))
 
+    def _note(self, n: int) -> None:
+        self.held += n
+        self.peak_rows = max(self.peak_rows, self.held + self.chunk)
+
     def commit(self, n: int) -> None:
-        """Keep the first ``n`` rows the compiled loop wrote into the current chunk, start anew."""
+        """Keep the first ``n`` rows the compiled loop wrote into the current chunk.
+
+        The chunk arrays are reused (the rows are copied out), so no new allocation per chunk.
+        """
         if n:
             self.ts.append(self.cur_t[:n].copy())
             self.ys.append(self.cur_y[:n].copy())
-        self.new()
+            self.last_t = float(self.cur_t[n - 1])
+            self._note(n)
 
     def add(self, t: float, y: np.ndarray) -> None:
         """Append one saved point ``(t, y)`` directly (e.g. the initial state)."""
         self.ts.append(np.array([t]))
         self.ys.append(np.asarray(y, dtype=float).reshape(1, -1).copy())
+        self.last_t = float(t)
+        self._note(1)
+
+    def drop_after(self, t: float) -> None:
+        """Forget held rows with time > ``t`` (a terminal event was located before them)."""
+        if not self.ts:
+            return
+        ts, ys = self.arrays()
+        keep = ts <= t
+        self.ts, self.ys = [ts[keep]], [ys[keep]]
+        self.held = int(keep.sum())
+        self.last_t = float(ts[keep][-1]) if self.held else math.nan
+
+    def spill(self, force: bool = False) -> None:
+        """Hand held rows to the sink when there are too many (or always with ``force``)."""
+        if self.sink is None or not self.ts or (not force and self.held < self.sink.max_rows):
+            return
+        ts, ys = self.arrays()
+        self.sink.write(ts, ys)
+        self.ts, self.ys, self.held = [], [], 0
 
     def arrays(self) -> tuple[np.ndarray, np.ndarray]:
-        """All saved points as ``(t (n,), y (n, dim))``."""
+        """All held points as ``(t (n,), y (n, dim))``."""
         if not self.ts:
             return np.empty(0), np.empty((0, self.dim))
         return np.concatenate(self.ts), np.concatenate(self.ys)

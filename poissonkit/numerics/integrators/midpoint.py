@@ -9,26 +9,23 @@ the N-body systems (fixed-point iteration there).
 
 from __future__ import annotations
 
+import hashlib
 import math
 from typing import Any
 
 import numba
 import numpy as np
 
-from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
-from poissonkit.numerics.events import event_thresholds, raise_or_record
+from poissonkit.errors import InputError, IntegrationError
+from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
-    COLLISION,
-    DONE,
-    ESCAPE,
     NO_CONVERGENCE,
-    NONFINITE,
     RawResult,
     SaveBuffer,
     check_step,
     locate_division,
-    progress_bar,
 )
+from poissonkit.numerics.integrators.driver import drive
 from poissonkit.numerics.kernels import all_finite, copy_into, copy_row, gauss_solve
 
 
@@ -51,7 +48,7 @@ def _runner(kernels) -> Any:
 
     @numba.njit(error_model="numpy")
     def run(y, t0, h, n_total, tol, maxiter, newton, data, work, save_every, step0, max_steps,
-            out_t, out_y, contact, escape):
+            out_t, out_y, contact, escape, watch, back1, back2, hist):
         n = y.shape[0]
         f = np.empty(n)
         Y = np.empty(n)
@@ -62,8 +59,16 @@ def _runner(kernels) -> Any:
         delta = np.empty(n)
         nsave = 0
         nfev = 0
+        track = contact > 0.0 or escape > 0.0 or watch > 0.0
         for k in range(max_steps):
             gstep = step0 + k + 1
+            if track:  # event-search memory, see poissonkit.numerics.locate
+                copy_into(back1, back2)
+                copy_into(y, back1)
+                hist[0] = hist[1]
+                hist[1] = hist[2]
+                hist[3] = hist[4]
+                hist[4] = t0 + (gstep - 1) * h
             rhs(y, data, work, f)
             nfev += 1
             for i in range(n):
@@ -110,25 +115,35 @@ def _runner(kernels) -> Any:
             if not ok:
                 return 6, t, k + 1, nsave, nfev, 0.0
             last = gstep >= n_total
-            if contact > 0.0:
+            flag = 0
+            value = 0.0
+            if contact > 0.0 or watch > 0.0:
                 d = min_distance(y, data, work)
-                if d < contact:
-                    out_t[nsave] = t
-                    copy_row(y, out_y, nsave)
-                    return 2, t, k + 1, nsave + 1, nfev, d
-            if escape > 0.0:
+                hist[2] = d
+                d0 = hist[0]
+                d1 = hist[1]
+                # a grazing window takes precedence: its search also covers the step end
+                if watch > 0.0 and d1 <= d0 and d > d1 and \
+                        d1 - 2.0 * max(d0 - d1, d - d1) < watch:
+                    flag = 7
+                    value = d1
+                elif contact > 0.0 and d < contact:
+                    flag = 2
+                    value = d
+            if flag == 0 and escape > 0.0:
                 d = max_radius(y, data)
                 if d > escape:
-                    out_t[nsave] = t
-                    copy_row(y, out_y, nsave)
-                    return 3, t, k + 1, nsave + 1, nfev, d
+                    flag = 3
+                    value = d
             if last or gstep % save_every == 0:
                 out_t[nsave] = t
                 copy_row(y, out_y, nsave)
                 nsave += 1
+            if flag != 0:
+                return flag, t, k + 1, nsave, nfev, value
             if last:
                 return 5, t, k + 1, nsave, nfev, 0.0
-            if nsave == out_t.shape[0] - 1:
+            if nsave == out_t.shape[0]:
                 return 4, t, k + 1, nsave, nfev, 0.0
         return 0, t0 + (step0 + max_steps) * h, max_steps, nsave, nfev, 0.0
 
@@ -162,10 +177,14 @@ class ImplicitMidpoint:
         self.max_iterations = int(max_iterations)
         self.newton = bool(newton)
 
+    supports_control = True
+
     def integrate(self, system: Any, y0: np.ndarray, t_end: float, *, step: float | None,
                   tol: float | None, events=(), progress: bool = False, save_every: int = 1,
-                  t0: float = 0.0) -> RawResult:
-        """Integrate with fixed step ``step``; ``tol`` overrides the iteration tolerance."""
+                  t0: float = 0.0, control: Any = None) -> RawResult:
+        """Integrate with fixed step ``step``; ``tol`` overrides the iteration tolerance
+        (``control``: checkpoints, streaming, stop requests, see
+        :func:`~poissonkit.numerics.integrators.driver.drive`)."""
         kernels = getattr(system, "kernels", None)
         if kernels is None:
             raise InputError(f"midpoint needs a compiled system, got {type(system).__name__}")
@@ -175,55 +194,55 @@ class ImplicitMidpoint:
         h = span / n_total
         itol = float(tol) if tol is not None else self.tol
         newton = self.newton and kernels.jac is not None
-        contact, escape, cerr, eerr = event_thresholds(events)
+        contact, escape, watch = event_thresholds(events)
         run = _runner(kernels)
         y = np.array(y0, dtype=float)
         data, work = system.data, system.work()
-        buf = SaveBuffer(y.size, min(n_total // save_every + 2, 4096))
-        buf.add(t0, y)
-        bar = progress_bar(progress, span, self.name)
-        chunk = max(1, n_total // 200) if progress else (1 << 62)
-        steps, nfev, t, records = 0, 0, t0, []
+        rows = min(n_total // save_every + 2, 4096)
         scratch = SaveBuffer(y.size, 4)
+        no_hist = np.zeros(5)
+
+        def chunk(st, max_steps, buf):
+            start = st.y.copy()
+            try:
+                status, t_new, k, nsave, nf, value = run(
+                    st.y, t0, h, n_total, itol, self.max_iterations, newton, data, work,
+                    save_every, st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch,
+                    st.prev, st.prev2, st.hist)
+            except ZeroDivisionError:
+                raise locate_division(self.name, one_step, start, st.t, st.steps) from None
+            return status, t_new, k, nsave, nf, value
 
         def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
             out = run(ys, t0, h, n_total, itol, self.max_iterations, newton, data, work,
-                      save_every, done, 1, scratch.cur_t, scratch.cur_y, contact, escape)
+                      save_every, done, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, ys, ys,
+                      no_hist)
             return out[0], out[1]
 
-        try:
-            while True:
-                start = y.copy()
-                try:
-                    status, t_new, k, nsave, nf, value = run(
-                        y, t0, h, n_total, itol, self.max_iterations, newton, data, work,
-                        save_every, steps, chunk, buf.cur_t, buf.cur_y, contact, escape)
-                except ZeroDivisionError:
-                    raise locate_division(self.name, one_step, start, t, steps) from None
-                buf.commit(nsave)
-                if bar is not None:
-                    bar.update(t_new - t)
-                steps += k
-                nfev += nf
-                t = t_new
-                if status == NONFINITE:
-                    raise NonFiniteStateError(steps, t, "midpoint produced NaN/inf")
-                if status == NO_CONVERGENCE:
-                    raise IntegrationError(
-                        f"midpoint: iteration did not converge to {itol:g} in "
-                        f"{self.max_iterations} iterations at step {steps} (t = {t:.6g}); "
-                        "reduce the step")
-                if status in (COLLISION, ESCAPE):
-                    kind = "collision" if status == COLLISION else "escape"
-                    raise_or_record(kind, steps, t, value, cerr if status == COLLISION else eerr,
-                                    records)
-                    break
-                if status == DONE:
-                    break
-        finally:
-            if bar is not None:
-                bar.close()
-        ts, ys = buf.arrays()
-        return RawResult(ts, ys, steps, nfev=nfev, events=records,
-                         message="event" if records else "done",
-                         extra={"step": h, "newton": newton})
+        def advance(ys: np.ndarray, s: float) -> np.ndarray:
+            yc = np.array(ys, dtype=float)
+            status = run(yc, 0.0, s, 1, itol, self.max_iterations, newton, data, work, 1, 0, 1,
+                         scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, yc, yc, no_hist)[0]
+            if status == NO_CONVERGENCE:
+                raise IntegrationError("midpoint: iteration did not converge while locating an "
+                                       "event")
+            return yc
+
+        def failure(status: int, st) -> Exception | None:
+            if status == NO_CONVERGENCE:
+                return IntegrationError(
+                    f"midpoint: iteration did not converge to {itol:g} in "
+                    f"{self.max_iterations} iterations at step {st.steps} (t = {st.t:.6g}); "
+                    "reduce the step")
+            return None
+
+        problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
+                   "t_end": float(t_end).hex(), "n_total": n_total, "save_every": save_every,
+                   "dim": int(y.size), "tol": float(itol).hex(), "newton": bool(newton),
+                   "y0": hashlib.sha256(y.tobytes()).hexdigest()}
+        raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
+                    save_every=save_every, control=control, chunk=chunk, advance=advance,
+                    done=lambda st: st.steps >= n_total, failure=failure, problem=problem,
+                    buffer_rows=rows)
+        raw.extra.update(step=h, newton=newton)
+        return raw

@@ -2,7 +2,8 @@
 
 Each right-hand-side call goes Python → numba, so these are dominated by per-step Python
 overhead; they are references and baselines, not the fast path. Events map to scipy terminal
-events (located by root finding, unlike the splitting's end-of-step checks).
+events, located by root finding on the dense output. They cannot be checkpointed (the step-size
+controller's state is internal to scipy).
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
-from poissonkit.numerics.events import event_thresholds, raise_or_record
+from poissonkit.numerics.events import EventRecord, check_events, raise_or_record
 from poissonkit.numerics.integrators.base import RawResult
 
 
@@ -69,18 +70,17 @@ class ScipyIVP:
             def fun(t: float, y: np.ndarray) -> np.ndarray:
                 counter[0] += 1
                 return np.asarray(system.rhs(t, y), dtype=float)
-        contact, escape, cerr, eerr = event_thresholds(events)
+        events = check_events(events)
         ev_funcs = []
-        if contact > 0:
-            def collision(t, y):
-                return system.min_distance(y) - contact
-            collision.terminal = True  # type: ignore[attr-defined]
-            ev_funcs.append(("collision", collision, cerr))
-        if escape > 0:
-            def escaping(t, y):
-                return escape - float(kernels.max_radius(y, system.data))
-            escaping.terminal = True  # type: ignore[attr-defined]
-            ev_funcs.append(("escape", escaping, eerr))
+        for ev in events:
+            if not ev.terminal:
+                raise InputError(f"{self.name}: {type(ev).__name__} needs a splitting or the "
+                                 "midpoint method (scipy locates sign changes only)")
+
+            def g(t, y, ev=ev):
+                return ev.value(system, y)
+            g.terminal = True  # type: ignore[attr-defined]
+            ev_funcs.append((ev, g))
         kwargs: dict[str, Any] = {"rtol": rtol, "atol": atol}
         if self.max_step > 0:
             kwargs["max_step"] = self.max_step
@@ -99,12 +99,19 @@ class ScipyIVP:
             raise NonFiniteStateError(bad, float(ts[max(bad - 1, 0)]), f"{self.name}")
         steps = len(ts) - 1
         if res.status == 1:
-            for (kind, _, err), te in zip(ev_funcs, res.t_events):
+            for (ev, _), te, ye in zip(ev_funcs, res.t_events, res.y_events):
                 if len(te):
-                    yv = ys[-1]
-                    val = system.min_distance(yv) if kind == "collision" else \
-                        float(kernels.max_radius(yv, system.data))
-                    raise_or_record(kind, steps, float(te[0]), val, err, records)
+                    yv = ye[0]
+                    g = ev.value(system, yv)
+                    value = (ev.radius - g) if ev.kind == "escape" else \
+                        g if ev.kind == "contact" else g + ev.distance
+                    # scipy's root finder (brentq on the dense output) stops at 4 eps |t|
+                    bracket = 4 * np.finfo(float).eps * max(abs(te[0]), 1.0)
+                    rec = EventRecord(ev.kind, steps, float(te[0]), float(value),
+                                      time_error=float(bracket))
+                    raise_or_record(ev, rec, records)
+                    ts[-1], ys[-1] = te[0], yv
+                    break
         keep = np.zeros(len(ts), dtype=bool)
         keep[::save_every] = True
         keep[-1] = True

@@ -35,20 +35,15 @@ from typing import Any
 import numba
 import numpy as np
 
-from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
-from poissonkit.numerics.events import event_thresholds, raise_or_record
+from poissonkit.errors import InputError
+from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
-    BUFFER_FULL,
-    COLLISION,
-    DONE,
-    ESCAPE,
-    NONFINITE,
     RawResult,
     SaveBuffer,
     check_step,
     locate_division,
-    progress_bar,
 )
+from poissonkit.numerics.integrators.driver import drive
 from poissonkit.numerics.kernels import all_finite, copy_into, copy_row
 
 # --------------------------------------------------------------------------- coefficients
@@ -128,13 +123,26 @@ def _runner(kernels) -> Any:
 
     @numba.njit(error_model="numpy")
     def run(y, t_orig, t0, t_end, h, n_total, adaptive, dref, iters, a, b, data, work, save_every,
-            step0, max_steps, out_t, out_y, contact, escape, trial):
-        """Advance ``y`` in place. Returns (status, t, steps_done_in_call, n_saved, value)."""
+            step0, max_steps, out_t, out_y, contact, escape, watch, trial, prev, prev2, hist):
+        """Advance ``y`` in place. Returns (status, t, steps_done_in_call, n_saved, value).
+
+        With events, ``prev``/``prev2`` receive the states at the two previous step ends and
+        ``hist`` = [D_a, D_b, D_c, t_a, t_b] the smallest centre distances there and now and
+        the two previous start times (see :mod:`poissonkit.numerics.locate`).
+        """
         nsave = 0
         t = t0
         k = 0
+        track = contact > 0.0 or escape > 0.0 or watch > 0.0
         while k < max_steps:
             gstep = step0 + k + 1
+            if track:
+                copy_into(prev, prev2)
+                copy_into(y, prev)
+                hist[0] = hist[1]
+                hist[1] = hist[2]
+                hist[3] = hist[4]
+                hist[4] = t
             if adaptive:
                 g0 = g_factor(y, data, work, dref)
                 hk = h * g0
@@ -154,25 +162,35 @@ def _runner(kernels) -> Any:
             k += 1
             if not all_finite(y):
                 return 1, t, k, nsave, 0.0
-            if contact > 0.0:
+            flag = 0
+            value = 0.0
+            if contact > 0.0 or watch > 0.0:
                 d = min_distance(y, data, work)
-                if d < contact:
-                    out_t[nsave] = t
-                    copy_row(y, out_y, nsave)
-                    return 2, t, k, nsave + 1, d
-            if escape > 0.0:
+                hist[2] = d
+                d0 = hist[0]
+                d1 = hist[1]
+                # a grazing window takes precedence: its search also covers the step end
+                if watch > 0.0 and d1 <= d0 and d > d1 and \
+                        d1 - 2.0 * max(d0 - d1, d - d1) < watch:
+                    flag = 7
+                    value = d1
+                elif contact > 0.0 and d < contact:
+                    flag = 2
+                    value = d
+            if flag == 0 and escape > 0.0:
                 d = max_radius(y, data)
                 if d > escape:
-                    out_t[nsave] = t
-                    copy_row(y, out_y, nsave)
-                    return 3, t, k, nsave + 1, d
+                    flag = 3
+                    value = d
             if last or gstep % save_every == 0:
                 out_t[nsave] = t
                 copy_row(y, out_y, nsave)
                 nsave += 1
+            if flag != 0:
+                return flag, t, k, nsave, value
             if last:
                 return 5, t, k, nsave, 0.0
-            if nsave == out_t.shape[0] - 1:  # keep one slot for an event state
+            if nsave == out_t.shape[0]:
                 return 4, t, k, nsave, 0.0
         return 0, t, k, nsave, 0.0
 
@@ -215,10 +233,13 @@ class Splitting:
         """Number of potential kicks (force evaluations) per step."""
         return len(self.b)
 
+    supports_control = True
+
     def integrate(self, system: Any, y0: np.ndarray, t_end: float, *, step: float | None,
                   tol: float | None, events=(), progress: bool = False, save_every: int = 1,
-                  t0: float = 0.0) -> RawResult:
-        """Integrate from ``t0`` to ``t_end`` with the compiled loop."""
+                  t0: float = 0.0, control: Any = None) -> RawResult:
+        """Integrate from ``t0`` to ``t_end`` with the compiled loop (see :func:`drive` for
+        ``control``: checkpoints, streaming, stop requests)."""
         kernels = getattr(system, "kernels", None)
         if kernels is None or not getattr(kernels, "splittable", False):
             raise InputError(f"{self.name} needs a system with exact kinetic/potential flows "
@@ -231,7 +252,7 @@ class Splitting:
         n_total = max(1, math.ceil(span / h - 1e-12))
         if not self.adaptive:
             h = span / n_total
-        contact, escape, cerr, eerr = event_thresholds(events)
+        contact, escape, watch = event_thresholds(events)
         run = _runner(kernels)
         y = np.array(y0, dtype=float)
         data, work = system.data, system.work()
@@ -241,55 +262,50 @@ class Splitting:
             dref = float(kernels.min_distance(y, data, work))
             if not np.isfinite(dref) or dref <= 0:
                 raise InputError("adaptive splitting needs at least two bodies at distinct places")
-        buf = SaveBuffer(y.size, min(n_total // save_every + 2, 4096) if not self.adaptive
-                         else 4096)
-        buf.add(t0, y)
-        bar = progress_bar(progress, span, self.name)
-        chunk = max(1, n_total // 200) if progress else (1 << 62)
-        t, steps, records = t0, 0, []
+        rows = min(n_total // save_every + 2, 4096) if not self.adaptive else 4096
         scratch = SaveBuffer(y.size, 4)
+        no_hist = np.zeros(5)
+
+        def chunk(st, max_steps, buf):
+            start = st.y.copy()
+            try:
+                status, t_new, k, nsave, value = run(
+                    st.y, t0, st.t, t_end, h, n_total, self.adaptive, dref, self.iterations,
+                    self.a, self.b, data, work, save_every, st.steps, max_steps, buf.cur_t,
+                    buf.cur_y, contact, escape, watch, trial, st.prev, st.prev2, st.hist)
+            except ZeroDivisionError:
+                raise locate_division(self.name, one_step, start, st.t, st.steps) from None
+            return status, t_new, k, nsave, 0, value
 
         def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
             out = run(ys, t0, ts, t_end, h, n_total, self.adaptive, dref, self.iterations,
                       self.a, self.b, data, work, save_every, done, 1, scratch.cur_t,
-                      scratch.cur_y, contact, escape, trial)
+                      scratch.cur_y, 0.0, 0.0, 0.0, trial, ys, ys, no_hist)
             return out[0], out[1]
 
-        while True:
-            start = y.copy()
-            try:
-                status, t_new, k, nsave, value = run(
-                    y, t0, t, t_end, h, n_total, self.adaptive, dref, self.iterations, self.a,
-                    self.b, data, work, save_every, steps, chunk, buf.cur_t, buf.cur_y, contact,
-                    escape, trial)
-            except ZeroDivisionError:
-                if bar is not None:
-                    bar.close()
-                raise locate_division(self.name, one_step, start, t, steps) from None
-            buf.commit(nsave)
-            if bar is not None:
-                bar.update(t_new - t)
-            steps += k
-            t = t_new
-            if status == NONFINITE:
-                if bar is not None:
-                    bar.close()
-                raise NonFiniteStateError(steps, t, f"{self.name} step {steps} produced NaN/inf")
-            if status in (COLLISION, ESCAPE):
-                kind = "collision" if status == COLLISION else "escape"
-                if bar is not None:
-                    bar.close()
-                raise_or_record(kind, steps, t, value, cerr if status == COLLISION else eerr,
-                                records)
-                break
-            if status == DONE:
-                break
-            if status not in (0, BUFFER_FULL):
-                raise IntegrationError(f"{self.name}: unexpected status {status}")
-        if bar is not None:
-            bar.close()
-        ts, ys = buf.arrays()
-        nfev = steps * self.stages * (1 + (self.iterations if self.adaptive else 0))
-        return RawResult(ts, ys, steps, nfev=nfev, events=records,
-                         message="event" if records else "done",
-                         extra={"step": h, "order": self.order, "adaptive": self.adaptive})
+        def advance(ys: np.ndarray, s: float) -> np.ndarray:
+            yc = np.array(ys, dtype=float)
+            run(yc, 0.0, 0.0, s, s, 1, False, dref, 0, self.a, self.b, data, work, 1, 0, 1,
+                scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, trial, yc, yc, no_hist)
+            return yc
+
+        def done(st) -> bool:
+            return st.t >= t_end if self.adaptive else st.steps >= n_total
+
+        problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
+                   "t_end": float(t_end).hex(), "n_total": n_total, "save_every": save_every,
+                   "dim": int(y.size), "dref": float(dref).hex(),
+                   "y0": _digest(y)}
+        raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
+                    save_every=save_every, control=control, chunk=chunk, advance=advance,
+                    done=done, failure=lambda status, st: None, problem=problem,
+                    buffer_rows=rows)
+        raw.nfev = raw.steps * self.stages * (1 + (self.iterations if self.adaptive else 0))
+        raw.extra.update(step=h, order=self.order, adaptive=self.adaptive)
+        return raw
+
+
+def _digest(y: np.ndarray) -> str:
+    import hashlib
+
+    return hashlib.sha256(np.ascontiguousarray(y, dtype=float).tobytes()).hexdigest()

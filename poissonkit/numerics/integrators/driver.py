@@ -1,0 +1,261 @@
+"""The Python side of the compiled fixed-step loops (splitting, midpoint).
+
+A compiled loop advances the state in place for up to ``max_steps`` steps and returns a status;
+:func:`drive` runs it in chunks and, between chunks, does what must not live in compiled code:
+locating events (:mod:`poissonkit.numerics.locate`), streaming saved rows to disk,
+checkpointing, honouring a stop request (SIGINT), the progress bar. Chunking never changes the
+arithmetic: each step depends on the state and the global step index only, so the trajectory is
+the same whatever the chunk sizes, and resuming a checkpoint is bit-identical.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+from poissonkit.errors import IntegrationError, NonFiniteStateError
+from poissonkit.numerics.checkpoint import (
+    Checkpoint,
+    TrajectoryStream,
+    check_matches,
+    newest_checkpoint,
+    write_checkpoint,
+)
+from poissonkit.numerics.events import (
+    EventRecord,
+    centre_distance,
+    check_events,
+    event_thresholds,
+    raise_or_record,
+)
+from poissonkit.numerics.integrators.base import (
+    BUFFER_FULL,
+    COLLISION,
+    DONE,
+    ESCAPE,
+    GRAZE,
+    NONFINITE,
+    RUNNING,
+    RawResult,
+    SaveBuffer,
+    progress_bar,
+)
+from poissonkit.numerics.locate import Window, locate
+
+#: First chunk (steps) between two looks at a stop request; it then adapts so that a look
+#: comes every 0.05–0.2 s, up to MAX_STOP_CHUNK steps (chunking never changes the arithmetic).
+STOP_CHUNK = 256
+MAX_STOP_CHUNK = 1 << 16
+
+
+@dataclass
+class Control:
+    """Long-run controls of :func:`~poissonkit.numerics.solve`.
+
+    Attributes
+    ----------
+    checkpoint
+        Where/how often to checkpoint, or ``None``.
+    resume
+        Continue from the newest valid checkpoint in ``checkpoint.folder``.
+    stream
+        Trajectory stream receiving the saved rows, or ``None`` (rows kept in memory).
+    stop
+        Called between chunks; when it returns true the run stops cleanly ("interrupted").
+    """
+
+    checkpoint: Checkpoint | None = None
+    resume: bool = False
+    stream: TrajectoryStream | None = None
+    stop: Callable[[], bool] | None = None
+
+
+@dataclass
+class LoopState:
+    """Everything a compiled loop needs to continue: the checkpoint's content."""
+
+    y: np.ndarray
+    t: float
+    steps: int
+    prev: np.ndarray
+    prev2: np.ndarray
+    #: ``[D_a, D_b, D_c, t_a, t_b]``: smallest centre distance at the two previous step ends and
+    #: now, and the start times of the two previous steps (the grazing test's memory)
+    hist: np.ndarray
+    nfev: int = 0
+    records: list[EventRecord] = field(default_factory=list)
+
+
+ChunkFn = Callable[[LoopState, int, SaveBuffer], tuple[int, float, int, int, int, float]]
+
+
+def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, events,
+          progress: bool, save_every: int, control: Control | None, chunk: ChunkFn,
+          advance: Callable[[np.ndarray, float], np.ndarray], done: Callable[[LoopState], bool],
+          failure: Callable[[int, LoopState], Exception | None], problem: dict[str, Any],
+          buffer_rows: int) -> RawResult:
+    """Run ``chunk`` until ``done``; see the module docstring.
+
+    Parameters
+    ----------
+    name
+        Method name (messages).
+    system, y0, t0, t_end
+        The problem.
+    events, progress, save_every
+        As in :func:`~poissonkit.numerics.solve`.
+    control
+        Checkpoint / resume / stream / stop, or ``None``.
+    chunk
+        ``chunk(state, max_steps, buf) -> (status, t, steps_done, rows_saved, nfev, value)``.
+    advance
+        ``advance(y, s)``: one step of length ``s`` from a copy of ``y`` (event location).
+    done
+        Whether the state has reached the end time.
+    failure
+        Typed error for a method-specific status (e.g. no convergence), else ``None``.
+    problem
+        Plain-data description checked on resume.
+    buffer_rows
+        Rows per compiled chunk buffer.
+    """
+    events = check_events(events)
+    contact, escape, watch = event_thresholds(events)
+    control = control or Control()
+    ck = control.checkpoint
+    stream = control.stream
+    n = y0.size
+    st = LoopState(y=np.array(y0, dtype=float), t=float(t0), steps=0, prev=np.zeros(n),
+                   prev2=np.zeros(n), hist=np.array([np.inf, np.inf, np.inf, t0, t0]))
+    if contact > 0 or watch > 0:
+        st.hist[2] = centre_distance(system, st.y)
+    buf = SaveBuffer(n, buffer_rows, sink=stream)
+    resumed_from = None
+    if control.resume:
+        if ck is None:
+            from poissonkit.errors import InputError
+
+            raise InputError("resume needs checkpoint=Checkpoint(folder, every)")
+        resumed_from, arrays, meta = newest_checkpoint(ck.folder)
+        check_matches(meta, problem)
+        st.y, st.prev, st.prev2, st.hist = (np.array(arrays[k], dtype=float)
+                                            for k in ("y", "prev", "prev2", "hist"))
+        st.t, st.steps, st.nfev = float(arrays["t"]), int(arrays["steps"]), int(meta["nfev"])
+        st.records = [EventRecord(**r) for r in meta["records"]]
+        if stream is not None:
+            if "stream_parts" not in meta:
+                from poissonkit.numerics.checkpoint import CheckpointError
+
+                raise CheckpointError("checkpoint was written without a stream; resume without")
+            stream.truncate(int(meta["stream_parts"]), int(meta["stream_rows"]))
+        if "rows_t" in arrays:
+            buf.ts, buf.ys = [arrays["rows_t"]], [arrays["rows_y"]]
+            buf.held = len(arrays["rows_t"])
+    else:
+        buf.add(t0, st.y)
+    span = t_end - t0
+    bar = progress_bar(progress, span, name)
+    if bar is not None and st.t > t0:
+        bar.update(st.t - t0)
+    cap = STOP_CHUNK if control.stop is not None else (1 << 62)
+    prog_chunk = max(1, int(problem.get("n_total", 200)) // 200) if progress else (1 << 62)
+    next_ck = (st.steps // ck.every + 1) * ck.every if ck is not None else None
+    status_msg = "done"
+    interrupted = False
+
+    def save_checkpoint() -> None:
+        meta: dict[str, Any] = {"problem": problem, "nfev": st.nfev,
+                                "records": [asdict(r) for r in st.records], "method": name,
+                                "every": ck.every}
+        arrays = {"y": st.y, "prev": st.prev, "prev2": st.prev2, "hist": st.hist,
+                  "t": np.float64(st.t), "steps": np.int64(st.steps)}
+        if stream is not None:
+            buf.spill(force=True)
+            meta.update(stream_parts=stream.parts, stream_rows=stream.rows)
+        else:
+            arrays["rows_t"], arrays["rows_y"] = buf.arrays()
+        write_checkpoint(ck, st.steps, arrays, json.loads(json.dumps(meta)))
+
+    try:
+        while not done(st):
+            max_steps = min(cap, prog_chunk)
+            if next_ck is not None:
+                max_steps = min(max_steps, next_ck - st.steps)
+            t_before = st.t
+            tic = time.perf_counter()
+            status, t_new, k, nsave, nf, value = chunk(st, max_steps, buf)
+            if control.stop is not None:  # look at stop requests about 10 times a second
+                took = time.perf_counter() - tic
+                if took > 0.2 and cap > 1:
+                    cap = max(1, cap // 2)
+                elif took < 0.05 and k == max_steps:
+                    cap = min(2 * cap, MAX_STOP_CHUNK)
+            buf.commit(nsave)
+            st.steps += k
+            st.nfev += nf
+            st.t = t_new
+            if bar is not None:
+                bar.update(t_new - t_before)
+            if status == NONFINITE:
+                raise NonFiniteStateError(st.steps, st.t, f"{name} step {st.steps} produced "
+                                          "NaN/inf")
+            if status == COLLISION and _all_clear(system, events, st.y):
+                pass  # only a candidate (e.g. bounding spheres of solids overlap); dips inside
+                # the step are the grazing test's business
+            elif status in (COLLISION, ESCAPE, GRAZE):
+                segs = [(st.prev, st.hist[4], st.t - st.hist[4])]
+                if status == GRAZE:
+                    segs.insert(0, (st.prev2, st.hist[3], st.hist[4] - st.hist[3]))
+                recorded, terminal = locate(system, events, Window(segs, advance), st.steps,
+                                            graze=status != ESCAPE)
+                st.records.extend(rec for _, rec in recorded)
+                if terminal is not None:
+                    ev, rec, y_hit = terminal
+                    buf.drop_after(rec.time)
+                    buf.add(rec.time, y_hit)
+                    st.y[:] = y_hit
+                    st.t, st.steps = rec.time, rec.step
+                    raise_or_record(ev, rec, st.records)
+                    status_msg = "event"
+                    break
+            elif status not in (RUNNING, BUFFER_FULL, DONE):
+                exc = failure(status, st)
+                raise exc if exc is not None else IntegrationError(
+                    f"{name}: unexpected status {status}")
+            buf.spill()
+            if next_ck is not None and st.steps >= next_ck and not done(st):
+                save_checkpoint()
+                next_ck += ck.every
+            if control.stop is not None and control.stop() and not done(st):
+                interrupted = True
+                status_msg = f"interrupted at step {st.steps} (t = {st.t:.10g})"
+                if ck is not None:
+                    save_checkpoint()
+                if buf.last_t != st.t:  # the partial result ends where it stopped
+                    buf.add(st.t, st.y)
+                break
+    finally:
+        if bar is not None:
+            bar.close()
+    extra: dict[str, Any] = {"peak_rows_in_memory": buf.peak_rows, "interrupted": interrupted}
+    if resumed_from is not None:
+        extra["resumed_from"] = str(resumed_from)
+    if stream is not None:
+        buf.spill(force=True)
+        extra.update(stream=str(stream.folder), streamed_rows=stream.rows)
+        ts = np.array([t0, st.t])
+        ys = np.vstack([np.asarray(y0, dtype=float), st.y])
+    else:
+        ts, ys = buf.arrays()
+    return RawResult(ts, ys, st.steps, nfev=st.nfev, events=st.records, message=status_msg,
+                     extra=extra)
+
+
+def _all_clear(system: Any, events: Any, y: np.ndarray) -> bool:
+    """No terminal event function is negative at ``y``."""
+    return all(ev.value(system, y) >= 0 for ev in events if ev.terminal)

@@ -1,0 +1,141 @@
+"""Atomic file writes: a file either has its complete new content or is absent/unchanged.
+
+Every writer goes through :func:`atomic_path`: write to a temporary file in the same folder,
+``fsync`` it, ``os.replace`` it onto the target (atomic on POSIX and Windows within one file
+system), then ``fsync`` the folder so the rename itself survives a power cut. A process killed at
+any moment leaves either the old file or the new one, plus at worst a stray ``.*.tmp`` file that
+no reader picks up.
+
+(The temporary name is ``.<name>.<random>.tmp<suffix>``.)
+
+API (small on purpose, so every command can use it):
+
+* :func:`atomic_path` — context manager yielding a temporary path for libraries that insist on
+  writing to a path themselves (``np.savez``, ``fig.savefig``);
+* :func:`write_bytes`, :func:`write_text`, :func:`write_json` — the common cases;
+* :func:`prepare_output_dir` — refuse to mix a new run's files into a non-empty folder unless
+  the caller allows overwriting.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import shutil
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+from poissonkit.errors import InputError
+
+
+class OutputExistsError(InputError):
+    """The output folder already holds files of another run (give ``--overwrite``)."""
+
+
+def _fsync_dir(folder: Path) -> None:
+    # the rename is durable only once the folder entry is on disk; not possible on Windows
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
+    """Yield a temporary path; on normal exit it is fsynced and renamed onto ``path``.
+
+    Parameters
+    ----------
+    path
+        Final file name. Its folder is created if missing.
+    suffix
+        Suffix of the temporary file (default: ``path``'s, so that libraries choosing a format
+        from the extension, e.g. ``savefig``, see the right one).
+
+    Notes
+    -----
+    If the body raises, the temporary file is removed and ``path`` is untouched.
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    # ".<name>.<random>.tmp<suffix>": hidden, and the extension stays last for format sniffing
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.",
+                               suffix=".tmp" + (suffix if suffix is not None else path.suffix),
+                               dir=path.parent)
+    os.close(fd)
+    tmp_path = Path(tmp)
+    try:
+        yield tmp_path
+        with open(tmp_path, "rb+") as fh:
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp_path, path)
+        _fsync_dir(path.parent)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp_path.unlink()
+        raise
+
+
+def write_bytes(path: str | Path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` atomically; return ``path``."""
+    with atomic_path(path) as tmp:
+        tmp.write_bytes(data)
+    return Path(path)
+
+
+def write_text(path: str | Path, text: str) -> Path:
+    """Write ``text`` (UTF-8) to ``path`` atomically; return ``path``."""
+    return write_bytes(path, text.encode("utf-8"))
+
+
+def write_json(path: str | Path, obj: Any, indent: int = 2) -> Path:
+    """Write ``obj`` as JSON (with a final newline) to ``path`` atomically; return ``path``."""
+    return write_text(path, json.dumps(obj, indent=indent) + "\n")
+
+
+def prepare_output_dir(folder: str | Path, overwrite: bool = False,
+                       keep: tuple[str, ...] = ()) -> Path:
+    """Create ``folder`` for a new run's files.
+
+    Parameters
+    ----------
+    folder
+        The output folder.
+    overwrite
+        Remove the folder's current content first instead of refusing.
+    keep
+        Names inside the folder that are not "another run's files" (e.g. a checkpoint the new
+        run resumes from); they are neither counted nor removed.
+
+    Raises
+    ------
+    OutputExistsError
+        If ``folder`` is a non-empty folder (apart from ``keep``) and ``overwrite`` is false.
+    InputError
+        If ``folder`` exists and is not a folder.
+    """
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"--out: {folder} exists and is not a folder")
+    folder.mkdir(parents=True, exist_ok=True)
+    present = sorted(p for p in folder.iterdir() if p.name not in keep)
+    if present and not overwrite:
+        names = ", ".join(p.name for p in present[:5]) + (" ..." if len(present) > 5 else "")
+        raise OutputExistsError(f"--out: {folder} already holds files of another run ({names}); "
+                                "choose another folder or pass --overwrite")
+    for p in present:
+        if p.is_dir() and not p.is_symlink():
+            shutil.rmtree(p)
+        else:
+            p.unlink()
+    return folder
