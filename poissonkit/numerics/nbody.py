@@ -641,8 +641,7 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
                 T[b, d] += sT[q, d]
         return u
 
-    @numba.njit(error_model="numpy", inline="always")
-    def forces(pos, nu, data, F, T):
+    def forces_py(pos, nu, data, F, T):
         pairs = data[6]
         cmembers = data[7]
         coffs = data[8]
@@ -651,8 +650,13 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
         B = data[11]
         rpairs = data[12]
         ccentral = data[13]
-        zero2(F)
-        zero2(T)
+        axes = data[14]
+        for b in range(F.shape[0]):
+            F[b, 0] = 0.0
+            F[b, 1] = 0.0
+            F[b, 2] = 0.0
+        if axes:
+            zero2(T)
         cut2 = cutoff * cutoff if np.isfinite(cutoff) else np.inf
         u = 0.0
         for k in range(pairs.shape[0]):
@@ -680,14 +684,14 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
                         u += pair_term(gid, ia, ib, pos, nu, F, T, cut2, B, ia, ib)
         return u
 
-    @numba.njit(error_model="numpy", inline="always")
-    def gather(y, data, pos, nu):
+    def gather_py(y, data, pos, nu):
         mass = data[0]
         bslot = data[2]
         tslot = data[3]
         fpos = data[4]
         fnu = data[5]
         nm = mass.shape[0]
+        axes = data[14]
         for b in range(bslot.shape[0]):
             s = bslot[b]
             if s >= 0:
@@ -696,6 +700,8 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
             else:
                 for d in range(3):
                     pos[b, d] = fpos[b, d]
+            if not axes:  # point masses only: ν and torques are never read
+                continue
             t = tslot[b]
             if t >= 0:
                 for d in range(3):
@@ -703,6 +709,14 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
             else:
                 for d in range(3):
                     nu[b, d] = fnu[b, d]
+
+    # two compilations of each: inlined into the hot kick (numba does not inline calls between
+    # separately compiled functions, and the call costs as much as a small system's pair loop)
+    # and a plain one for the other kernels (inlining everywhere only lengthens compilation)
+    forces = numba.njit(error_model="numpy")(forces_py)
+    gather = numba.njit(error_model="numpy")(gather_py)
+    forces_inl = numba.njit(error_model="numpy", inline="always")(forces_py)
+    gather_inl = numba.njit(error_model="numpy", inline="always")(gather_py)
 
     @numba.njit(error_model="numpy")
     def rhs(y, data, work, out):
@@ -739,8 +753,8 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
         bslot = data[2]
         tslot = data[3]
         nm = mass.shape[0]
-        gather(y, data, pos, nu)
-        forces(pos, nu, data, F, T)
+        gather_inl(y, data, pos, nu)
+        forces_inl(pos, nu, data, F, T)
         for b in range(bslot.shape[0]):
             s = bslot[b]
             if s >= 0:
@@ -820,8 +834,8 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
     def forces_of(y, data, work):
         """Forces and torques into ``work[2]``, ``work[3]`` (rows: all bodies); returns U."""
         pos, nu, F, T = work
-        gather(y, data, pos, nu)
-        return forces(pos, nu, data, F, T)
+        gather_inl(y, data, pos, nu)
+        return forces_inl(pos, nu, data, F, T)
 
     out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
                   max_radius=max_radius, jac=None, splittable=True, forces=forces_of)
@@ -846,6 +860,10 @@ class NBodySystem:
         positions, the cutoff and the potentials are given in SI and the state is internal
         (``r/L``, ``p/(M L/T)``, ``m/(M L²/T)``); :meth:`pack` / :meth:`unpack` convert with
         ``si=True``. Without scales every number is used as given.
+    fast_path
+        Evaluate orientation-free potentials (gravity, ``U(r)``) in the specialised pair loop
+        without axes and torques (default). ``False`` sends them through the general loop;
+        the results agree to round-off (a test checks it), only the speed differs.
 
     Notes
     -----
@@ -854,7 +872,8 @@ class NBodySystem:
     """
 
     def __init__(self, bodies: Sequence[Body], interactions: Sequence[Interaction | AllPairs] = (),
-                 cutoff: float | None = None, scales: Scales | None = None) -> None:
+                 cutoff: float | None = None, scales: Scales | None = None,
+                 fast_path: bool = True) -> None:
         bodies = tuple(bodies)
         if not bodies:
             raise InputError("NBodySystem needs at least one body")
@@ -950,7 +969,7 @@ class NBodySystem:
                 if bodies[i].fixed and bodies[j].fixed:
                     continue  # constant energy, no force on any degree of freedom
                 gid, orient = kernel_id(it.potential, it.params, i, j)
-                (rpairs if orient == "none" else pairs).append((i, j, gid))
+                (rpairs if orient == "none" and fast_path else pairs).append((i, j, gid))
             elif isinstance(it, AllPairs):
                 mem = list(range(len(bodies))) if it.members is None else [idx(v) for v in it.members]
                 if len(set(mem)) != len(mem):
@@ -969,7 +988,7 @@ class NBodySystem:
                 cmembers.extend(mem)
                 coffs.append(len(cmembers))
                 cgid.append(gid)
-                ccentral.append(1 if orient == "none" else 0)
+                ccentral.append(1 if orient == "none" and fast_path else 0)
             else:
                 raise InputError(f"interactions must be Interaction or AllPairs, got "
                                  f"{type(it).__name__}")
@@ -990,7 +1009,8 @@ class NBodySystem:
                      np.array(cmembers, dtype=np.int64), np.array(coffs, dtype=np.int64),
                      np.array(cgid, dtype=np.int64), float(cut), table,
                      np.array(rpairs, dtype=np.int64).reshape(-1, 3),
-                     np.array(ccentral, dtype=np.int64))
+                     np.array(ccentral, dtype=np.int64),
+                     any(b.is_top for b in bodies))
         self._kernels: Kernels | None = None
 
     # ------------------------------------------------------------------ structure
