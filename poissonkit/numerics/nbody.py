@@ -966,7 +966,8 @@ class NBodySystem:
                                      f"masses {point}")
                 entry = _registry_entry(it.potential)
                 if (entry is not None and entry.name == "gravity"
-                        and sorted(mem) == list(range(len(bodies)))):
+                        and sorted(mem) == list(range(len(bodies)))
+                        and not {"mass1", "mass2"} & set(it.params)):
                     gravity_g.append(float(entry.resolve_params(
                         {k: v for k, v in it.params.items()} | {"mass1": 1.0, "mass2": 1.0}
                     )["G"]))
