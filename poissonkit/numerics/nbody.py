@@ -815,7 +815,7 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
             best = max(best, d2)
         return math.sqrt(best)
 
-    @numba.njit(error_model="numpy")
+    @numba.njit(error_model="numpy", inline="always")
     def forces_of(y, data, work):
         """Forces and torques into ``work[2]``, ``work[3]`` (rows: all bodies); returns U."""
         pos, nu, F, T = work
