@@ -78,7 +78,7 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
         factory=_wisdom_holman(False), order=2, family="hierarchical"))
     out.append(IntegratorEntry(
         name="wisdom_holman_corrected", doc=wh_doc + " With the SABAC_n corrector: error "
-        "O(eps h^2n + eps^2 h^4), 2 extra force evaluations per step.",
+        "O(eps h^2n + eps^2 h^4), 3 extra force evaluations per step.",
         params=(Param("stages", "int", "kicks per step n = 2 ... 4 (SABAC_n)", 4,
                       positive=True),),
         factory=_wisdom_holman(True), order=4, family="hierarchical"))
