@@ -52,6 +52,7 @@ def test_all_pairs_gravity_reads_masses_from_the_bodies():
     assert U2 == pytest.approx(U_ref, rel=1e-13)
 
 
+@pytest.mark.slow  # compiles two more kernel sets (~20 s)
 def test_explicit_masses_still_win_and_si_scales_are_applied():
     from poissonkit.numerics.units import Scales
 
