@@ -416,13 +416,20 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
     if hit is not None:
         return hit
 
+    @numba.njit(error_model="numpy", inline="always")
+    def switch(r, cut):
+        """``(S, S')`` of the C² switching function, 1 below ``r_s``, 0 at the cutoff."""
+        x = (r - cut[2]) * cut[3]
+        return (1.0 - x * x * x * (10.0 - 15.0 * x + 6.0 * x * x),
+                -30.0 * x * x * (1.0 - x) * (1.0 - x) * cut[3])
+
     @numba.njit(error_model="numpy")
-    def pair_term(g, i, j, pos, nu, F, T, cut2, B, bi, bj):
+    def pair_term(g, i, j, pos, nu, F, T, cut, B, bi, bj):
         dx = pos[j, 0] - pos[i, 0]
         dy = pos[j, 1] - pos[i, 1]
         dz = pos[j, 2] - pos[i, 2]
         r2 = dx * dx + dy * dy + dz * dz
-        if r2 > cut2:
+        if r2 > cut[0]:
             return 0.0
         r = math.sqrt(r2)
         inv = 1.0 / r
@@ -439,6 +446,13 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
         c2 = ex * b0 + ey * b1 + ez * b2
         c3 = a0 * b0 + a1 * b1 + a2 * b2
         u, ur, u1, u2, u3 = kern_any(g, r, c1, c2, c3, B, bi, bj)
+        if r2 > cut[1]:  # smooth cutoff: U S(r), S' adds to the radial partial only
+            sw, dsw = switch(r, cut)
+            ur = sw * ur + dsw * u
+            u *= sw
+            u1 *= sw
+            u2 *= sw
+            u3 *= sw
         # force on j (seed 000 eq. 20); the projections (ν − c e)/r come from ∂c/∂r_j
         f0 = -(ur * ex + (u1 * (a0 - c1 * ex) + u2 * (b0 - c2 * ex)) * inv)
         f1 = -(ur * ey + (u1 * (a1 - c1 * ey) + u2 * (b1 - c2 * ey)) * inv)
@@ -461,15 +475,20 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
         return u
 
     @numba.njit(error_model="numpy", inline="always")
-    def pair_r(g, i, j, pos, F, cut2, B, bi, bj):
+    def pair_r(g, i, j, pos, F, cut, B, bi, bj):
         """Orientation-free pair: no axes, no c1, c2, c3, no torques (the fast path)."""
         dx = pos[j, 0] - pos[i, 0]
         dy = pos[j, 1] - pos[i, 1]
         dz = pos[j, 2] - pos[i, 2]
         r2 = dx * dx + dy * dy + dz * dz
-        if r2 > cut2:
+        if r2 > cut[0]:
             return 0.0
-        u, s = kern_r(g, 1.0 / math.sqrt(r2), B, bi, bj)
+        q = 1.0 / math.sqrt(r2)
+        u, s = kern_r(g, q, B, bi, bj)
+        if r2 > cut[1]:  # smooth cutoff: (U S)_r / r = S U_r/r + S' U / r
+            sw, dsw = switch(r2 * q, cut)
+            s = sw * s + dsw * u * q
+            u *= sw
         # force on j is −U_r e = −(U_r/r) d
         F[j, 0] -= s * dx
         F[j, 1] -= s * dy
@@ -510,7 +529,7 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
         return u
 
     @numba.njit(error_model="numpy")
-    def cell_pairs(g, central, members, pos, nu, F, T, cutoff, B):
+    def cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut):
         """All pairs of ``members`` closer than ``cutoff``, via a cell list (O(n))."""
         n = members.shape[0]
         if n < 2:
@@ -583,9 +602,9 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
                             dz = sp_[qb, 2] - za
                             if dx * dx + dy * dy + dz * dz <= cut2:
                                 if central:
-                                    u += pair_r(g, qa, qb, sp_, sF, cut2, B, body[qa], body[qb])
+                                    u += pair_r(g, qa, qb, sp_, sF, cut, B, body[qa], body[qb])
                                 else:
-                                    u += pair_term(g, qa, qb, sp_, sn_, sF, sT, cut2, B,
+                                    u += pair_term(g, qa, qb, sp_, sn_, sF, sT, cut, B,
                                                    body[qa], body[qb])
                     # the 13 "forward" neighbour cells: each pair of cells visited once
                     for ddx in range(2):
@@ -614,11 +633,11 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
                                         dz = sp_[qb, 2] - za
                                         if dx * dx + dy * dy + dz * dz <= cut2:
                                             if central:
-                                                u += pair_r(g, qa, qb, sp_, sF, cut2, B,
+                                                u += pair_r(g, qa, qb, sp_, sF, cut, B,
                                                             body[qa], body[qb])
                                             else:
                                                 u += pair_term(g, qa, qb, sp_, sn_, sF, sT,
-                                                               cut2, B, body[qa], body[qb])
+                                                               cut, B, body[qa], body[qb])
         for q in range(n):
             b = body[q]
             for d in range(3):
@@ -643,22 +662,25 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
         if axes:
             zero2(T)
         cut2 = cutoff * cutoff if np.isfinite(cutoff) else np.inf
+        rs = data[15]
+        # (cutoff², switch start², switch start, 1 / switch width); no switch: start = inf
+        cut = (cut2, rs * rs, rs, 1.0 / (cutoff - rs) if rs < cutoff else 0.0)
         u = 0.0
         for k in range(pairs.shape[0]):
             i = pairs[k, 0]
             j = pairs[k, 1]
-            u += pair_term(pairs[k, 2], i, j, pos, nu, F, T, cut2, B, i, j)
+            u += pair_term(pairs[k, 2], i, j, pos, nu, F, T, cut, B, i, j)
         for k in range(rpairs.shape[0]):
             i = rpairs[k, 0]
             j = rpairs[k, 1]
-            u += pair_r(rpairs[k, 2], i, j, pos, F, cut2, B, i, j)
+            u += pair_r(rpairs[k, 2], i, j, pos, F, cut, B, i, j)
         for g in range(cgid.shape[0]):
             gid = cgid[g]
             central = ccentral[g] != 0
             lo = coffs[g]
             hi = coffs[g + 1]
             if np.isfinite(cutoff):
-                u += cell_pairs(gid, central, cmembers[lo:hi], pos, nu, F, T, cutoff, B)
+                u += cell_pairs(gid, central, cmembers[lo:hi], pos, nu, F, T, cutoff, B, cut)
             elif central:
                 u += all_pairs_r(gid, cmembers, lo, hi, pos, F, B)
             else:
@@ -666,7 +688,7 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
                     for b in range(a + 1, hi):
                         ia = cmembers[a]
                         ib = cmembers[b]
-                        u += pair_term(gid, ia, ib, pos, nu, F, T, cut2, B, ia, ib)
+                        u += pair_term(gid, ia, ib, pos, nu, F, T, cut, B, ia, ib)
         return u
 
     def gather_py(y, data, pos, nu):
@@ -845,6 +867,11 @@ class NBodySystem:
         positions, the cutoff and the potentials are given in SI and the state is internal
         (``r/L``, ``p/(M L/T)``, ``m/(M L²/T)``); :meth:`pack` / :meth:`unpack` convert with
         ``si=True``. Without scales every number is used as given.
+    smooth_cutoff
+        Optional start ``r_s < cutoff`` [m] of a smooth cutoff: every pair energy is multiplied
+        by the switching function ``S = 1 − 10x³ + 15x⁴ − 6x⁵``, ``x = (r − r_s)/(cutoff −
+        r_s)`` (C², so energy and forces are continuous when a pair crosses the cutoff and a
+        splitting's energy error stays bounded); ``None`` truncates at the cutoff.
     fast_path
         Evaluate orientation-free potentials (gravity, ``U(r)``) in the specialised pair loop
         without axes and torques (default). ``False`` sends them through the general loop;
@@ -858,7 +885,7 @@ class NBodySystem:
 
     def __init__(self, bodies: Sequence[Body], interactions: Sequence[Interaction | AllPairs] = (),
                  cutoff: float | None = None, scales: Scales | None = None,
-                 fast_path: bool = True) -> None:
+                 fast_path: bool = True, smooth_cutoff: float | None = None) -> None:
         bodies = tuple(bodies)
         if not bodies:
             raise InputError("NBodySystem needs at least one body")
@@ -873,6 +900,14 @@ class NBodySystem:
         self.bodies = bodies
         self.interactions = tuple(interactions)
         self.cutoff = None if cutoff is None else float(cutoff)
+        if smooth_cutoff is not None:
+            if self.cutoff is None:
+                raise InputError("smooth_cutoff needs a cutoff")
+            rs = float(smooth_cutoff)
+            if not (math.isfinite(rs) and 0 < rs < self.cutoff):
+                raise InputError(f"smooth_cutoff must be in (0, cutoff = {self.cutoff}), got "
+                                 f"{smooth_cutoff!r}")
+        self.smooth_cutoff = None if smooth_cutoff is None else float(smooth_cutoff)
         self.scales = scales
         index = {b.name: k for k, b in enumerate(bodies)}
 
@@ -990,13 +1025,14 @@ class NBodySystem:
         self._attributes = tuple(attr_cols)
         self._energy_shift = 0.0
         cut = np.inf if self.cutoff is None else self.cutoff / L
+        rs_int = np.inf if self.smooth_cutoff is None else self.smooth_cutoff / L
         self.data = (mass, alpha, bslot, tslot, fpos, fnu,
                      np.array(pairs, dtype=np.int64).reshape(-1, 3),
                      np.array(cmembers, dtype=np.int64), np.array(coffs, dtype=np.int64),
                      np.array(cgid, dtype=np.int64), float(cut), table,
                      np.array(rpairs, dtype=np.int64).reshape(-1, 3),
                      np.array(ccentral, dtype=np.int64),
-                     any(b.is_top for b in bodies))
+                     any(b.is_top for b in bodies), float(rs_int))
         self._kernels: Kernels | None = None
 
     # ------------------------------------------------------------------ structure
