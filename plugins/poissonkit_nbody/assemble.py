@@ -177,15 +177,53 @@ def from_graph(G: nx.Graph, cutoff: float | None = None, default_potential: str 
 
 def system_of(bodies: list[BodyModel], pairs: list[PairSpec], cutoff: float | None = None,
               scales: Any = "auto") -> Any:
-    """The ``NBodySystem`` of resolved bodies and pairs (see :func:`from_graph`)."""
-    from poissonkit.numerics.nbody import Body, Interaction, NBodySystem
+    """The ``NBodySystem`` of resolved bodies and pairs (see :func:`from_graph`).
+
+    Parameters that a potential takes from each body (``PairPotential.body_params``, e.g.
+    gravity's masses) and whose value is the body's own are left to the numerics, which read
+    them per pair from the bodies: then all such pairs share one compiled kernel, and a group
+    of pairs that joins every two of its bodies with the same potential becomes one
+    ``AllPairs`` (cell list with a cutoff, orientation-free fast path) instead of a pair list.
+    """
+    from poissonkit.numerics.nbody import AllPairs, Body, Interaction, NBodySystem
+    from poissonkit.plugin import potential as lookup
 
     if isinstance(scales, str) and scales == "auto":
         scales = auto_scales(bodies)
+    attrs: dict[int, dict[str, float]] = {k: {} for k in range(len(bodies))}
+    groups: dict[tuple, list[tuple[int, int]]] = {}
+    order: list[tuple] = []
+    for p in pairs:
+        entry = lookup(p.potential)
+        params = dict(p.params)
+        for name, attr, which in entry.body_params:
+            k = p.i if which == 1 else p.j
+            value = bodies[k].attr(attr)
+            if name in params and value is not None and params[name] == value:
+                del params[name]  # read from the body by the numerics
+                if attr not in ("mass", "alpha"):
+                    attrs[k][attr] = float(value)
+        key = (p.potential, tuple(sorted(params.items())))
+        if key not in groups:
+            groups[key] = []
+            order.append(key)
+        groups[key].append((p.i, p.j))
+    inter: list[Any] = []
+    for key in order:
+        name, items = key
+        edges = groups[key]
+        members = sorted({k for e in edges for k in e})
+        complete = len(edges) == len(members) * (len(members) - 1) // 2 and len(members) > 2
+        # fixed-fixed pairs would add a constant to the energy: keep those groups as pair lists
+        if complete and len(edges) == len(set(edges)) and not any(bodies[k].fixed
+                                                                   for k in members):
+            inter.append(AllPairs(name, dict(items), members=members))
+        else:
+            inter.extend(Interaction(i, j, name, dict(items)) for i, j in edges)
     nb = [Body(b.name, b.mass, alpha=b.alpha, fixed=b.fixed,
                position=b.r if b.fixed else None,
-               axis=b.nu if (b.fixed and b.is_top) else None) for b in bodies]
-    inter = [Interaction(p.i, p.j, p.potential, dict(p.params)) for p in pairs]
+               axis=b.nu if (b.fixed and b.is_top) else None,
+               attributes=attrs[k]) for k, b in enumerate(bodies)]
     return NBodySystem(nb, inter, cutoff=cutoff, scales=scales)
 
 

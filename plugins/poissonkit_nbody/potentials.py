@@ -28,4 +28,6 @@ GRAVITY = PairPotential(
     ),
     expr=_gravity_expr,
     orientation="none",
+    # an all-pairs gravity interaction takes each pair's masses from its two bodies
+    body_params=(("mass1", "mass", 1), ("mass2", "mass", 2)),
 )

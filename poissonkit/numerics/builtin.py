@@ -37,6 +37,14 @@ def _scipy(method: str):
     return factory
 
 
+def _wisdom_holman(corrector: bool):
+    def factory(**params):
+        from poissonkit.numerics.integrators.wisdom_holman import WisdomHolman
+
+        return WisdomHolman(corrector=corrector, **params)
+    return factory
+
+
 def _midpoint(**params):
     from poissonkit.numerics.integrators.midpoint import ImplicitMidpoint
 
@@ -60,6 +68,20 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
             params=_SPLIT_PARAMS, factory=_splitting(p), order=p, family="splitting")
         for p in (2, 4, 6, 8)
     ]
+    wh_doc = ("Wisdom–Holman splitting in Jacobi coordinates (exact Kepler drifts, interaction "
+              "kicks; SABA_n of Laskar & Robutel 2001) for point masses around one dominant "
+              "body 0, with AllPairs('gravity'). Fixed step; symplectic; total momenta to "
+              "round-off; energy error O(eps h^2n + eps^2 h^2), eps = planet/star mass ratio.")
+    out.append(IntegratorEntry(
+        name="wisdom_holman", doc=wh_doc + " stages=1 is the classical WH map (as WHFast).",
+        params=(Param("stages", "int", "kicks per step n = 1 ... 4 (SABA_n)", 1, positive=True),),
+        factory=_wisdom_holman(False), order=2, family="hierarchical"))
+    out.append(IntegratorEntry(
+        name="wisdom_holman_corrected", doc=wh_doc + " With the SABAC_n corrector: error "
+        "O(eps h^2n + eps^2 h^4), 3 extra force evaluations per step.",
+        params=(Param("stages", "int", "kicks per step n = 2 ... 4 (SABAC_n)", 4,
+                      positive=True),),
+        factory=_wisdom_holman(True), order=4, family="hierarchical"))
     out.append(IntegratorEntry(
         name="midpoint",
         doc="Implicit midpoint rule (order 2, symmetric); preserves all quadratic invariants. "

@@ -13,7 +13,10 @@ All kernels are numba ``njit`` functions with these signatures:
   there is none), for collision events and adaptive steps;
 * ``max_radius(y, data) -> float`` — largest distance of a moving body from the centre of mass
   of the moving bodies, for escape events;
-* ``jac(y, data, work, out)`` — optional Jacobian ``∂ẏ/∂y`` (``None`` when not available).
+* ``jac(y, data, work, out)`` — optional Jacobian ``∂ẏ/∂y`` (``None`` when not available);
+* ``forces(y, data, work) -> float`` — optional (N-body systems): pair forces and torques on
+  every body into ``work[2]``, ``work[3]``, returning the potential energy; used by integrators
+  that split the Hamiltonian differently (e.g. Wisdom–Holman).
 """
 
 from __future__ import annotations
@@ -36,6 +39,7 @@ class Kernels(NamedTuple):
     max_radius: Any
     jac: Any = None
     splittable: bool = True
+    forces: Any = None
 
 
 @numba.njit(cache=True, error_model="numpy")

@@ -37,9 +37,10 @@ from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.codegen import compile_source
 from poissonkit.numerics.kernels import Kernels, rotate_slot, zero2
 from poissonkit.numerics.potentials import (
+    compile_bound_potential,
     compile_potential,
     kernel_from_expr,
-    scaled_kernel,
+    radial_kernel,
 )
 from poissonkit.numerics.units import Scales
 from poissonkit.plugin.contributions import PairPotential
@@ -143,6 +144,10 @@ class Body:
         Fixed bodies carry no degrees of freedom; they act through their pairs.
     position, axis
         Position [m] and unit axis of a fixed body (required when ``fixed``).
+    attributes
+        Further per-body quantities (SI) that pair potentials may take from the body, e.g.
+        ``{"charge": 1e-9}`` or ``{"moment": 0.15}`` (see ``PairPotential.body_params``);
+        stored as sorted ``(name, value)`` pairs. ``mass`` and ``alpha`` are always available.
     """
 
     name: str
@@ -151,6 +156,7 @@ class Body:
     fixed: bool = False
     position: tuple[float, float, float] | None = None
     axis: tuple[float, float, float] | None = None
+    attributes: Any = ()
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
@@ -176,6 +182,46 @@ class Body:
             if not any(axis):
                 raise NonUnitAxisError(f"body {self.name!r}: axis must be non-zero, got {axis}")
             object.__setattr__(self, "axis", axis)
+        attrs = self.attributes
+        items = attrs.items() if isinstance(attrs, Mapping) else attrs
+        try:
+            items = [(str(k), v) for k, v in items]
+        except (TypeError, ValueError):
+            raise InputError(f"body {self.name!r}: attributes must be a mapping name -> number, "
+                             f"got {attrs!r}") from None
+        clean = []
+        for k, v in sorted(items):
+            try:
+                v = float(v)
+            except (TypeError, ValueError):
+                raise InputError(f"body {self.name!r}: attribute {k!r} must be a number, "
+                                 f"got {v!r}") from None
+            if not math.isfinite(v):
+                raise InputError(f"body {self.name!r}: attribute {k!r} must be finite, got {v!r}")
+            if k in ("mass", "alpha"):
+                raise InputError(f"body {self.name!r}: {k!r} is a field of the body, not an "
+                                 "attribute")
+            clean.append((k, v))
+        object.__setattr__(self, "attributes", tuple(clean))
+
+    def attribute(self, name: str) -> float:
+        """Value of a per-body quantity (``mass``, ``alpha`` or one of :attr:`attributes`).
+
+        Raises
+        ------
+        InputError
+            If the body does not have it (the message names the body and the quantity).
+        """
+        if name == "mass":
+            return float(self.mass)
+        if name == "alpha" and self.alpha is not None:
+            return float(self.alpha)
+        for k, v in self.attributes:
+            if k == name:
+                return v
+        raise InputError(f"body {self.name!r} has no {name!r}, which a pair potential takes from "
+                         f"each body; give it (Body(..., attributes={{{name!r}: ...}}) or the "
+                         "potential's parameter explicitly")
 
     @property
     def is_top(self) -> bool:
@@ -231,47 +277,159 @@ def _resolve_kernel(potential: Any, params: Mapping[str, Any]) -> tuple[Any, str
                      "PairPotential, a registry name, a sympy expression or a numba kernel")
 
 
+def _resolve_bound(potential: Any, params: Mapping[str, Any]
+                   ) -> tuple[Any, tuple[tuple[str, int], ...], str]:
+    """(SI kernel, bound slots, orientation) of one interaction's potential.
+
+    Parameters of a :class:`PairPotential` listed in its ``body_params`` and not given in
+    ``params`` are taken from the two bodies of each pair: the kernel then has one extra
+    argument per ``(attribute, which body)`` slot.
+    """
+    if isinstance(potential, str):
+        from poissonkit.plugin import potential as lookup
+
+        potential = lookup(potential)
+    if isinstance(potential, PairPotential) and potential.body_params:
+        bound = {p: (attr, int(w)) for p, attr, w in potential.body_params if p not in params}
+        if bound:
+            kern, slots = compile_bound_potential(potential, params, bound)
+            return kern, slots, potential.orientation
+    kern, orient = _resolve_kernel(potential, params)
+    return kern, (), orient
+
+
+def _registry_entry(potential: Any) -> PairPotential | None:
+    """The :class:`PairPotential` behind a registry name or entry (``None`` otherwise)."""
+    if isinstance(potential, str):
+        from poissonkit.plugin import potential as lookup
+
+        return lookup(potential)
+    return potential if isinstance(potential, PairPotential) else None
+
+
+_wrap_cache: dict[tuple, tuple[Any, Any]] = {}
+
+
+def _compile_wrapper(source: str, name: str, namespace: dict[str, Any]) -> Any:
+    """Execute generated ``source`` (a small kernel wrapper) and compile it with numba."""
+    ns: dict[str, Any] = {"math": math, **namespace}
+    exec(compile(source, f"<poissonkit-nbody {name}>", "exec"), ns)  # noqa: S102 - our own code
+    func = ns[name]
+    func.__doc__ = "Generated by poissonkit.numerics.nbody:\n\n" + source
+    return numba.njit(error_model="numpy")(func)
+
+
+def _wrapped(kern: Any, spec: tuple[tuple[int, int], ...], L: float, inv_e: float) -> Any:
+    """``w(r, c1, c2, c3, B, i, j)``: the SI kernel in internal units, bound slots read from ``B``.
+
+    ``spec`` lists ``(column of B, 1 or 2)`` per extra argument of ``kern``: row ``i`` (first
+    body) or ``j`` (second body). ``U/E`` as a function of ``r/L``: ``U_r`` gains ``L/E``, the
+    angular partials ``1/E``.
+    """
+    key = (id(kern), spec, L, inv_e)
+    hit = _wrap_cache.get(key)
+    if hit is not None:
+        return hit[0]
+    extra = "".join(f", B[{'i' if w == 1 else 'j'}, {c}]" for c, w in spec)
+    if L == 1.0 and inv_e == 1.0:
+        src = ("def wrapped(r, c1, c2, c3, B, i, j):\n"
+               f"    return base(r, c1, c2, c3{extra})")
+    else:
+        src = ("def wrapped(r, c1, c2, c3, B, i, j):\n"
+               f"    u, ur, u1, u2, u3 = base(r * {L!r}, c1, c2, c3{extra})\n"
+               f"    return (u * {inv_e!r}, ur * {L * inv_e!r}, u1 * {inv_e!r}, u2 * {inv_e!r}, "
+               f"u3 * {inv_e!r})")
+    fn = _compile_wrapper(src, "wrapped", {"base": kern})
+    _wrap_cache[key] = (fn, kern)  # keep kern alive so its id stays unique
+    return fn
+
+
+def _wrapped_radial(kern: Any, spec: tuple[tuple[int, int], ...], L: float, inv_e: float) -> Any:
+    """``w(q, B, i, j) -> (U, U_r/r)`` in internal units, ``q = 1/r``: the fast-path kernel.
+
+    With ``r = r_int L``: ``q_SI = q / L``, ``U_int = U/E``, ``(U_r/r)_int = (U_r/r) L²/E``.
+    """
+    key = ("radial", id(kern), spec, L, inv_e)
+    hit = _wrap_cache.get(key)
+    if hit is not None:
+        return hit[0]
+    base = radial_kernel(kern)
+    extra = "".join(f", B[{'i' if w == 1 else 'j'}, {c}]" for c, w in spec)
+    if L == 1.0 and inv_e == 1.0:
+        src = f"def wrapped_r(q, B, i, j):\n    return base(q{extra})"
+    else:
+        src = ("def wrapped_r(q, B, i, j):\n"
+               f"    u, f = base(q * {1.0 / L!r}{extra})\n"
+               f"    return (u * {inv_e!r}, f * {L * L * inv_e!r})")
+    fn = _compile_wrapper(src, "wrapped_r", {"base": base})
+    _wrap_cache[key] = (fn, kern)
+    return fn
+
+
 _dispatch_cache: dict[tuple[int, ...], tuple[Any, ...]] = {}
 
 
-def _dispatcher(kerns: Sequence[Any]):
-    """``kern_any(g, r, c1, c2, c3)`` calling kernel number ``g``; cached per kernel tuple."""
+def _dispatcher(kerns: Sequence[Any], rkerns: Sequence[Any]) -> tuple[Any, Any]:
+    """``(kern_any, kern_r)`` calling wrapped kernel number ``g``; cached per kernel tuple.
+
+    ``kern_any(g, r, c1, c2, c3, B, i, j) -> (U, U_r, U_c1, U_c2, U_c3)``;
+    ``kern_r(g, q, B, i, j) -> (U, U_r/r)`` (``q = 1/r``) for the orientation-free fast path;
+    ``rkerns[g]`` is ``None`` for a kernel that depends on orientation.
+    """
     key = tuple(id(k) for k in kerns)
     hit = _dispatch_cache.get(key)
     if hit is not None:
-        return hit[0]
+        return hit[0], hit[1]
+    ns: dict[str, Any] = {f"k{g}": k for g, k in enumerate(kerns)}
+    ns.update({f"q{g}": k for g, k in enumerate(rkerns) if k is not None})
+    radial = [g for g, k in enumerate(rkerns) if k is not None]
     if not kerns:
-        src = ("def kern_any(g, r, c1, c2, c3):\n"
-               "    return (0.0, 0.0, 0.0, 0.0, 0.0)")
-        ns: dict[str, Any] = {}
+        src_any = ("def kern_any(g, r, c1, c2, c3, B, i, j):\n"
+                   "    return (0.0, 0.0, 0.0, 0.0, 0.0)")
     else:
-        lines = ["def kern_any(g, r, c1, c2, c3):"]
-        for g in range(len(kerns) - 1):
-            lines.append(f"    if g == {g}:\n        return k{g}(r, c1, c2, c3)")
-        lines.append(f"    return k{len(kerns) - 1}(r, c1, c2, c3)")
-        src = "\n".join(lines)
-        ns = {f"k{g}": k for g, k in enumerate(kerns)}
-    fn = compile_source(src, "kern_any", ns)
-    _dispatch_cache[key] = (fn, tuple(kerns))  # keep the kernels alive with their ids
-    return fn
+        la = ["def kern_any(g, r, c1, c2, c3, B, i, j):"]
+        last = len(kerns) - 1
+        for g in range(last):
+            la.append(f"    if g == {g}:\n        return k{g}(r, c1, c2, c3, B, i, j)")
+        la.append(f"    return k{last}(r, c1, c2, c3, B, i, j)")
+        src_any = "\n".join(la)
+    if not radial:
+        src_r = "def kern_r(g, q, B, i, j):\n    return (0.0, 0.0)"
+    else:
+        lr = ["def kern_r(g, q, B, i, j):"]
+        for g in radial[:-1]:
+            lr.append(f"    if g == {g}:\n        return q{g}(q, B, i, j)")
+        lr.append(f"    return q{radial[-1]}(q, B, i, j)")
+        src_r = "\n".join(lr)
+    fa = _compile_wrapper(src_any, "kern_any", ns)
+    fr = _compile_wrapper(src_r, "kern_r", ns)
+    _dispatch_cache[key] = (fa, fr, tuple(kerns), tuple(rkerns))  # keep kernels (and ids) alive
+    return fa, fr
 
 
 _kernel_cache: dict[int, Kernels] = {}
 
 
-def _build_kernels(kern_any) -> Kernels:
-    """Compile the N-body kernels around one potential dispatcher (cached)."""
+def _build_kernels(kern_any, kern_r) -> Kernels:
+    """Compile the N-body kernels around one pair of potential dispatchers (cached)."""
     hit = _kernel_cache.get(id(kern_any))
     if hit is not None:
         return hit
 
+    @numba.njit(error_model="numpy", inline="always")
+    def switch(r, cut):
+        """``(S, S')`` of the C² switching function, 1 below ``r_s``, 0 at the cutoff."""
+        x = (r - cut[2]) * cut[3]
+        return (1.0 - x * x * x * (10.0 - 15.0 * x + 6.0 * x * x),
+                -30.0 * x * x * (1.0 - x) * (1.0 - x) * cut[3])
+
     @numba.njit(error_model="numpy")
-    def pair_term(g, i, j, pos, nu, F, T, cut2):
+    def pair_term(g, i, j, pos, nu, F, T, cut, B, bi, bj):
         dx = pos[j, 0] - pos[i, 0]
         dy = pos[j, 1] - pos[i, 1]
         dz = pos[j, 2] - pos[i, 2]
         r2 = dx * dx + dy * dy + dz * dz
-        if r2 > cut2:
+        if r2 > cut[0]:
             return 0.0
         r = math.sqrt(r2)
         inv = 1.0 / r
@@ -287,7 +445,14 @@ def _build_kernels(kern_any) -> Kernels:
         c1 = ex * a0 + ey * a1 + ez * a2
         c2 = ex * b0 + ey * b1 + ez * b2
         c3 = a0 * b0 + a1 * b1 + a2 * b2
-        u, ur, u1, u2, u3 = kern_any(g, r, c1, c2, c3)
+        u, ur, u1, u2, u3 = kern_any(g, r, c1, c2, c3, B, bi, bj)
+        if r2 > cut[1]:  # smooth cutoff: U S(r), S' adds to the radial partial only
+            sw, dsw = switch(r, cut)
+            ur = sw * ur + dsw * u
+            u *= sw
+            u1 *= sw
+            u2 *= sw
+            u3 *= sw
         # force on j (seed 000 eq. 20); the projections (ν − c e)/r come from ∂c/∂r_j
         f0 = -(ur * ex + (u1 * (a0 - c1 * ex) + u2 * (b0 - c2 * ex)) * inv)
         f1 = -(ur * ey + (u1 * (a1 - c1 * ey) + u2 * (b1 - c2 * ey)) * inv)
@@ -309,8 +474,62 @@ def _build_kernels(kern_any) -> Kernels:
         T[j, 2] += u2 * (ex * b1 - ey * b0) + u3 * w2
         return u
 
+    @numba.njit(error_model="numpy", inline="always")
+    def pair_r(g, i, j, pos, F, cut, B, bi, bj):
+        """Orientation-free pair: no axes, no c1, c2, c3, no torques (the fast path)."""
+        dx = pos[j, 0] - pos[i, 0]
+        dy = pos[j, 1] - pos[i, 1]
+        dz = pos[j, 2] - pos[i, 2]
+        r2 = dx * dx + dy * dy + dz * dz
+        if r2 > cut[0]:
+            return 0.0
+        q = 1.0 / math.sqrt(r2)
+        u, s = kern_r(g, q, B, bi, bj)
+        if r2 > cut[1]:  # smooth cutoff: (U S)_r / r = S U_r/r + S' U / r
+            sw, dsw = switch(r2 * q, cut)
+            s = sw * s + dsw * u * q
+            u *= sw
+        # force on j is −U_r e = −(U_r/r) d
+        F[j, 0] -= s * dx
+        F[j, 1] -= s * dy
+        F[j, 2] -= s * dz
+        F[i, 0] += s * dx
+        F[i, 1] += s * dy
+        F[i, 2] += s * dz
+        return u
+
+    @numba.njit(error_model="numpy", inline="always")
+    def all_pairs_r(g, members, lo, hi, pos, F, B):
+        """Every pair of ``members[lo:hi]`` with an orientation-free potential, no cutoff."""
+        u = 0.0
+        for a in range(lo, hi):
+            ia = members[a]
+            xa = pos[ia, 0]
+            ya = pos[ia, 1]
+            za = pos[ia, 2]
+            fx = 0.0
+            fy = 0.0
+            fz = 0.0
+            for b in range(a + 1, hi):
+                ib = members[b]
+                dx = pos[ib, 0] - xa
+                dy = pos[ib, 1] - ya
+                dz = pos[ib, 2] - za
+                uu, s = kern_r(g, 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz), B, ia, ib)
+                u += uu
+                F[ib, 0] -= s * dx
+                F[ib, 1] -= s * dy
+                F[ib, 2] -= s * dz
+                fx += s * dx
+                fy += s * dy
+                fz += s * dz
+            F[ia, 0] += fx
+            F[ia, 1] += fy
+            F[ia, 2] += fz
+        return u
+
     @numba.njit(error_model="numpy")
-    def cell_pairs(g, members, pos, nu, F, T, cutoff):
+    def cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut):
         """All pairs of ``members`` closer than ``cutoff``, via a cell list (O(n))."""
         n = members.shape[0]
         if n < 2:
@@ -362,8 +581,10 @@ def _build_kernels(kern_any) -> Kernels:
         sn_ = np.empty((n, 3))
         sF = np.zeros((n, 3))
         sT = np.zeros((n, 3))
+        body = np.empty(n, dtype=np.int64)  # original body index (row of B) of slot q
         for q in range(n):
             b = members[order[q]]
+            body[q] = b
             for d in range(3):
                 sp_[q, d] = pos[b, d]
                 sn_[q, d] = nu[b, d]
@@ -380,7 +601,11 @@ def _build_kernels(kern_any) -> Kernels:
                             dy = sp_[qb, 1] - ya
                             dz = sp_[qb, 2] - za
                             if dx * dx + dy * dy + dz * dz <= cut2:
-                                u += pair_term(g, qa, qb, sp_, sn_, sF, sT, cut2)
+                                if central:
+                                    u += pair_r(g, qa, qb, sp_, sF, cut, B, body[qa], body[qb])
+                                else:
+                                    u += pair_term(g, qa, qb, sp_, sn_, sF, sT, cut, B,
+                                                   body[qa], body[qb])
                     # the 13 "forward" neighbour cells: each pair of cells visited once
                     for ddx in range(2):
                         nx = cx + ddx
@@ -407,47 +632,73 @@ def _build_kernels(kern_any) -> Kernels:
                                         dy = sp_[qb, 1] - ya
                                         dz = sp_[qb, 2] - za
                                         if dx * dx + dy * dy + dz * dz <= cut2:
-                                            u += pair_term(g, qa, qb, sp_, sn_, sF, sT, cut2)
+                                            if central:
+                                                u += pair_r(g, qa, qb, sp_, sF, cut, B,
+                                                            body[qa], body[qb])
+                                            else:
+                                                u += pair_term(g, qa, qb, sp_, sn_, sF, sT,
+                                                               cut, B, body[qa], body[qb])
         for q in range(n):
-            b = members[order[q]]
+            b = body[q]
             for d in range(3):
                 F[b, d] += sF[q, d]
                 T[b, d] += sT[q, d]
         return u
 
-    @numba.njit(error_model="numpy")
-    def forces(pos, nu, data, F, T):
+    def forces_py(pos, nu, data, F, T):
         pairs = data[6]
         cmembers = data[7]
         coffs = data[8]
         cgid = data[9]
         cutoff = data[10]
-        zero2(F)
-        zero2(T)
+        B = data[11]
+        rpairs = data[12]
+        ccentral = data[13]
+        axes = data[14]
+        for b in range(F.shape[0]):
+            F[b, 0] = 0.0
+            F[b, 1] = 0.0
+            F[b, 2] = 0.0
+        if axes:
+            zero2(T)
         cut2 = cutoff * cutoff if np.isfinite(cutoff) else np.inf
+        rs = data[15]
+        # (cutoff², switch start², switch start, 1 / switch width); no switch: start = inf
+        cut = (cut2, rs * rs, rs, 1.0 / (cutoff - rs) if rs < cutoff else 0.0)
         u = 0.0
         for k in range(pairs.shape[0]):
-            u += pair_term(pairs[k, 2], pairs[k, 0], pairs[k, 1], pos, nu, F, T, cut2)
+            i = pairs[k, 0]
+            j = pairs[k, 1]
+            u += pair_term(pairs[k, 2], i, j, pos, nu, F, T, cut, B, i, j)
+        for k in range(rpairs.shape[0]):
+            i = rpairs[k, 0]
+            j = rpairs[k, 1]
+            u += pair_r(rpairs[k, 2], i, j, pos, F, cut, B, i, j)
         for g in range(cgid.shape[0]):
-            members = cmembers[coffs[g]:coffs[g + 1]]
             gid = cgid[g]
+            central = ccentral[g] != 0
+            lo = coffs[g]
+            hi = coffs[g + 1]
             if np.isfinite(cutoff):
-                u += cell_pairs(gid, members, pos, nu, F, T, cutoff)
+                u += cell_pairs(gid, central, cmembers[lo:hi], pos, nu, F, T, cutoff, B, cut)
+            elif central:
+                u += all_pairs_r(gid, cmembers, lo, hi, pos, F, B)
             else:
-                n = members.shape[0]
-                for a in range(n):
-                    for b in range(a + 1, n):
-                        u += pair_term(gid, members[a], members[b], pos, nu, F, T, cut2)
+                for a in range(lo, hi):
+                    for b in range(a + 1, hi):
+                        ia = cmembers[a]
+                        ib = cmembers[b]
+                        u += pair_term(gid, ia, ib, pos, nu, F, T, cut, B, ia, ib)
         return u
 
-    @numba.njit(error_model="numpy")
-    def gather(y, data, pos, nu):
+    def gather_py(y, data, pos, nu):
         mass = data[0]
         bslot = data[2]
         tslot = data[3]
         fpos = data[4]
         fnu = data[5]
         nm = mass.shape[0]
+        axes = data[14]
         for b in range(bslot.shape[0]):
             s = bslot[b]
             if s >= 0:
@@ -456,6 +707,8 @@ def _build_kernels(kern_any) -> Kernels:
             else:
                 for d in range(3):
                     pos[b, d] = fpos[b, d]
+            if not axes:  # point masses only: ν and torques are never read
+                continue
             t = tslot[b]
             if t >= 0:
                 for d in range(3):
@@ -463,6 +716,14 @@ def _build_kernels(kern_any) -> Kernels:
             else:
                 for d in range(3):
                     nu[b, d] = fnu[b, d]
+
+    # two compilations of each: inlined into the hot kick (numba does not inline calls between
+    # separately compiled functions, and the call costs as much as a small system's pair loop)
+    # and a plain one for the other kernels (inlining everywhere only lengthens compilation)
+    forces = numba.njit(error_model="numpy")(forces_py)
+    gather = numba.njit(error_model="numpy")(gather_py)
+    forces_inl = numba.njit(error_model="numpy", inline="always")(forces_py)
+    gather_inl = numba.njit(error_model="numpy", inline="always")(gather_py)
 
     @numba.njit(error_model="numpy")
     def rhs(y, data, work, out):
@@ -499,8 +760,8 @@ def _build_kernels(kern_any) -> Kernels:
         bslot = data[2]
         tslot = data[3]
         nm = mass.shape[0]
-        gather(y, data, pos, nu)
-        forces(pos, nu, data, F, T)
+        gather_inl(y, data, pos, nu)
+        forces_inl(pos, nu, data, F, T)
         for b in range(bslot.shape[0]):
             s = bslot[b]
             if s >= 0:
@@ -576,15 +837,17 @@ def _build_kernels(kern_any) -> Kernels:
             best = max(best, d2)
         return math.sqrt(best)
 
+    @numba.njit(error_model="numpy", inline="always")
+    def forces_of(y, data, work):
+        """Forces and torques into ``work[2]``, ``work[3]`` (rows: all bodies); returns U."""
+        pos, nu, F, T = work
+        gather_inl(y, data, pos, nu)
+        return forces_inl(pos, nu, data, F, T)
+
     out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
-                  max_radius=max_radius, jac=None, splittable=True)
-    out_forces = forces
+                  max_radius=max_radius, jac=None, splittable=True, forces=forces_of)
     _kernel_cache[id(kern_any)] = out
-    _forces_cache[id(kern_any)] = (out_forces, gather)
     return out
-
-
-_forces_cache: dict[int, tuple[Any, Any]] = {}
 
 
 # ----------------------------------------------------------------------------- the system
@@ -604,6 +867,15 @@ class NBodySystem:
         positions, the cutoff and the potentials are given in SI and the state is internal
         (``r/L``, ``p/(M L/T)``, ``m/(M L²/T)``); :meth:`pack` / :meth:`unpack` convert with
         ``si=True``. Without scales every number is used as given.
+    smooth_cutoff
+        Optional start ``r_s < cutoff`` [m] of a smooth cutoff: every pair energy is multiplied
+        by the switching function ``S = 1 − 10x³ + 15x⁴ − 6x⁵``, ``x = (r − r_s)/(cutoff −
+        r_s)`` (C², so energy and forces are continuous when a pair crosses the cutoff and a
+        splitting's energy error stays bounded); ``None`` truncates at the cutoff.
+    fast_path
+        Evaluate orientation-free potentials (gravity, ``U(r)``) in the specialised pair loop
+        without axes and torques (default). ``False`` sends them through the general loop;
+        the results agree to round-off (a test checks it), only the speed differs.
 
     Notes
     -----
@@ -612,7 +884,8 @@ class NBodySystem:
     """
 
     def __init__(self, bodies: Sequence[Body], interactions: Sequence[Interaction | AllPairs] = (),
-                 cutoff: float | None = None, scales: Scales | None = None) -> None:
+                 cutoff: float | None = None, scales: Scales | None = None,
+                 fast_path: bool = True, smooth_cutoff: float | None = None) -> None:
         bodies = tuple(bodies)
         if not bodies:
             raise InputError("NBodySystem needs at least one body")
@@ -627,6 +900,14 @@ class NBodySystem:
         self.bodies = bodies
         self.interactions = tuple(interactions)
         self.cutoff = None if cutoff is None else float(cutoff)
+        if smooth_cutoff is not None:
+            if self.cutoff is None:
+                raise InputError("smooth_cutoff needs a cutoff")
+            rs = float(smooth_cutoff)
+            if not (math.isfinite(rs) and 0 < rs < self.cutoff):
+                raise InputError(f"smooth_cutoff must be in (0, cutoff = {self.cutoff}), got "
+                                 f"{smooth_cutoff!r}")
+        self.smooth_cutoff = None if smooth_cutoff is None else float(smooth_cutoff)
         self.scales = scales
         index = {b.name: k for k, b in enumerate(bodies)}
 
@@ -667,29 +948,39 @@ class NBodySystem:
                         raise InputError(f"fixed top {b.name!r} has a zero axis")
                     fnu[k] = ax / n
 
-        # kernels: one per distinct (potential, params), scaled to internal units
+        # kernels: one per distinct (potential, params, bound slots), in internal units;
+        # parameters bound to body attributes are read per pair from the table B (SI values)
         kern_ids: dict[tuple, int] = {}
         kerns: list[Any] = []
+        rkerns: list[Any] = []
+        attr_cols: dict[str, int] = {}
+        inv_e = 1.0 / E
 
         def kernel_id(pot: Any, params: Mapping[str, Any], i: int | None, j: int | None
                       ) -> tuple[int, str]:
-            kern, orient = _resolve_kernel(pot, params)
+            kern, slots, orient = _resolve_bound(pot, params)
             needs_i = orient in ("both", "first")
             needs_j = orient in ("both", "second")
             for k, need in ((i, needs_i), (j, needs_j)):
                 if k is not None and need and not bodies[k].is_top:
                     raise InputError(f"potential {getattr(pot, 'name', pot)!s} depends on the "
                                      f"axis of body {bodies[k].name!r}, which is a point mass")
-            key = (id(kern),)
+            spec = tuple((attr_cols.setdefault(a, len(attr_cols)), w) for a, w in slots)
+            key = (id(kern), spec)
             if key not in kern_ids:
                 kern_ids[key] = len(kerns)
-                kerns.append(scaled_kernel(kern, L, E) if scales else kern)
+                lu, eu = (L, inv_e) if scales else (1.0, 1.0)
+                kerns.append(_wrapped(kern, spec, lu, eu))
+                rkerns.append(_wrapped_radial(kern, spec, lu, eu) if orient == "none" else None)
             return kern_ids[key], orient
 
         pairs: list[tuple[int, int, int]] = []
+        rpairs: list[tuple[int, int, int]] = []
+        gravity_g: list[float] = []
         cmembers: list[int] = []
         coffs = [0]
         cgid: list[int] = []
+        ccentral: list[int] = []
         for it in self.interactions:
             if isinstance(it, Interaction):
                 i, j = idx(it.i), idx(it.j)
@@ -697,7 +988,8 @@ class NBodySystem:
                     raise InputError(f"interaction of body {bodies[i].name!r} with itself")
                 if bodies[i].fixed and bodies[j].fixed:
                     continue  # constant energy, no force on any degree of freedom
-                pairs.append((i, j, kernel_id(it.potential, it.params, i, j)[0]))
+                gid, orient = kernel_id(it.potential, it.params, i, j)
+                (rpairs if orient == "none" and fast_path else pairs).append((i, j, gid))
             elif isinstance(it, AllPairs):
                 mem = list(range(len(bodies))) if it.members is None else [idx(v) for v in it.members]
                 if len(set(mem)) != len(mem):
@@ -707,22 +999,56 @@ class NBodySystem:
                 if point and orient != "none":
                     raise InputError(f"potential depends on axes but AllPairs includes point "
                                      f"masses {point}")
+                entry = _registry_entry(it.potential)
+                if (entry is not None and entry.name == "gravity"
+                        and sorted(mem) == list(range(len(bodies)))
+                        and not {"mass1", "mass2"} & set(it.params)):
+                    gravity_g.append(float(entry.resolve_params(
+                        {k: v for k, v in it.params.items()} | {"mass1": 1.0, "mass2": 1.0}
+                    )["G"]))
                 cmembers.extend(mem)
                 coffs.append(len(cmembers))
                 cgid.append(gid)
+                ccentral.append(1 if orient == "none" and fast_path else 0)
             else:
                 raise InputError(f"interactions must be Interaction or AllPairs, got "
                                  f"{type(it).__name__}")
+        table = np.zeros((len(bodies), max(1, len(attr_cols))))
+        for a, c in attr_cols.items():
+            for k, b in enumerate(bodies):
+                table[k, c] = b.attribute(a)
         self._kerns = tuple(kerns)
+        self._rkerns = tuple(rkerns)
+        # G in internal units (L³ / (M T²)) of a gravity interaction among all bodies, if any
+        T = scales.time if scales else 1.0
+        self._gravity = (gravity_g[0] * M * T * T / L ** 3 if len(gravity_g) == 1 else None)
+        self._attributes = tuple(attr_cols)
         self._energy_shift = 0.0
         cut = np.inf if self.cutoff is None else self.cutoff / L
+        rs_int = np.inf if self.smooth_cutoff is None else self.smooth_cutoff / L
         self.data = (mass, alpha, bslot, tslot, fpos, fnu,
                      np.array(pairs, dtype=np.int64).reshape(-1, 3),
                      np.array(cmembers, dtype=np.int64), np.array(coffs, dtype=np.int64),
-                     np.array(cgid, dtype=np.int64), float(cut))
+                     np.array(cgid, dtype=np.int64), float(cut), table,
+                     np.array(rpairs, dtype=np.int64).reshape(-1, 3),
+                     np.array(ccentral, dtype=np.int64),
+                     any(b.is_top for b in bodies), float(rs_int))
         self._kernels: Kernels | None = None
 
     # ------------------------------------------------------------------ structure
+    def gravity_constant(self) -> float:
+        """``G`` in internal units, from the one ``AllPairs("gravity")`` over all bodies.
+
+        Raises
+        ------
+        InputError
+            If there is no such interaction (or more than one), e.g. for Wisdom–Holman.
+        """
+        if self._gravity is None:
+            raise InputError("the system needs exactly one AllPairs('gravity', ...) over all "
+                             "bodies (the Kepler part of a Wisdom–Holman splitting)")
+        return self._gravity
+
     @property
     def n_moving(self) -> int:
         """Number of moving bodies (with ``r, p`` in the state)."""
@@ -754,7 +1080,7 @@ class NBodySystem:
     def kernels(self) -> Kernels:
         """The compiled kernels (compiled on first access)."""
         if self._kernels is None:
-            self._kernels = _build_kernels(_dispatcher(self._kerns))
+            self._kernels = _build_kernels(*_dispatcher(self._kerns, self._rkerns))
         return self._kernels
 
     def work(self) -> tuple[np.ndarray, ...]:
@@ -779,13 +1105,9 @@ class NBodySystem:
     def forces(self, y: Any) -> tuple[np.ndarray, np.ndarray, float]:
         """Forces and torques on every body ``(F (n,3), T (n,3), U)`` (internal units)."""
         y = self._state(y)
-        k = self.kernels
-        forces, gather = _forces_cache[id(_dispatcher(self._kerns))]
-        pos, nu, F, T = self.work()
-        gather(y, self.data, pos, nu)
-        u = forces(pos, nu, self.data, F, T)
-        del k
-        return F, T, float(u)
+        work = self.work()
+        u = self.kernels.forces(y, self.data, work)
+        return work[2], work[3], float(u)
 
     def energy(self, y: Any) -> float | np.ndarray:
         """Total energy ``H(y)``; a 2-D array of states gives one value per row.

@@ -44,39 +44,90 @@ def _invariant_symbols(expr: sp.Expr) -> dict[sp.Symbol, sp.Symbol]:
     return {s: canon[s.name] for s in expr.free_symbols if s.name in canon and s != canon[s.name]}
 
 
-def kernel_from_expr(expr: sp.Expr, name: str = "pair") -> Callable[..., Any]:
+def kernel_from_expr(expr: sp.Expr, name: str = "pair",
+                     extra: tuple[sp.Symbol, ...] = ()) -> Callable[..., Any]:
     """Differentiate ``U(r, c1, c2, c3)`` once and compile ``(U, U_r, U_c1, U_c2, U_c3)``.
 
     Parameters
     ----------
     expr
-        Sympy expression in symbols named ``r, c1, c2, c3`` and numbers only.
+        Sympy expression in symbols named ``r, c1, c2, c3`` (and ``extra``) and numbers only.
     name
         Used in error messages and the generated function's name.
+    extra
+        Further scalar arguments appended after ``c3`` (per-body parameters bound to body
+        attributes, see :func:`compile_bound_potential`); never differentiated.
 
     Returns
     -------
     numba dispatcher
-        ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)`` (floats).
+        ``f(r, c1, c2, c3, *extra) -> (U, U_r, U_c1, U_c2, U_c3)`` (floats).
     """
     try:
         expr = sp.sympify(expr)
     except (sp.SympifyError, TypeError) as exc:
         raise InputError(f"potential {name!r}: expression is not a sympy expression: {exc}") from None
     expr = expr.xreplace(_invariant_symbols(expr))
-    key = ("expr", sp.srepr(expr))
+    extra = tuple(extra)
+    key = ("expr", sp.srepr(expr), tuple(sp.srepr(e) for e in extra))
     with _lock:
         hit = _cache.get(key)
     if hit is not None:
         return hit
-    check_free_symbols([expr], (R, C1, C2, C3), f"potential {name!r}")
+    check_free_symbols([expr], (R, C1, C2, C3) + extra, f"potential {name!r}")
     outs = [expr] + [sp.diff(expr, s) for s in (R, C1, C2, C3)]
     fname = "pair_" + "".join(ch if ch.isalnum() else "_" for ch in name)
-    src = scalar_source(fname, ("r", "c1", "c2", "c3"), (R, C1, C2, C3), outs)
+    args = ("r", "c1", "c2", "c3") + tuple(f"_b{k}" for k in range(len(extra)))
+    src = scalar_source(fname, args, (R, C1, C2, C3) + extra, outs)
     kern = compile_source(src, fname)
     with _lock:
         _cache[key] = kern
+        _sources[id(kern)] = (expr, name, extra, kern)
     return kern
+
+
+#: expression behind each kernel compiled from one (kept with the kernel, so ids stay unique)
+_sources: dict[int, tuple[sp.Expr, str, tuple[sp.Symbol, ...], Any]] = {}
+Q = sp.Symbol("q", positive=True)
+
+
+def radial_kernel(kern: Callable[..., Any]) -> Callable[..., Any]:
+    """Fast form of an orientation-free kernel: ``g(q, *extra) -> (U, U_r / r)`` with ``q = 1/r``.
+
+    Written in ``q`` the usual central potentials (``1/r``, ``1/r^6``, …) need no division, and
+    ``U_r / r`` is exactly the factor of the pair force ``−(U_r/r) d``. Kernels compiled from an
+    expression are regenerated in ``q``; other kernels (numba functions given directly) are
+    wrapped, calling them at ``r = 1/q``.
+    """
+    key = ("radial", id(kern))
+    with _lock:
+        hit = _cache.get(key)
+        src = _sources.get(id(kern))
+    if hit is not None:
+        return hit[0]
+    if src is not None and not (src[0].free_symbols & {C1, C2, C3}):
+        expr, name, extra, _ = src
+        outs = [expr.subs(R, 1 / Q), (sp.diff(expr, R) / R).subs(R, 1 / Q)]
+        fname = "radial_" + "".join(ch if ch.isalnum() else "_" for ch in name)
+        args = ("q",) + tuple(f"_b{k}" for k in range(len(extra)))
+        fast = compile_source(scalar_source(fname, args, (Q,) + extra, outs), fname)
+    else:
+        n_extra = len(src[2]) if src is not None else _arity(kern) - 4
+        extra_args = "".join(f", _b{k}" for k in range(n_extra))
+        source = (f"def radial_wrap(q{extra_args}):\n"
+                  "    r = 1.0 / q\n"
+                  f"    u, ur, u1, u2, u3 = base(r, 0.0, 0.0, 0.0{extra_args})\n"
+                  "    return (u, ur * q)")
+        fast = compile_source(source, "radial_wrap", {"base": kern})
+    with _lock:
+        _cache[key] = (fast, kern)  # keep kern alive so its id stays unique
+    return fast
+
+
+def _arity(kern: Callable[..., Any]) -> int:
+    import inspect
+
+    return len(inspect.signature(kern.py_func).parameters)
 
 
 def compile_potential(entry: PairPotential, params: Mapping[str, Any] | None = None
@@ -122,6 +173,51 @@ def compile_potential(entry: PairPotential, params: Mapping[str, Any] | None = N
     with _lock:
         _cache[key] = kern
     return kern
+
+
+def compile_bound_potential(entry: PairPotential, params: Mapping[str, Any] | None,
+                            bound: Mapping[str, tuple[str, int]]
+                            ) -> tuple[Callable[..., Any], tuple[tuple[str, int], ...]]:
+    """Compiled kernel of a potential some of whose parameters come from the two bodies.
+
+    Parameters
+    ----------
+    entry
+        A registry entry with an ``expr`` (kernel-only entries cannot bind parameters).
+    params
+        The parameters given by the user (SI); these are fixed for every pair.
+    bound
+        ``{parameter: (body attribute, 1 or 2)}`` for the parameters taken from the first or
+        second body of each pair (``entry.body_params`` minus those given in ``params``).
+
+    Returns
+    -------
+    kernel, slots
+        ``f(r, c1, c2, c3, b_0, …, b_{k-1}) -> (U, U_r, U_c1, U_c2, U_c3)`` (SI) and the
+        ``(attribute, which body)`` of each extra argument ``b_k``, in order.
+    """
+    if entry.expr is None:
+        raise InputError(f"potential {entry.name!r} has no closed-form expr, so its parameters "
+                         f"{sorted(bound)} cannot come from the bodies; give them explicitly")
+    given = dict(params or {})
+    # validate the fixed parameters with placeholders for the bound ones (then replaced)
+    placeholders = {k: 1.0 for k in bound}
+    resolved = entry.resolve_params({**given, **placeholders})
+    slots = tuple(sorted(set(bound.values())))
+    symbols = tuple(sp.Symbol(f"_body{w}_{a}", real=True) for a, w in slots)
+    by_slot = dict(zip(slots, symbols))
+    for k, slot in bound.items():
+        resolved[k] = by_slot[slot]
+    key = (entry.name, id(entry), _freeze({k: v for k, v in resolved.items() if k not in bound}),
+           tuple(sorted(bound.items())))
+    with _lock:
+        hit = _cache.get(key)
+    if hit is not None:
+        return hit, slots
+    kern = kernel_from_expr(entry.expr(resolved), entry.name, symbols)
+    with _lock:
+        _cache[key] = kern
+    return kern, slots
 
 
 def scaled_kernel(kern: Callable[..., Any], length: float, energy: float) -> Callable[..., Any]:

@@ -171,11 +171,16 @@ class PairPotential(Entry):
     orientation
         ``"both"`` if U depends on both axes, ``"first"``/``"second"`` if only on one, ``"none"``
         for a central potential (point masses).
+    body_params
+        ``((parameter, body attribute, 1 or 2), …)``: parameters that default to an attribute
+        of the first or second body of each pair (e.g. gravity's ``("mass1", "mass", 1)``), so
+        an all-pairs interaction needs no per-pair list. Needs ``expr``.
     """
 
     expr: Callable[[dict[str, Any]], Any] | None = None
     kernel: Callable[[dict[str, Any]], Callable[..., Any]] | None = None
     orientation: str = "both"
+    body_params: tuple[tuple[str, str, int], ...] = ()
 
 
 @dataclass(frozen=True)

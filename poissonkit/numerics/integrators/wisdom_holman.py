@@ -1,0 +1,495 @@
+"""Wisdom–Holman splitting in Jacobi coordinates for systems with one dominant mass.
+
+For ``N`` point masses with Newtonian gravity (plus any other orientation-free pair potential)
+the Hamiltonian is split as ``H = H_K + H_I``:
+
+* ``H_K = Σ_{i≥1} [p'_i²/(2 m'_i) − G m'_i η_i / |x'_i|] + P²/(2 M)`` — independent Kepler
+  problems of the Jacobi coordinates ``x'_i = r_i − R_{i−1}`` (``R_{i−1}`` the centre of mass of
+  bodies ``0 … i−1``, ``η_i = m_0 + … + m_i``, ``m'_i = m_i η_{i−1}/η_i``) and the free motion of
+  the centre of mass. Its flow is exact: a universal-variable Kepler solver (Stumpff functions
+  with argument halving, Halley's iteration safeguarded by bisection) per body.
+* ``H_I = V(r) + Σ_{i≥1} G m'_i η_i / |x'_i|`` — the full pair potential minus the Keplerian
+  parts. It depends on positions only, so its flow is an exact kick; for a hierarchical system
+  it is of the size ``ε`` of the planet-to-star mass ratio.
+
+(J. Wisdom & M. Holman, AJ 102 (1991) 1528; the Jacobi form as in H. Rein & D. Tamayo,
+MNRAS 452 (2015) 376, WHFast.) The steps are the ``SABA_n`` compositions of J. Laskar &
+P. Robutel, Celest. Mech. Dyn. Astron. 80 (2001) 39: Kepler drifts between the Gauss–Legendre
+nodes of ``[0, h]`` and kicks with the Gauss weights, error ``O(ε h^{2n} + ε² h²)``; ``n = 1`` is
+the classical Wisdom–Holman map. With ``corrector=True`` the ``ε² h²`` term is removed by the
+kick of ``−g_n h³ ε² {{A,B},B}/2`` on both sides of each step (``SABAC_n``, same paper;
+consecutive steps share one), whose force is a Hessian-vector product of ``H_I`` taken by a
+central difference of the kick acceleration (three force evaluations; its relative error
+~1e-10 multiplies a term that is already ``O(ε² h²)``, and the angular momentum it changes is
+``O(δ²)``, below round-off).
+
+Every sub-flow is the exact flow of a rotation- and translation-invariant Hamiltonian, so
+total linear and angular momentum are kept to round-off and the map is symplectic; the energy
+error stays bounded without drift.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numba
+import numpy as np
+
+from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
+from poissonkit.numerics.events import event_thresholds, raise_or_record
+from poissonkit.numerics.integrators.base import (
+    BUFFER_FULL,
+    COLLISION,
+    DONE,
+    ESCAPE,
+    NONFINITE,
+    RawResult,
+    SaveBuffer,
+    check_step,
+    progress_bar,
+)
+
+#: ``g_n`` of the ``ε² h²`` error term of ``SABA_n`` (Laskar & Robutel 2001, Table 1).
+CORRECTOR_G = {
+    1: 1.0 / 12.0,
+    2: (2.0 - math.sqrt(3.0)) / 24.0,
+    3: (54.0 - 13.0 * math.sqrt(15.0)) / 648.0,
+    4: 0.003396775048208601331532157783492144,
+}
+
+
+def saba_coefficients(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Drift fractions ``c`` (``n + 1``) and kick fractions ``d`` (``n``) of ``SABA_n``.
+
+    Drifts go from node to node of the ``n``-point Gauss–Legendre rule on ``[0, 1]`` (and to the
+    ends), kicks carry its weights; ``Σ c = Σ d = 1`` and the scheme is symmetric.
+    """
+    if n not in CORRECTOR_G:
+        raise InputError(f"Wisdom–Holman stages must be 1 … 4, got {n!r}")
+    x, w = np.polynomial.legendre.leggauss(n)
+    x = 0.5 * (x + 1.0)
+    c = np.diff(np.concatenate([[0.0], x, [1.0]]))
+    return c, 0.5 * w
+
+
+# --------------------------------------------------------------------------- Kepler flow
+@numba.njit(cache=True, error_model="numpy")
+def stumpff(z):
+    """Stumpff functions ``c0 … c3`` of ``z`` (argument quartered until small, then doubled)."""
+    n = 0
+    while abs(z) > 0.1:
+        z *= 0.25
+        n += 1
+    c3 = (1.0 - z / 20.0 * (1.0 - z / 42.0 * (1.0 - z / 72.0 * (1.0 - z / 110.0 * (
+        1.0 - z / 156.0 * (1.0 - z / 210.0)))))) / 6.0
+    c2 = (1.0 - z / 12.0 * (1.0 - z / 30.0 * (1.0 - z / 56.0 * (1.0 - z / 90.0 * (
+        1.0 - z / 132.0 * (1.0 - z / 182.0)))))) / 2.0
+    c1 = 1.0 - z * c3
+    c0 = 1.0 - z * c2
+    for _ in range(n):
+        c3 = (c2 + c0 * c3) * 0.25
+        c2 = 0.5 * c1 * c1
+        c1 = c0 * c1
+        c0 = 2.0 * c0 * c0 - 1.0
+    return c0, c1, c2, c3
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _kepler_time(s, r0, eta0, mu, beta):
+    """``(t(s), r(s), r'(s))`` of the universal Kepler equation at universal anomaly ``s``."""
+    c0, c1, c2, c3 = stumpff(beta * s * s)
+    g1 = s * c1
+    g2 = s * s * c2
+    g3 = s * s * s * c3
+    t = r0 * g1 + eta0 * g2 + mu * g3
+    r = r0 * c0 + eta0 * g1 + mu * g2
+    dr = eta0 * c0 + (mu - beta * r0) * g1
+    return t, r, dr
+
+
+@numba.njit(cache=True, error_model="numpy")
+def kepler_drift(x, v, i, mu, dt):
+    """Advance row ``i`` of positions ``x`` and velocities ``v`` along a Kepler orbit.
+
+    Universal variables (Danby's f and g functions): Halley's iteration on the universal
+    Kepler equation from ``s = dt / r0``; if it has not converged after 30 iterations, a
+    bracketing bisection finishes (never needed for steps shorter than the period, but it
+    makes the solver total). Returns False only for a degenerate state (``r0 = 0``).
+    """
+    x0, x1, x2 = x[i, 0], x[i, 1], x[i, 2]
+    v0, v1, v2 = v[i, 0], v[i, 1], v[i, 2]
+    r0 = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+    if r0 == 0.0 or dt == 0.0:
+        return r0 != 0.0
+    eta0 = x0 * v0 + x1 * v1 + x2 * v2
+    beta = 2.0 * mu / r0 - (v0 * v0 + v1 * v1 + v2 * v2)
+    s = dt / r0
+    ok = False
+    for _ in range(30):
+        t, r, dr = _kepler_time(s, r0, eta0, mu, beta)
+        f = t - dt
+        den = r - 0.5 * f * dr / r
+        ds = -f / (den if den != 0.0 else r)
+        s += ds
+        if abs(ds) <= 2e-16 * abs(s) or f == 0.0:
+            ok = True
+            break
+    if not ok:
+        # bisection: t(s) is increasing (t' = r > 0); expand a bracket around the root
+        lo = 0.0
+        hi = dt / r0
+        while (_kepler_time(hi, r0, eta0, mu, beta)[0] - dt) * (1.0 if dt > 0 else -1.0) < 0.0:
+            lo = hi
+            hi *= 2.0
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if mid == lo or mid == hi:
+                break
+            if (_kepler_time(mid, r0, eta0, mu, beta)[0] - dt) * (1.0 if dt > 0 else -1.0) < 0.0:
+                lo = mid
+            else:
+                hi = mid
+        s = 0.5 * (lo + hi)
+    c0, c1, c2, c3 = stumpff(beta * s * s)
+    g1 = s * c1
+    g2 = s * s * c2
+    g3 = s * s * s * c3
+    r = r0 * c0 + eta0 * g1 + mu * g2
+    fm1 = -mu * g2 / r0  # f − 1
+    g = dt - mu * g3
+    fd = -mu * g1 / (r * r0)
+    gdm1 = -mu * g2 / r  # ġ − 1
+    x[i, 0] = x0 + fm1 * x0 + g * v0
+    x[i, 1] = x1 + fm1 * x1 + g * v1
+    x[i, 2] = x2 + fm1 * x2 + g * v2
+    v[i, 0] = v0 + fd * x0 + gdm1 * v0
+    v[i, 1] = v1 + fd * x1 + gdm1 * v1
+    v[i, 2] = v2 + fd * x2 + gdm1 * v2
+    return True
+
+
+# --------------------------------------------------------------------------- Jacobi coordinates
+@numba.njit(cache=True, error_model="numpy")
+def to_jacobi(r, u, m, xj, uj):
+    """Inertial positions ``r`` / velocities ``u`` (rows) → Jacobi ``xj``, ``uj``; row 0 = centre
+    of mass."""
+    n = m.shape[0]
+    eta = m[0]
+    for d in range(3):
+        sx = m[0] * r[0, d]
+        su = m[0] * u[0, d]
+        eta = m[0]
+        for i in range(1, n):
+            xj[i, d] = r[i, d] - sx / eta
+            uj[i, d] = u[i, d] - su / eta
+            sx += m[i] * r[i, d]
+            su += m[i] * u[i, d]
+            eta += m[i]
+        xj[0, d] = sx / eta
+        uj[0, d] = su / eta
+
+
+@numba.njit(cache=True, error_model="numpy")
+def from_jacobi(xj, m, eta, r):
+    """Jacobi rows ``xj`` (row 0 = centre of mass) → inertial rows ``r`` (positions or
+    velocities alike); ``eta[i] = m_0 + … + m_i``."""
+    n = m.shape[0]
+    for d in range(3):
+        s = eta[n - 1] * xj[0, d]  # Σ_{k≤i} m_k r_k, from i = n−1 down
+        for i in range(n - 1, 0, -1):
+            prev = (s - m[i] * xj[i, d]) * eta[i - 1] / eta[i]  # Σ_{k≤i−1} m_k r_k
+            r[i, d] = xj[i, d] + prev / eta[i - 1]
+            s = prev
+        r[0, d] = s / m[0]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def jacobi_of_inertial(a, m, eta, aj):
+    """Jacobi transform of inertial accelerations (row 0, the centre of mass's, set to 0)."""
+    n = m.shape[0]
+    for d in range(3):
+        s = m[0] * a[0, d]
+        for i in range(1, n):
+            aj[i, d] = a[i, d] - s / eta[i - 1]
+            s += m[i] * a[i, d]
+        aj[0, d] = 0.0  # internal forces: the centre of mass is not accelerated
+
+
+# --------------------------------------------------------------------------- compiled loop
+_runners: dict[int, Any] = {}
+
+
+def _runner(kernels) -> Any:
+    """The compiled Wisdom–Holman loop around one system's force kernel (cached)."""
+    key = id(kernels.forces)
+    hit = _runners.get(key)
+    if hit is not None:
+        return hit[0]
+    forces = kernels.forces
+    min_distance, max_radius = kernels.min_distance, kernels.max_radius
+
+    @numba.njit(error_model="numpy")
+    def accel(xj, m, eta, gm, ybuf, r, a, aj, data, work):
+        """Jacobi kick accelerations of ``H_I`` at Jacobi positions ``xj`` into ``aj``."""
+        n = m.shape[0]
+        from_jacobi(xj, m, eta, r)
+        for i in range(n):
+            for d in range(3):
+                ybuf[6 * i + d] = r[i, d]
+        forces(ybuf, data, work)
+        F = work[2]
+        for i in range(n):
+            for d in range(3):
+                a[i, d] = F[i, d] / m[i]
+        jacobi_of_inertial(a, m, eta, aj)
+        for i in range(1, n):  # remove the Kepler parts: + G η_i x'_i / |x'_i|³
+            q2 = xj[i, 0] ** 2 + xj[i, 1] ** 2 + xj[i, 2] ** 2
+            c = gm[i] / (q2 * math.sqrt(q2))
+            for d in range(3):
+                aj[i, d] += c * xj[i, d]
+
+    @numba.njit(error_model="numpy")
+    def drift_all(xj, uj, gm, dt):
+        for d in range(3):
+            xj[0, d] += dt * uj[0, d]
+        ok = True
+        for i in range(1, xj.shape[0]):
+            ok = kepler_drift(xj, uj, i, gm[i], dt) and ok
+        return ok
+
+    @numba.njit(error_model="numpy")
+    def correct(xj, uj, tau, m, eta, gm, ybuf, r, a, aj, xt, a_plus, data, work):
+        """Kick of the corrector potential ``τ Σ |∂H_I/∂x'_i|²/m'_i``.
+
+        Its acceleration is ``2 τ (∂a/∂x') w`` with ``a`` the kick acceleration and ``w = −a``
+        (a Hessian-vector product of ``H_I``), taken as a central difference of ``a`` along
+        ``w``. Central, not forward: the angular momentum it changes is ``O(τ δ²)`` instead of
+        ``O(τ δ)`` (``w_i ∥ a_i`` cancels the first order), i.e. below round-off.
+        """
+        n = m.shape[0]
+        accel(xj, m, eta, gm, ybuf, r, a, aj, data, work)
+        big = 0.0  # δ makes the largest relative displacement 1e-5
+        for i in range(1, n):
+            q = math.sqrt(xj[i, 0] ** 2 + xj[i, 1] ** 2 + xj[i, 2] ** 2)
+            w = math.sqrt(aj[i, 0] ** 2 + aj[i, 1] ** 2 + aj[i, 2] ** 2)
+            big = max(big, w / q)
+        if big == 0.0:
+            return
+        delta = 1e-5 / big
+        for i in range(n):
+            for d in range(3):
+                xt[i, d] = xj[i, d] - delta * aj[i, d]
+        accel(xt, m, eta, gm, ybuf, r, a, a_plus, data, work)
+        for i in range(n):
+            for d in range(3):
+                xt[i, d] = 2.0 * xj[i, d] - xt[i, d]  # x − δw
+        accel(xt, m, eta, gm, ybuf, r, a, aj, data, work)
+        f = tau / delta
+        for i in range(1, n):
+            for d in range(3):
+                uj[i, d] += f * (a_plus[i, d] - aj[i, d])
+
+    @numba.njit(error_model="numpy")
+    def sync(xj, uj, m, eta, y, r, u):
+        """Write the inertial state ``(r, p)`` of Jacobi ``xj, uj`` into ``y``."""
+        from_jacobi(xj, m, eta, r)
+        from_jacobi(uj, m, eta, u)
+        for i in range(m.shape[0]):
+            for d in range(3):
+                y[6 * i + d] = r[i, d]
+                y[6 * i + 3 + d] = m[i] * u[i, d]
+
+    @numba.njit(error_model="numpy")
+    def run(y, xj, uj, m, eta, gm, t_orig, h, n_total, c, dk, tau, data, work, save_every,
+            step0, max_steps, out_t, out_y, contact, escape):
+        """Advance the Jacobi state ``xj, uj`` (written to ``y`` at every save and on return).
+
+        Returns (status, t, steps done, saved, value). Without corrector the last drift of a
+        step is merged into the first drift of the next; with it, the closing corrector of a
+        step and the opening one of the next are one kick (both depend on positions only).
+        """
+        n = m.shape[0]
+        ybuf = y.copy()
+        r = np.empty((n, 3))
+        u = np.empty((n, 3))
+        a = np.empty((n, 3))
+        aj = np.empty((n, 3))
+        xt = np.empty((n, 3))
+        a_plus = np.empty((n, 3))
+        ns = dk.shape[0]
+        nsave = 0
+        pending = 0.0
+        opened = False
+        ok = True
+        t = t_orig + step0 * h
+        k = 0
+        while k < max_steps:
+            gstep = step0 + k + 1
+            if tau != 0.0 and not opened:
+                correct(xj, uj, tau, m, eta, gm, ybuf, r, a, aj, xt, a_plus, data, work)
+            ok = drift_all(xj, uj, gm, pending + c[0] * h) and ok
+            pending = 0.0
+            for s in range(ns):
+                accel(xj, m, eta, gm, ybuf, r, a, aj, data, work)
+                hk = dk[s] * h
+                for i in range(1, n):
+                    for d in range(3):
+                        uj[i, d] += hk * aj[i, d]
+                if s + 1 < ns:
+                    ok = drift_all(xj, uj, gm, c[s + 1] * h) and ok
+            last = gstep >= n_total
+            k += 1
+            t = t_orig + gstep * h
+            need = last or gstep % save_every == 0 or contact > 0.0 or escape > 0.0
+            if tau != 0.0:
+                ok = drift_all(xj, uj, gm, c[ns] * h) and ok
+                correct(xj, uj, tau if need else 2.0 * tau, m, eta, gm, ybuf, r, a, aj, xt,
+                        a_plus, data, work)
+                opened = not need
+            elif need:
+                ok = drift_all(xj, uj, gm, c[ns] * h) and ok
+            else:
+                pending = c[ns] * h
+            if not need:
+                continue
+            sync(xj, uj, m, eta, y, r, u)
+            bad = not ok
+            for i in range(y.shape[0]):
+                if not math.isfinite(y[i]):
+                    bad = True
+            if bad:
+                return 1, t, k, nsave, 0.0
+            if contact > 0.0:
+                dmin = min_distance(y, data, work)
+                if dmin < contact:
+                    out_t[nsave] = t
+                    for i in range(y.shape[0]):
+                        out_y[nsave, i] = y[i]
+                    return 2, t, k, nsave + 1, dmin
+            if escape > 0.0:
+                dmax = max_radius(y, data)
+                if dmax > escape:
+                    out_t[nsave] = t
+                    for i in range(y.shape[0]):
+                        out_y[nsave, i] = y[i]
+                    return 3, t, k, nsave + 1, dmax
+            if last or gstep % save_every == 0:
+                out_t[nsave] = t
+                for i in range(y.shape[0]):
+                    out_y[nsave, i] = y[i]
+                nsave += 1
+            if last:
+                return 5, t, k, nsave, 0.0
+            if nsave == out_t.shape[0] - 1:
+                return 4, t, k, nsave, 0.0
+        # chunk done between saves: leave Jacobi and y synchronised at t
+        ok = drift_all(xj, uj, gm, pending) and ok
+        if opened:
+            correct(xj, uj, -tau, m, eta, gm, ybuf, r, a, aj, xt, a_plus, data, work)
+        sync(xj, uj, m, eta, y, r, u)
+        return 0 if ok else 1, t, k, nsave, 0.0
+
+    _runners[key] = (run, kernels)
+    return run
+
+
+class WisdomHolman:
+    """Wisdom–Holman ``SABA_n`` splitting in Jacobi coordinates (see the module docstring).
+
+    Parameters
+    ----------
+    stages
+        ``n`` = 1 … 4 kicks per step (``n = 1``: the classical Wisdom–Holman map).
+    corrector
+        Add the ``SABAC_n`` corrector (removes the ``ε² h²`` error term; 3 extra force
+        evaluations per step).
+
+    Notes
+    -----
+    Needs an :class:`~poissonkit.numerics.nbody.NBodySystem` of moving point masses (no tops, no
+    fixed bodies) with orientation-free potentials including Newtonian gravity between every
+    pair (``AllPairs("gravity")``); body 0 is the central mass.
+    """
+
+    family = "hierarchical"
+
+    def __init__(self, stages: int = 1, corrector: bool = False) -> None:
+        self.c, self.d = saba_coefficients(int(stages))
+        self.stages = int(stages)
+        self.corrector = bool(corrector)
+        self.order = 4 if (self.corrector and self.stages >= 2) else 2
+        self.name = f"wisdom_holman{'_corrected' if corrector else ''}" + (
+            f"{self.stages}" if self.stages != 1 else "")
+
+    def integrate(self, system: Any, y0: np.ndarray, t_end: float, *, step: float | None,
+                  tol: float | None, events=(), progress: bool = False, save_every: int = 1,
+                  t0: float = 0.0) -> RawResult:
+        """Integrate from ``t0`` to ``t_end`` with fixed step ``step``."""
+        kernels = getattr(system, "kernels", None)
+        gravity = getattr(system, "gravity_constant", None)
+        if kernels is None or getattr(kernels, "forces", None) is None or gravity is None:
+            raise InputError(f"{self.name} needs an NBodySystem of point masses with gravity; "
+                             f"{type(system).__name__} is not one — use a splitting instead")
+        G = gravity()  # raises a typed error naming what is missing
+        if system.n_tops or system.n_moving != len(system.bodies):
+            raise InputError(f"{self.name} needs moving point masses only (no tops, no fixed "
+                             "bodies)")
+        h = check_step(step, t_end - t0, self.name)
+        span = t_end - t0
+        n_total = max(1, math.ceil(span / h - 1e-12))
+        h = span / n_total
+        contact, escape, cerr, eerr = event_thresholds(events)
+        run = _runner(kernels)
+        y = np.array(y0, dtype=float)
+        m = np.ascontiguousarray(system.data[0], dtype=float)
+        eta = np.cumsum(m)
+        gm = G * eta
+        n = m.shape[0]
+        rp = y.reshape(n, 2, 3)
+        xj, uj = np.empty((n, 3)), np.empty((n, 3))
+        to_jacobi(np.ascontiguousarray(rp[:, 0]), np.ascontiguousarray(rp[:, 1] / m[:, None]),
+                  m, xj, uj)
+        tau = 0.0
+        if self.corrector:
+            tau = -CORRECTOR_G[self.stages] * h ** 3 / 2.0
+        data, work = system.data, system.work()
+        buf = SaveBuffer(y.size, min(n_total // save_every + 2, 4096))
+        buf.add(t0, y)
+        bar = progress_bar(progress, span, self.name)
+        chunk = max(1, n_total // 200) if progress else (1 << 62)
+        steps, records, t = 0, [], t0
+        try:
+            while True:
+                status, t_new, k, nsave, value = run(
+                    y, xj, uj, m, eta, gm, t0, h, n_total, self.c, self.d, tau, data, work,
+                    save_every, steps, chunk, buf.cur_t, buf.cur_y, contact, escape)
+                buf.commit(nsave)
+                if bar is not None:
+                    bar.update(t_new - t)
+                steps += k
+                t = t_new
+                if status == NONFINITE:
+                    raise NonFiniteStateError(steps, t, f"{self.name} step {steps} produced "
+                                              "NaN/inf (bodies collided or escaped the Kepler "
+                                              "solver's range?)")
+                if status in (COLLISION, ESCAPE):
+                    kind = "collision" if status == COLLISION else "escape"
+                    raise_or_record(kind, steps, t, value,
+                                    cerr if status == COLLISION else eerr, records)
+                    break
+                if status == DONE:
+                    break
+                if status not in (0, BUFFER_FULL):
+                    raise IntegrationError(f"{self.name}: unexpected status {status}")
+        except ZeroDivisionError:
+            raise NonFiniteStateError(steps + 1, t, f"{self.name}: division by zero in a "
+                                      "compiled kernel (two bodies at the same place?)") from None
+        finally:
+            if bar is not None:
+                bar.close()
+        ts, ys = buf.arrays()
+        per_step = self.stages + (3 if self.corrector else 0)
+        return RawResult(ts, ys, steps, nfev=steps * per_step, events=records,
+                         message="event" if records else "done",
+                         extra={"step": h, "stages": self.stages, "corrector": self.corrector})
