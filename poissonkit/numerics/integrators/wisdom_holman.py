@@ -37,7 +37,12 @@ import numba
 import numpy as np
 
 from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
-from poissonkit.numerics.events import event_thresholds, raise_or_record
+from poissonkit.numerics.events import (
+    EventRecord,
+    check_events,
+    event_thresholds,
+    raise_or_record,
+)
 from poissonkit.numerics.integrators.base import (
     BUFFER_FULL,
     COLLISION,
@@ -439,7 +444,11 @@ class WisdomHolman:
         span = t_end - t0
         n_total = max(1, math.ceil(span / h - 1e-12))
         h = span / n_total
-        contact, escape, cerr, eerr = event_thresholds(events)
+        events = check_events(events)
+        if any(e.kind == "closest_approach" for e in events):
+            raise InputError(f"{self.name} checks collisions and escapes at step ends only; "
+                             "a closest-approach event needs a splitting or a scipy method")
+        contact, escape, _watch = event_thresholds(events)
         run = _runner(kernels)
         y = np.array(y0, dtype=float)
         m = np.ascontiguousarray(system.data[0], dtype=float)
@@ -474,9 +483,11 @@ class WisdomHolman:
                                               "NaN/inf (bodies collided or escaped the Kepler "
                                               "solver's range?)")
                 if status in (COLLISION, ESCAPE):
-                    kind = "collision" if status == COLLISION else "escape"
-                    raise_or_record(kind, steps, t, value,
-                                    cerr if status == COLLISION else eerr, records)
+                    # checked at step ends, not located: the event lies within the last step
+                    escaped = status == ESCAPE
+                    ev = next(e for e in events if (e.kind == "escape") == escaped)
+                    raise_or_record(ev, EventRecord(ev.kind, steps, t, value, time_error=h),
+                                    records)
                     break
                 if status == DONE:
                     break
