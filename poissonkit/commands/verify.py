@@ -47,6 +47,9 @@ from poissonkit.errors import InputError, ParseError, PoissonkitError
 
 #: Keys a JSON structure file may contain.
 JSON_KEYS = ("dim", "bivector", "coords", "variable", "params", "name")
+#: Largest dimension a JSON structure may declare: the Jacobi identity has ``dim^3/6``
+#: components, and ``"dim": 10**9`` must be refused, not allocated.
+MAX_DIM = 200
 
 EXIT_OK, EXIT_FAILED, EXIT_ERROR, EXIT_UNDECIDED = 0, 1, 2, 3
 #: Exit code of ``poissonkit verify`` for each report status.
@@ -146,8 +149,12 @@ def load_structure_json(source: str | Path | dict) -> tuple[str, Any]:
         if dim is not None and dim != len(coords):
             raise InputError(f'"dim" = {dim} but {len(coords)} coordinates given')
         dim = len(coords)
-    if not isinstance(dim, int) or isinstance(dim, bool) or dim < 2:
-        raise InputError(f'"dim" must be an integer >= 2, got {dim!r}')
+        if not 2 <= dim <= MAX_DIM:
+            raise InputError(f'"coords" must name 2 to {MAX_DIM} coordinates, got {dim}')
+    if coords is None and dim is None:
+        raise InputError('structure file needs "dim" (an integer) or "coords" (a list of names)')
+    if not isinstance(dim, int) or isinstance(dim, bool) or not 2 <= dim <= MAX_DIM:
+        raise InputError(f'"dim" must be an integer from 2 to {MAX_DIM}, got {dim!r}')
     if coords is None:
         var = data.get("variable", "x")
         if not isinstance(var, str) or not re.fullmatch(r"[A-Za-z][A-Za-z_]*", var):
@@ -167,8 +174,16 @@ def load_structure_json(source: str | Path | dict) -> tuple[str, Any]:
         i, j = _parse_key(key)
         if isinstance(value, bool) or not isinstance(value, (str, int, float)):
             raise ParseError(f"component {key!r}: expected an expression string, got {value!r}")
-        comps[(i, j)] = parse_expression(str(value), syms, extra)
-    return name, Bivector.from_components(comps, syms)
+        try:
+            comps[(i, j)] = parse_expression(str(value), syms, extra)
+        except ParseError as exc:  # name the component, not only the text
+            hint = ' (declare symbolic parameters in "params")' if "not allowed" in str(exc) \
+                else ""
+            raise ParseError(f"bivector component {key!r}: {exc}{hint}") from None
+    try:
+        return name, Bivector.from_components(comps, syms)
+    except InputError as exc:  # DimensionError, ParseError, ...: keep the type
+        raise type(exc)(f"bivector: {exc}") from None
 
 
 def _coerce_param(text: str) -> tuple[str, Any]:

@@ -80,8 +80,9 @@ class Bivector:
         _reject_strings(self.matrix)
         try:
             mat = sp.ImmutableMatrix(self.matrix)
-        except (TypeError, ValueError, sp.SympifyError) as exc:
-            raise InputError(f"cannot read bivector matrix: {exc}") from None
+        except Exception as exc:  # noqa: BLE001 -- sympy raises many types on ragged/odd input
+            raise InputError(f"cannot read bivector matrix: {type(exc).__name__}: {exc}") \
+                from None
         n = len(coords)
         if mat.shape != (n, n):
             raise DimensionError(f"bivector matrix has shape {mat.shape}, expected ({n}, {n}) "
@@ -118,8 +119,9 @@ class Bivector:
         _reject_strings(matrix)
         try:
             mat = sp.ImmutableMatrix(matrix)
-        except (TypeError, ValueError, sp.SympifyError) as exc:
-            raise InputError(f"cannot read bivector matrix: {exc}") from None
+        except Exception as exc:  # noqa: BLE001 -- sympy raises many types on ragged/odd input
+            raise InputError(f"cannot read bivector matrix: {type(exc).__name__}: {exc}") \
+                from None
         return cls(tuple(_as_symbols(coords)), mat)
 
     @classmethod
