@@ -37,6 +37,7 @@ import re
 import sys
 import time
 from collections.abc import Callable, Sequence
+from decimal import Decimal
 from fractions import Fraction
 from pathlib import Path
 from typing import Any
@@ -196,6 +197,8 @@ def _coerce_param(text: str) -> tuple[str, Any]:
     return key.strip(), value
 
 
+#: Largest decimal exponent of a parameter value (``1e1000``); larger ones are refused.
+MAX_EXPONENT = 1000
 _FRACTION = re.compile(r"[+-]?\d+\s*/\s*\d+")
 
 
@@ -217,8 +220,11 @@ def exact_number(text: str, name: str = "parameter") -> sp.Rational:
             if den == 0:
                 raise ZeroDivisionError
             return sp.Rational(num, den)
-        value = Fraction(t)  # decimals and exponents exactly; "nan", "inf" raise
-    except (ValueError, ZeroDivisionError):
+        dec = Decimal(t)  # decimals and exponents exactly, without computing them yet
+        if not dec.is_finite() or abs(dec.adjusted()) > MAX_EXPONENT:
+            raise ValueError  # nan, inf, and 1e999999999999 (would take hours to expand)
+        value = Fraction(dec)
+    except (ValueError, ZeroDivisionError, ArithmeticError):
         raise InputError(f"{name} must be a finite decimal number or a fraction, got {text!r}") \
             from None
     return sp.Rational(value.numerator, value.denominator)
