@@ -211,6 +211,8 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
     """
     from poissonkit.plugin import potential
 
+    if not isinstance(model, str):
+        raise InputError(f"model must be a potential name (str), got {model!r}")
     rvec = _vector("r", r)
     n1 = _axis("nu1", nu1)
     n2 = _axis("nu2", nu2)
