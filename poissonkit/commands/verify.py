@@ -146,9 +146,9 @@ def load_structure_json(source: str | Path | dict) -> tuple[str, Any]:
             raise InputError('"coords" must be a list of names')
         for c in coords:
             if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", c):
-                raise InputError(f"coordinate name {c!r} is not an identifier")
+                raise InputError(f'"coords": coordinate name {c!r} is not an identifier')
         if dim is not None and dim != len(coords):
-            raise InputError(f'"dim" = {dim} but {len(coords)} coordinates given')
+            raise InputError(f'"dim" = {dim} but "coords" has {len(coords)} names')
         dim = len(coords)
         if not 2 <= dim <= MAX_DIM:
             raise InputError(f'"coords" must name 2 to {MAX_DIM} coordinates, got {dim}')
@@ -168,7 +168,7 @@ def load_structure_json(source: str | Path | dict) -> tuple[str, Any]:
     extra = {}
     for p in params:
         if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", p) or p in coords:
-            raise InputError(f"parameter name {p!r} is not a new identifier")
+            raise InputError(f'"params": parameter name {p!r} is not a new identifier')
         extra[p] = sp.Symbol(p, real=True)
     comps = {}
     for key, value in data["bivector"].items():

@@ -100,6 +100,8 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
         step = _finite_number(step, "step")
         if not step > 0:
             raise InputError(f"step must be positive, got {step!r}")
+        if step > t_end - t0:  # scipy refuses a first step beyond the interval
+            raise InputError(f"step {step!r} is longer than t_end - t0 = {t_end - t0!r}")
         if (t_end - t0) / step > MAX_STEPS:  # 1e-300: an overflow deep inside, or a hang
             raise InputError(f"step {step!r} would take more than {MAX_STEPS:.0e} steps to "
                              f"reach t_end = {t_end!r}")

@@ -129,7 +129,10 @@ def _keys(table: Mapping[str, Any], allowed: tuple[str, ...], where: str) -> Non
 def _number(value: Any, where: str, *, positive: bool = False, nonnegative: bool = False) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise SceneError(f"{where}: must be a number, got {value!r}")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:  # an integer beyond float range (10**400)
+        raise SceneError(f"{where}: must be finite, got {value!r}") from None
     if not math.isfinite(x):
         raise SceneError(f"{where}: must be finite, got {value!r}")
     if positive and not x > 0:

@@ -89,6 +89,8 @@ class Bivector:
                                  f"for coordinates {tuple(map(str, coords))}")
         # non-finite entries first: NaN != -NaN would otherwise read as "not antisymmetric"
         for (i, j), e in zip(((i, j) for i in range(n) for j in range(n)), mat):
+            if not isinstance(e, sp.Expr):  # a list inside an object array, a boolean, ...
+                raise InputError(f"bivector matrix entry ({i},{j}) is not an expression: {e!r}")
             if e.has(sp.nan, sp.oo, -sp.oo, sp.zoo):
                 raise InputError(f"bivector matrix entry ({i},{j}) is not finite: {e}")
         for i in range(n):

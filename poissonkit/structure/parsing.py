@@ -190,6 +190,8 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
         raise ParseError(f"cannot parse {text!r}: {exc}") from None
     # "1/0", "0/0", "log(0)" evaluate to zoo / nan: refuse them here rather than let a
     # non-finite value reach a bracket or a Hamiltonian
-    if isinstance(expr, sp.Basic) and expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+    if not isinstance(expr, sp.Expr):  # "cos" alone is a function class; "True" a boolean
+        raise ParseError(f"{text!r} is not an expression (got {type(expr).__name__})")
+    if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
         raise ParseError(f"{text!r} is not finite (evaluates to {expr})")
     return expr

@@ -65,7 +65,10 @@ def mutated_scene(draw):
             parent = parent[k]
         last = path[-1]
         if op == "delete":
+            gone = parent[last]
             del parent[last]
+            # an error may name a required key that went with the deleted table
+            touched += [k for p, _ in _paths(gone) for k in p if isinstance(k, str)]
         elif op == "replace":
             parent[last] = draw(_replacements)
         elif op == "unknown" and isinstance(parent, dict):
