@@ -125,7 +125,7 @@ def _work_is_bounded(case) -> bool:
     y0, t_end, method, step, tol, save_every, options, t0 = case
     try:
         span = float(t_end) - float(t0)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         return True
     if not math.isfinite(span) or span <= 0:
         return True
@@ -133,7 +133,7 @@ def _work_is_bounded(case) -> bool:
         return span <= 10
     try:
         n = span / float(step)
-    except (TypeError, ValueError, ZeroDivisionError):
+    except (TypeError, ValueError, ZeroDivisionError, OverflowError):
         return True
     return not (2e4 < n <= 1e10)
 

@@ -70,7 +70,7 @@ def mutated_scene(draw):
             # an error may name a required key that went with the deleted table
             touched += [k for p, _ in _paths(gone) for k in p if isinstance(k, str)]
         elif op == "replace":
-            parent[last] = draw(_replacements)
+            parent[last] = copy.deepcopy(draw(_replacements))  # later mutations edit it
         elif op == "unknown" and isinstance(parent, dict):
             parent[draw(st.sampled_from(["massive", "__class__", "eval", "mas", "Run"]))] = 1
         elif op == "rename" and isinstance(parent, dict):
