@@ -178,7 +178,7 @@ def load_structure_json(source: str | Path | dict) -> tuple[str, Any]:
         try:
             comps[(i, j)] = parse_expression(str(value), syms, extra)
         except ParseError as exc:  # name the component, not only the text
-            hint = (f' (coordinates {coords[0]}..{coords[-1]} from "coords" or "variable"; '
+            hint = (f' (coordinates {coords[0]}..{coords[-1]} from "dim", "coords" or "variable"; '
                     'declare symbolic parameters in "params")') if "not allowed" in str(exc) \
                 else ""
             raise ParseError(f"bivector component {key!r}: {exc}{hint}") from None

@@ -36,7 +36,7 @@ def _finite_number(value: Any, name: str) -> float:
     """``float(value)``; :class:`InputError` naming ``name`` unless a finite number."""
     try:
         v = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # 10**400 overflows
         raise InputError(f"{name} must be a finite number, got {value!r}") from None
     if not math.isfinite(v):
         raise InputError(f"{name} must be a finite number, got {value!r}")

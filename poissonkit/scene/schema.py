@@ -375,7 +375,11 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
     else:
         from poissonkit.scene.build import scene_graph
 
-        graph = scene_graph(scene)
+        try:
+            graph = scene_graph(scene)
+        except OverflowError:  # sizes such as body_radius = 1e300 overflow the volumes
+            raise SceneError("assembly.params: a size or moment is out of range (overflow)") \
+                from None
         check_overlaps([graph.nodes[n] for n in graph.nodes], "assembly")
     return scene
 
