@@ -134,15 +134,23 @@ def _complete(needed: Sequence[str], given: dict[str, Any]) -> dict[str, Any]:
         if a is not None and h is not None:
             try:
                 volume = math.pi * float(a) ** 2 * float(h)
-            except (TypeError, ValueError):
-                raise InputError(f"radius{i} and length{i} must be numbers") from None
-            if volume > 0:
-                if "moment" + i in needed and mu is None and m is not None:
-                    out["moment" + i] = float(m) * volume
-                if "magnetization" + i in needed and m is None and mu is not None:
-                    out["magnetization" + i] = float(mu) / volume
-        if "half_length" + i in needed and out.get("half_length" + i) is None and h is not None:
-            out["half_length" + i] = 0.5 * float(h)
+            except (TypeError, ValueError, OverflowError):
+                raise InputError(f"radius{i} and length{i} must be finite numbers") from None
+            try:
+                if volume > 0:
+                    if "moment" + i in needed and mu is None and m is not None:
+                        out["moment" + i] = float(m) * volume
+                    if "magnetization" + i in needed and m is None and mu is not None:
+                        out["magnetization" + i] = float(mu) / volume
+                if "half_length" + i in needed and out.get("half_length" + i) is None:
+                    out["half_length" + i] = 0.5 * float(h)
+            except (TypeError, ValueError, OverflowError):
+                raise InputError(f"moment{i} / magnetization{i} must be finite numbers") from None
+        elif "half_length" + i in needed and out.get("half_length" + i) is None and h is not None:
+            try:
+                out["half_length" + i] = 0.5 * float(h)
+            except (TypeError, ValueError, OverflowError):
+                raise InputError(f"length{i} must be a finite number, got {h!r}") from None
     # drop what the model does not take (sizes given only for the overlap check, moments given
     # together with magnetisations)
     return {k: v for k, v in out.items() if k in needed}
@@ -156,8 +164,8 @@ def _sizes(given: Mapping[str, Any]) -> tuple[float, float, float, float] | None
     for k in keys:
         try:
             v = float(given[k])
-        except (TypeError, ValueError):
-            raise InputError(f"{k} must be a number, got {given[k]!r}") from None
+        except (TypeError, ValueError, OverflowError):  # 10**400 overflows
+            raise InputError(f"{k} must be a finite number, got {given[k]!r}") from None
         if not (v > 0 and math.isfinite(v)):
             raise InputError(f"{k} must be positive and finite, got {given[k]!r}")
         vals.append(v)
@@ -211,6 +219,8 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
     """
     from poissonkit.plugin import potential
 
+    if not isinstance(model, str):
+        raise InputError(f"model must be a potential name (str), got {model!r}")
     rvec = _vector("r", r)
     n1 = _axis("nu1", nu1)
     n2 = _axis("nu2", nu2)
@@ -232,7 +242,10 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
             raise InputError("model='auto' needs tol (relative force tolerance)")
         if sizes is None:
             raise InputError("model='auto' needs radius and length (or radius1/2, length1/2)")
-        model = cheapest_model(tol, dist, sizes[0], sizes[1], sizes[2], sizes[3])
+        try:
+            model = cheapest_model(tol, dist, sizes[0], sizes[1], sizes[2], sizes[3])
+        except OverflowError:  # sizes absurd against r (1e308 m magnets)
+            raise InputError(f"radius/length out of range against r = {dist:.3g} m") from None
     elif tol is not None:
         raise InputError("tol is only used with model='auto'")
     entry = potential(model)
@@ -246,7 +259,10 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
     if sizes is not None and model in ("dipole", "dumbbell", "dumbbell_octupole", "cylinder"):
         from poissonkit_magnets.fidelity import estimated_error
 
-        estimate = estimated_error(model, dist, sizes[0], sizes[1], sizes[2], sizes[3])
+        try:
+            estimate = estimated_error(model, dist, sizes[0], sizes[1], sizes[2], sizes[3])
+        except OverflowError:  # sizes absurd against r: no estimate, the result stands
+            estimate = None
     if "half_length1" in resolved and "half_length2" in resolved:
         l1, l2 = float(resolved["half_length1"]), float(resolved["half_length2"])
         gaps = [np.linalg.norm(rvec + s2 * l2 * n2 - s1 * l1 * n1)

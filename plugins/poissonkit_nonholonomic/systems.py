@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+import sympy as sp
+
 from poissonkit.plugin.contributions import Param, SystemEntry
 from poissonkit_nonholonomic.ball import (
     chaplygin_ball,
@@ -23,6 +25,10 @@ from poissonkit_nonholonomic.suslov import (
 from poissonkit_nonholonomic.veselova import veselova, veselova_gyrostat
 
 TAG = "nonholonomic"
+#: Tag of entries whose bracket is deliberately not Poisson: an almost-Poisson bracket kept
+#: because ``X = N P dH`` reproduces the equations of motion (``poissonkit verify`` then
+#: expects the Jacobi identity to fail).
+ALMOST_POISSON = "almost-poisson"
 
 
 def _f(name: str, default: float, doc: str, positive: bool = True) -> Param:
@@ -68,7 +74,7 @@ def entries() -> list[SystemEntry]:
                     build=veselova_gyrostat, tags=(TAG, "gyrostat")),
         SystemEntry("nh.routh_sphere", routh_sphere.__doc__.strip().splitlines()[0],
                     _ROUTH,
-                    build=routh_sphere, tags=(TAG, "rolling")),
+                    build=routh_sphere, tags=(TAG, "rolling", ALMOST_POISSON)),
         SystemEntry("nh.routh_sphere_rank4", routh_sphere_rank4.__doc__.strip().splitlines()[0],
                     _ROUTH + (Param("casimir", "str", "which linear integral is the Casimir: "
                            "'jellett' (P^(1)) or 'routh' (P^(2))", "jellett"),),
@@ -76,7 +82,8 @@ def entries() -> list[SystemEntry]:
         SystemEntry("nh.suslov", suslov.__doc__.strip().splitlines()[0],
                     (_f("I11", 2.0, "inertia I11 [kg m^2]"), _f("I22", 1.0, "inertia I22 [kg m^2]"),
                      Param("I13", "float", "inertia I13 [kg m^2]", 0.5),
-                     Param("I23", "float", "inertia I23 [kg m^2]", 1 / 3)),
+                     # exactly one third, as in the survey's example (a float would read 0.333...)
+                     Param("I23", "float", "inertia I23 [kg m^2]", sp.Rational(1, 3))),
                     build=suslov, tags=(TAG,)),
         SystemEntry("nh.suslov_rank2", suslov_rank2_bivector.__doc__.strip().splitlines()[0],
                     (_f("I11", 2.0, "inertia I11 [kg m^2]"), _f("I22", 1.0, "inertia I22 [kg m^2]"),
@@ -100,7 +107,8 @@ def entries() -> list[SystemEntry]:
                     build=p_gf_system, tags=(TAG, "class")),
         SystemEntry("nh.ball_on_paraboloid", ball_on_paraboloid.__doc__.strip().splitlines()[0],
                     (_f("mu", 0.25, "moment of inertia about the centre, I = mu E [kg m^2]"),)
-                    + _PARABOLOID, build=ball_on_paraboloid, tags=(TAG, "rolling")),
+                    + _PARABOLOID, build=ball_on_paraboloid,
+                    tags=(TAG, "rolling", ALMOST_POISSON)),
         SystemEntry("nh.ball_on_paraboloid_rank4",
                     ball_on_paraboloid_rank4.__doc__.strip().splitlines()[0],
                     (_f("mu", 0.25, "moment of inertia about the centre, I = mu E [kg m^2]; "

@@ -13,6 +13,11 @@ from poissonkit.errors import DimensionError, InputError, IntegrationError
 from poissonkit.numerics.solution import Solution
 
 
+#: Most fixed steps one call may ask for (10^7 steps of a small system take minutes; 10^10
+#: would take days, and a step of 1e-300 overflows the step counter).
+MAX_STEPS = 10**10
+
+
 def make_integrator(method: Any, options: Mapping[str, Any] | None = None) -> Any:
     """Integrator object for a registry name (validated ``options``) or pass one through."""
     if hasattr(method, "integrate"):
@@ -31,7 +36,7 @@ def _finite_number(value: Any, name: str) -> float:
     """``float(value)``; :class:`InputError` naming ``name`` unless a finite number."""
     try:
         v = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # 10**400 overflows
         raise InputError(f"{name} must be a finite number, got {value!r}") from None
     if not math.isfinite(v):
         raise InputError(f"{name} must be a finite number, got {value!r}")
@@ -122,6 +127,11 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
         step = _finite_number(step, "step")
         if not step > 0:
             raise InputError(f"step must be positive, got {step!r}")
+        if step > t_end - t0:  # scipy refuses a first step beyond the interval
+            raise InputError(f"step {step!r} is longer than t_end - t0 = {t_end - t0!r}")
+        if (t_end - t0) / step > MAX_STEPS:  # 1e-300: an overflow deep inside, or a hang
+            raise InputError(f"step {step!r} would take more than {MAX_STEPS:.0e} steps to "
+                             f"reach t_end = {t_end!r}")
     if tol is not None:
         tol = _finite_number(tol, "tol")
         if not tol > 0:

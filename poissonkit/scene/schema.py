@@ -23,6 +23,11 @@ PAIR_KEYS = ("bodies", "potential", "params")
 ASSEMBLY_KEYS = ("name", "params", "overrides")
 RUN_KEYS = ("method", "step", "tol", "duration", "save_every", "energy_tol", "contact")
 PLANNER_KEYS = ("tol", "models", "replan_every", "hysteresis", "cutoff")
+#: Most bodies a scene file may declare or assemble: setting a scene up checks every pair
+#: (overlaps, all-pairs interaction graphs), so ``n = 1000000`` must be refused, not built.
+MAX_BODIES = 1000
+#: Integer assembly parameters that count bodies (their product is the assembly's size).
+_COUNT_PARAMS = ("n", "nx", "ny", "nz")
 
 _FLOAT_FIELDS = ("mass", "alpha", "inertia", "moment", "magnetization", "radius", "length",
                  "half_length")
@@ -129,7 +134,10 @@ def _keys(table: Mapping[str, Any], allowed: tuple[str, ...], where: str) -> Non
 def _number(value: Any, where: str, *, positive: bool = False, nonnegative: bool = False) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise SceneError(f"{where}: must be a number, got {value!r}")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:  # an integer beyond float range (10**400)
+        raise SceneError(f"{where}: must be finite, got {value!r}") from None
     if not math.isfinite(x):
         raise SceneError(f"{where}: must be finite, got {value!r}")
     if positive and not x > 0:
@@ -290,6 +298,8 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
         raw = data["bodies"]
         if not isinstance(raw, list) or not raw:
             raise SceneError("bodies: must be a non-empty array of tables ([[bodies]])")
+        if len(raw) > MAX_BODIES:
+            raise SceneError(f"bodies: {len(raw)} bodies, at most {MAX_BODIES} in a scene file")
         bodies = tuple(_body(b, defaults, f"bodies[{k}]") for k, b in enumerate(raw))
         seen: dict[str, int] = {}
         for k, b in enumerate(bodies):
@@ -305,9 +315,17 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
         entry = _lookup("assembly", aname, "assembly.name")
         aparams = _params(table.get("params", {}), "assembly.params")
         try:
-            entry.resolve_params(aparams)
+            resolved = entry.resolve_params(aparams)
         except PoissonkitError as exc:
             raise SceneError(f"assembly.params: {exc}") from None
+        size = 1
+        for key in _COUNT_PARAMS:
+            value = resolved.get(key)
+            if isinstance(value, int) and not isinstance(value, bool) and value > 0:
+                size *= value
+                if size > MAX_BODIES:
+                    raise SceneError(f"assembly.params.{key}: the assembly would have more than "
+                                     f"{MAX_BODIES} bodies (got {key} = {value})")
         assembly = (aname, aparams)
         overrides = dict(_table(table.get("overrides", {}), "assembly.overrides"))
         _keys(overrides, BODY_KEYS, "assembly.overrides")
@@ -366,7 +384,11 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
     else:
         from poissonkit.scene.build import scene_graph
 
-        graph = scene_graph(scene)
+        try:
+            graph = scene_graph(scene)
+        except OverflowError:  # sizes such as body_radius = 1e300 overflow the volumes
+            raise SceneError("assembly.params: a size or moment is out of range (overflow)") \
+                from None
         check_overlaps([graph.nodes[n] for n in graph.nodes], "assembly")
     return scene
 
@@ -391,4 +413,5 @@ def check_overlaps(bodies, where: str = "bodies") -> None:
             if coincident or ((a.kind != "point" or c.kind != "point") and overlapping(a, c)):
                 raise SceneError(
                     f"{where}[{j}].r: body {bodies[j].get('name', j)!r} overlaps body "
-                    f"{bodies[i].get('name', i)!r} ({where}[{i}]) at t = 0")
+                    f"{bodies[i].get('name', i)!r} ({where}[{i}]) at t = 0 (their r, radius "
+                    "and length decide)")

@@ -66,8 +66,13 @@ def as_symbols(coords: Iterable[sp.Symbol | str]) -> tuple[sp.Symbol, ...]:
     if isinstance(coords, str):
         raise InputError(f"coordinates must be a sequence of names or symbols, got the string "
                          f"{coords!r}")
+    try:
+        items = list(coords)
+    except TypeError:  # None, a number, ...
+        raise InputError(f"coordinates must be a sequence of names or symbols, got "
+                         f"{coords!r}") from None
     out = []
-    for c in coords:
+    for c in items:
         if isinstance(c, str):
             out.append(sp.Symbol(c, real=True))
         elif isinstance(c, sp.Symbol):

@@ -81,14 +81,17 @@ class Bivector:
         _reject_strings(self.matrix)
         try:
             mat = sp.ImmutableMatrix(self.matrix)
-        except (TypeError, ValueError, sp.SympifyError) as exc:
-            raise InputError(f"cannot read bivector matrix: {exc}") from None
+        except Exception as exc:  # noqa: BLE001 -- sympy raises many types on ragged/odd input
+            raise InputError(f"cannot read bivector matrix: {type(exc).__name__}: {exc}") \
+                from None
         n = len(coords)
         if mat.shape != (n, n):
             raise DimensionError(f"bivector matrix has shape {mat.shape}, expected ({n}, {n}) "
                                  f"for coordinates {tuple(map(str, coords))}")
         # non-finite entries first: NaN != -NaN would otherwise read as "not antisymmetric"
         for (i, j), e in zip(((i, j) for i in range(n) for j in range(n)), mat):
+            if not isinstance(e, sp.Expr):  # a list inside an object array, a boolean, ...
+                raise InputError(f"bivector matrix entry ({i},{j}) is not an expression: {e!r}")
             if e.has(sp.nan, sp.oo, -sp.oo, sp.zoo):
                 raise InputError(f"bivector matrix entry ({i},{j}) is not finite: {e}")
         for i in range(n):
@@ -119,8 +122,9 @@ class Bivector:
         _reject_strings(matrix)
         try:
             mat = sp.ImmutableMatrix(matrix)
-        except (TypeError, ValueError, sp.SympifyError) as exc:
-            raise InputError(f"cannot read bivector matrix: {exc}") from None
+        except Exception as exc:  # noqa: BLE001 -- sympy raises many types on ragged/odd input
+            raise InputError(f"cannot read bivector matrix: {type(exc).__name__}: {exc}") \
+                from None
         return cls(tuple(_as_symbols(coords)), mat)
 
     @classmethod

@@ -39,11 +39,32 @@ _ARITH = {ast.Add: lambda a, b: a + b, ast.Sub: lambda a, b: a - b,
           ast.Mult: lambda a, b: a * b, ast.Div: lambda a, b: a / b}
 
 
+#: Calls that turn a constant into a constant (``Integer(10**999)**1000`` is as large as
+#: ``(10**999)**1000``): the size checks look through them.
+_NUMERIC_CALLS = ("Integer", "Rational", "Float", "Abs", "abs")
+
+
+def _numeric_call_args(node: ast.AST) -> list[ast.AST] | None:
+    """The arguments of a call of a numeric constructor (``None`` for anything else)."""
+    if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+            and node.func.id in _NUMERIC_CALLS and node.args and not node.keywords):
+        return list(node.args)
+    return None
+
+
 def _exponent_value(node: ast.AST, text: str) -> float | None:
     """Value of a constant exponent (float arithmetic, no powers), or ``None`` if not constant.
 
     Only evaluated to bound its size: the expression itself is built by sympy from the text.
     """
+    args = _numeric_call_args(node)
+    if args is not None:
+        vals = [_exponent_value(a, text) for a in args]
+        if any(v is None for v in vals):
+            return None
+        if len(vals) == 2:  # Rational(p, q): only its size matters
+            return math.inf if vals[1] == 0 else vals[0] / vals[1]
+        return abs(vals[0]) if node.func.id in ("Abs", "abs") else vals[0]
     if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
         try:
             return float(node.value)
@@ -76,6 +97,10 @@ def _digits(node: ast.AST) -> float | None:
         return float(len(str(v))) if isinstance(v, int) else max(0.0, math.log10(v + 1.0))
     if isinstance(node, ast.UnaryOp):
         return _digits(node.operand)
+    args = _numeric_call_args(node)
+    if args is not None:
+        sizes = [_digits(a) for a in args]
+        return None if any(d is None for d in sizes) else sum(sizes) + 1.0
     if isinstance(node, ast.BinOp):
         a, b = _digits(node.left), _digits(node.right)
         if a is None or b is None:
@@ -120,7 +145,8 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
         On a syntax error or any name, attribute, subscript or construct not allowed; on text
         longer than :data:`MAX_LENGTH`; on a constant exponent above :data:`MAX_EXPONENT` in
         absolute value, a tower of constant powers (``9**9**9``) or a constant with more than
-        :data:`MAX_DIGITS` digits (these would make sympy compute for hours).
+        :data:`MAX_DIGITS` digits (these would make sympy compute for hours); on an expression
+        that evaluates to a non-finite value (``1/0``, ``0/0``, ``log(0)``).
     """
     if not isinstance(text, str):
         raise ParseError(f"expected a string expression, got {type(text).__name__}")
@@ -158,7 +184,14 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
     except RecursionError:
         raise ParseError("expression is nested too deeply") from None
     try:
-        return parse_expr(src, local_dict=dict(local), global_dict=dict(ALLOWED_FUNCTIONS),
+        expr = parse_expr(src, local_dict=dict(local), global_dict=dict(ALLOWED_FUNCTIONS),
                           transformations=standard_transformations, evaluate=True)
     except Exception as exc:  # sympy raises many types; report them uniformly
         raise ParseError(f"cannot parse {text!r}: {exc}") from None
+    # "1/0", "0/0", "log(0)" evaluate to zoo / nan: refuse them here rather than let a
+    # non-finite value reach a bracket or a Hamiltonian
+    if not isinstance(expr, sp.Expr):  # "cos" alone is a function class; "True" a boolean
+        raise ParseError(f"{text!r} is not an expression (got {type(expr).__name__})")
+    if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+        raise ParseError(f"{text!r} is not finite (evaluates to {expr})")
+    return expr

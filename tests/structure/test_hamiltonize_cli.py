@@ -31,4 +31,4 @@ def test_hamiltonize_rejects_a_bare_bivector(capsys, tmp_path):
     path.write_text(json.dumps({"dim": 3, "bivector": {"1,2": "x3", "1,3": "-x2", "2,3": "x1"}}))
     code = cli.main(["verify", str(path), "--hamiltonize"])
     err = capsys.readouterr().err
-    assert code == 1 and "error" in err and "HamiltonianSystem" in err
+    assert code == 2 and "error" in err and "HamiltonianSystem" in err

@@ -31,8 +31,13 @@ def test_named_structure_report(capsys):
     assert main(["verify", "two_tops"]) == 0
     out = capsys.readouterr().out
     assert "Jacobi identity: OK" in out
-    assert "{top1.m_x, top1.m_y} = top1.m_z" in out
-    assert "{orbit.r_x, orbit.p_x} = 1" in out
+    # the brackets table: a, b, {a, b}
+    rows = {tuple(line.split()[:2]): " ".join(line.split()[2:]) for line in out.splitlines()
+            if line.startswith("    ")}
+    assert rows[("top1.m_x", "top1.m_y")] == "top1.m_z"
+    assert rows[("orbit.r_x", "orbit.p_x")] == "1"
+    # verdicts come before the table
+    assert out.index("Rank (generic)") < out.index("Brackets")
     assert "Rank (generic): 14" in out
     for cas in ("top1.nu_x**2 + top1.nu_y**2 + top1.nu_z**2",
                 "top2.m_x*top2.nu_x + top2.m_y*top2.nu_y + top2.m_z*top2.nu_z"):
@@ -89,10 +94,11 @@ def test_coords_and_params_in_json(tmp_path, capsys):
     data = {"coords": ["a", "b", "c"], "params": ["k"],
             "bivector": {"1,2": "k*c", "1,3": "-k*b", "2,3": "k*a"}}
     assert main(["verify", write(tmp_path, data), "--casimir-degree", "0"]) == 0
-    assert "{a, b} = c*k" in capsys.readouterr().out
-    assert main(["verify", str(tmp_path / "missing.json")]) == 1
+    assert "    a  b  c*k" in capsys.readouterr().out
+    # unreadable input is an error (exit 2), not a "not Poisson" verdict (exit 1)
+    assert main(["verify", str(tmp_path / "missing.json")]) == 2
     (tmp_path / "broken.json").write_text("{not json")
-    assert main(["verify", str(tmp_path / "broken.json")]) == 1
+    assert main(["verify", str(tmp_path / "broken.json")]) == 2
 
 
 def test_list_names_every_structure(capsys):
@@ -108,9 +114,9 @@ def test_list_names_every_structure(capsys):
 
 
 def test_unknown_name_and_missing_target(capsys):
-    assert main(["verify", "no_such_structure"]) == 1
+    assert main(["verify", "no_such_structure"]) == 2
     assert "available" in capsys.readouterr().err
-    assert main(["verify"]) == 1
+    assert main(["verify"]) == 2
 
 
 def test_deformed_bracket_by_name(capsys):
@@ -126,7 +132,7 @@ def test_system_report_checks_claims(capsys):
     H = (L[0] ** 2 + L[1] ** 2 / 2 + L[2] ** 2 / 3) / 2 + gamma[2]
     good = HamiltonianSystem(P, H, casimirs={"(gamma,gamma)": sum(g * g for g in gamma)},
                              integrals={"H": H}, measure=sp.Integer(1), name="top")
-    rep = verify(good, "top", casimir_degree=0)
+    rep = verify(good, "top", casimir_degree=0, equations=True)
     assert rep["ok"] and all(c["holds"] for c in rep["system"]["checks"])
     assert sp.sympify(rep["system"]["equations_of_motion"]["gamma_xdot"]) != 0
     bad = HamiltonianSystem(P, H, casimirs={"L^2": sum(c * c for c in L)}, name="bad")

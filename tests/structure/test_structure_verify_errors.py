@@ -49,7 +49,9 @@ def test_crashing_check_gives_nonzero_exit(monkeypatch, capsys):
         raise ZeroDivisionError("oops")
 
     monkeypatch.setattr(casimirs, "is_casimir", boom)
-    assert main(["verify", "two_tops_hamiltonian", "--casimir-degree", "0"]) == 1
+    # a check that raised is an error (exit 2), distinct from a claim that fails (exit 1)
+    assert main(["verify", "two_tops_hamiltonian", "--casimir-degree", "0"]) == \
+        verify_cmd.EXIT_ERROR
     assert "ERROR" in capsys.readouterr().out
 
 
