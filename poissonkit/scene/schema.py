@@ -386,9 +386,9 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
 
         try:
             graph = scene_graph(scene)
-        except OverflowError:  # sizes such as body_radius = 1e300 overflow the volumes
-            raise SceneError("assembly.params: a size or moment is out of range (overflow)") \
-                from None
+        except (OverflowError, ZeroDivisionError):  # body_radius = 1e300 or 1e-320: the
+            # volume overflows or underflows to zero
+            raise SceneError("assembly.params: a size or moment is out of range") from None
         check_overlaps([graph.nodes[n] for n in graph.nodes], "assembly")
     return scene
 
