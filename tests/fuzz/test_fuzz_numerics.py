@@ -170,3 +170,15 @@ def test_pair_interaction_slow(case):
 @given(case=_solve_case())
 def test_solve_slow(rigid_body, case):
     _solve(rigid_body, case)
+
+
+@pytest.mark.parametrize("method", ["rk45", "dop853", "radau", "lsoda"])
+@pytest.mark.parametrize("max_step", [5e-324, 1e-12])
+def test_a_max_step_beyond_reach_is_refused_not_run(rigid_body, method, max_step):
+    """Found by the slow fuzz run: a tiny scipy ``max_step`` hung (1e-12: 1e12 steps) or failed
+    deep inside scipy (Radau, subnormal: a bare ValueError)."""
+    from poissonkit.errors import InputError
+
+    with pytest.raises(InputError, match="max_step"):
+        solve(rigid_body, [1.0, 0.5, 0.2], 1.0, method, tol=1e-6,
+              options={"max_step": max_step})

@@ -46,8 +46,14 @@ class ScipyIVP:
                   tol: float | None, events=(), progress: bool = False, save_every: int = 1,
                   t0: float = 0.0) -> RawResult:
         """Integrate with ``rtol = tol`` (default 1e-9) and ``atol`` (default ``tol``)."""
+        from poissonkit.numerics.solver import MAX_STEPS
+
         rtol = 1e-9 if tol is None else float(tol)
         atol = self.atol or rtol
+        if self.max_step > 0 and (t_end - t0) / self.max_step > MAX_STEPS:
+            # scipy would step for days (or fail deep inside on a subnormal max_step)
+            raise InputError(f"{self.name}: max_step {self.max_step!r} would take more than "
+                             f"{MAX_STEPS:.0e} steps to reach t_end = {t_end!r}")
         kernels = getattr(system, "kernels", None)
         counter = [0]
         if kernels is not None:
