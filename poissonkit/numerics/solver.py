@@ -123,6 +123,8 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
         raise InputError(f"t_end must be > t0 = {t0}, got {t_end!r}")
     if not isinstance(save_every, (int, np.integer)) or save_every < 1:
         raise InputError(f"save_every must be a positive int, got {save_every!r}")
+    if save_every > MAX_STEPS:  # compiled loops count in int64: 2**63 overflows inside
+        raise InputError(f"save_every must be at most {MAX_STEPS:.0e}, got {save_every!r}")
     if step is not None:
         step = _finite_number(step, "step")
         if not step > 0:

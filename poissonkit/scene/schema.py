@@ -198,7 +198,7 @@ def _body(raw: Any, defaults: Mapping[str, Any], where: str) -> dict[str, Any]:
     if "name" in merged:
         out["name"] = _string(merged["name"], f"{where}.name")
     if "mass" not in merged:
-        raise SceneError(f"{where}.mass: missing (kg)")
+        raise SceneError(f"{where}.mass: missing (kg; give it on the body or in [defaults])")
     for key in _FLOAT_FIELDS:
         if key in merged:
             # moment/magnetization = 0 marks a non-magnet (overriding [defaults])

@@ -182,3 +182,11 @@ def test_a_max_step_beyond_reach_is_refused_not_run(rigid_body, method, max_step
     with pytest.raises(InputError, match="max_step"):
         solve(rigid_body, [1.0, 0.5, 0.2], 1.0, method, tol=1e-6,
               options={"max_step": max_step})
+
+
+def test_a_save_every_beyond_int64_is_refused(rigid_body):
+    """Found by the slow fuzz run: ``save_every = 2**63`` overflowed inside the compiled loop."""
+    from poissonkit.errors import InputError
+
+    with pytest.raises(InputError, match="save_every"):
+        solve(rigid_body, [0.0, 0.0, 0.0], 1.0, "midpoint", step=0.0625, save_every=2 ** 63)
