@@ -119,8 +119,11 @@ def stability_map(ds: Any, path: str | Path, *, x: str | None = None, y: str | N
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
+    from poissonkit.report.atomic import atomic_path
+
     out = Path(path)
-    fig.savefig(out, dpi=dpi)
+    with atomic_path(out) as tmp:  # a reader never sees half a PNG
+        fig.savefig(tmp, dpi=dpi)
     plt.close(fig)
     return out
 
