@@ -1,0 +1,173 @@
+"""Cheaper high-order kernels: accuracy per force evaluation on the seed-000 scenes.
+
+Scenes: the seed orbit and the close encounter of ``bench_seed_orbit.py`` (its builders are
+imported, not copied). Every candidate runs in the same compiled splitting loop over the same
+exact sub-flows; only the drift–kick table changes. For each one the sweep over fixed steps
+gives the wall time and the number of force evaluations (kicks, less the ones merged by "first
+same as last") needed to reach a final-state error of 1e-7 and 1e-10, interpolated log–log
+(:func:`poissonkit.numerics.workprecision.time_to_error`). The ratio column is the time of
+``splitting8`` (the default high-order method, measured in the same process) over the
+candidate's.
+
+Candidates (``*`` = registered integrator):
+
+* ``splitting4*``, ``splitting6*``, ``splitting8*`` — Suzuki / Kahan–Li compositions of Strang
+  steps (the baselines);
+* ``splitting4_bm*``, ``splitting6_bm*`` — Blanes & Moan (2002) SRKN_6^b / SRKN_11^b,
+  optimised Runge–Kutta–Nyström tables (valid because {V,{V,{V,T}}} = 0 here);
+* the rest (not registered): Blanes & Moan PRK_6 (order 4, general splitting), SRKN_14^a
+  (order 6, RKN, drift-first), McLachlan (1995) SB3A 5-stage (order 4, RKN), Omelyan, Mryglod &
+  Folk (2002) PEFRL (order 4, general), Okunbor & Skeel (1994) method 13 (order 6, RKN).
+
+Run::
+
+    python benchmarks/bench_kernels.py            # both scenes
+    python benchmarks/bench_kernels.py --quick    # fewer steps per method
+    python benchmarks/bench_kernels.py --scene 1  # close encounter only
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+
+import numpy as np
+from bench_seed_orbit import Solvers, scenes  # type: ignore[import-not-found]
+from poissonkit_magnets import seed000
+
+from poissonkit.numerics import workprecision as wp
+from poissonkit.numerics.integrators.splitting import (
+    Scheme,
+    Splitting,
+    symmetric_kick_first,
+)
+from poissonkit.numerics.solver import make_integrator, solve
+
+TARGETS = (1e-7, 1e-10)
+REGISTERED = ("splitting4", "splitting4_bm", "splitting6", "splitting6_bm", "splitting8")
+BASELINE = "splitting8"
+
+
+def _scheme(name: str, order: int, a, b, reference: str, nystrom: bool) -> Scheme:
+    return Scheme(name, order, tuple(float(x) for x in a), tuple(float(x) for x in b),
+                  reference, nystrom)
+
+
+_BM = "S. Blanes, P. C. Moan, J. Comput. Appl. Math. 142 (2002) 313, Table 2/3"
+_PRK6 = symmetric_kick_first((0.209515106613362, -0.143851773179818),
+                             (0.0792036964311957, 0.353172906049774, -0.0420650803577195))
+_A14 = (0.0378593198406116, 0.102635633102435, -0.0258678882665587, 0.314241403071447,
+        -0.130144459517415, 0.106417700369543, -0.00879424312851058)
+_B14 = (0.09171915262446165, 0.183983170005006, -0.05653436583288827, 0.004914688774712854,
+        0.143761127168358, 0.328567693746804)
+_A14c, _B14c = 1.0 - 2.0 * math.fsum(_A14), 0.5 - math.fsum(_B14)
+_XI, _LAM, _CHI = 0.1786178958448091, -0.2123418310626054, -0.06626458266981849
+_SB3A = (0.4051886183952522772, -0.2871440408165240890, 0.3819554224212718118)
+_OS13 = (-1.0130879789171747298, 1.1874295737325427070, -0.018335852096460590340,
+         0.34399425728109261313)
+_OS13b = (0.00016600692650009894, -0.37962421426377360608, 0.68913741185181063674)
+
+#: Tables evaluated here but not registered (drift-first unless a_0 = 0).
+CANDIDATES: dict[str, Scheme] = {s.name: s for s in (
+    _scheme("prk6-bm (4)", 4, _PRK6.a, _PRK6.b, _BM + ", PRK_6", False),
+    _scheme("srkn14a-bm (6)", 6, (*_A14, _A14c, *reversed(_A14)),
+            (*_B14, _B14c, _B14c, *reversed(_B14)), _BM + ", SRKN_14^a", True),
+    _scheme("sb3a5-mclachlan (4)", 4, (*_SB3A, _SB3A[2], _SB3A[1], _SB3A[0]),
+            (-3 / 73, 17 / 59, 1 - 2 * (17 / 59 - 3 / 73), 17 / 59, -3 / 73),
+            "R. I. McLachlan, SIAM J. Sci. Comput. 16 (1995) 151, SB3A (m = 5)", True),
+    _scheme("pefrl-omf (4)", 4, (_XI, _CHI, 1 - 2 * (_CHI + _XI), _CHI, _XI),
+            ((1 - 2 * _LAM) / 2, _LAM, _LAM, (1 - 2 * _LAM) / 2),
+            "I. P. Omelyan, I. M. Mryglod, R. Folk, Comput. Phys. Commun. 146 (2002) 188, "
+            "PEFRL", False),
+    _scheme("os13-okunbor-skeel (6)", 6, (*_OS13, *reversed(_OS13)),
+            (*_OS13b, 1 - 2 * math.fsum(_OS13b), *reversed(_OS13b)),
+            "D. I. Okunbor, R. D. Skeel, J. Comput. Appl. Math. 51 (1994) 375, method 13", True),
+)}
+
+
+class KernelSolvers(Solvers):
+    """``bench_seed_orbit.Solvers`` plus the unregistered tables of :data:`CANDIDATES`."""
+
+    def __call__(self, system, y0, t_end, *, method, step=None, tol=None, progress=False,
+                 save_every=1):
+        if method in CANDIDATES:
+            return solve(system, y0, t_end, method=Splitting(scheme=CANDIDATES[method]),
+                         step=step, progress=progress, save_every=save_every)
+        return super().__call__(system, y0, t_end, method=method, step=step, tol=tol,
+                                progress=progress, save_every=save_every)
+
+
+def evaluations(method: str) -> tuple[int, int]:
+    """(order, force evaluations per step) of a method."""
+    integ = (Splitting(scheme=CANDIDATES[method]) if method in CANDIDATES
+             else make_integrator(method, {}))
+    return integ.order, integ.evaluations
+
+
+def steps_for(order: int, quick: bool) -> list[float]:
+    """Fixed steps (internal time) spanning errors from ~1e-5 to below 1e-11 on both scenes."""
+    lo, hi = {4: (0.004, 0.1), 6: (0.01, 0.2), 8: (0.015, 0.25)}[order]
+    return [float(h) for h in np.geomspace(hi, lo, 5 if quick else 8)]
+
+
+def run_scene(name, spec, quick: bool) -> dict[str, dict[str, float | None]]:
+    solver = KernelSolvers(seed000.nondimensional_parameters())
+    t_end = float(spec.t_end)
+    # heyoka at tol 1e-16 agrees with its own quadruple-precision run to ~1e-12 on both scenes;
+    # the splittings at tiny steps do not make a 1e-10 reference: their round-off, amplified
+    # ~1e5x by these orbits, scatters their final states by 1e-11 (seed orbit) to 4e-10
+    # (close encounter) whatever the step
+    prim = ("heyoka", "tol", 1e-16)
+    ref = wp.reference(spec.system, spec.y0, t_end, primary=prim,
+                       secondary=("splitting8", "step", 0.008), solver=solver)
+    print(f"\n== {name}: t_end = {t_end:.4g}")
+    print(f"reference heyoka tol 1e-16: splitting8 h=0.008 agrees to {ref.agreement:.1e}")
+    methods = list(REGISTERED) + list(CANDIDATES)
+    info = {m: evaluations(m) for m in methods}
+    settings = {m: ("step", steps_for(info[m][0], quick)) for m in methods}
+
+    def show(p):
+        print(f"  {p.method:24s} h={p.setting:<8.3g} steps={p.steps:<7d} "
+              f"wall={p.wall_time:9.5f} s err={p.final_error:9.2e}"
+              + (f" [{p.note}]" if p.note else ""), flush=True)
+
+    pts = wp.sweep(spec.system, spec.y0, t_end, ref, settings, solver=solver, repeats=3,
+                   time_budget=10.0, on_point=show)
+    # the same interpolation with "wall time" replaced by the force evaluations of the run
+    evals = [dataclasses.replace(p, wall_time=float(p.steps * info[p.method][1])) for p in pts]
+    out: dict[str, dict[str, float | None]] = {}
+    cols = []
+    for target in TARGETS:
+        tt, ee = wp.time_to_error(pts, target), wp.time_to_error(evals, target)
+        cols.append((target, tt, ee))
+    head = "| method | order | evals/step |" + "".join(
+        f" time to {t:.0e} [ms] | evals to {t:.0e} | {BASELINE} time / time |"
+        for t in TARGETS)
+    print("\n" + head)
+    print("|---" * (3 + 3 * len(TARGETS)) + "|")
+    for m in methods:
+        cells = []
+        for target, tt, ee in cols:
+            t, e, b = tt.get(m), ee.get(m), tt.get(BASELINE)
+            cells += [f"{1e3 * t:.3g}" if t else "—", f"{e:.3g}" if e else "—",
+                      f"{b / t:.2f}" if (t and b) else "—"]
+            out.setdefault(m, {})[f"time {target:.0e}"] = t
+            out[m][f"evals {target:.0e}"] = e
+        star = "*" if m in REGISTERED else ""
+        print(f"| {m}{star} | {info[m][0]} | {info[m][1]} | " + " | ".join(cells) + " |")
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--scene", type=int, default=None, help="only scene 0 or 1")
+    args = ap.parse_args()
+    for k, (name, spec, _h, _ms) in enumerate(scenes(args.quick)):
+        if args.scene is None or args.scene == k:
+            run_scene(name, spec, args.quick)
+
+
+if __name__ == "__main__":
+    main()
