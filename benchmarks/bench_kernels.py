@@ -13,11 +13,15 @@ Candidates (``*`` = registered integrator):
 
 * ``splitting4*``, ``splitting6*``, ``splitting8*`` — Suzuki / Kahan–Li compositions of Strang
   steps (the baselines);
-* ``splitting4_bm*``, ``splitting6_bm*`` — Blanes & Moan (2002) SRKN_6^b / SRKN_11^b,
+* ``splitting4_bm*``, ``splitting6_bm*`` — Blanes & Moan (2002) SRKN_6^b / SRKN_14^a,
   optimised Runge–Kutta–Nyström tables (valid because {V,{V,{V,T}}} = 0 here);
-* the rest (not registered): Blanes & Moan PRK_6 (order 4, general splitting), SRKN_14^a
-  (order 6, RKN, drift-first), McLachlan (1995) SB3A 5-stage (order 4, RKN), Omelyan, Mryglod &
-  Folk (2002) PEFRL (order 4, general), Okunbor & Skeel (1994) method 13 (order 6, RKN).
+* the rest (not registered): Blanes & Moan PRK_6 (order 4, general splitting), SRKN_11^b
+  (order 6, RKN, kick first), McLachlan (1995) SB3A 5-stage (order 4, RKN), Omelyan, Mryglod &
+  Folk (2002) PEFRL (order 4, general), Okunbor & Skeel (1994) method 13 (order 6, RKN);
+* force-gradient kernels (not registered): Chin's (1997) 4A and 4B with the Hessian-free
+  displaced-force kick (:class:`ForceGradient`) — fewest evaluations per step, but the
+  displaced kick is not an exact Poisson map, so Casimirs and angular momentum are only kept
+  to the truncation error (printed in the invariants table).
 
 Run::
 
@@ -54,14 +58,14 @@ def _scheme(name: str, order: int, a, b, reference: str, nystrom: bool) -> Schem
                   reference, nystrom)
 
 
-_BM = "S. Blanes, P. C. Moan, J. Comput. Appl. Math. 142 (2002) 313, Table 2/3"
+_BM = "S. Blanes, P. C. Moan, J. Comput. Appl. Math. 142 (2002) 313"
 _PRK6 = symmetric_kick_first((0.209515106613362, -0.143851773179818),
                              (0.0792036964311957, 0.353172906049774, -0.0420650803577195))
-_A14 = (0.0378593198406116, 0.102635633102435, -0.0258678882665587, 0.314241403071447,
-        -0.130144459517415, 0.106417700369543, -0.00879424312851058)
-_B14 = (0.09171915262446165, 0.183983170005006, -0.05653436583288827, 0.004914688774712854,
-        0.143761127168358, 0.328567693746804)
-_A14c, _B14c = 1.0 - 2.0 * math.fsum(_A14), 0.5 - math.fsum(_B14)
+_SRKN11B = symmetric_kick_first(
+    (0.123229775946271, 0.290553797799558, -0.127049212625417, -0.246331761062075,
+     0.357208872795928),
+    (0.0414649985182624, 0.198128671918067, -0.0400061921041533, 0.0752539843015807,
+     -0.0115113874206879))
 _XI, _LAM, _CHI = 0.1786178958448091, -0.2123418310626054, -0.06626458266981849
 _SB3A = (0.4051886183952522772, -0.2871440408165240890, 0.3819554224212718118)
 _OS13 = (-1.0130879789171747298, 1.1874295737325427070, -0.018335852096460590340,
@@ -71,8 +75,7 @@ _OS13b = (0.00016600692650009894, -0.37962421426377360608, 0.6891374118518106367
 #: Tables evaluated here but not registered (drift-first unless a_0 = 0).
 CANDIDATES: dict[str, Scheme] = {s.name: s for s in (
     _scheme("prk6-bm (4)", 4, _PRK6.a, _PRK6.b, _BM + ", PRK_6", False),
-    _scheme("srkn14a-bm (6)", 6, (*_A14, _A14c, *reversed(_A14)),
-            (*_B14, _B14c, _B14c, *reversed(_B14)), _BM + ", SRKN_14^a", True),
+    _scheme("srkn11b-bm (6)", 6, _SRKN11B.a, _SRKN11B.b, _BM + ", SRKN_11^b", True),
     _scheme("sb3a5-mclachlan (4)", 4, (*_SB3A, _SB3A[2], _SB3A[1], _SB3A[0]),
             (-3 / 73, 17 / 59, 1 - 2 * (17 / 59 - 3 / 73), 17 / 59, -3 / 73),
             "R. I. McLachlan, SIAM J. Sci. Comput. 16 (1995) 151, SB3A (m = 5)", True),
@@ -86,20 +89,136 @@ CANDIDATES: dict[str, Scheme] = {s.name: s for s in (
 )}
 
 
+# ------------------------------------------------------------------ force-gradient kernels
+@dataclasses.dataclass(frozen=True)
+class ForceGradient:
+    """A force-gradient table: drifts ``a``, kicks ``b`` of the modified potentials
+    ``b_k V + c_k h² {V,{V,T}}`` (``len(a) = len(b) + 1``).
+
+    The gradient of ``{V,{V,T}} = Σ|∂_r V|²/M + Σ α|ν × ∂_ν V|²`` is not computed (that needs
+    the Hessian of V): the kick uses the force at a configuration displaced by the exact drift
+    for time ``δ = 2 c h²/b`` with the momenta replaced by the forces and torques (the
+    Hessian-free approximation of Yin & Mawhinney, PoS LATTICE2011 051, which is exact to
+    O(h⁵) per step). That costs two force evaluations per modified kick and is *not* an exact
+    Poisson map: (ν, m) and the total angular momentum are kept only to O(h⁵) per step,
+    because the torques are evaluated at the displaced axes and positions.
+    """
+
+    name: str
+    order: int
+    a: tuple[float, ...]
+    b: tuple[float, ...]
+    c: tuple[float, ...]
+    reference: str
+
+    @property
+    def evaluations(self) -> int:
+        merged = 1 if (self.a[0] == 0 and self.a[-1] == 0 and self.c[0] == self.c[-1] == 0) else 0
+        return sum(2 if ck else 1 for ck in self.c) - merged
+
+
+_S3 = math.sqrt(3.0)
+FORCE_GRADIENT: dict[str, ForceGradient] = {f.name: f for f in (
+    # S. A. Chin, Phys. Lett. A 226 (1997) 344, algorithm 4A: all coefficients positive
+    ForceGradient("chin-4a-fg (4)", 4, (0.0, 0.5, 0.5, 0.0), (1 / 6, 2 / 3, 1 / 6),
+                  (0.0, 1 / 72, 0.0), "S. A. Chin, Phys. Lett. A 226 (1997) 344, 4A"),
+    # same paper, algorithm 4B: drifts t, 1 - 2t, t with t = (1 - 1/sqrt 3)/2, two modified
+    # half kicks V/2 + (2 - sqrt 3)/48 h² {V,{V,T}} (checked by its order: other factors give 2)
+    ForceGradient("chin-4b-fg (4)", 4, ((1 - 1 / _S3) / 2, 1 / _S3, (1 - 1 / _S3) / 2),
+                  (0.5, 0.5), ((2 - _S3) / 48, (2 - _S3) / 48),
+                  "S. A. Chin, Phys. Lett. A 226 (1997) 344, 4B"),
+)}
+
+#: state components that the kick changes (momenta p, m) in the two-body layout
+_MOMENTA = np.array([k for k, n in enumerate(__import__(
+    "poissonkit.numerics.twobody", fromlist=["LAYOUT"]).LAYOUT)
+    if n.startswith(("p_", "m1_", "m2_"))], dtype=np.int64)
+_fg_runners: dict[int, object] = {}
+
+
+def _fg_runner(kernels):
+    """Compiled fixed-step loop of a :class:`ForceGradient` table (final state only)."""
+    hit = _fg_runners.get(id(kernels.kick))
+    if hit is not None:
+        return hit
+    from poissonkit.numerics.jit import jit
+
+    drift, kick = kernels.drift, kernels.kick
+
+    @jit
+    def fg_kick(y, bh, delta, data, work, tmp, idx):
+        for i in range(y.shape[0]):
+            tmp[i] = y[i]
+        for i in idx:
+            tmp[i] = 0.0
+        kick(tmp, 1.0, data, work)  # momenta := generalized forces (F, torques)
+        drift(tmp, delta, data)  # exact drift along them: the displaced configuration
+        for i in idx:
+            tmp[i] = 0.0
+        kick(tmp, bh, data, work)
+        for i in idx:
+            y[i] += tmp[i]
+
+    @jit
+    def run(y, h, n, a, b, c, merge, data, work, tmp, idx):
+        s = b.shape[0]
+        for step in range(n):
+            for k in range(s):
+                if a[k] != 0.0:
+                    drift(y, a[k] * h, data)
+                if c[k] != 0.0:
+                    fg_kick(y, b[k] * h, 2.0 * c[k] * h * h / b[k], data, work, tmp, idx)
+                elif merge and k == 0 and step > 0:
+                    pass  # applied with the previous step's last kick
+                elif merge and k == s - 1 and step < n - 1:
+                    kick(y, (b[s - 1] + b[0]) * h, data, work)
+                else:
+                    kick(y, b[k] * h, data, work)
+            if a[s] != 0.0:
+                drift(y, a[s] * h, data)
+
+    _fg_runners[id(kernels.kick)] = run
+    return run
+
+
+def solve_force_gradient(system, y0, t_end: float, fg: ForceGradient, step: float):
+    """Final state of a force-gradient run (``solve``-like result with ``wall_time``)."""
+    import time
+    from types import SimpleNamespace
+
+    run = _fg_runner(system.kernels)
+    n = max(1, math.ceil(t_end / step - 1e-12))
+    h = t_end / n
+    y = np.array(y0, dtype=float)
+    merge = fg.a[0] == 0 and fg.a[-1] == 0 and fg.c[0] == 0 and fg.c[-1] == 0
+    args = (np.array(fg.a), np.array(fg.b), np.array(fg.c), merge, system.data, system.work(),
+            np.empty_like(y), _MOMENTA)
+    w = time.perf_counter()
+    run(y, h, n, *args)
+    wall = time.perf_counter() - w
+    return SimpleNamespace(t=np.array([0.0, t_end]), y=np.vstack([y0, y]), steps=n,
+                           wall_time=wall, method=fg.name)
+
+
 class KernelSolvers(Solvers):
-    """``bench_seed_orbit.Solvers`` plus the unregistered tables of :data:`CANDIDATES`."""
+    """``bench_seed_orbit.Solvers`` plus the unregistered tables of :data:`CANDIDATES` and
+    :data:`FORCE_GRADIENT`."""
 
     def __call__(self, system, y0, t_end, *, method, step=None, tol=None, progress=False,
                  save_every=1):
         if method in CANDIDATES:
             return solve(system, y0, t_end, method=Splitting(scheme=CANDIDATES[method]),
                          step=step, progress=progress, save_every=save_every)
+        if method in FORCE_GRADIENT:
+            return solve_force_gradient(system, y0, t_end, FORCE_GRADIENT[method], step)
         return super().__call__(system, y0, t_end, method=method, step=step, tol=tol,
                                 progress=progress, save_every=save_every)
 
 
 def evaluations(method: str) -> tuple[int, int]:
     """(order, force evaluations per step) of a method."""
+    if method in FORCE_GRADIENT:
+        return FORCE_GRADIENT[method].order, FORCE_GRADIENT[method].evaluations
     integ = (Splitting(scheme=CANDIDATES[method]) if method in CANDIDATES
              else make_integrator(method, {}))
     return integ.order, integ.evaluations
@@ -123,7 +242,7 @@ def run_scene(name, spec, quick: bool) -> dict[str, dict[str, float | None]]:
                        secondary=("splitting8", "step", 0.008), solver=solver)
     print(f"\n== {name}: t_end = {t_end:.4g}")
     print(f"reference heyoka tol 1e-16: splitting8 h=0.008 agrees to {ref.agreement:.1e}")
-    methods = list(REGISTERED) + list(CANDIDATES)
+    methods = list(REGISTERED) + list(CANDIDATES) + list(FORCE_GRADIENT)
     info = {m: evaluations(m) for m in methods}
     settings = {m: ("step", steps_for(info[m][0], quick)) for m in methods}
 
@@ -156,7 +275,20 @@ def run_scene(name, spec, quick: bool) -> dict[str, dict[str, float | None]]:
             out[m][f"evals {target:.0e}"] = e
         star = "*" if m in REGISTERED else ""
         print(f"| {m}{star} | {info[m][0]} | {info[m][1]} | " + " | ".join(cells) + " |")
+    invariants(spec, solver, methods, t_end)
     return out
+
+
+def invariants(spec, solver, methods, t_end: float, step: float = 0.05) -> None:
+    """Casimir and total angular momentum change over the run at one step, per method."""
+    system, y0 = spec.system, np.asarray(spec.y0, dtype=float)
+    c0, j0 = system.casimirs(y0), system.angular_momentum(y0)
+    print(f"\ninvariants at h = {step}: max |Δ Casimir| (|ν|², (ν, m)), |Δj|/|j|")
+    for m in methods:
+        y = np.asarray(solver(system, y0, t_end, method=m, step=step, save_every=10**9).y)[-1]
+        dc = float(np.max(np.abs(system.casimirs(y) - c0)))
+        dj = float(np.linalg.norm(system.angular_momentum(y) - j0) / np.linalg.norm(j0))
+        print(f"  {m:24s} {dc:9.1e} {dj:9.1e}")
 
 
 def main() -> None:

@@ -35,9 +35,9 @@ _RKN_DOCS = {
     "splitting4_bm": (4, "Order-4 Blanes–Moan SRKN_6^b (J. Comput. Appl. Math. 142 (2002) 313): "
                          "optimised Runge–Kutta–Nyström splitting, 6 force evaluations per step "
                          "(7 kicks, first same as last)."),
-    "splitting6_bm": (6, "Order-6 Blanes–Moan SRKN_11^b (J. Comput. Appl. Math. 142 (2002) 313): "
-                         "optimised Runge–Kutta–Nyström splitting, 11 force evaluations per step "
-                         "(12 kicks, first same as last)."),
+    "splitting6_bm": (6, "Order-6 Blanes–Moan SRKN_14^a (J. Comput. Appl. Math. 142 (2002) 313): "
+                         "optimised Runge–Kutta–Nyström splitting, 14 force evaluations per step "
+                         "(drift first)."),
 }
 
 

@@ -49,13 +49,14 @@ def test_registered_tables_are_documented_and_consistent():
         assert e.family == "splitting" and "Blanes" in e.doc
         integ = e.factory(**e.resolve_params({}))
         s = SCHEMES[name]
-        assert integ.order == e.order == s.order and s.nystrom and s.fsal
+        assert integ.order == e.order == s.order and s.nystrom
         assert math.isclose(math.fsum(s.a), 1.0, abs_tol=1e-15)
         assert math.isclose(math.fsum(s.b), 1.0, abs_tol=1e-15)
         assert s.a == tuple(reversed(s.a)) and s.b == tuple(reversed(s.b))  # symmetric
-        assert integ.evaluations == len(s.b) - 1
-    assert SCHEMES["splitting4_bm"].evaluations == 6
-    assert SCHEMES["splitting6_bm"].evaluations == 11
+        assert integ.evaluations == len(s.b) - (1 if s.fsal else 0)
+    # SRKN_6^b kicks first and last (7 kicks, 6 evaluations); SRKN_14^a drifts first and last
+    assert SCHEMES["splitting4_bm"].fsal and SCHEMES["splitting4_bm"].evaluations == 6
+    assert not SCHEMES["splitting6_bm"].fsal and SCHEMES["splitting6_bm"].evaluations == 14
 
 
 def _kepler(e: float, t: float) -> tuple[np.ndarray, np.ndarray]:
@@ -105,7 +106,7 @@ def test_rkn_tables_beat_the_strang_compositions_of_equal_order(dipole_pair, nam
     assert err_new * 10 < err_old, (err_new, err_old)
 
 
-@pytest.mark.parametrize("name", RKN)
+@pytest.mark.parametrize("name", [n for n in RKN if SCHEMES[n].fsal])
 def test_merged_kicks_change_only_roundoff(dipole_pair, name):
     # saving every step or tracking events disables the merge; the result is the same map
     y0 = orbit_state()

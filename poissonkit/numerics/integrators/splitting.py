@@ -27,8 +27,9 @@ only, and ``{ν_i, ν_j} = {r_i, ν_j} = {r_i, r_j} = 0``. So ``{V, T}`` is line
 ``{V, {V, {V, T}}} = 0`` — the condition under which splitting methods need fewer order
 conditions (S. Blanes, P. C. Moan, J. Comput. Appl. Math. 142 (2002) 313, §2). The optimised
 RKN tables in :data:`SCHEMES` use it: Blanes & Moan's SRKN_6^b (order 4, 6 force evaluations
-per step) and SRKN_11^b (order 6, 11). Their order is only guaranteed for such ``T + V``
-systems, which every splittable system here is. Kick-first tables (``a_0 = a_s = 0``) merge the
+per step) and SRKN_14^a (order 6, 14), the winners of ``benchmarks/bench_kernels.py`` among
+the optimised tables tried there. Their order is only guaranteed for such ``T + V`` systems,
+which every splittable system here is. Kick-first tables (``a_0 = a_s = 0``) merge the
 last kick of a step with the first of the next ("first same as last"), so a step costs one
 force evaluation less than its number of kicks whenever no state has to be saved in between.
 
@@ -179,21 +180,26 @@ def _table(name: str, order: int, half: Scheme, reference: str, nystrom: bool) -
 _BLANES_MOAN = ("S. Blanes, P. C. Moan, Practical symplectic partitioned Runge–Kutta and "
                 "Runge–Kutta–Nyström methods, J. Comput. Appl. Math. 142 (2002) 313–330")
 
+#: SRKN_14^a drifts and kicks from the outside in (the central ones follow from the sums)
+_SRKN14A_A = (0.0378593198406116, 0.102635633102435, -0.0258678882665587, 0.314241403071447,
+              -0.130144459517415, 0.106417700369543, -0.00879424312851058)
+_SRKN14A_B = (0.09171915262446165, 0.183983170005006, -0.05653436583288827,
+              0.004914688774712854, 0.143761127168358, 0.328567693746804)
+
 #: Optimised tables selectable by name (``Splitting(scheme=...)``); the registered ones are
 #: listed in :mod:`poissonkit.numerics.builtin`.
 SCHEMES: dict[str, Scheme] = {s.name: s for s in (
-    # Table 3 of Blanes & Moan: SRKN_6^b, order 4, 7 kicks (6 evaluations with FSAL)
+    # Blanes & Moan SRKN_6^b, order 4, 7 kicks (6 evaluations with FSAL)
     _table("splitting4_bm", 4, symmetric_kick_first(
         (0.245298957184271, 0.604872665711080),
         (0.0829844064174052, 0.396309801498368, -0.0390563049223486)),
-        _BLANES_MOAN + ", SRKN_6^b (Table 3)", nystrom=True),
-    # Table 3 of Blanes & Moan: SRKN_11^b, order 6, 12 kicks (11 evaluations with FSAL)
-    _table("splitting6_bm", 6, symmetric_kick_first(
-        (0.123229775946271, 0.290553797799558, -0.127049212625417, -0.246331761062075,
-         0.357208872795928),
-        (0.0414649985182624, 0.198128671918067, -0.0400061921041533, 0.0752539843015807,
-         -0.0115113874206879)),
-        _BLANES_MOAN + ", SRKN_11^b (Table 3)", nystrom=True),
+        _BLANES_MOAN + ", SRKN_6^b", nystrom=True),
+    # Blanes & Moan SRKN_14^a, order 6, 14 kicks between 15 drifts (drift first)
+    Scheme("splitting6_bm", 6,
+           (*_SRKN14A_A, 1.0 - 2.0 * math.fsum(_SRKN14A_A), *reversed(_SRKN14A_A)),
+           (*_SRKN14A_B, 0.5 - math.fsum(_SRKN14A_B), 0.5 - math.fsum(_SRKN14A_B),
+            *reversed(_SRKN14A_B)),
+           _BLANES_MOAN + ", SRKN_14^a", nystrom=True),
 )}
 
 
