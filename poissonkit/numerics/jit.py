@@ -162,7 +162,8 @@ def dispatcher_token(disp: Dispatcher) -> str | None:
     if isinstance(cache, _DiskCache):
         return cache.token()
     func = disp.py_func
-    if func.__closure__ is None and "<locals>" not in func.__qualname__:
+    if func.__closure__ is None and "<locals>" not in func.__qualname__ \
+            and os.path.isfile(func.__code__.co_filename):  # not generated source
         digest = _module_digest(func.__module__, func.__code__.co_filename)
         if digest is not None:
             return _sha("module-level", func.__module__ or "", func.__qualname__, digest,

@@ -180,3 +180,23 @@ def test_stored_sources_round_trip_and_reject_corruption(tmp_path, monkeypatch):
 def test_jit_refuses_numba_cache_option():
     with pytest.raises(TypeError, match="cache"):
         jit(cache=True)
+
+
+def test_unidentifiable_callees_make_callers_uncacheable(tmp_path, monkeypatch):
+    import numba
+
+    from poissonkit.numerics.jit import compile_generated, dispatcher_token
+
+    monkeypatch.setenv(jitmod.CACHE_ENV, str(tmp_path))
+
+    def foreign(k):
+        @numba.njit
+        def g(x):
+            return k * x
+
+        return g
+
+    calls = [compile_generated("def w(x):\n    return base(x)", "w", {"base": foreign(k)})
+             for k in (2.0, 3.0)]
+    assert [w(1.0) for w in calls] == [2.0, 3.0]
+    assert [dispatcher_token(w) for w in calls] == [None, None]
