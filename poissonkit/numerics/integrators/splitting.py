@@ -25,7 +25,7 @@ coefficients independent of the configuration ``(r, ν)``, ``V`` depends on the 
 only, and ``{ν_i, ν_j} = {r_i, ν_j} = {r_i, r_j} = 0``. So ``{V, T}`` is linear in ``(p, m)``,
 ``{V, {V, T}} = Σ |∂_r V|²/M + Σ α |ν × ∂_ν V|²`` depends on the configuration alone, and
 ``{V, {V, {V, T}}} = 0`` — the condition under which splitting methods need fewer order
-conditions (S. Blanes, P. C. Moan, J. Comput. Appl. Math. 142 (2002) 313, §2). The optimised
+conditions (S. Blanes, P. C. Moan, J. Comput. Appl. Math. 142 (2002) 313). The optimised
 RKN tables in :data:`SCHEMES` use it: Blanes & Moan's SRKN_6^b (order 4, 6 force evaluations
 per step) and SRKN_14^a (order 6, 14), the winners of ``benchmarks/bench_kernels.py`` among
 the optimised tables tried there. Their order is only guaranteed for such ``T + V`` systems,
