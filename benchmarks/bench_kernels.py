@@ -53,6 +53,7 @@ from poissonkit.numerics.integrators.splitting import (
     symmetric_kick_first,
 )
 from poissonkit.numerics.solver import make_integrator, solve
+from poissonkit.numerics.twobody import LAYOUT as TWO_BODY_LAYOUT
 
 TARGETS = (1e-7, 1e-10)
 REGISTERED = ("splitting4", "splitting4_bm", "splitting6", "splitting6_bm", "splitting8")
@@ -136,9 +137,8 @@ FORCE_GRADIENT: dict[str, ForceGradient] = {f.name: f for f in (
 )}
 
 #: state components that the kick changes (momenta p, m) in the two-body layout
-_MOMENTA = np.array([k for k, n in enumerate(__import__(
-    "poissonkit.numerics.twobody", fromlist=["LAYOUT"]).LAYOUT)
-    if n.startswith(("p_", "m1_", "m2_"))], dtype=np.int64)
+_MOMENTA = np.array([k for k, n in enumerate(TWO_BODY_LAYOUT)
+                     if n.startswith(("p_", "m1_", "m2_"))], dtype=np.int64)
 _fg_runners: dict[int, object] = {}
 
 
