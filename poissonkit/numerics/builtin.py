@@ -11,6 +11,10 @@ _SPLIT_PARAMS = (
           "d_ref of the adaptive step factor (internal length; 0 = initial smallest distance)",
           0.0),
     Param("iterations", "int", "fixed-point iterations of the symmetrised adaptive step", 1),
+    Param("compensated", "bool",
+          "Kahan-compensated summation of every drift and kick increment: removes the round-off "
+          "floor (~1e-10) of long runs at small steps for 1.2-1.35x the time (two-body systems)",
+          False),
 )
 
 _SPLIT_DOCS = {

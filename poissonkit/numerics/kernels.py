@@ -17,6 +17,10 @@ All kernels are numba ``njit`` functions with these signatures:
 * ``forces(y, data, work) -> float`` — optional (N-body systems): pair forces and torques on
   every body into ``work[2]``, ``work[3]``, returning the potential energy; used by integrators
   that split the Hamiltonian differently (e.g. Wisdom–Holman).
+* ``drift_compensated(y, c, h, data)``, ``kick_compensated(y, c, h, data, work)`` — optional:
+  the same flows with every increment added by Kahan-compensated summation
+  (:func:`kahan_add`); ``c`` (same shape as ``y``) carries the rounding error of the sums so
+  far, the state being ``y − c``. ``None`` when the system has no compensated kernels.
 """
 
 from __future__ import annotations
@@ -40,6 +44,8 @@ class Kernels(NamedTuple):
     jac: Any = None
     splittable: bool = True
     forces: Any = None
+    drift_compensated: Any = None
+    kick_compensated: Any = None
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -67,6 +73,54 @@ def rotate_slot(y, base, mbase, theta_per_norm):
     y[base] = n0 * c + x0 * s + k0 * kd
     y[base + 1] = n1 * c + x1 * s + k1 * kd
     y[base + 2] = n2 * c + x2 * s + k2 * kd
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def kahan_add(y, c, i, inc):
+    """``y[i] += inc`` with Kahan's compensated summation (Comm. ACM 8 (1965) 40).
+
+    ``c[i]`` holds what the additions so far added too much, so ``y[i] − c[i]`` is the sum to
+    about one rounding of the result whatever the number of increments (plain ``+=`` loses one
+    rounding per step, which dominates long runs at small steps).
+    """
+    v = inc - c[i]
+    t = y[i] + v
+    c[i] = (t - y[i]) - v
+    y[i] = t
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def rotate_slot_compensated(y, c, base, mbase, theta_per_norm):
+    """:func:`rotate_slot` written as an increment ``ν += −(1 − cos θ)(ν − (k·ν)k) + sin θ k × ν``
+    added with :func:`kahan_add` (``1 − cos θ = 2 sin²(θ/2)``, free of cancellation): a small
+    rotation changes ``ν`` by a small increment, whose rounding the compensation keeps."""
+    m0 = y[mbase]
+    m1 = y[mbase + 1]
+    m2 = y[mbase + 2]
+    mm = math.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
+    if mm == 0.0:
+        return
+    k0 = m0 / mm
+    k1 = m1 / mm
+    k2 = m2 / mm
+    th = theta_per_norm * mm
+    sh = math.sin(0.5 * th)
+    omc = 2.0 * sh * sh
+    s = math.sin(th)
+    n0 = y[base]
+    n1 = y[base + 1]
+    n2 = y[base + 2]
+    kn = k0 * n0 + k1 * n1 + k2 * n2
+    kahan_add(y, c, base, -omc * (n0 - kn * k0) + s * (k1 * n2 - k2 * n1))
+    kahan_add(y, c, base + 1, -omc * (n1 - kn * k1) + s * (k2 * n0 - k0 * n2))
+    kahan_add(y, c, base + 2, -omc * (n2 - kn * k2) + s * (k0 * n1 - k1 * n0))
+
+
+@numba.njit(cache=True, error_model="numpy")
+def copy_row_compensated(src, comp, dst, row):
+    """``dst[row, :] = src − comp`` (the state of a compensated loop)."""
+    for i in range(src.shape[0]):
+        dst[row, i] = src[i] - comp[i]
 
 
 @numba.njit(cache=True, error_model="numpy")

@@ -22,7 +22,7 @@ import numpy as np
 
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import Kernels, rotate_slot
+from poissonkit.numerics.kernels import Kernels, kahan_add, rotate_slot, rotate_slot_compensated
 from poissonkit.numerics.nbody import (
     NonUnitAxisError,
     OverlapError,
@@ -109,6 +109,24 @@ def _build(kern) -> Kernels:
         rotate_slot(y, 12, 15, data[2] * h)
 
     @jit
+    def kick_compensated(y, c, h, data, work):
+        # forces at the leading part y (y − c differs by a rounding: no effect on accuracy)
+        f = work[0]
+        partials(y, f)
+        for d in range(3):
+            kahan_add(y, c, 3 + d, h * f[d])
+            kahan_add(y, c, 9 + d, h * f[3 + d])
+            kahan_add(y, c, 15 + d, h * f[6 + d])
+
+    @jit
+    def drift_compensated(y, c, h, data):
+        cc = h / data[0]
+        for d in range(3):
+            kahan_add(y, c, d, cc * y[3 + d])
+        rotate_slot_compensated(y, c, 6, 9, data[1] * h)
+        rotate_slot_compensated(y, c, 12, 15, data[2] * h)
+
+    @jit
     def energy(y, data, work):
         u = partials(y, work[0])
         e = 0.5 * (y[3] ** 2 + y[4] ** 2 + y[5] ** 2) / data[0]
@@ -126,7 +144,8 @@ def _build(kern) -> Kernels:
         return math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]) * data[3]
 
     out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
-                  max_radius=max_radius, jac=None, splittable=True)
+                  max_radius=max_radius, jac=None, splittable=True,
+                  drift_compensated=drift_compensated, kick_compensated=kick_compensated)
     _cache[id(kern)] = (out, kern)
     return out
 

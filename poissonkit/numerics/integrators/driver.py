@@ -89,6 +89,12 @@ class LoopState:
     hist: np.ndarray
     nfev: int = 0
     records: list[EventRecord] = field(default_factory=list)
+    #: compensation array of a compensated loop (the state is ``y − comp``); empty otherwise
+    comp: np.ndarray = field(default_factory=lambda: np.empty(0))
+
+    def state(self) -> np.ndarray:
+        """The state: ``y`` (a copy), or ``y − comp`` for a compensated loop."""
+        return self.y - self.comp if self.comp.size else self.y.copy()
 
 
 ChunkFn = Callable[[LoopState, int, SaveBuffer], tuple[int, float, int, int, int, float]]
@@ -98,7 +104,7 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
           progress: bool, save_every: int, control: Control | None, chunk: ChunkFn,
           advance: Callable[[np.ndarray, float], np.ndarray], done: Callable[[LoopState], bool],
           failure: Callable[[int, LoopState], Exception | None], problem: dict[str, Any],
-          buffer_rows: int) -> RawResult:
+          buffer_rows: int, compensated: bool = False) -> RawResult:
     """Run ``chunk`` until ``done``; see the module docstring.
 
     Parameters
@@ -123,6 +129,9 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
         Plain-data description checked on resume.
     buffer_rows
         Rows per compiled chunk buffer.
+    compensated
+        The loop carries a compensation array ``LoopState.comp`` (compensated summation); it is
+        part of the state, so it is checkpointed and restored with ``y``.
     """
     events = check_events(events)
     contact, escape, watch = event_thresholds(events)
@@ -131,7 +140,8 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
     stream = control.stream
     n = y0.size
     st = LoopState(y=np.array(y0, dtype=float), t=float(t0), steps=0, prev=np.zeros(n),
-                   prev2=np.zeros(n), hist=np.array([np.inf, np.inf, np.inf, t0, t0]))
+                   prev2=np.zeros(n), hist=np.array([np.inf, np.inf, np.inf, t0, t0]),
+                   comp=np.zeros(n) if compensated else np.empty(0))
     if contact > 0 or watch > 0:
         st.hist[2] = centre_distance(system, st.y)
     buf = SaveBuffer(n, buffer_rows, sink=stream)
@@ -145,6 +155,13 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
         check_matches(meta, problem)
         st.y, st.prev, st.prev2, st.hist = (np.array(arrays[k], dtype=float)
                                             for k in ("y", "prev", "prev2", "hist"))
+        if compensated:
+            if "comp" not in arrays:
+                from poissonkit.numerics.checkpoint import CheckpointError
+
+                raise CheckpointError("checkpoint has no compensation array; it was not written "
+                                      "by a compensated run (compensated=True)")
+            st.comp = np.array(arrays["comp"], dtype=float)
         st.t, st.steps, st.nfev = float(arrays["t"]), int(arrays["steps"]), int(meta["nfev"])
         st.records = [EventRecord(**r) for r in meta["records"]]
         if stream is not None:
@@ -174,6 +191,8 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
                                 "every": ck.every}
         arrays = {"y": st.y, "prev": st.prev, "prev2": st.prev2, "hist": st.hist,
                   "t": np.float64(st.t), "steps": np.int64(st.steps)}
+        if compensated:
+            arrays["comp"] = st.comp
         if stream is not None:
             buf.spill(force=True)
             meta.update(stream_parts=stream.parts, stream_rows=stream.rows)
@@ -219,6 +238,7 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
                     buf.drop_after(rec.time)
                     buf.add(rec.time, y_hit)
                     st.y[:] = y_hit
+                    st.comp[:] = 0.0
                     st.t, st.steps = rec.time, rec.step
                     raise_or_record(ev, rec, st.records)
                     status_msg = "event"
@@ -237,7 +257,7 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
                 if ck is not None:
                     save_checkpoint()
                 if buf.last_t != st.t:  # the partial result ends where it stopped
-                    buf.add(st.t, st.y)
+                    buf.add(st.t, st.state())
                 break
     finally:
         if bar is not None:
@@ -249,7 +269,7 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
         buf.spill(force=True)
         extra.update(stream=str(stream.folder), streamed_rows=stream.rows)
         ts = np.array([t0, st.t])
-        ys = np.vstack([np.asarray(y0, dtype=float), st.y])
+        ys = np.vstack([np.asarray(y0, dtype=float), st.state()])
     else:
         ts, ys = buf.arrays()
     return RawResult(ts, ys, st.steps, nfev=st.nfev, events=st.records, message=status_msg,
