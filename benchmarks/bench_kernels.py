@@ -22,11 +22,11 @@ Candidates (``*`` = registered integrator):
   displaced-force kick (:class:`ForceGradient`) — fewest evaluations per step, but the
   displaced kick is not an exact Poisson map, so Casimirs and angular momentum are only kept
   to the truncation error (printed in the invariants table);
-* ``splitting6_bm+compensated``, ``splitting8+compensated`` — a prototype, not a method: the
-  registered tables in a loop (two-body layout only) that adds every drift and kick increment
-  with Kahan-compensated summation. On these orbits round-off is amplified ~1e5x and limits
-  the plain loops to final-state errors of ~1e-10 whatever the step; the prototype shows the
-  floor that compensation reaches.
+* ``splitting4_bm+compensated``, ``splitting6_bm+compensated``, ``splitting8+compensated`` —
+  the registered tables with their ``compensated=True`` option: every drift and kick increment
+  added with Kahan-compensated summation. On these orbits round-off is amplified ~1e5x and
+  limits the plain loops to final-state errors of ~1e-10 whatever the step; compensation
+  removes that floor.
 
 Run::
 
@@ -206,93 +206,10 @@ def solve_force_gradient(system, y0, t_end: float, fg: ForceGradient, step: floa
                            wall_time=wall, method=fg.name)
 
 
-# ------------------------------------------- compensated increments (round-off prototype)
-#: registered tables run with compensated (Kahan) summation of every drift and kick increment
-COMPENSATED = ("splitting6_bm+compensated", "splitting8+compensated")
-_comp_runners: dict[int, object] = {}
-
-
-def _comp_runner(kernels):
-    """Compiled fixed-step splitting loop for the two-body layout whose drift and kick add
-    their increments with Kahan compensation (W. Kahan, Comm. ACM 8 (1965) 40); forces come
-    from the system's own kick applied to a copy with zero momenta (exactly the forces)."""
-    hit = _comp_runners.get(id(kernels.kick))
-    if hit is not None:
-        return hit
-    from poissonkit.numerics.jit import jit
-
-    kick = kernels.kick
-
-    @jit(inline="always")
-    def kadd(y, c, i, inc):
-        # y[i] - c[i] carries the sum with the rounding error of every addition so far
-        v = inc - c[i]
-        t = y[i] + v
-        c[i] = (t - y[i]) - v
-        y[i] = t
-
-    @jit(inline="always")
-    def rotate(y, c, base, mbase, theta_per_norm):
-        m0, m1, m2 = y[mbase], y[mbase + 1], y[mbase + 2]
-        mm = math.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
-        if mm == 0.0:
-            return
-        k0, k1, k2 = m0 / mm, m1 / mm, m2 / mm
-        th = theta_per_norm * mm
-        sh = math.sin(0.5 * th)
-        omc = 2.0 * sh * sh  # 1 - cos(th) without cancellation
-        s = math.sin(th)
-        n0, n1, n2 = y[base], y[base + 1], y[base + 2]
-        kn = k0 * n0 + k1 * n1 + k2 * n2
-        # Rodrigues as an increment: −(1 − cos)(ν − (k·ν)k) + sin k × ν
-        kadd(y, c, base, -omc * (n0 - kn * k0) + s * (k1 * n2 - k2 * n1))
-        kadd(y, c, base + 1, -omc * (n1 - kn * k1) + s * (k2 * n0 - k0 * n2))
-        kadd(y, c, base + 2, -omc * (n2 - kn * k2) + s * (k0 * n1 - k1 * n0))
-
-    @jit
-    def drift(y, c, h, data):
-        cc = h / data[0]
-        for d in range(3):
-            kadd(y, c, d, cc * y[3 + d])
-        rotate(y, c, 6, 9, data[1] * h)
-        rotate(y, c, 12, 15, data[2] * h)
-
-    @jit
-    def run(y, c, h, n, a, b, data, work, tmp, idx):
-        nb = b.shape[0]
-        for _ in range(n):
-            for k in range(nb):
-                if a[k] != 0.0:
-                    drift(y, c, a[k] * h, data)
-                for i in range(y.shape[0]):
-                    tmp[i] = y[i]
-                for i in idx:
-                    tmp[i] = 0.0
-                kick(tmp, 1.0, data, work)
-                for i in idx:
-                    kadd(y, c, i, b[k] * h * tmp[i])
-            if a[nb] != 0.0:
-                drift(y, c, a[nb] * h, data)
-
-    _comp_runners[id(kernels.kick)] = run
-    return run
-
-
-def solve_compensated(system, y0, t_end: float, method: str, step: float):
-    """Final state of a registered splitting table with compensated increments."""
-    import time
-    from types import SimpleNamespace
-
-    run = _comp_runner(system.kernels)
-    integ = make_integrator(method.removesuffix("+compensated"), {})
-    n = max(1, math.ceil(t_end / step - 1e-12))
-    y, c = np.array(y0, dtype=float), np.zeros(len(y0))
-    w = time.perf_counter()
-    run(y, c, t_end / n, n, np.asarray(integ.a), np.asarray(integ.b), system.data,
-        system.work(), np.empty_like(y), _MOMENTA)
-    wall = time.perf_counter() - w
-    return SimpleNamespace(t=np.array([0.0, t_end]), y=np.vstack([y0, y - c]), steps=n,
-                           wall_time=wall, method=method)
+# ------------------------------------------- compensated increments (library option)
+#: registered tables run with ``compensated=True`` (Kahan summation of every increment)
+COMPENSATED = ("splitting4_bm+compensated", "splitting6_bm+compensated",
+               "splitting8+compensated")
 
 
 class KernelSolvers(Solvers):
@@ -307,7 +224,9 @@ class KernelSolvers(Solvers):
         if method in FORCE_GRADIENT:
             return solve_force_gradient(system, y0, t_end, FORCE_GRADIENT[method], step)
         if method in COMPENSATED:
-            return solve_compensated(system, y0, t_end, method, step)
+            return solve(system, y0, t_end, method=method.removesuffix("+compensated"),
+                         step=step, progress=progress, save_every=save_every,
+                         options={"compensated": True})
         return super().__call__(system, y0, t_end, method=method, step=step, tol=tol,
                                 progress=progress, save_every=save_every)
 
@@ -316,9 +235,9 @@ def evaluations(method: str) -> tuple[int, int]:
     """(order, force evaluations per step) of a method."""
     if method in FORCE_GRADIENT:
         return FORCE_GRADIENT[method].order, FORCE_GRADIENT[method].evaluations
-    if method in COMPENSATED:  # no first-same-as-last merge in the prototype loop
-        integ = make_integrator(method.removesuffix("+compensated"), {})
-        return integ.order, integ.stages
+    if method in COMPENSATED:
+        integ = make_integrator(method.removesuffix("+compensated"), {"compensated": True})
+        return integ.order, integ.evaluations
     integ = (Splitting(scheme=CANDIDATES[method]) if method in CANDIDATES
              else make_integrator(method, {}))
     return integ.order, integ.evaluations
@@ -376,7 +295,34 @@ def run_scene(name, spec, quick: bool) -> dict[str, dict[str, float | None]]:
         star = "*" if m in REGISTERED else ""
         print(f"| {m}{star} | {info[m][0]} | {info[m][1]} | " + " | ".join(cells) + " |")
     invariants(spec, solver, methods, t_end)
+    round_off_floor(spec, solver, ref.y_end, t_end)
     return out
+
+
+#: steps below the sweep's range, where the plain loops sit on their round-off floor
+FLOOR_STEPS = (0.01, 0.005, 0.0025)
+
+
+def round_off_floor(spec, solver, y_ref, t_end: float) -> None:
+    """Final-state error of the plain and compensated loops at small steps, and the time ratio
+    compensated / plain at equal step (best of 3, same process)."""
+    import time
+
+    print("\nround-off floor: final-state error plain -> compensated, time compensated/plain")
+    for m in ("splitting6_bm", "splitting8"):
+        for h in FLOOR_STEPS:
+            errs, best = [], []
+            for name in (m, m + "+compensated"):
+                walls = []
+                for _ in range(3):
+                    tic = time.perf_counter()
+                    y = np.asarray(solver(spec.system, spec.y0, t_end, method=name, step=h,
+                                          save_every=10**9).y)[-1]
+                    walls.append(time.perf_counter() - tic)
+                errs.append(wp.final_state_error(y, y_ref))
+                best.append(min(walls))
+            print(f"  {m:14s} h={h:<7g} {errs[0]:9.2e} -> {errs[1]:9.2e}   "
+                  f"time x{best[1] / best[0]:.2f}", flush=True)
 
 
 def invariants(spec, solver, methods, t_end: float, step: float = 0.05) -> None:

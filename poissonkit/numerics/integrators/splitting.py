@@ -38,6 +38,13 @@ The whole time loop is compiled (numba). With ``adaptive=True`` the step is
 smallest pair distance; the time-symmetrised criterion of Hut, Makino & McMillan, ApJ 443
 (1995) L93, solved by fixed-point iteration), which refines close encounters; invariants are
 still kept to round-off.
+
+With ``compensated=True`` every increment of the drift and the kick (``r``, ``p``, ``m`` and the
+rotation of ``ν`` written as an increment) is added by Kahan's compensated summation
+(W. Kahan, Comm. ACM 8 (1965) 40), carrying the rounding errors in a second array ``c`` (state
+``y − c``, checkpointed with ``y``). On orbits that amplify perturbations ~1e5-fold, as the
+seed scenes, this moves the final-state error floor from ~1e-10 to ~1e-12 for ~1.2× the time
+per step.
 """
 
 from __future__ import annotations
@@ -395,8 +402,8 @@ class Splitting:
         Add every drift and kick increment with Kahan-compensated summation (the system's
         ``drift_compensated``/``kick_compensated`` kernels; :class:`~poissonkit.errors.InputError`
         if it has none). Removes the round-off floor of long runs at small steps (final-state
-        errors ~1e-10 on the seed scenes become ~1e-12) for 1.2–1.35× the time; off by default,
-        and then the arithmetic is exactly the plain one.
+        errors ~1e-10 on the seed scenes become ~1e-12) for ~1.2× the time per step; off by
+        default, and then the arithmetic is exactly the plain one.
     """
 
     family = "splitting"
