@@ -357,7 +357,8 @@ def observed_orders(t_end: float = 6.0) -> dict[str, float]:
         order = evaluations(m)[0]
         errs = [wp.final_state_error(np.asarray(solver(spec.system, y0, t_end, method=m,
                                                          step=h).y)[-1], ref)
-                for h in ORDER_STEPS_BY_NAME.get(m, ORDER_STEPS[order])]
+                for h in ORDER_STEPS_BY_NAME.get(m.removesuffix("+compensated"),
+                                                 ORDER_STEPS[order])]
         out[m] = math.log2(errs[0] / errs[1])
         print(f"  {m:26s} order {order}: errors {errs[0]:.2e} {errs[1]:.2e} "
               f"slope {out[m]:.2f}", flush=True)
