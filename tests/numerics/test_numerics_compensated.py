@@ -188,3 +188,39 @@ def test_compensated_needs_compensated_kernels():
         solve(nb, y0, 1.0, "splitting4", step=0.01, options={"compensated": True})
     with pytest.raises(InputError, match="compensated"):
         Splitting(order=4, compensated="yes")
+
+
+def test_compensated_stream_interrupt_and_terminal_event(tmp_path):
+    from poissonkit.numerics import Collision
+    from poissonkit.numerics.checkpoint import read_trajectory
+
+    spec = encounter(periods=2)
+    system, y0, t_end = spec.system, np.asarray(spec.y0, dtype=float), float(spec.t_end)
+    opts = {"compensated": True}
+    ref = solve(system, y0, t_end, "splitting8", step=0.01, options=opts, save_every=3)
+    # streamed rows and the streamed run's final state are the compensated states y − c
+    streamed = solve(system, y0, t_end, "splitting8", step=0.01, options=opts, save_every=3,
+                     stream=tmp_path / "parts")
+    assert streamed.y[-1].tobytes() == ref.y[-1].tobytes()
+    t, y = read_trajectory(tmp_path / "parts")
+    assert np.array_equal(t, ref.t) and np.array_equal(y, ref.y)
+    # an interrupted run ends on the state where it stopped, not on the uncompensated sum
+    calls = {"n": 0}
+
+    def stop() -> bool:
+        calls["n"] += 1
+        return calls["n"] == 2
+
+    part = solve(system, y0, t_end, "splitting8", step=0.01, options=opts, stop=stop,
+                 save_every=10**9)
+    full = solve(system, y0, t_end, "splitting8", step=0.01, options=opts)
+    assert part.extra["interrupted"]
+    k = int(np.searchsorted(full.t, part.t[-1]))
+    assert full.t[k] == part.t[-1] and part.y[-1].tobytes() == full.y[k].tobytes()
+    # a terminal contact at the pericentre (0.43) is located as in the plain loop
+    ev = [Collision(0.5)]
+    hit_c = solve(system, y0, t_end, "splitting8", step=0.01, options=opts, events=ev)
+    hit_p = solve(system, y0, t_end, "splitting8", step=0.01, events=ev)
+    assert len(hit_c.events) == len(hit_p.events) == 1
+    assert abs(hit_c.events[0].time - hit_p.events[0].time) < 1e-9
+    assert final_state_error(hit_c.y[-1], hit_p.y[-1]) < 1e-9
