@@ -8,11 +8,14 @@ Three scenes (nondimensional, internal units of :func:`poissonkit_magnets.seed00
   rad: an eccentric orbit whose pericentre is 0.43 R = 4.3 mm = 0.43 l (magnet gap 1.8 mm),
   10 periods of the seed orbit;
 * **hard encounter** — axes normal to the orbit plane (tilt 0), 0.657 P_orb: pericentre
-  0.25 l, 50 periods of the seed orbit (~100 pericentre passages). With the axes tilted (0.01
-  rad) an orbit this deep is captured into a chaotic tumbling state with near-collisions
-  (pericentres down to 1e-3 l); with tilt 0 the axes stay normal to the plane (the torques
-  vanish by symmetry) and the orbit is regular, so final states are compared. Energy errors,
-  which every method is also checked on, are printed beside them.
+  0.25 l, 50 periods of the seed orbit (~100 pericentre passages). This orbit is unstable:
+  with the axes tilted by 0.01 rad an orbit this deep is captured after a few passages into a
+  chaotic tumbling state with near-collisions (pericentres down to 1e-3 l); with tilt 0 the
+  splittings keep the axes exactly normal to the plane (the torques cancel exactly), while
+  DOP853 and heyoka agree with them to their tolerance over 10 periods but leave the unstable
+  symmetric orbit by t = 50 periods (final states O(1) apart at every tolerance). So here the
+  methods are compared on an invariant, the relative energy error at t_end, not on the final
+  state ("time to energy error").
 
 Methods, all on the same problem, wall time measured in this process after a warm-up (numba /
 LLVM compilation excluded):
@@ -39,6 +42,7 @@ Run::
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import time
 from types import SimpleNamespace
@@ -164,7 +168,7 @@ def scenes(quick: bool):
          ["splitting6", "splitting8", "splitting8+adaptive", "splitting6-yoshida", "splitting8-yoshida"]
          + logh),
         ("hard encounter (pericentre 0.25 l, 50 periods, tilt 0)",
-         seed000.default_run(periods=50, tilt=0.0, momentum_factor=0.657), 2.5e-4,
+         seed000.default_run(periods=50, tilt=0.0, momentum_factor=0.657), 2e-3,
          ["splitting8", "splitting8+adaptive", "logh4"] + logh),
     ]
 
@@ -176,43 +180,58 @@ def run_scene(name, spec, ref_step, split_methods, quick: bool) -> dict[str, flo
     # fixed-step splitting8: the adaptive variant's symmetrised step is solved by one fixed-point
     # iteration, which costs it its order (its error floors near 1e-9 here)
     prim = ("splitting8", "step", ref_step)
-    ref = wp.reference(spec.system, spec.y0, t_end, primary=prim, solver=solver)
+    # DOP853 at tol 1e-13 fails on the hard encounter (step size underflow): checked by logh8
+    hard = name.startswith("hard")
+    ref = wp.reference(spec.system, spec.y0, t_end, primary=prim, solver=solver,
+                       secondary=("logh8", "step", ref_step) if hard else None)
     # the primary's own error: same method at twice the step (order 8 -> /255), and an
     # independent discretisation (time-transformed, steps shrinking at pericentre)
     half = wp.reference(spec.system, spec.y0, t_end, primary=(prim[0], "step", 2 * ref_step),
                         secondary=prim, solver=solver)
-    other = wp.reference(spec.system, spec.y0, t_end, primary=prim,
-                         secondary=("logh8", "step", ref_step), solver=solver)
+    other = ref if hard else wp.reference(spec.system, spec.y0, t_end, primary=prim,
+                                          secondary=("logh8", "step", ref_step), solver=solver)
     traj = solve(spec.system, spec.y0, t_end, method="logh8", step=0.01, save_every=1)
     rr = np.linalg.norm(traj.y[:, :3], axis=1)
     peri = rr[1:-1][(rr[1:-1] < rr[:-2]) & (rr[1:-1] < rr[2:])]
     r = np.linalg.norm(np.asarray(spec.y0[:3]))
     print(f"\n== {name}: t_end = {t_end:.4g}, |r0| = {r:.3g}, pericentre "
           f"{peri.min() if peri.size else rr.min():.3g} ({peri.size} passages)")
-    print(f"reference {prim[0]} h={ref_step:g}: vs dop853 tol 1e-13 {ref.agreement:.1e}; "
+    dop = "fails" if hard else f"{ref.agreement:.1e}"
+    print(f"reference {prim[0]} h={ref_step:g}: vs dop853 tol 1e-13 {dop}; "
           f"vs logh8 h={ref_step:g} {other.agreement:.1e}; "
-          f"vs itself at 2h {half.agreement:.1e} (own error ~ {half.agreement / 255:.1e})")
+          f"vs itself at 2h {half.agreement:.1e} (own error ~ {half.agreement / 255:.1e})",
+          flush=True)
     n = 4 if quick else 7
     settings: dict[str, tuple[str, list[float]]] = {}
     for m in split_methods:
         hs = np.geomspace(0.15, 0.006, n) if "adaptive" not in m else np.geomspace(0.05, 0.002, n)
         settings[m] = ("step", [float(h) for h in hs])
-    settings["dop853"] = ("tol", [float(x) for x in np.geomspace(1e-6, 1e-13, n)])
+    # DOP853 needs minutes per point on the hard encounter (and cannot reach the targets)
+    settings["dop853"] = ("tol", [1e-7, 1e-9] if hard else
+                          [float(x) for x in np.geomspace(1e-6, 1e-13, n)])
     settings["heyoka"] = ("tol", [float(x) for x in np.geomspace(1e-6, 1e-14, n)])
 
     def show(p):
         print(f"  {p.method:22s} {p.kind}={p.setting:<9.3g} steps={p.steps:<7d} "
-              f"wall={p.wall_time:9.5f} s err={p.final_error:9.2e}"
+              f"wall={p.wall_time:9.5f} s err={p.final_error:9.2e} dE={p.max_energy_error:8.1e}"
               + (f" [{p.note}]" if p.note else ""), flush=True)
 
     pts = wp.sweep(spec.system, spec.y0, t_end, ref, settings, solver=solver, repeats=3,
                    time_budget=20.0, on_point=show)
+    if hard:  # unstable orbit: compare the energy error at t_end, not the final state
+        for target in TARGETS:
+            tte = wp.time_to_error([p for p in pts if p.method not in ("dop853", "heyoka")],
+                                   target)
+            print(f"final-state error {target:.0e}, methods that keep the symmetric orbit: "
+                  + ", ".join(f"{m} {v:.4g} s" if v else f"{m} —" for m, v in tte.items()))
+        pts = [dataclasses.replace(p, final_error=p.max_energy_error) for p in pts]
+        print("(hard encounter: 'time to' below is time to a relative energy error at t_end)")
     out = {}
     registered = [m for m in split_methods if m not in YOSHIDA]
     for target in TARGETS:
         tte = wp.time_to_error(pts, target)
         print(f"time to {target:.0e}: " + ", ".join(
-            f"{m} {v:.4g} s" if v else f"{m} —" for m, v in tte.items()))
+            f"{m} {v:.4g} s" if v else f"{m} —" for m, v in tte.items()), flush=True)
         for label, group in (("splitting", [m for m in registered if m.startswith("splitting")]),
                              ("time-transformed", [m for m in split_methods
                                                    if m.startswith("logh")])):
@@ -221,7 +240,7 @@ def run_scene(name, spec, ref_step, split_methods, quick: bool) -> dict[str, flo
                 for base in ("dop853", "heyoka"):
                     if tte.get(base):
                         print(f"  [{target:.0e}] best {label} ({best}) vs {base}: "
-                              f"{tte[base] / tte[best]:.2f}x")
+                              f"{tte[base] / tte[best]:.2f}x", flush=True)
         out[target] = dict(tte)
     return out
 
