@@ -161,12 +161,12 @@ def scenes(quick: bool):
     logh = ["logh6", "logh8", "logh8+k0.5"]
     return [
         ("seed orbit (20 periods, tilt 0.05)", seed000.default_run(periods=20, tilt=0.05),
-         1e-3, ["splitting4", "splitting6", "splitting8", "splitting6-yoshida", "splitting8-yoshida"]
-         + logh),
+         1e-3, ["splitting4", "splitting6", "splitting8", "splitting6-yoshida",
+                "splitting8-yoshida"] + logh),
         ("close encounter (pericentre 0.43 l, 10 periods)",
          seed000.default_run(periods=10, tilt=0.01, momentum_factor=0.8), 5e-4,
-         ["splitting6", "splitting8", "splitting8+adaptive", "splitting6-yoshida", "splitting8-yoshida"]
-         + logh),
+         ["splitting6", "splitting8", "splitting8+adaptive", "splitting6-yoshida",
+          "splitting8-yoshida"] + logh),
         ("hard encounter (pericentre 0.25 l, 50 periods, tilt 0)",
          seed000.default_run(periods=50, tilt=0.0, momentum_factor=0.657), 2e-3,
          ["splitting8", "splitting8+adaptive", "logh4"] + logh),

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import sympy as sp
 from numerics_helpers import BOUND, R, orbit_state, unit  # type: ignore[import-not-found]
 
 from poissonkit.errors import CollisionError, InputError, IntegrationError, UnknownNameError

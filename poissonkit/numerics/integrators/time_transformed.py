@@ -371,24 +371,24 @@ class TimeTransformedSplitting:
         trial = np.empty_like(y)
         scratch = SaveBuffer(y.size, 4)
         no_hist = np.zeros(5)
-        a, b = self.a, self.b
+        a, b, kexp = self.a, self.b, self.exponent
 
         def chunk(st, max_steps, buf):
             start = st.y.copy()
             try:
                 status, t_new, k, nsave, value = run(
-                    st.y, st.t, t_end, ds, a, b, pt, C, g0, self.exponent, kidx, kw, data, work, save_every,
-                    st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, trial,
-                    st.prev, st.prev2, st.hist)
+                    st.y, st.t, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work,
+                    save_every, st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape,
+                    watch, trial, st.prev, st.prev2, st.hist)
             except ZeroDivisionError:
                 raise locate_division(self.name, one_step, start, st.t, st.steps) from None
             st.bad = value
             return status, t_new, k, nsave, k * len(b), value
 
         def one_step(ys: np.ndarray, ts: float, done_steps: int) -> tuple[int, float]:
-            out = run(ys, ts, t_end, ds, a, b, pt, C, g0, self.exponent, kidx, kw, data, work, save_every,
-                      done_steps, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, trial, ys, ys,
-                      no_hist)
+            out = run(ys, ts, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work,
+                      save_every, done_steps, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0,
+                      trial, ys, ys, no_hist)
             return out[0], out[1]
 
         def advance(ys: np.ndarray, s: float) -> np.ndarray:
