@@ -362,8 +362,9 @@ class TimeTransformedSplitting:
         if not g0 > 0:
             raise InputError(
                 f"{self.name}: shift C = {C:.6g} must exceed the potential energy at the start, "
-                f"V(y0) = {V0:.6g} (the time transform uses ln(C - V)); pass "
-                f"options={{'shift': ...}} larger than {V0:.6g}, e.g. {V0 + abs(V0) + 1:.3g}")
+                f"V(y0) = {V0:.6g} (the time transform uses ln(C - V)); give the integrator "
+                f"option shift > {V0:.6g}, e.g. solve(..., options={{'shift': "
+                f"{V0 + abs(V0) + 1:.3g}}})")
         pt = C - H0
         contact, escape, watch = event_thresholds(events)
         run = _runner(kernels, layout)
@@ -402,8 +403,8 @@ class TimeTransformedSplitting:
             if status == SHIFT_TOO_SMALL:
                 return IntegrationError(
                     f"{self.name}: C - V <= 0 {where}: the potential energy V = {bad:.6g} "
-                    f"reached the shift C = {C:.6g}; pass options={{'shift': ...}} above the "
-                    "largest potential energy of the run")
+                    f"reached the shift C = {C:.6g}; give the integrator option shift above "
+                    "the largest potential energy of the run")
             if status == KINETIC_LOST:
                 return IntegrationError(
                     f"{self.name}: T + p_t = {bad:.3g} <= 0 {where}: the energy error exceeds "
