@@ -111,15 +111,21 @@ def test_order_on_the_dipole_pair_against_dop853(dipole_pair, dipole_reference, 
     assert p - 0.35 <= slope <= p + 1.2, (errs, slope)
 
 
-@pytest.mark.parametrize("name", LOGH)
-def test_invariants_hold_to_roundoff_at_huge_steps(name):
-    # three dipolar tops in a tight cluster, steps far beyond any accuracy limit
+def _cluster():
+    """Three dipolar tops in a tight cluster (N-body path); its potential energy can be > 0."""
     bodies = [Body(f"b{k}", 1.0 + k, 2.0 + k) for k in range(3)]
     system = NBodySystem(bodies, [AllPairs(BOUND)])
     rng = np.random.default_rng(7)
     pos = np.array([[0, 0, 0], [1.3, 0.2, 0], [0.1, 1.4, 0.3]])
     nu = np.array([unit(v) for v in rng.normal(size=(3, 3))])
-    y0 = system.pack(pos, rng.normal(size=(3, 3)) * 0.3, nu, rng.normal(size=(3, 3)) * 2)
+    return system, system.pack(pos, rng.normal(size=(3, 3)) * 0.3, nu,
+                               rng.normal(size=(3, 3)) * 2)
+
+
+@pytest.mark.parametrize("name", LOGH)
+def test_invariants_hold_to_roundoff_at_huge_steps(name):
+    # three dipolar tops in a tight cluster, steps far beyond any accuracy limit
+    system, y0 = _cluster()
     sol = solve(system, y0, 5.0, name, step=0.37, options={"shift": 100.0})
     assert sol.t[-1] == 5.0 and sol.steps > 5
     assert np.max(sol.casimir_drift()) <= 1e-13
@@ -235,3 +241,18 @@ def test_unsupported_system_is_a_typed_error(dipole_pair):
         TimeTransformedSplitting(4).integrate(other, orbit_state(), 1.0, step=0.1, tol=None)
     with pytest.raises(InputError, match="order"):
         TimeTransformedSplitting(5)
+
+
+@pytest.mark.parametrize("name, steps", [("logh4", (0.02, 0.01)), ("logh8", (0.08, 0.04))])
+def test_order_on_an_nbody_cluster_against_dop853(name, steps):
+    # the N-body path (forces into work[2], work[3], kicks of every body and top)
+    from scipy.integrate import solve_ivp
+
+    system, y0 = _cluster()
+    ref = solve_ivp(system.rhs, (0.0, 1.0), y0, method="DOP853", rtol=1e-13, atol=1e-14).y[:, -1]
+    p = entries("integrator")[name].order
+    errs = [np.max(np.abs(solve(system, y0, 1.0, name, step=h, options={"shift": 100.0}).y[-1]
+                          - ref)) for h in steps]
+    slope = np.log2(errs[0] / errs[1])
+    assert errs[1] > 1e-11, errs
+    assert p - 0.35 <= slope <= p + 1.2, (errs, slope)
