@@ -125,7 +125,7 @@ def _build(kern) -> Kernels:
         # distance of each body from the centre of mass: r m_other/(m1+m2) <= r
         return math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]) * data[3]
 
-    @numba.njit(error_model="numpy")
+    @jit
     def forces(y, data, work):
         """Force and torques (``ṗ, ṁ', ṁ''``) into ``work[0]``; returns ``U``."""
         return partials(y, work[0])
