@@ -69,6 +69,7 @@ from poissonkit.numerics.integrators.base import (
     SaveBuffer,
     check_step,
     locate_division,
+    step_end_kernels,
 )
 from poissonkit.numerics.integrators.driver import drive
 from poissonkit.numerics.integrators.splitting import WEIGHTS, drift_kick_coefficients
@@ -170,7 +171,7 @@ def _runner(kernels: Any, layout: int) -> Any:
     if hit is not None:
         return hit[0]
     drift, forces = kernels.drift, kernels.forces
-    min_distance, max_radius = kernels.min_distance, kernels.max_radius
+    remember, check = step_end_kernels(kernels)
     apply = _apply_two_body if layout == _TWO_BODY else _apply_nbody
 
     @jit
@@ -216,12 +217,7 @@ def _runner(kernels: Any, layout: int) -> Any:
         while k < max_steps:
             gstep = step0 + k + 1
             if track:
-                copy_into(prev, prev2)
-                copy_into(y, prev)
-                hist[0] = hist[1]
-                hist[1] = hist[2]
-                hist[3] = hist[4]
-                hist[4] = t
+                remember(y, prev, prev2, hist, t)
             copy_into(y, trial)
             dt, code, bad = tt_step(y, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work)
             if code != 0:
@@ -242,25 +238,7 @@ def _runner(kernels: Any, layout: int) -> Any:
             k += 1
             if not all_finite(y):
                 return 1, t, k, nsave, 0.0
-            flag = 0
-            value = 0.0
-            if contact > 0.0 or watch > 0.0:
-                d = min_distance(y, data, work)
-                hist[2] = d
-                d0 = hist[0]
-                d1 = hist[1]
-                if watch > 0.0 and d1 <= d0 and d > d1 and \
-                        d1 - 2.0 * max(d0 - d1, d - d1) < watch:
-                    flag = 7
-                    value = d1
-                elif contact > 0.0 and d < contact:
-                    flag = 2
-                    value = d
-            if flag == 0 and escape > 0.0:
-                d = max_radius(y, data)
-                if d > escape:
-                    flag = 3
-                    value = d
+            flag, value = check(y, data, work, contact, escape, watch, hist)
             if last or gstep % save_every == 0:
                 out_t[nsave] = t
                 copy_row(y, out_y, nsave)
