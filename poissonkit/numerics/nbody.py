@@ -649,25 +649,23 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
             F[ia, 2] += fz
         return u
 
-    @jit
-    def cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut):
-        """All pairs of ``members`` closer than ``cutoff``, via a cell list (O(n)), one thread.
+    @jit(inline="always")
+    def slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B, cut2):
+        """Pairs of the cell list whose first cell lies in x-slab ``x`` (cells of one ``cx``).
 
-        Newton's third law: each pair is evaluated once and added to both bodies. Slots are
-        visited in cell order; for each slot ``qa`` its own cell's later slots, then the 13
-        "forward" neighbour cells in increasing cell index. The energy is summed per slot and
-        then over slots, which is the order :func:`cell_pairs_par` reproduces.
+        Newton's third law: each pair is evaluated once and added to both bodies, the lower
+        slot as ``i``. Slots are visited in cell order; for each slot its own cell's later
+        slots, then the 13 "forward" neighbour cells in increasing index. A body's share goes
+        to ``W[q, 0]`` (forces) / ``V[q, 0]`` (torques) when the pair's first cell is in the
+        body's own slab and to ``W[q, 1]`` / ``V[q, 1]`` when it is in the slab before, so
+        two slabs never write the same numbers: the slabs can run on any threads, in any
+        order, and every sum is still formed in one fixed order.
         """
-        n = members.shape[0]
-        if n < 2:
-            return 0.0
-        nc, count, cell_of, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
-        sF = np.zeros((n, 3))
-        sT = np.zeros((n, 3))
         fwd = np.empty(13, dtype=np.int64)
-        cut2 = cutoff * cutoff
+        per_slab = nc[1] * nc[2]
+        first_next = (x + 1) * per_slab
         u = 0.0
-        for c in range(nc[0] * nc[1] * nc[2]):
+        for c in range(x * per_slab, first_next):
             if count[c] == count[c + 1]:
                 continue
             nf = forward_cells(c, nc, fwd)
@@ -676,130 +674,87 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
                 ua = 0.0
                 for k in range(-1, nf):
                     c2 = c if k < 0 else fwd[k]
+                    h = 1 if c2 >= first_next else 0  # j's cell in the next slab
                     for qb in range(qa + 1 if k < 0 else count[c2], count[c2 + 1]):
-                        # cheap distance test before the (not inlined) pair term
+                        # cheap distance test before the pair term
                         dx = sp_[qb, 0] - xa
                         dy = sp_[qb, 1] - ya
                         dz = sp_[qb, 2] - za
-                        if dx * dx + dy * dy + dz * dz <= cut2:
-                            if central:
-                                ua += pair_r(g, qa, qb, sp_, sF, cut, B, body[qa], body[qb])
-                            else:
-                                ua += pair_term(g, qa, qb, sp_, sn_, sF, sT, cut, B,
-                                                body[qa], body[qb])
+                        if dx * dx + dy * dy + dz * dz > cut2:
+                            continue
+                        if central:
+                            uu, g0, g1, g2 = pair_r_one(g, qa, qb, sp_, cut, B,
+                                                        body[qa], body[qb])
+                            W[qa, 0, 0] += g0
+                            W[qa, 0, 1] += g1
+                            W[qa, 0, 2] += g2
+                            W[qb, h, 0] -= g0
+                            W[qb, h, 1] -= g1
+                            W[qb, h, 2] -= g2
+                        else:
+                            (uu, f0, f1, f2, ti0, ti1, ti2,
+                             tj0, tj1, tj2) = pair_one(g, qa, qb, sp_, sn_, cut, B,
+                                                       body[qa], body[qb])
+                            W[qa, 0, 0] -= f0
+                            W[qa, 0, 1] -= f1
+                            W[qa, 0, 2] -= f2
+                            W[qb, h, 0] += f0
+                            W[qb, h, 1] += f1
+                            W[qb, h, 2] += f2
+                            V[qa, 0, 0] += ti0
+                            V[qa, 0, 1] += ti1
+                            V[qa, 0, 2] += ti2
+                            V[qb, h, 0] += tj0
+                            V[qb, h, 1] += tj1
+                            V[qb, h, 2] += tj2
+                        ua += uu
                 u += ua
+        return u
+
+    @jit(inline="always")
+    def cell_gather(n, body, W, V, us, F, T):
+        """Add the slot sums to the bodies' rows; total energy, summed slab by slab."""
         for q in range(n):
             b = body[q]
             for d in range(3):
-                F[b, d] += sF[q, d]
-                T[b, d] += sT[q, d]
+                F[b, d] += W[q, 1, d] + W[q, 0, d]
+                T[b, d] += V[q, 1, d] + V[q, 0, d]
+        u = 0.0
+        for x in range(us.shape[0]):
+            u += us[x]
         return u
 
-    @jit(parallel=True)
-    def cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut):
-        """:func:`cell_pairs` on every thread, with the same result bit for bit.
-
-        Each slot sums its own force and torque over all 27 neighbour cells (no atomics, no
-        reduction across threads), so every pair is evaluated twice, once for each body. The
-        pair is always evaluated with the lower slot as ``i`` and contributions arrive in the
-        order the serial loop adds them (neighbour cells by increasing index, slots by
-        increasing index), so the sums are identical, whatever the number of threads. Pair
-        energies are kept per slot (lower slot of the pair) and summed serially afterwards.
-        """
+    @jit
+    def cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut):
+        """All pairs of ``members`` closer than ``cutoff``, via a cell list (O(n)), one thread."""
         n = members.shape[0]
         if n < 2:
             return 0.0
         nc, count, cell_of, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
-        sF = np.empty((n, 3))
-        sT = np.empty((n, 3))
-        us = np.empty(n)
-        cut2 = cutoff * cutoff
-        ny_ = nc[1]
-        nz_ = nc[2]
-        for qp in numba.prange(n):
-            qa = np.int64(qp)  # the prange index may be unsigned; min(uint, int) is a float
-            c = cell_of[qa]
-            cx = c // (ny_ * nz_)
-            cy = (c // nz_) % ny_
-            cz = c % nz_
-            xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
-            ua = 0.0
-            f0 = 0.0
-            f1 = 0.0
-            f2 = 0.0
-            t0 = 0.0
-            t1 = 0.0
-            t2 = 0.0
-            for ddx in range(-1, 2):
-                nx = cx + ddx
-                if nx < 0 or nx >= nc[0]:
-                    continue
-                for ddy in range(-1, 2):
-                    ny = cy + ddy
-                    if ny < 0 or ny >= ny_:
-                        continue
-                    for ddz in range(-1, 2):
-                        nz = cz + ddz
-                        if nz < 0 or nz >= nz_:
-                            continue
-                        c2 = (nx * ny_ + ny) * nz_ + nz
-                        for qb in range(count[c2], count[c2 + 1]):
-                            if qb == qa:
-                                continue
-                            # same test as the serial loop: (−d)² == d² exactly
-                            dx = sp_[qb, 0] - xa
-                            dy = sp_[qb, 1] - ya
-                            dz = sp_[qb, 2] - za
-                            if dx * dx + dy * dy + dz * dz > cut2:
-                                continue
-                            lo = min(qa, qb)
-                            hi = max(qa, qb)
-                            if central:
-                                uu, g0, g1, g2 = pair_r_one(g, lo, hi, sp_, cut, B,
-                                                            body[lo], body[hi])
-                                if qa == lo:
-                                    ua += uu
-                                    f0 += g0
-                                    f1 += g1
-                                    f2 += g2
-                                else:
-                                    f0 -= g0
-                                    f1 -= g1
-                                    f2 -= g2
-                            else:
-                                (uu, g0, g1, g2, ti0, ti1, ti2,
-                                 tj0, tj1, tj2) = pair_one(g, lo, hi, sp_, sn_, cut, B,
-                                                           body[lo], body[hi])
-                                if qa == lo:
-                                    ua += uu
-                                    f0 -= g0
-                                    f1 -= g1
-                                    f2 -= g2
-                                    t0 += ti0
-                                    t1 += ti1
-                                    t2 += ti2
-                                else:
-                                    f0 += g0
-                                    f1 += g1
-                                    f2 += g2
-                                    t0 += tj0
-                                    t1 += tj1
-                                    t2 += tj2
-            sF[qa, 0] = f0
-            sF[qa, 1] = f1
-            sF[qa, 2] = f2
-            sT[qa, 0] = t0
-            sT[qa, 1] = t1
-            sT[qa, 2] = t2
-            us[qa] = ua
-        u = 0.0
-        for q in range(n):
-            u += us[q]
-            b = body[q]
-            for d in range(3):
-                F[b, d] += sF[q, d]
-                T[b, d] += sT[q, d]
-        return u
+        W = np.zeros((n, 2, 3))
+        V = np.zeros((n, 2, 3))
+        us = np.empty(nc[0])
+        for x in range(nc[0]):
+            us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
+                               cutoff * cutoff)
+        return cell_gather(n, body, W, V, us, F, T)
+
+    @jit(parallel=True)
+    def cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut):
+        """:func:`cell_pairs` with the x-slabs shared out between threads; the same numbers
+        bit for bit on any number of threads (see ``slab_pairs``: no two slabs write the same
+        sum, no atomics, no reduction whose order depends on the threads)."""
+        n = members.shape[0]
+        if n < 2:
+            return 0.0
+        nc, count, cell_of, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
+        W = np.zeros((n, 2, 3))
+        V = np.zeros((n, 2, 3))
+        us = np.empty(nc[0])
+        for x in numba.prange(nc[0]):
+            us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
+                               cutoff * cutoff)
+        return cell_gather(n, body, W, V, us, F, T)
 
     if parallel:
         @jit

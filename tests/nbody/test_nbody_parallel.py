@@ -5,7 +5,7 @@ Claims checked here:
 * the parallel loop (``threads=2``) gives forces, torques and energy **bitwise** equal to the
   serial loop (``threads=1``), with a truncated and a smooth cutoff, for magnets (forces and
   torques) and for the orientation-free point-mass fast path; repeated evaluations and whole
-  runs are bitwise identical too;
+  runs (slow test) are bitwise identical too;
 * independent truth: a direct O(N²) numpy sum of the analytic point-dipole forces and torques
   (``F_j = 3/r⁴ [c1 ν_j + c2 ν_i + c3 e − 5 c1 c2 e]``, ``τ_i = ν_i × B_j``) and of Newtonian
   gravity, truncated at the cutoff, agrees to 1e-12 of the largest force;
@@ -114,6 +114,7 @@ def test_numbas_thread_setting_is_followed_and_restored():
     assert_bitwise(two_threads, one_thread)
 
 
+@pytest.mark.slow  # compiles splitting4 for two kernel sets; the force tests cover the kick
 @needs_two
 def test_a_run_on_two_threads_is_the_run_on_one_thread_bit_for_bit():
     serial, y = magnets(1, 1.5, side=5)
