@@ -1033,9 +1033,10 @@ class NBodySystem:
         which defaults to the number of cores); ``1`` always runs the serial loop and does
         not compile the parallel one; ``k`` runs on ``k`` threads. Forces, torques and
         energy are bit-for-bit the same on any number of threads and equal to the serial
-        loop's (each body sums its own pairs in the serial order; every pair is evaluated
-        twice, which the second core pays back from about :data:`PARALLEL_MIN_BODIES`
-        bodies on).
+        loop's: the cell list's x-slabs are shared out between threads, each pair is
+        evaluated once, and every sum is formed in one fixed order (no atomics, no
+        thread-dependent reduction). Compiling the parallel loop takes a few seconds more,
+        once per potential.
     parallel_min_bodies
         Fewest members of an :class:`AllPairs` for which the parallel loop is used
         (default :data:`PARALLEL_MIN_BODIES`); smaller sets run the serial loop.
