@@ -25,6 +25,7 @@ uses a compiled cell list, so one force evaluation costs O(N) at fixed density.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -514,6 +515,12 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
     hit = _kernel_cache.get((id(kern_any), parallel))
     if hit is not None:
         return hit
+    if parallel:
+        # OpenMP's default active wait spins at every barrier: when another process holds
+        # the other core, a force evaluation of 10⁴ tops took 4× the serial time instead of
+        # the same (benchmarks/bench_nbody_parallel.py). Read once, at the first parallel
+        # launch; a value the user set wins.
+        os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
     @numba.njit(error_model="numpy", inline="always")
     def switch(r, cut):
