@@ -992,9 +992,10 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
 
 # ----------------------------------------------------------------------------- the system
 #: Fewest members of a cell-listed :class:`AllPairs` for which the parallel pair loop is used
-#: by default (below it the serial loop is as fast on 2 cores; ``benchmarks/bench_nbody_parallel.py``
-#: measures the crossover).
-PARALLEL_MIN_BODIES = 2000
+#: by default. On an idle 2-core machine the two loops break even near 1000 bodies and the
+#: parallel one is 1.3× faster at 2200 (``benchmarks/bench_nbody_parallel.py``); the margin
+#: keeps small systems off the thread pool.
+PARALLEL_MIN_BODIES = 1500
 
 
 def _count_option(value: Any, what: str, low: int, high: int | None) -> int | None:
