@@ -14,10 +14,9 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
-import numba
-
 from poissonkit.conventions import MU0
 from poissonkit.errors import InputError
+from poissonkit.numerics.jit import jit
 from poissonkit.plugin.contributions import Param
 from poissonkit_magnets import analytic, cylinder, fields, loops
 
@@ -210,7 +209,7 @@ _lock = threading.Lock()
 def _bind(core: Callable[..., Any], args: tuple) -> Callable[..., Any]:
     # The arguments are scalars, so numba freezes them as constants and reuses the cached
     # compiled core (arrays would be frozen read-only and force a recompilation of the core).
-    @numba.njit
+    @jit(error_model="python")
     def kernel(r, c1, c2, c3):
         return core(r, c1, c2, c3, *args)
 

@@ -21,6 +21,7 @@ from poissonkit.numerics.codegen import (
     compile_source,
     scalar_source,
 )
+from poissonkit.numerics.jit import jit, load_sources, source_key, store_sources
 from poissonkit.plugin.contributions import PairPotential
 
 #: The four invariants as the real sympy symbols potentials must use.
@@ -75,11 +76,14 @@ def kernel_from_expr(expr: sp.Expr, name: str = "pair",
     if hit is not None:
         return hit
     check_free_symbols([expr], (R, C1, C2, C3) + extra, f"potential {name!r}")
-    outs = [expr] + [sp.diff(expr, s) for s in (R, C1, C2, C3)]
     fname = "pair_" + "".join(ch if ch.isalnum() else "_" for ch in name)
     args = ("r", "c1", "c2", "c3") + tuple(f"_b{k}" for k in range(len(extra)))
-    src = scalar_source(fname, args, (R, C1, C2, C3) + extra, outs)
-    kern = compile_source(src, fname)
+
+    def generate() -> str:
+        outs = [expr] + [sp.diff(expr, s) for s in (R, C1, C2, C3)]
+        return scalar_source(fname, args, (R, C1, C2, C3) + extra, outs)
+
+    kern = compile_source(_stored_source(generate, "pair", fname, key[1], *key[2]), fname)
     with _lock:
         _cache[key] = kern
         _sources[id(kern)] = (expr, name, extra, kern)
@@ -107,10 +111,15 @@ def radial_kernel(kern: Callable[..., Any]) -> Callable[..., Any]:
         return hit[0]
     if src is not None and not (src[0].free_symbols & {C1, C2, C3}):
         expr, name, extra, _ = src
-        outs = [expr.subs(R, 1 / Q), (sp.diff(expr, R) / R).subs(R, 1 / Q)]
         fname = "radial_" + "".join(ch if ch.isalnum() else "_" for ch in name)
         args = ("q",) + tuple(f"_b{k}" for k in range(len(extra)))
-        fast = compile_source(scalar_source(fname, args, (Q,) + extra, outs), fname)
+
+        def generate() -> str:
+            outs = [expr.subs(R, 1 / Q), (sp.diff(expr, R) / R).subs(R, 1 / Q)]
+            return scalar_source(fname, args, (Q,) + extra, outs)
+
+        fast = compile_source(_stored_source(generate, "radial", fname, sp.srepr(expr),
+                                             *(sp.srepr(e) for e in extra)), fname)
     else:
         n_extra = len(src[2]) if src is not None else _arity(kern) - 4
         extra_args = "".join(f", _b{k}" for k in range(n_extra))
@@ -122,6 +131,18 @@ def radial_kernel(kern: Callable[..., Any]) -> Callable[..., Any]:
     with _lock:
         _cache[key] = (fast, kern)  # keep kern alive so its id stays unique
     return fast
+
+
+def _stored_source(generate: Callable[[], str], *key: str) -> str:
+    """Generated kernel source, from the disk cache when an earlier process made it (the
+    symbolic differentiation and CSE are the slow part of a new potential)."""
+    k = source_key(*key)
+    stored = load_sources(k)
+    if stored is not None and "source" in stored:
+        return stored["source"]
+    src = generate()
+    store_sources(k, {"source": src})
+    return src
 
 
 def _arity(kern: Callable[..., Any]) -> int:
@@ -233,7 +254,7 @@ def scaled_kernel(kern: Callable[..., Any], length: float, energy: float) -> Cal
     if hit is not None:
         return hit[0]
 
-    @numba.njit(error_model="numpy")
+    @jit
     def scaled(r, c1, c2, c3):
         u, ur, u1, u2, u3 = kern(r * L, c1, c2, c3)
         return u * inv_e, ur * (L * inv_e), u1 * inv_e, u2 * inv_e, u3 * inv_e

@@ -17,7 +17,6 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import numba
 import numpy as np
 import sympy as sp
 
@@ -29,20 +28,21 @@ from poissonkit.numerics.codegen import (
     is_large,
     jacobian_source,
 )
+from poissonkit.numerics.jit import jit, load_sources, source_key, store_sources
 from poissonkit.numerics.kernels import Kernels, no_drift
 
 
-@numba.njit(error_model="numpy")
+@jit
 def _no_kick(y, h, data, work):
     return
 
 
-@numba.njit(error_model="numpy")
+@jit
 def _no_distance(y, data, work):
     return np.inf
 
 
-@numba.njit(error_model="numpy")
+@jit
 def _no_radius(y, data):
     return 0.0
 
@@ -101,42 +101,54 @@ class CompiledSystem:
         def prep(e: Any) -> sp.Expr:
             return sp.sympify(e).xreplace(subs)
 
-        H = prep(hsys.hamiltonian)
-        P = hsys.structure.matrix.xreplace(subs)
-        N = prep(hsys.multiplier)
-        dH = [sp.diff(H, x) for x in coords]
-        n = len(coords)
-        what = f"system {hsys.name or 'unnamed'}"
-        if field == "original":
-            X = _original_field(hsys, coords, prep, what)
-            _check_same_field(X, N, P, dH, coords, what)
-        else:
-            X = [N * sum(P[i, j] * dH[j] for j in range(n) if P[i, j] != 0) for i in range(n)]
-        self.field = field
-        check_free_symbols(X + [H], coords, what)
-        self._X = X
+        self._prep = prep
+        self._subs = subs
+        self._original = original
+        self._what = f"system {hsys.name or 'unnamed'}"
         self._coords = coords
+        self._X: list[sp.Expr] | None = None
+        self.field = field
         self.layout = tuple(str(c) for c in coords)
-        self.dim = n
+        self.dim = len(coords)
         self.casimir_names = tuple(hsys.casimirs)
         self.integral_names = tuple(hsys.integrals)
         cas = [prep(e) for e in hsys.casimirs.values()]
         ints = [prep(e) for e in hsys.integrals.values()]
-        check_free_symbols(cas + ints, coords, what + " invariants")
-        self._large = is_large(X)
-        self.source = array_source("rhs_gen", coords, X, (n,), large=self._large)
+        check_free_symbols(cas + ints, coords, self._what + " invariants")
+        # generated sources are kept on disk under a hash of everything they follow from, so a
+        # second process skips the symbolic work (differentiation, CSE) as well as numba's
+        self._key = source_key(sp.srepr((tuple(coords), prep(hsys.hamiltonian),
+                                         prep(hsys.multiplier),
+                                         sp.ImmutableMatrix(hsys.structure.matrix.xreplace(subs)),
+                                         tuple(prep(e) for e in original),
+                                         tuple(cas), tuple(ints))), field)
+        sources = load_sources(self._key)
+        if sources is None:
+            X = self._field()
+            n = self.dim
+            large = is_large(X)
+            sources = {
+                "large": "1" if large else "0",
+                "rhs_gen": array_source("rhs_gen", coords, X, (n,), large=large),
+                "energy_gen": array_source("energy_gen", coords, [prep(hsys.hamiltonian)], (1,)),
+                "cas_gen": array_source("cas_gen", coords, cas or [sp.Integer(0)],
+                                        (max(len(cas), 1),)),
+                "int_gen": array_source("int_gen", coords, ints or [sp.Integer(0)],
+                                        (max(len(ints), 1),)),
+            }
+            store_sources(self._key, sources)
+        self._large = sources["large"] == "1"
+        self.source = sources["rhs_gen"]
         rhs_gen = compile_source(self.source, "rhs_gen")
-        en_gen = compile_source(array_source("energy_gen", coords, [H], (1,)), "energy_gen")
-        self._cas = compile_source(array_source("cas_gen", coords, cas or [sp.Integer(0)],
-                                                (max(len(cas), 1),)), "cas_gen")
-        self._int = compile_source(array_source("int_gen", coords, ints or [sp.Integer(0)],
-                                                (max(len(ints), 1),)), "int_gen")
+        en_gen = compile_source(sources["energy_gen"], "energy_gen")
+        self._cas = compile_source(sources["cas_gen"], "cas_gen")
+        self._int = compile_source(sources["int_gen"], "int_gen")
 
-        @numba.njit(error_model="numpy")
+        @jit
         def rhs(y, data, work, out):
             rhs_gen(y, out)
 
-        @numba.njit(error_model="numpy")
+        @jit
         def energy(y, data, work):
             return en_gen(y, work[0])[0]
 
@@ -151,10 +163,15 @@ class CompiledSystem:
         if self._kernels is None:
             # small fields: symbolic derivatives + CSE (as always); large ones: forward-mode
             # differentiation of the CSE program (linear in its length)
-            jac_gen = compile_source(jacobian_source("jac_gen", self._coords, self._X,
-                                                     large=self._large), "jac_gen")
+            key = self._key + "-jacobian"
+            stored = load_sources(key)
+            if stored is None:
+                stored = {"jac_gen": jacobian_source("jac_gen", self._coords, self._field(),
+                                                     large=self._large)}
+                store_sources(key, stored)
+            jac_gen = compile_source(stored["jac_gen"], "jac_gen")
 
-            @numba.njit(error_model="numpy")
+            @jit
             def jac(y, data, work, out):
                 jac_gen(y, out)
 
@@ -162,6 +179,25 @@ class CompiledSystem:
                                     energy=self._energy, min_distance=_no_distance,
                                     max_radius=_no_radius, jac=jac, splittable=False)
         return self._kernels
+
+    def _field(self) -> list[sp.Expr]:
+        """The vector field ``X`` (symbolic; built on first use and checked)."""
+        if self._X is None:
+            hsys, prep, coords = self.hamiltonian_system, self._prep, self._coords
+            H = prep(hsys.hamiltonian)
+            P = hsys.structure.matrix.xreplace(self._subs)
+            N = prep(hsys.multiplier)
+            dH = [sp.diff(H, x) for x in coords]
+            n = len(coords)
+            if self.field == "original":
+                X = _original_field(hsys, coords, prep, self._what)
+                _check_same_field(X, N, P, dH, coords, self._what)
+            else:
+                X = [N * sum(P[i, j] * dH[j] for j in range(n) if P[i, j] != 0)
+                     for i in range(n)]
+            check_free_symbols(X + [H], coords, self._what)
+            self._X = X
+        return self._X
 
     def work(self) -> tuple[np.ndarray, ...]:
         """Scratch arrays for the kernels."""

@@ -18,10 +18,10 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-import numba
 import numpy as np
 
 from poissonkit.errors import DimensionError, InputError
+from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import Kernels, rotate_slot
 from poissonkit.numerics.nbody import (
     NonUnitAxisError,
@@ -44,7 +44,7 @@ def _build(kern) -> Kernels:
     if hit is not None:
         return hit[0]
 
-    @numba.njit(error_model="numpy")
+    @jit
     def partials(y, out):
         """Force ``ṗ`` (out[0:3]) and torques ``ṁ'`` (out[3:6]), ``ṁ''`` (out[6:9]); returns U."""
         r2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2]
@@ -73,7 +73,7 @@ def _build(kern) -> Kernels:
         out[8] = u2 * (ex * b1 - ey * b0) + u3 * w2
         return u
 
-    @numba.njit(error_model="numpy")
+    @jit
     def rhs(y, data, work, out):
         mu, al1, al2 = data[0], data[1], data[2]
         f = work[0]
@@ -90,7 +90,7 @@ def _build(kern) -> Kernels:
             out[q + 1] = a * (m2 * n0 - m0 * n2)
             out[q + 2] = a * (m0 * n1 - m1 * n0)
 
-    @numba.njit(error_model="numpy")
+    @jit
     def kick(y, h, data, work):
         f = work[0]
         partials(y, f)
@@ -99,7 +99,7 @@ def _build(kern) -> Kernels:
             y[9 + d] += h * f[3 + d]
             y[15 + d] += h * f[6 + d]
 
-    @numba.njit(error_model="numpy")
+    @jit
     def drift(y, h, data):
         c = h / data[0]
         y[0] += c * y[3]
@@ -108,7 +108,7 @@ def _build(kern) -> Kernels:
         rotate_slot(y, 6, 9, data[1] * h)
         rotate_slot(y, 12, 15, data[2] * h)
 
-    @numba.njit(error_model="numpy")
+    @jit
     def energy(y, data, work):
         u = partials(y, work[0])
         e = 0.5 * (y[3] ** 2 + y[4] ** 2 + y[5] ** 2) / data[0]
@@ -116,11 +116,11 @@ def _build(kern) -> Kernels:
         e += 0.5 * data[2] * (y[15] ** 2 + y[16] ** 2 + y[17] ** 2)
         return e + u
 
-    @numba.njit(error_model="numpy")
+    @jit
     def min_distance(y, data, work):
         return math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2])
 
-    @numba.njit(error_model="numpy")
+    @jit
     def max_radius(y, data):
         # distance of each body from the centre of mass: r m_other/(m1+m2) <= r
         return math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]) * data[3]

@@ -13,7 +13,6 @@ import hashlib
 import math
 from typing import Any
 
-import numba
 import numpy as np
 
 from poissonkit.errors import InputError, IntegrationError
@@ -26,10 +25,11 @@ from poissonkit.numerics.integrators.base import (
     locate_division,
 )
 from poissonkit.numerics.integrators.driver import drive
+from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import all_finite, copy_into, copy_row, gauss_solve
 
 
-@numba.njit(error_model="numpy")
+@jit
 def _nojac(y, data, work, out):
     return
 
@@ -46,7 +46,7 @@ def _runner(kernels) -> Any:
     jac = kernels.jac if kernels.jac is not None else _nojac
     min_distance, max_radius = kernels.min_distance, kernels.max_radius
 
-    @numba.njit(error_model="numpy")
+    @jit
     def run(y, t0, h, n_total, tol, maxiter, newton, data, work, save_every, step0, max_steps,
             out_t, out_y, contact, escape, watch, back1, back2, hist):
         n = y.shape[0]

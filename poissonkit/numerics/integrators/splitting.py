@@ -32,7 +32,6 @@ from __future__ import annotations
 import math
 from typing import Any
 
-import numba
 import numpy as np
 
 from poissonkit.errors import InputError
@@ -44,6 +43,7 @@ from poissonkit.numerics.integrators.base import (
     locate_division,
 )
 from poissonkit.numerics.integrators.driver import drive
+from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import all_finite, copy_into, copy_row
 
 # --------------------------------------------------------------------------- coefficients
@@ -106,7 +106,7 @@ def _runner(kernels) -> Any:
     drift, kick = kernels.drift, kernels.kick
     min_distance, max_radius = kernels.min_distance, kernels.max_radius
 
-    @numba.njit(error_model="numpy")
+    @jit
     def one_step(y, h, a, b, data, work):
         nb = b.shape[0]
         for s in range(nb):
@@ -114,14 +114,14 @@ def _runner(kernels) -> Any:
             kick(y, b[s] * h, data, work)
         drift(y, a[nb] * h, data)
 
-    @numba.njit(error_model="numpy")
+    @jit
     def g_factor(y, data, work, dref):
         d = min_distance(y, data, work)
         if d >= dref:
             return 1.0
         return (d / dref) ** 1.5
 
-    @numba.njit(error_model="numpy")
+    @jit
     def run(y, t_orig, t0, t_end, h, n_total, adaptive, dref, iters, a, b, data, work, save_every,
             step0, max_steps, out_t, out_y, contact, escape, watch, trial, prev, prev2, hist):
         """Advance ``y`` in place. Returns (status, t, steps_done_in_call, n_saved, value).

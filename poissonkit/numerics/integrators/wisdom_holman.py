@@ -54,6 +54,7 @@ from poissonkit.numerics.integrators.base import (
     check_step,
     progress_bar,
 )
+from poissonkit.numerics.jit import jit
 
 #: ``g_n`` of the ``ε² h²`` error term of ``SABA_n`` (Laskar & Robutel 2001, Table 1).
 CORRECTOR_G = {
@@ -234,7 +235,7 @@ def _runner(kernels) -> Any:
     forces = kernels.forces
     min_distance, max_radius = kernels.min_distance, kernels.max_radius
 
-    @numba.njit(error_model="numpy")
+    @jit
     def accel(xj, m, eta, gm, ybuf, r, a, aj, data, work):
         """Jacobi kick accelerations of ``H_I`` at Jacobi positions ``xj`` into ``aj``."""
         n = m.shape[0]
@@ -254,7 +255,7 @@ def _runner(kernels) -> Any:
             for d in range(3):
                 aj[i, d] += c * xj[i, d]
 
-    @numba.njit(error_model="numpy")
+    @jit
     def drift_all(xj, uj, gm, dt):
         for d in range(3):
             xj[0, d] += dt * uj[0, d]
@@ -263,7 +264,7 @@ def _runner(kernels) -> Any:
             ok = kepler_drift(xj, uj, i, gm[i], dt) and ok
         return ok
 
-    @numba.njit(error_model="numpy")
+    @jit
     def correct(xj, uj, tau, m, eta, gm, ybuf, r, a, aj, xt, a_plus, data, work):
         """Kick of the corrector potential ``τ Σ |∂H_I/∂x'_i|²/m'_i``.
 
@@ -295,7 +296,7 @@ def _runner(kernels) -> Any:
             for d in range(3):
                 uj[i, d] += f * (a_plus[i, d] - aj[i, d])
 
-    @numba.njit(error_model="numpy")
+    @jit
     def sync(xj, uj, m, eta, y, r, u):
         """Write the inertial state ``(r, p)`` of Jacobi ``xj, uj`` into ``y``."""
         from_jacobi(xj, m, eta, r)
@@ -305,7 +306,7 @@ def _runner(kernels) -> Any:
                 y[6 * i + d] = r[i, d]
                 y[6 * i + 3 + d] = m[i] * u[i, d]
 
-    @numba.njit(error_model="numpy")
+    @jit
     def run(y, xj, uj, m, eta, gm, t_orig, h, n_total, c, dk, tau, data, work, save_every,
             step0, max_steps, out_t, out_y, contact, escape):
         """Advance the Jacobi state ``xj, uj`` (written to ``y`` at every save and on return).
