@@ -10,8 +10,9 @@ truncated at cutoff 2.0); side 22 gives N = 10 648, side 46 gives N = 97 336. Fo
 prints, in one process (best of ``--repeat`` interleaved evaluations of forces + torques +
 energy):
 
-* ``NBodySystem(..., threads=1)`` (serial loop) and ``threads=2`` (parallel loop): wall time,
-  speed-up (target ≥ 1.7× on 2 cores) and whether the results are bitwise equal;
+* ``NBodySystem(..., parallel=False)`` (serial loop) and the default parallel loop on 1 and
+  on 2 threads (``numba.set_num_threads``): wall time, speed-up of 2 threads over the serial
+  loop (target ≥ 1.7× on 2 cores) and whether the three results are bitwise equal;
 * a plain compiled loop written here over the same cell list (``nbody.cell_list``): the
   potential's closed form inlined, one pass over each pair, no dispatch, no switch — the
   per-pair cost ratio poissonkit / plain (target ≤ 1.5×);
@@ -49,9 +50,21 @@ from poissonkit.numerics.nbody import cell_list, forward_cells  # noqa: E402
 CUTOFF = 2.0
 
 
-def variant(base: NBodySystem, threads: int, min_bodies: int | None = None) -> NBodySystem:
-    return NBodySystem(base.bodies, base.interactions, cutoff=base.cutoff, threads=threads,
+def variant(base: NBodySystem, parallel: bool, min_bodies: int | None = None) -> NBodySystem:
+    return NBodySystem(base.bodies, base.interactions, cutoff=base.cutoff, parallel=parallel,
                        parallel_min_bodies=min_bodies)
+
+
+def on_threads(k: int, f):
+    """``f`` run on ``k`` numba threads (the setting restored afterwards)."""
+    def run():
+        before = numba.get_num_threads()
+        numba.set_num_threads(k)
+        try:
+            return f()
+        finally:
+            numba.set_num_threads(before)
+    return run
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -220,32 +233,39 @@ def main() -> None:
           f"threading layer {numba.config.THREADING_LAYER}; {load()} at start")
     for side in args.sides:
         _, base, y = systems(side)
-        one, two = variant(base, 1), variant(base, 2)
+        one, two = variant(base, False), variant(base, True)
         n = base.n_moving
         st = base.unpack(y)
         pos, nu = np.ascontiguousarray(st["r"]), np.ascontiguousarray(st["nu"])
         members = np.arange(n, dtype=np.int64)
         pairs = count_pairs(pos)
-        w1, w2 = one.work(), two.work()
+        w1, w2, w3 = one.work(), two.work(), two.work()
         Fp, Tp = np.zeros((n, 3)), np.zeros((n, 3))
         k1, k2 = one.kernels.forces, two.kernels.forces
         u1 = k1(y, one.data, w1)  # compile
-        u2 = k2(y, two.data, w2)
+        u2 = on_threads(2, lambda: k2(y, two.data, w2))()
+        u3 = on_threads(1, lambda: k2(y, two.data, w3))()
         up = plain_forces(members, pos, nu, CUTOFF, Fp, Tp)
-        same = bool(np.array_equal(w1[2], w2[2]) and np.array_equal(w1[3], w2[3]) and u1 == u2)
+        same = all(np.array_equal(w1[a], w[a]) for w in (w2, w3) for a in (2, 3))
+        same = same and u1 == u2 == u3
         dev = max(np.abs(w1[2] - Fp).max() / np.abs(Fp).max(),
                   np.abs(w1[3] - Tp).max() / np.abs(Tp).max(), abs(u1 - up) / abs(up))
         t = best_times({"serial": lambda: k1(y, one.data, w1),
-                        "parallel": lambda: k2(y, two.data, w2),
+                        "parallel": on_threads(2, lambda: k2(y, two.data, w2)),
+                        "parallel1": on_threads(1, lambda: k2(y, two.data, w3)),
                         "plain": lambda: plain_forces(members, pos, nu, CUTOFF, Fp, Tp)},
                        args.repeat)
         print(f"\nN = {n} tops, cutoff {CUTOFF}, {pairs} pairs within the cutoff "
               f"({2 * pairs / n:.1f} neighbours per body); {load()}")
-        print(f"  threads=1 (serial loop)      {1e3 * t['serial']:8.2f} ms  "
+        print(f"  serial loop (parallel=False) {1e3 * t['serial']:8.2f} ms  "
               f"{1e9 * t['serial'] / pairs:6.1f} ns/pair")
-        print(f"  threads=2 (parallel loop)    {1e3 * t['parallel']:8.2f} ms  "
+        print(f"  parallel loop, 1 thread      {1e3 * t['parallel1']:8.2f} ms  "
+              f"{1e9 * t['parallel1'] / pairs:6.1f} ns/pair   serial / this "
+              f"{t['serial'] / t['parallel1']:.2f}x")
+        print(f"  parallel loop, 2 threads     {1e3 * t['parallel']:8.2f} ms  "
               f"{1e9 * t['parallel'] / pairs:6.1f} ns/pair   speed-up "
-              f"{t['serial'] / t['parallel']:.2f}x (target >= 1.7x); bitwise equal: {same}")
+              f"{t['serial'] / t['parallel']:.2f}x (target >= 1.7x); all three bitwise "
+              f"equal: {same}")
         print(f"  plain compiled loop, 1 thread {1e3 * t['plain']:7.2f} ms  "
               f"{1e9 * t['plain'] / pairs:6.1f} ns/pair   poissonkit 1 thread / plain "
               f"{t['serial'] / t['plain']:.2f}x (target <= 1.5x); "
@@ -266,16 +286,18 @@ def main() -> None:
                       f"{1e9 * per_eval / pairs:6.1f} ns/pair   poissonkit / LAMMPS "
                       f"{ours / per_eval:.2f}x; forces, torques agree to {err:.1e}")
     if not args.no_crossover:
-        print(f"\nserial vs parallel loop on small clusters (parallel_min_bodies=0); {load()}")
+        print(f"\nserial vs parallel loop (2 threads) on small clusters "
+              f"(parallel_min_bodies=0); {load()}")
         for side in (5, 8, 10, 13, 16):
             _, base, y = systems(side)
-            one, two = variant(base, 1), variant(base, 2, 0)
+            one, two = variant(base, False), variant(base, True, 0)
             w1, w2 = one.work(), two.work()
             k1, k2 = one.kernels.forces, two.kernels.forces
             k1(y, one.data, w1)
-            k2(y, two.data, w2)
-            t = best_times({"serial": lambda: k1(y, one.data, w1),
-                            "parallel": lambda: k2(y, two.data, w2)}, 3 * args.repeat)
+            par = on_threads(2, lambda: k2(y, two.data, w2))
+            par()
+            t = best_times({"serial": lambda: k1(y, one.data, w1), "parallel": par},
+                           3 * args.repeat)
             print(f"  N = {base.n_moving:6d}  serial {1e6 * t['serial']:9.1f} us   parallel "
                   f"{1e6 * t['parallel']:9.1f} us   ratio {t['serial'] / t['parallel']:.2f}")
 

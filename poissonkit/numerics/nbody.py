@@ -505,7 +505,7 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
     """Compile the N-body kernels around one pair of potential dispatchers (cached).
 
     ``parallel`` adds the multi-threaded cell-list loop (chosen at run time by the number of
-    members and threads, ``data[16]``, ``data[17]``); without it only the serial loop exists.
+    members, ``data[16]``); without it only the serial loop exists.
     """
     hit = _kernel_cache.get((id(kern_any), parallel))
     if hit is not None:
@@ -760,23 +760,22 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
 
     if parallel:
         @jit
-        def cells(g, central, members, pos, nu, F, T, cutoff, B, cut, threads, min_n):
-            """The cell-list pairs on ``threads`` threads (0: numba's current number) once
-            there are ``min_n`` members; below that, or on one thread, the serial loop."""
+        def cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n):
+            """The cell-list pairs on numba's threads once there are ``min_n`` members.
+
+            The thread count is numba's (``numba.set_num_threads``); it is not read here:
+            ``numba.get_num_threads`` in compiled code would keep every kernel that calls
+            this one out of the disk cache, and on one thread the parallel loop does the
+            serial loop's work anyway.
+            """
             if members.shape[0] >= min_n:
-                now = numba.get_num_threads()
-                k = threads if threads > 0 else now
-                if k > 1:
-                    numba.set_num_threads(k)
-                    u = cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut)
-                    numba.set_num_threads(now)
-                    return u
+                return cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut)
             return cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut)
     else:
         # no parallel loop compiled at all: compiling it costs seconds that small systems
-        # (and systems told to use one thread) never get back
+        # (and systems told to stay serial) never get back
         @jit(inline="always")
-        def cells(g, central, members, pos, nu, F, T, cutoff, B, cut, threads, min_n):
+        def cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n):
             return cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut)
 
     def forces_py(pos, nu, data, F, T):
@@ -815,7 +814,7 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
             hi = coffs[g + 1]
             if np.isfinite(cutoff):
                 u += cells(gid, central, cmembers[lo:hi], pos, nu, F, T, cutoff, B, cut,
-                           data[16], data[17])
+                           data[16])
             elif central:
                 u += all_pairs_r(gid, cmembers, lo, hi, pos, F, B)
             else:
@@ -993,15 +992,12 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
 PARALLEL_MIN_BODIES = 1500
 
 
-def _count_option(value: Any, what: str, low: int, high: int | None) -> int | None:
-    """``value`` as an int in ``[low, high]`` (``None`` passes), else :class:`InputError`."""
-    if value is None:
-        return None
+def _count_option(value: Any, what: str, low: int) -> int:
+    """``value`` as an int ``>= low``, else :class:`InputError` naming ``what``."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise InputError(f"{what} must be an integer, got {value!r}")
-    if value < low or (high is not None and value > high):
-        top = "" if high is None else f" and at most {high} (NUMBA_NUM_THREADS)"
-        raise InputError(f"{what} must be at least {low}{top}, got {value!r}")
+    if value < low:
+        raise InputError(f"{what} must be at least {low}, got {value!r}")
     return int(value)
 
 
@@ -1030,16 +1026,16 @@ class NBodySystem:
         Evaluate orientation-free potentials (gravity, ``U(r)``) in the specialised pair loop
         without axes and torques (default). ``False`` sends them through the general loop;
         the results agree to round-off (a test checks it), only the speed differs.
-    threads
-        Threads for the cell-list pair loop (needs ``cutoff``): ``None`` (default) uses
-        numba's current number (``numba.set_num_threads``, at most ``NUMBA_NUM_THREADS``,
-        which defaults to the number of cores); ``1`` always runs the serial loop and does
-        not compile the parallel one; ``k`` runs on ``k`` threads. Forces, torques and
-        energy are bit-for-bit the same on any number of threads and equal to the serial
-        loop's: the cell list's x-slabs are shared out between threads, each pair is
-        evaluated once, and every sum is formed in one fixed order (no atomics, no
-        thread-dependent reduction). Compiling the parallel loop takes a few seconds more,
-        once per potential.
+    parallel
+        Run the cell-list pair loop (needs ``cutoff``) of an :class:`AllPairs` with at least
+        ``parallel_min_bodies`` members on numba's threads (default). Their number is
+        numba's: ``numba.set_num_threads(k)`` (at most ``NUMBA_NUM_THREADS``, which defaults
+        to the number of cores). ``False`` always runs the serial loop and does not compile
+        the parallel one (a few seconds saved on the first use of a potential). Forces,
+        torques and energy are bit-for-bit the same either way and on any number of threads:
+        the cell list's x-slabs are shared out between threads, each pair is evaluated once,
+        and every sum is formed in one fixed order (no atomics, no thread-dependent
+        reduction).
     parallel_min_bodies
         Fewest members of an :class:`AllPairs` for which the parallel loop is used
         (default :data:`PARALLEL_MIN_BODIES`); smaller sets run the serial loop.
@@ -1053,7 +1049,7 @@ class NBodySystem:
     def __init__(self, bodies: Sequence[Body], interactions: Sequence[Interaction | AllPairs] = (),
                  cutoff: float | None = None, scales: Scales | None = None,
                  fast_path: bool = True, smooth_cutoff: float | None = None,
-                 threads: int | None = None,
+                 parallel: bool = True,
                  parallel_min_bodies: int | None = None) -> None:
         bodies = tuple(bodies)
         if not bodies:
@@ -1077,10 +1073,12 @@ class NBodySystem:
                 raise InputError(f"smooth_cutoff must be in (0, cutoff = {self.cutoff}), got "
                                  f"{smooth_cutoff!r}")
         self.smooth_cutoff = None if smooth_cutoff is None else float(smooth_cutoff)
-        self.threads = _count_option(threads, "threads", 1, numba.config.NUMBA_NUM_THREADS)
+        if not isinstance(parallel, (bool, np.bool_)):
+            raise InputError(f"parallel must be True or False, got {parallel!r}")
+        self.parallel = bool(parallel)
         self.parallel_min_bodies = _count_option(
             PARALLEL_MIN_BODIES if parallel_min_bodies is None else parallel_min_bodies,
-            "parallel_min_bodies", 0, None)
+            "parallel_min_bodies", 0)
         self.scales = scales
         index = {b.name: k for k, b in enumerate(bodies)}
 
@@ -1206,9 +1204,9 @@ class NBodySystem:
                      np.array(rpairs, dtype=np.int64).reshape(-1, 3),
                      np.array(ccentral, dtype=np.int64),
                      any(b.is_top for b in bodies), float(rs_int),
-                     int(self.threads or 0), int(self.parallel_min_bodies))
+                     int(self.parallel_min_bodies))
         # compile the parallel loop only for a system that may use it
-        self._parallel = (self.cutoff is not None and self.threads != 1
+        self._parallel = (self.cutoff is not None and self.parallel
                           and any(coffs[g + 1] - coffs[g] >= max(2, self.parallel_min_bodies)
                                   for g in range(len(cgid))))
         self._kernels: Kernels | None = None
