@@ -753,7 +753,12 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
         W = np.zeros((n, 2, 3))
         V = np.zeros((n, 2, 3))
         us = np.empty(nc[0])
-        for x in numba.prange(nc[0]):
+        half = (nc[0] + 1) // 2
+        for k in numba.prange(nc[0]):
+            # even slabs first, then odd ones: prange hands out contiguous blocks of
+            # iterations, and this way the lighter last slab (no slab after it) goes to the
+            # block that has one slab more; any order gives the same numbers
+            x = 2 * k if k < half else 2 * (k - half) + 1
             us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
                                cutoff * cutoff)
         return cell_gather(n, body, W, V, us, F, T)
