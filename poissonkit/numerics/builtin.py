@@ -21,12 +21,47 @@ _SPLIT_DOCS = {
 }
 
 
-def _splitting(order: int):
+def _splitting(order: int, scheme: str | None = None):
     def factory(**params):
         from poissonkit.numerics.integrators.splitting import Splitting
 
-        return Splitting(order=order, **params)
+        return Splitting(order=order, scheme=scheme, **params)
     return factory
+
+
+#: Optimised Runge–Kutta–Nyström tables (coefficients and citations in
+#: poissonkit.numerics.integrators.splitting.SCHEMES); name -> (order, doc)
+_RKN_DOCS = {
+    "splitting4_bm": (4, "Order-4 Blanes–Moan SRKN_6^b (J. Comput. Appl. Math. 142 (2002) 313): "
+                         "optimised Runge–Kutta–Nyström splitting, 6 force evaluations per step "
+                         "(7 kicks, first same as last)."),
+    "splitting6_bm": (6, "Order-6 Blanes–Moan SRKN_14^a (J. Comput. Appl. Math. 142 (2002) 313): "
+                         "optimised Runge–Kutta–Nyström splitting, 14 force evaluations per step "
+                         "(drift first)."),
+}
+
+
+def _logh(order: int):
+    def factory(**params):
+        from poissonkit.numerics.integrators.time_transformed import TimeTransformedSplitting
+
+        return TimeTransformedSplitting(order=order, **params)
+    return factory
+
+
+_LOGH_PARAMS = (
+    Param("shift", "float", "constant C of ln(C - V), internal energy unit; C - V must stay "
+          "positive (0 = Mikkola-Tanikawa logarithmic Hamiltonian, for V < 0)", 0.0),
+    Param("exponent", "float", "k of dt/ds = ((C - V0)/(C - V))^k: 1 = logarithmic Hamiltonian "
+          "(1/r potentials), about 1/2 for dipolar 1/r^3 encounters", 1.0),
+)
+
+_LOGH_DOCS = {
+    2: "Time-transformed leapfrog",
+    4: "Order-4 (Suzuki) composition of the time-transformed leapfrog",
+    6: "Order-6 (Kahan–Li s9odr6) composition of the time-transformed leapfrog",
+    8: "Order-8 (Kahan–Li s15odr8) composition of the time-transformed leapfrog",
+}
 
 
 def _scipy(method: str):
@@ -68,6 +103,24 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
             params=_SPLIT_PARAMS, factory=_splitting(p), order=p, family="splitting")
         for p in (2, 4, 6, 8)
     ]
+    out += [
+        IntegratorEntry(
+            name=name, doc=doc + " Exact sub-flows as splitting2–8, so the same invariants hold "
+            "to round-off; its order uses {V,{V,{V,T}}} = 0, true for every splittable system.",
+            params=_SPLIT_PARAMS, factory=_splitting(p, name), order=p, family="splitting")
+        for name, (p, doc) in _RKN_DOCS.items()
+    ]
+    out.extend(
+        IntegratorEntry(
+            name=f"logh{p}",
+            doc=_LOGH_DOCS[p] + " in the logarithmic Hamiltonian ln(T + p_t) − ln(C − V) "
+            "(Mikkola & Tanikawa 1999; Preto & Tremaine 1999): exact drifts and kicks for "
+            "rescaled times, so the physical step shrinks where the potential well is deep "
+            "(close encounters); step = fictitious-time step (= physical step at the start). "
+            "Preserves |ν|, (ν, m), total linear and angular momentum to round-off; symplectic "
+            "in extended phase space, energy error bounded. TwoBodySystem and NBodySystem.",
+            params=_LOGH_PARAMS, factory=_logh(p), order=p, family="time_transformed")
+        for p in (2, 4, 6, 8))
     wh_doc = ("Wisdom–Holman splitting in Jacobi coordinates (exact Kepler drifts, interaction "
               "kicks; SABA_n of Laskar & Robutel 2001) for point masses around one dominant "
               "body 0, with AllPairs('gravity'). Fixed step; symplectic; total momenta to "

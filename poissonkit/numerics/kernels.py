@@ -14,9 +14,11 @@ All kernels are numba ``njit`` functions with these signatures:
 * ``max_radius(y, data) -> float`` — largest distance of a moving body from the centre of mass
   of the moving bodies, for escape events;
 * ``jac(y, data, work, out)`` — optional Jacobian ``∂ẏ/∂y`` (``None`` when not available);
-* ``forces(y, data, work) -> float`` — optional (N-body systems): pair forces and torques on
-  every body into ``work[2]``, ``work[3]``, returning the potential energy; used by integrators
-  that split the Hamiltonian differently (e.g. Wisdom–Holman).
+* ``forces(y, data, work) -> float`` — optional: the potential's forces and torques into the
+  system's work arrays, returning the potential energy ``U``; N-body systems write every body's
+  rows into ``work[2]``, ``work[3]``, the two-body system writes ``(ṗ, ṁ', ṁ'')`` into
+  ``work[0]``; used by integrators that split the Hamiltonian differently (Wisdom–Holman,
+  the time-transformed splitting).
 """
 
 from __future__ import annotations

@@ -125,8 +125,13 @@ def _build(kern) -> Kernels:
         # distance of each body from the centre of mass: r m_other/(m1+m2) <= r
         return math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]) * data[3]
 
+    @jit
+    def forces(y, data, work):
+        """Force and torques (``ṗ, ṁ', ṁ''``) into ``work[0]``; returns ``U``."""
+        return partials(y, work[0])
+
     out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
-                  max_radius=max_radius, jac=None, splittable=True)
+                  max_radius=max_radius, jac=None, splittable=True, forces=forces)
     _cache[id(kern)] = (out, kern)
     return out
 

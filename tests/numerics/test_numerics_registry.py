@@ -12,9 +12,9 @@ from poissonkit.plugin import entries, integrator
 def test_every_integrator_is_documented_with_order_and_family():
     found = entries("integrator")
     for name in ("splitting2", "splitting4", "splitting6", "splitting8", "midpoint", "rk45",
-                 "dop853", "radau", "lsoda"):
+                 "dop853", "radau", "lsoda", "logh2", "logh4", "logh6", "logh8"):
         e = found[name]
-        assert e.doc and e.family in ("splitting", "implicit", "scipy")
+        assert e.doc and e.family in ("splitting", "implicit", "scipy", "time_transformed")
         obj = e.factory(**e.resolve_params({}))
         assert hasattr(obj, "integrate") and obj.order == e.order
 

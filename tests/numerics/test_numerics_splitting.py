@@ -28,6 +28,8 @@ from poissonkit.plugin import entries
 SPLITTINGS = [name for name, e in sorted(entries("integrator").items()) if e.family == "splitting"]
 #: steps where the error is far above the reference's ~1e-12 and in the asymptotic regime
 STEPS = {2: (0.04, 0.02), 4: (0.1, 0.05), 6: (0.1, 0.05), 8: (0.25, 0.125)}
+#: the optimised tables are so accurate that the default steps reach the reference's accuracy
+STEPS_BY_NAME = {"splitting4_bm": (0.125, 0.0625), "splitting6_bm": (0.4, 0.2)}
 T_ORDER = 2.0
 
 
@@ -39,8 +41,9 @@ def reference(dipole_pair):
 
 
 def test_registry_has_the_splittings_of_orders_2_to_8():
-    orders = sorted(entries("integrator")[n].order for n in SPLITTINGS)
-    assert orders == [2, 4, 6, 8]
+    orders = {n: entries("integrator")[n].order for n in SPLITTINGS}
+    assert sorted(set(orders.values())) == [2, 4, 6, 8]
+    assert all(orders[f"splitting{p}"] == p for p in (2, 4, 6, 8))
 
 
 @pytest.mark.parametrize("name", SPLITTINGS)
@@ -49,7 +52,7 @@ def test_splitting_reaches_its_order(dipole_pair, reference, name, adaptive):
     y0, yref = reference
     p = entries("integrator")[name].order
     errs = []
-    for h in STEPS[p]:
+    for h in STEPS_BY_NAME.get(name, STEPS[p]):
         sol = solve(dipole_pair, y0, T_ORDER, name, step=h, options={"adaptive": adaptive})
         errs.append(np.max(np.abs(sol.y[-1] - yref)))
     slope = np.log2(errs[0] / errs[1])

@@ -152,3 +152,61 @@ def check_step(step: float | None, t_end: float, name: str) -> float:
     if not (np.isfinite(step) and step > 0):
         raise InputError(f"{name}: step must be positive and finite, got {step!r}")
     return step
+
+
+_step_end: dict[tuple[int, int], tuple[Any, Any, Any]] = {}
+
+
+def step_end_kernels(kernels: Any) -> tuple[Any, Any]:
+    """Compiled ``(remember, check)`` shared by the compiled time loops (inlined into them).
+
+    ``remember(y, prev, prev2, hist, t)`` shifts the event-search memory before a step: the
+    states at the two previous step ends and ``hist = [D_a, D_b, D_c, t_a, t_b]`` (smallest
+    centre distances and start times, see :mod:`poissonkit.numerics.locate`).
+    ``check(y, data, work, contact, escape, watch, hist) -> (flag, value)`` tests the state at a
+    step end: :data:`GRAZE` when the smallest distance has a local minimum between the last step
+    ends that may dip below ``watch`` (it takes precedence: its search also covers the step end),
+    :data:`COLLISION` below ``contact``, :data:`ESCAPE` beyond ``escape``, else ``(0, 0.0)``.
+    """
+    from poissonkit.numerics.jit import jit
+    from poissonkit.numerics.kernels import copy_into
+
+    key = (id(kernels.min_distance), id(kernels.max_radius))
+    hit = _step_end.get(key)
+    if hit is not None:
+        return hit[0], hit[1]
+    min_distance, max_radius = kernels.min_distance, kernels.max_radius
+
+    @jit(inline="always")
+    def remember(y, prev, prev2, hist, t):
+        copy_into(prev, prev2)
+        copy_into(y, prev)
+        hist[0] = hist[1]
+        hist[1] = hist[2]
+        hist[3] = hist[4]
+        hist[4] = t
+
+    @jit(inline="always")
+    def check(y, data, work, contact, escape, watch, hist):
+        flag = 0
+        value = 0.0
+        if contact > 0.0 or watch > 0.0:
+            d = min_distance(y, data, work)
+            hist[2] = d
+            d0 = hist[0]
+            d1 = hist[1]
+            if watch > 0.0 and d1 <= d0 and d > d1 and d1 - 2.0 * max(d0 - d1, d - d1) < watch:
+                flag = 7
+                value = d1
+            elif contact > 0.0 and d < contact:
+                flag = 2
+                value = d
+        if flag == 0 and escape > 0.0:
+            d = max_radius(y, data)
+            if d > escape:
+                flag = 3
+                value = d
+        return flag, value
+
+    _step_end[key] = (remember, check, kernels)  # keep the kernels (and their ids) alive
+    return remember, check

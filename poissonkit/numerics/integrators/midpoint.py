@@ -23,6 +23,7 @@ from poissonkit.numerics.integrators.base import (
     SaveBuffer,
     check_step,
     locate_division,
+    step_end_kernels,
 )
 from poissonkit.numerics.integrators.driver import drive
 from poissonkit.numerics.jit import jit
@@ -44,7 +45,7 @@ def _runner(kernels) -> Any:
         return hit[0]
     rhs = kernels.rhs
     jac = kernels.jac if kernels.jac is not None else _nojac
-    min_distance, max_radius = kernels.min_distance, kernels.max_radius
+    remember, check = step_end_kernels(kernels)
 
     @jit
     def run(y, t0, h, n_total, tol, maxiter, newton, data, work, save_every, step0, max_steps,
@@ -63,12 +64,7 @@ def _runner(kernels) -> Any:
         for k in range(max_steps):
             gstep = step0 + k + 1
             if track:  # event-search memory, see poissonkit.numerics.locate
-                copy_into(back1, back2)
-                copy_into(y, back1)
-                hist[0] = hist[1]
-                hist[1] = hist[2]
-                hist[3] = hist[4]
-                hist[4] = t0 + (gstep - 1) * h
+                remember(y, back1, back2, hist, t0 + (gstep - 1) * h)
             rhs(y, data, work, f)
             nfev += 1
             for i in range(n):
@@ -115,26 +111,7 @@ def _runner(kernels) -> Any:
             if not ok:
                 return 6, t, k + 1, nsave, nfev, 0.0
             last = gstep >= n_total
-            flag = 0
-            value = 0.0
-            if contact > 0.0 or watch > 0.0:
-                d = min_distance(y, data, work)
-                hist[2] = d
-                d0 = hist[0]
-                d1 = hist[1]
-                # a grazing window takes precedence: its search also covers the step end
-                if watch > 0.0 and d1 <= d0 and d > d1 and \
-                        d1 - 2.0 * max(d0 - d1, d - d1) < watch:
-                    flag = 7
-                    value = d1
-                elif contact > 0.0 and d < contact:
-                    flag = 2
-                    value = d
-            if flag == 0 and escape > 0.0:
-                d = max_radius(y, data)
-                if d > escape:
-                    flag = 3
-                    value = d
+            flag, value = check(y, data, work, contact, escape, watch, hist)
             if last or gstep % save_every == 0:
                 out_t[nsave] = t
                 copy_row(y, out_y, nsave)

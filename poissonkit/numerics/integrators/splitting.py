@@ -20,6 +20,19 @@ moment, ``T_i + T_j + r × F = 0``). The base method is Strang's
   smaller errors than Yoshida's solutions A (order 6) and D (order 8), which stay available in
   ``WEIGHTS_YOSHIDA`` (H. Yoshida, Phys. Lett. A 150 (1990) 262, Tables 1–2).
 
+Runge–Kutta–Nyström (RKN) splittings. ``T`` is quadratic in the momenta ``(p, m)`` with
+coefficients independent of the configuration ``(r, ν)``, ``V`` depends on the configuration
+only, and ``{ν_i, ν_j} = {r_i, ν_j} = {r_i, r_j} = 0``. So ``{V, T}`` is linear in ``(p, m)``,
+``{V, {V, T}} = Σ |∂_r V|²/M + Σ α |ν × ∂_ν V|²`` depends on the configuration alone, and
+``{V, {V, {V, T}}} = 0`` — the condition under which splitting methods need fewer order
+conditions (S. Blanes, P. C. Moan, J. Comput. Appl. Math. 142 (2002) 313). The optimised
+RKN tables in :data:`SCHEMES` use it: Blanes & Moan's SRKN_6^b (order 4, 6 force evaluations
+per step) and SRKN_14^a (order 6, 14), the winners of ``benchmarks/bench_kernels.py`` among
+the optimised tables tried there. Their order is only guaranteed for such ``T + V`` systems,
+which every splittable system here is. Kick-first tables (``a_0 = a_s = 0``) merge the
+last kick of a step with the first of the next ("first same as last"), so a step costs one
+force evaluation less than its number of kicks whenever no state has to be saved in between.
+
 The whole time loop is compiled (numba). With ``adaptive=True`` the step is
 ``h_n = h · (g(y_n) + g(y_{n+1}))/2`` with ``g = min(1, (d_min/d_ref)^{3/2})`` (``d_min`` the
 smallest pair distance; the time-symmetrised criterion of Hut, Makino & McMillan, ApJ 443
@@ -30,6 +43,7 @@ still kept to round-off.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -93,6 +107,102 @@ def drift_kick_coefficients(weights: list[float]) -> tuple[np.ndarray, np.ndarra
     return a, b
 
 
+@dataclass(frozen=True)
+class Scheme:
+    """A drift–kick table ``φ_T(a_0 h) φ_V(b_0 h) φ_T(a_1 h) … φ_V(b_{s-1} h) φ_T(a_s h)``.
+
+    Attributes
+    ----------
+    name
+        Integrator name (``splitting<order>_<authors>``).
+    order
+        Classical order; for ``nystrom`` tables only on ``T + V`` systems with
+        ``{V, {V, {V, T}}} = 0`` (every splittable system, see the module doc).
+    a, b
+        Drift and kick coefficients, ``len(a) = len(b) + 1``, each summing to 1.
+    reference
+        Where the coefficients come from.
+    nystrom
+        True for RKN tables (fewer order conditions, see above).
+    """
+
+    name: str
+    order: int
+    a: tuple[float, ...]
+    b: tuple[float, ...]
+    reference: str
+    nystrom: bool = False
+
+    def __post_init__(self) -> None:
+        if len(self.a) != len(self.b) + 1 or not self.b:
+            raise InputError(f"scheme {self.name!r}: need len(a) = len(b) + 1 >= 2")
+        for label, c in (("a", self.a), ("b", self.b)):
+            if abs(math.fsum(c) - 1.0) > 1e-14:
+                raise InputError(f"scheme {self.name!r}: coefficients {label} sum to "
+                                 f"{math.fsum(c)!r}, not 1")
+
+    @property
+    def fsal(self) -> bool:
+        """Kick-first and kick-last: consecutive steps share one force evaluation."""
+        return self.a[0] == 0.0 and self.a[-1] == 0.0
+
+    @property
+    def evaluations(self) -> int:
+        """Force evaluations per step in a long run (kicks, less one if :attr:`fsal`)."""
+        return len(self.b) - (1 if self.fsal else 0)
+
+
+def symmetric_kick_first(a_outer: tuple[float, ...], b_outer: tuple[float, ...]) -> Scheme:
+    """Arrays of a symmetric kick-first table from its outer halves (helper for the tables).
+
+    ``b_outer`` are the kicks from the outside in, ``a_outer`` the drifts between them; the
+    central coefficient(s) follow from ``Σ a = Σ b = 1``: one central kick and two equal
+    central drifts if ``len(b_outer) == len(a_outer) + 1``, else two equal central kicks and one
+    central drift. Returns a placeholder :class:`Scheme` holding ``a, b``.
+    """
+    if len(b_outer) == len(a_outer) + 1:
+        ac = 0.5 - math.fsum(a_outer)
+        bc = 1.0 - 2.0 * math.fsum(b_outer)
+        a = (0.0, *a_outer, ac, ac, *reversed(a_outer), 0.0)
+        b = (*b_outer, bc, *reversed(b_outer))
+    else:
+        ac = 1.0 - 2.0 * math.fsum(a_outer)
+        bc = 0.5 - math.fsum(b_outer)
+        a = (0.0, *a_outer, ac, *reversed(a_outer), 0.0)
+        b = (*b_outer, bc, bc, *reversed(b_outer))
+    return Scheme("", 0, a, b, "")
+
+
+def _table(name: str, order: int, half: Scheme, reference: str, nystrom: bool) -> Scheme:
+    return Scheme(name, order, half.a, half.b, reference, nystrom)
+
+
+_BLANES_MOAN = ("S. Blanes, P. C. Moan, Practical symplectic partitioned Runge–Kutta and "
+                "Runge–Kutta–Nyström methods, J. Comput. Appl. Math. 142 (2002) 313–330")
+
+#: SRKN_14^a drifts and kicks from the outside in (the central ones follow from the sums)
+_SRKN14A_A = (0.0378593198406116, 0.102635633102435, -0.0258678882665587, 0.314241403071447,
+              -0.130144459517415, 0.106417700369543, -0.00879424312851058)
+_SRKN14A_B = (0.09171915262446165, 0.183983170005006, -0.05653436583288827,
+              0.004914688774712854, 0.143761127168358, 0.328567693746804)
+
+#: Optimised tables selectable by name (``Splitting(scheme=...)``); the registered ones are
+#: listed in :mod:`poissonkit.numerics.builtin`.
+SCHEMES: dict[str, Scheme] = {s.name: s for s in (
+    # Blanes & Moan SRKN_6^b, order 4, 7 kicks (6 evaluations with FSAL)
+    _table("splitting4_bm", 4, symmetric_kick_first(
+        (0.245298957184271, 0.604872665711080),
+        (0.0829844064174052, 0.396309801498368, -0.0390563049223486)),
+        _BLANES_MOAN + ", SRKN_6^b", nystrom=True),
+    # Blanes & Moan SRKN_14^a, order 6, 14 kicks between 15 drifts (drift first)
+    Scheme("splitting6_bm", 6,
+           (*_SRKN14A_A, 1.0 - 2.0 * math.fsum(_SRKN14A_A), *reversed(_SRKN14A_A)),
+           (*_SRKN14A_B, 0.5 - math.fsum(_SRKN14A_B), 0.5 - math.fsum(_SRKN14A_B),
+            *reversed(_SRKN14A_B)),
+           _BLANES_MOAN + ", SRKN_14^a", nystrom=True),
+)}
+
+
 # --------------------------------------------------------------------------- compiled loop
 _runners: dict[int, Any] = {}
 
@@ -115,6 +225,22 @@ def _runner(kernels) -> Any:
         drift(y, a[nb] * h, data)
 
     @jit
+    def fsal_step(y, h, a, b, data, work, pending, merge):
+        # kick-first table (a_0 = a_s = 0): `pending` = this step's first kick was already
+        # applied (merged into the previous step's last kick); `merge` = do the same now
+        nb = b.shape[0]
+        if not pending:
+            kick(y, b[0] * h, data, work)
+        for s in range(1, nb - 1):
+            drift(y, a[s] * h, data)
+            kick(y, b[s] * h, data, work)
+        drift(y, a[nb - 1] * h, data)
+        if merge:  # kicks at one configuration add exactly: B(b h) B(b' h) = B((b + b') h)
+            kick(y, (b[nb - 1] + b[0]) * h, data, work)
+        else:
+            kick(y, b[nb - 1] * h, data, work)
+
+    @jit
     def g_factor(y, data, work, dref):
         d = min_distance(y, data, work)
         if d >= dref:
@@ -122,9 +248,13 @@ def _runner(kernels) -> Any:
         return (d / dref) ** 1.5
 
     @jit
-    def run(y, t_orig, t0, t_end, h, n_total, adaptive, dref, iters, a, b, data, work, save_every,
-            step0, max_steps, out_t, out_y, contact, escape, watch, trial, prev, prev2, hist):
+    def run(y, t_orig, t0, t_end, h, n_total, adaptive, dref, iters, a, b, fsal, data, work,
+            save_every, step0, max_steps, out_t, out_y, contact, escape, watch, trial, prev,
+            prev2, hist):
         """Advance ``y`` in place. Returns (status, t, steps_done_in_call, n_saved, value).
+
+        ``fsal`` (kick-first tables, fixed step, no events): consecutive steps share their
+        boundary kick; ``y`` is a true state again at every saved step and when returning.
 
         With events, ``prev``/``prev2`` receive the states at the two previous step ends and
         ``hist`` = [D_a, D_b, D_c, t_a, t_b] the smallest centre distances there and now and
@@ -134,6 +264,7 @@ def _runner(kernels) -> Any:
         t = t0
         k = 0
         track = contact > 0.0 or escape > 0.0 or watch > 0.0
+        pending = False
         while k < max_steps:
             gstep = step0 + k + 1
             if track:
@@ -155,6 +286,13 @@ def _runner(kernels) -> Any:
                     hk = t_end - t
                 one_step(y, hk, a, b, data, work)
                 t = t_end if last else t + hk
+            elif fsal:
+                merge = not track and gstep < n_total and gstep % save_every != 0 and \
+                    k + 1 < max_steps
+                fsal_step(y, h, a, b, data, work, pending, merge)
+                pending = merge
+                last = gstep >= n_total
+                t = t_end if last else t_orig + gstep * h
             else:
                 one_step(y, h, a, b, data, work)
                 last = gstep >= n_total
@@ -204,7 +342,10 @@ class Splitting:
     Parameters
     ----------
     order
-        2, 4, 6 or 8.
+        2, 4, 6 or 8 (the compositions of Strang steps in :data:`WEIGHTS`).
+    scheme
+        Instead of ``order``: a table of :data:`SCHEMES` by name (e.g. ``"splitting4_bm"``) or a
+        :class:`Scheme`; its order replaces ``order``.
     adaptive
         Use the time-symmetrised distance-based step (close encounters).
     reference_distance
@@ -216,22 +357,45 @@ class Splitting:
     family = "splitting"
 
     def __init__(self, order: int = 6, adaptive: bool = False, reference_distance: float = 0.0,
-                 iterations: int = 1) -> None:
-        if order not in WEIGHTS:
+                 iterations: int = 1, scheme: str | Scheme | None = None) -> None:
+        if isinstance(scheme, str):
+            if scheme not in SCHEMES:
+                raise InputError(f"unknown splitting scheme {scheme!r}; available: "
+                                 f"{', '.join(sorted(SCHEMES))}")
+            scheme = SCHEMES[scheme]
+        if scheme is not None and not isinstance(scheme, Scheme):
+            raise InputError(f"scheme must be a name or a Scheme, got {type(scheme).__name__}")
+        if scheme is None and order not in WEIGHTS:
             raise InputError(f"splitting order must be one of {sorted(WEIGHTS)}, got {order!r}")
         if iterations < 0:
             raise InputError(f"iterations must be >= 0, got {iterations!r}")
-        self.order = order
         self.adaptive = bool(adaptive)
         self.reference_distance = float(reference_distance)
         self.iterations = int(iterations)
-        self.a, self.b = drift_kick_coefficients(WEIGHTS[order])
-        self.name = f"splitting{order}" + ("_adaptive" if adaptive else "")
+        if scheme is None:
+            self.order = order
+            self.a, self.b = drift_kick_coefficients(WEIGHTS[order])
+            base = f"splitting{order}"
+        else:
+            self.order = scheme.order
+            self.a, self.b = np.array(scheme.a), np.array(scheme.b)
+            base = scheme.name
+        self.name = base + ("_adaptive" if adaptive else "")
+
+    @property
+    def fsal(self) -> bool:
+        """Kick-first table: consecutive fixed steps share their boundary kick."""
+        return bool(self.a[0] == 0.0 and self.a[-1] == 0.0 and len(self.b) > 1)
 
     @property
     def stages(self) -> int:
-        """Number of potential kicks (force evaluations) per step."""
+        """Number of potential kicks per step (force evaluations: :attr:`evaluations`)."""
         return len(self.b)
+
+    @property
+    def evaluations(self) -> int:
+        """Force evaluations per fixed step in a long run (one less than the kicks if FSAL)."""
+        return len(self.b) - (1 if self.fsal else 0)
 
     supports_control = True
 
@@ -254,6 +418,7 @@ class Splitting:
             h = span / n_total
         contact, escape, watch = event_thresholds(events)
         run = _runner(kernels)
+        fsal = self.fsal and not self.adaptive
         y = np.array(y0, dtype=float)
         data, work = system.data, system.work()
         trial = np.empty_like(y)
@@ -271,7 +436,7 @@ class Splitting:
             try:
                 status, t_new, k, nsave, value = run(
                     st.y, t0, st.t, t_end, h, n_total, self.adaptive, dref, self.iterations,
-                    self.a, self.b, data, work, save_every, st.steps, max_steps, buf.cur_t,
+                    self.a, self.b, fsal, data, work, save_every, st.steps, max_steps, buf.cur_t,
                     buf.cur_y, contact, escape, watch, trial, st.prev, st.prev2, st.hist)
             except ZeroDivisionError:
                 raise locate_division(self.name, one_step, start, st.t, st.steps) from None
@@ -279,13 +444,13 @@ class Splitting:
 
         def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
             out = run(ys, t0, ts, t_end, h, n_total, self.adaptive, dref, self.iterations,
-                      self.a, self.b, data, work, save_every, done, 1, scratch.cur_t,
+                      self.a, self.b, fsal, data, work, save_every, done, 1, scratch.cur_t,
                       scratch.cur_y, 0.0, 0.0, 0.0, trial, ys, ys, no_hist)
             return out[0], out[1]
 
         def advance(ys: np.ndarray, s: float) -> np.ndarray:
             yc = np.array(ys, dtype=float)
-            run(yc, 0.0, 0.0, s, s, 1, False, dref, 0, self.a, self.b, data, work, 1, 0, 1,
+            run(yc, 0.0, 0.0, s, s, 1, False, dref, 0, self.a, self.b, fsal, data, work, 1, 0, 1,
                 scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, trial, yc, yc, no_hist)
             return yc
 
@@ -300,7 +465,10 @@ class Splitting:
                     save_every=save_every, control=control, chunk=chunk, advance=advance,
                     done=done, failure=lambda status, st: None, problem=problem,
                     buffer_rows=rows)
-        raw.nfev = raw.steps * self.stages * (1 + (self.iterations if self.adaptive else 0))
+        if self.adaptive:
+            raw.nfev = raw.steps * self.stages * (1 + self.iterations)
+        else:  # FSAL: one more kick wherever a state was saved (upper bound)
+            raw.nfev = raw.steps * self.evaluations + (len(raw.t) if fsal else 0)
         raw.extra.update(step=h, order=self.order, adaptive=self.adaptive)
         return raw
 

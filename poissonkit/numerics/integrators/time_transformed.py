@@ -1,0 +1,412 @@
+"""Time-transformed (logarithmic-Hamiltonian) splitting for close encounters, order 2 to 8.
+
+The physical time ``t`` becomes a coordinate of an extended phase space with conjugate momentum
+``p_t``, and the new Hamiltonian, in the fictitious time ``s``, is
+
+    Γ = g₀ [ln(T + p_t) − ln(C − V)],     p_t = C − H(y₀),   g₀ = C − V(y₀),
+
+with ``H = T + V`` the system's kinetic and potential energy and ``C`` a constant shift (the
+``shift`` parameter) such that ``C − V > 0``. On ``Γ = 0`` (which holds initially) its flow is
+the physical flow reparametrised by ``dt/ds = g₀/(C − V)``: the physical step shrinks where the
+potential well is deep, i.e. at pericentre. This is the logarithmic Hamiltonian of
+S. Mikkola and K. Tanikawa, "Algorithmic regularization of the few-body problem", MNRAS 310
+(1999) 745, and "Explicit symplectic algorithms for time-transformed Hamiltonians", Celest.
+Mech. Dyn. Astron. 74 (1999) 287 (``C = 0``), in the general form ``f(T + p_t) − f(C − V)`` of
+M. Preto and S. Tremaine, "A class of symplectic integrators with adaptive timestep for
+separable Hamiltonian systems", AJ 118 (1999) 2532 (``f = ln``). The constant ``g₀`` only
+rescales ``s`` so that ``step`` is the physical step at the initial state. With ``exponent``
+``k ≠ 1`` the transform is Preto–Tremaine's ``f(x) = g₀^k x^{1−k}/(1−k)``, i.e.
+``dt/ds = (g₀/(C − V))^k`` (``k = 1/2`` suits ``1/r³`` dipolar encounters better than the
+logarithm, which is exact for Kepler orbits at order 2); everything below holds for any ``k``
+with ``g₀/(·)`` read as ``(g₀/(·))^k``.
+
+``Γ`` is separable, ``Γ_A(T, p_t) + Γ_B(V)``, and since ``t`` does not appear, ``p_t`` is
+constant; both flows are the system's own exact Poisson sub-flows run for a rescaled time:
+
+* ``Γ_A`` for ``Δs``: ``T`` is constant along the kinetic flow, so it is the exact drift
+  (:mod:`~poissonkit.numerics.integrators.splitting`'s ``φ_T``) for ``τ = Δs g₀/(T + p_t)``,
+  and ``t += τ``;
+* ``Γ_B`` for ``Δs``: ``V`` is constant along the kick (positions and axes fixed), so it is the
+  exact kick ``φ_V`` for ``σ = Δs g₀/(C − V)``.
+
+They are composed with the same symmetric drift–kick tables as the splitting (Strang, Suzuki's
+order 4, Kahan–Li's orders 6 and 8: :data:`~poissonkit.numerics.integrators.splitting.WEIGHTS`),
+so the method is symplectic in the extended phase space, of order 2–8 in ``s``, and keeps
+``|ν|``, ``(ν, m)``, total linear and angular momentum to round-off at any step (each stage is
+an exact Poisson map of the original bracket). The energy error is bounded without drift
+(``H − H₀ = (T + p_t) − (C − V)`` is the modified-``Γ`` error of a symplectic map).
+
+The drift's rate ``g₀/(T + p_t)`` and the kick's ``g₀/(C − V)`` agree only up to the energy
+error ``δH``, a relative rate error ``δH/(C − V)``: with a kinetic energy far larger than
+``|V|`` (fast spins) this sets an accuracy floor (about 1e-9 on the seed orbit; see
+``docs/numerics.md``), lowered by a larger ``C``.
+
+Each stage costs one force evaluation: the system's ``forces`` kernel returns ``V`` and leaves
+the forces in the scratch arrays, from which the kick is applied (no second evaluation).
+
+**Output at physical times.** Steps in ``s`` land at irregular times; the loop saves every
+``save_every``-th step end. The step that would pass ``t_end`` is undone and replaced by one
+ordinary composition step (same coefficients, physical time) of the remaining ``Δt``, which is
+shorter than the transformed step it replaces at that place, so it is at least as accurate and
+costs one step — a secant solve for the last ``Δs`` would cost 3–4 steps for the same accuracy.
+Events (contact, escape, grazing watch) are detected at step ends and located as in the
+splitting (ordinary composition steps over the sub-interval).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from typing import Any
+
+import numba
+import numpy as np
+
+from poissonkit.errors import InputError, IntegrationError
+from poissonkit.numerics.events import event_thresholds
+from poissonkit.numerics.integrators.base import (
+    RawResult,
+    SaveBuffer,
+    check_step,
+    locate_division,
+    step_end_kernels,
+)
+from poissonkit.numerics.integrators.driver import drive
+from poissonkit.numerics.integrators.splitting import WEIGHTS, drift_kick_coefficients
+from poissonkit.numerics.jit import jit
+from poissonkit.numerics.kernels import all_finite, copy_into, copy_row
+
+#: loop status codes beyond :mod:`~poissonkit.numerics.integrators.base`'s
+KINETIC_LOST, SHIFT_TOO_SMALL, NO_PROGRESS = 8, 9, 10
+
+# layouts of the forces left in ``work`` by ``kernels.forces``
+_TWO_BODY, _NBODY = 0, 1
+
+
+# --------------------------------------------------------------------------- system adapters
+@numba.njit(cache=True, error_model="numpy")
+def kinetic_energy(y, idx, w):
+    """``T = ½ Σ_k w_k y[idx_k]²`` (the kinetic energy is diagonal in the momenta ``p, m``)."""
+    e = 0.0
+    for k in range(idx.shape[0]):
+        v = y[idx[k]]
+        e += w[k] * v * v
+    return 0.5 * e
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _apply_two_body(y, h, data, work):
+    """Kick ``p, m', m''`` by ``h`` times the forces left in ``work[0]`` by ``forces``."""
+    f = work[0]
+    for d in range(3):
+        y[3 + d] += h * f[d]
+        y[9 + d] += h * f[3 + d]
+        y[15 + d] += h * f[6 + d]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _apply_nbody(y, h, data, work):
+    """Kick every moving body's ``p`` and top's ``m`` by ``h`` times ``work[2]``, ``work[3]``."""
+    F = work[2]
+    T = work[3]
+    nm = data[0].shape[0]
+    bslot = data[2]
+    tslot = data[3]
+    for b in range(bslot.shape[0]):
+        s = bslot[b]
+        if s >= 0:
+            for d in range(3):
+                y[6 * s + 3 + d] += h * F[b, d]
+        t = tslot[b]
+        if t >= 0:
+            q = 6 * nm + 6 * t + 3
+            for d in range(3):
+                y[q + d] += h * T[b, d]
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _power(x, k):
+    """``x**k`` without a general ``pow`` for the usual exponents 1 and 1/2."""
+    if k == 1.0:
+        return x
+    if k == 0.5:
+        return math.sqrt(x)
+    return x**k
+
+
+def _layout(system: Any, name: str) -> tuple[int, np.ndarray, np.ndarray]:
+    """(forces layout, momentum slots, kinetic weights) of a supported system."""
+    from poissonkit.numerics.nbody import NBodySystem
+    from poissonkit.numerics.twobody import TwoBodySystem
+
+    if isinstance(system, TwoBodySystem):
+        mu, a1, a2 = (float(v) for v in system.data[:3])
+        idx = np.array([3, 4, 5, 9, 10, 11, 15, 16, 17], dtype=np.int64)
+        w = np.array([1 / mu] * 3 + [a1] * 3 + [a2] * 3)
+        return _TWO_BODY, idx, w
+    if isinstance(system, NBodySystem):
+        mass, alpha = np.asarray(system.data[0], float), np.asarray(system.data[1], float)
+        nm = mass.shape[0]
+        idx, w = [], []
+        for s in range(nm):
+            idx += [6 * s + 3 + d for d in range(3)]
+            w += [1 / mass[s]] * 3
+        for t in range(alpha.shape[0]):
+            idx += [6 * nm + 6 * t + 3 + d for d in range(3)]
+            w += [alpha[t]] * 3
+        return _NBODY, np.array(idx, dtype=np.int64), np.array(w, dtype=float)
+    raise InputError(f"{name} needs a TwoBodySystem or NBodySystem (exact kinetic/potential "
+                     f"flows and a forces kernel); {type(system).__name__} is neither — use a "
+                     "splitting, 'midpoint' or a scipy method")
+
+
+# --------------------------------------------------------------------------- compiled loop
+_runners: dict[tuple[int, int], Any] = {}
+
+
+def _runner(kernels: Any, layout: int) -> Any:
+    """The compiled time loop specialised to one system's kernels (cached)."""
+    key = (id(kernels.forces), layout)
+    hit = _runners.get(key)
+    if hit is not None:
+        return hit[0]
+    drift, forces = kernels.drift, kernels.forces
+    remember, check = step_end_kernels(kernels)
+    apply = _apply_two_body if layout == _TWO_BODY else _apply_nbody
+
+    @jit
+    def plain_step(y, h, a, b, data, work):
+        """One ordinary composition step of physical time ``h``."""
+        nb = b.shape[0]
+        for s in range(nb):
+            drift(y, a[s] * h, data)
+            forces(y, data, work)
+            apply(y, b[s] * h, data, work)
+        drift(y, a[nb] * h, data)
+
+    @jit
+    def tt_step(y, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work):
+        """One step ``Δs`` in fictitious time; returns ``(Δt, status, offending value)``."""
+        nb = b.shape[0]
+        dt = 0.0
+        for s in range(nb + 1):
+            w = kinetic_energy(y, kidx, kw) + pt
+            if not w > 0.0:
+                return dt, KINETIC_LOST, w
+            tau = a[s] * ds * _power(g0 / w, kexp)
+            drift(y, tau, data)
+            dt += tau
+            if s == nb:
+                break
+            v = forces(y, data, work)
+            den = c - v
+            if not den > 0.0:
+                return dt, SHIFT_TOO_SMALL, v
+            apply(y, b[s] * ds * _power(g0 / den, kexp), data, work)
+        return dt, 0, 0.0
+
+    @jit
+    def run(y, t0, t_end, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work, save_every, step0,
+            max_steps, out_t, out_y, contact, escape, watch, trial, prev, prev2, hist):
+        """Advance ``y`` in place. Returns (status, t, steps_done_in_call, n_saved, value)
+        (``prev``, ``prev2``, ``hist`` as in the splitting's loop)."""
+        nsave = 0
+        t = t0
+        k = 0
+        track = contact > 0.0 or escape > 0.0 or watch > 0.0
+        while k < max_steps:
+            gstep = step0 + k + 1
+            if track:
+                remember(y, prev, prev2, hist, t)
+            copy_into(y, trial)
+            dt, code, bad = tt_step(y, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work)
+            if code != 0:
+                copy_into(trial, y)  # leave the last good state for the error message
+                return code, t, k, nsave, bad
+            if dt != dt or not all_finite(y):
+                return 1, t, k + 1, nsave, 0.0
+            if not dt > 0.0:
+                copy_into(trial, y)
+                return NO_PROGRESS, t, k, nsave, dt
+            last = not t + dt < t_end
+            if last:  # undo, and finish with an ordinary step of the remaining time
+                copy_into(trial, y)
+                plain_step(y, t_end - t, a, b, data, work)
+                t = t_end
+            else:
+                t += dt
+            k += 1
+            if not all_finite(y):
+                return 1, t, k, nsave, 0.0
+            flag, value = check(y, data, work, contact, escape, watch, hist)
+            if last or gstep % save_every == 0:
+                out_t[nsave] = t
+                copy_row(y, out_y, nsave)
+                nsave += 1
+            if flag != 0:
+                return flag, t, k, nsave, value
+            if last:
+                return 5, t, k, nsave, 0.0
+            if nsave == out_t.shape[0]:
+                return 4, t, k, nsave, 0.0
+        return 0, t, k, nsave, 0.0
+
+    _runners[key] = (run, plain_step, kernels)
+    return run
+
+
+def _plain(kernels: Any, layout: int) -> Any:
+    _runner(kernels, layout)
+    return _runners[(id(kernels.forces), layout)][1]
+
+
+class TimeTransformedSplitting:
+    """Logarithmic-Hamiltonian time-transformed composition of the exact sub-flows (module doc).
+
+    Parameters
+    ----------
+    order
+        2, 4, 6 or 8 (in the fictitious time ``s``).
+    shift
+        The constant ``C`` of ``ln(C − V)`` (internal energy unit); ``C − V`` must stay
+        positive. ``0`` is Mikkola–Tanikawa's logarithmic Hamiltonian, right for attractive
+        potentials (``V < 0``); give ``C > max V`` when the potential can be positive. The
+        physical step is ``step · ((C − V(y₀))/(C − V(y)))^k``: a larger ``C`` adapts less.
+    exponent
+        ``k`` of the time transform ``dt/ds = ((C − V(y₀))/(C − V))^k``: ``1`` is the
+        logarithmic Hamiltonian (``f = ln``; exact Kepler orbits at order 2, right for ``1/r``
+        potentials); for steeper potentials (dipoles, ``1/r³``) ``k ≈ 1/2`` shrinks the step
+        like ``r^{3/2}`` instead of ``r³`` (Preto–Tremaine's ``f(x) = x^{1−k}/(1−k)``).
+    """
+
+    family = "time_transformed"
+    supports_control = True
+
+    def __init__(self, order: int = 6, shift: float = 0.0, exponent: float = 1.0) -> None:
+        if order not in WEIGHTS:
+            raise InputError(f"logh order must be one of {sorted(WEIGHTS)}, got {order!r}")
+        try:
+            shift = float(shift)
+        except (TypeError, ValueError):
+            raise InputError(f"logh{order}: shift must be a number, got {shift!r}") from None
+        if not math.isfinite(shift):
+            raise InputError(f"logh{order}: shift must be finite, got {shift!r}")
+        try:
+            exponent = float(exponent)
+        except (TypeError, ValueError):
+            raise InputError(f"logh{order}: exponent must be a number, got {exponent!r}") \
+                from None
+        if not (math.isfinite(exponent) and 0 < exponent <= 3):
+            raise InputError(f"logh{order}: exponent must be in (0, 3], got {exponent!r}")
+        self.order = order
+        self.shift = shift
+        self.exponent = exponent
+        self.a, self.b = drift_kick_coefficients(WEIGHTS[order])
+        self.name = f"logh{order}"
+
+    @property
+    def stages(self) -> int:
+        """Number of force evaluations per step."""
+        return len(self.b)
+
+    def integrate(self, system: Any, y0: np.ndarray, t_end: float, *, step: float | None,
+                  tol: float | None, events=(), progress: bool = False, save_every: int = 1,
+                  t0: float = 0.0, control: Any = None) -> RawResult:
+        """Integrate from ``t0`` to ``t_end``; ``step`` is the fictitious-time step ``Δs``,
+        equal to the physical step at the initial state (see :func:`drive` for ``control``)."""
+        kernels = getattr(system, "kernels", None)
+        if kernels is None or not getattr(kernels, "splittable", False):
+            raise InputError(f"{self.name} needs a system with exact kinetic/potential flows "
+                             f"(NBodySystem, TwoBodySystem); {type(system).__name__} has none")
+        layout, kidx, kw = _layout(system, self.name)
+        if getattr(kernels, "forces", None) is None:
+            raise InputError(f"{self.name}: {type(system).__name__} has no forces kernel")
+        if hasattr(system, "check_state"):
+            system.check_state(y0)
+        ds = check_step(step, t_end - t0, self.name)
+        y = np.array(y0, dtype=float)
+        data, work = system.data, system.work()
+        C = self.shift
+        V0 = float(kernels.forces(np.array(y0, dtype=float), data, work))
+        T0 = float(kinetic_energy(y, kidx, kw))
+        H0 = float(kernels.energy(np.array(y0, dtype=float), data, system.work()))
+        if not (math.isfinite(V0) and math.isfinite(H0)):
+            raise InputError(f"{self.name}: the energy at the initial state is not finite")
+        # the kinetic weights must reproduce the system's own energy (guards the layout)
+        if abs(H0 - (T0 + V0)) > 1e-9 * (abs(T0) + abs(V0) + 1e-300):
+            raise InputError(f"{self.name}: kinetic energy of {type(system).__name__} is not "
+                             "the diagonal form in (p, m) this method assumes")
+        g0 = C - V0
+        if not g0 > 0:
+            raise InputError(
+                f"{self.name}: shift C = {C:.6g} must exceed the potential energy at the start, "
+                f"V(y0) = {V0:.6g} (the time transform uses ln(C - V)); give the integrator "
+                f"option shift > {V0:.6g}, e.g. solve(..., options={{'shift': "
+                f"{V0 + abs(V0) + 1:.3g}}})")
+        pt = C - H0
+        contact, escape, watch = event_thresholds(events)
+        run = _runner(kernels, layout)
+        plain = _plain(kernels, layout)
+        trial = np.empty_like(y)
+        scratch = SaveBuffer(y.size, 4)
+        no_hist = np.zeros(5)
+        a, b, kexp = self.a, self.b, self.exponent
+
+        def chunk(st, max_steps, buf):
+            start = st.y.copy()
+            try:
+                status, t_new, k, nsave, value = run(
+                    st.y, st.t, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work,
+                    save_every, st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape,
+                    watch, trial, st.prev, st.prev2, st.hist)
+            except ZeroDivisionError:
+                raise locate_division(self.name, one_step, start, st.t, st.steps) from None
+            st.bad = value
+            return status, t_new, k, nsave, k * len(b), value
+
+        def one_step(ys: np.ndarray, ts: float, done_steps: int) -> tuple[int, float]:
+            out = run(ys, ts, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work,
+                      save_every, done_steps, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0,
+                      trial, ys, ys, no_hist)
+            return out[0], out[1]
+
+        def advance(ys: np.ndarray, s: float) -> np.ndarray:
+            yc = np.array(ys, dtype=float)
+            plain(yc, s, a, b, data, work)
+            return yc
+
+        def failure(status: int, st) -> Exception | None:
+            bad = getattr(st, "bad", math.nan)
+            where = f"at step {st.steps + 1} (t = {st.t:.10g})"
+            if status == SHIFT_TOO_SMALL:
+                return IntegrationError(
+                    f"{self.name}: C - V <= 0 {where}: the potential energy V = {bad:.6g} "
+                    f"reached the shift C = {C:.6g}; give the integrator option shift above "
+                    "the largest potential energy of the run")
+            if status == KINETIC_LOST:
+                return IntegrationError(
+                    f"{self.name}: T + p_t = {bad:.3g} <= 0 {where}: the energy error exceeds "
+                    "the margin C - V; use a smaller step or a larger shift")
+            if status == NO_PROGRESS:
+                return IntegrationError(
+                    f"{self.name}: the physical time did not advance {where} (Δt = {bad:.3g}): "
+                    "the fictitious-time step is far too large; use a smaller step")
+            return None
+
+        def done(st) -> bool:
+            return st.t >= t_end
+
+        problem = {"method": self.name, "ds": float(ds).hex(), "t0": float(t0).hex(),
+                   "t_end": float(t_end).hex(), "shift": float(C).hex(),
+                   "exponent": float(self.exponent).hex(),
+                   "save_every": save_every, "dim": int(y.size),
+                   # progress-bar granularity only (the number of steps is not known ahead)
+                   "n_total": max(1, math.ceil((t_end - t0) / ds)),
+                   "y0": hashlib.sha256(np.ascontiguousarray(y0, dtype=float).tobytes())
+                   .hexdigest()}
+        raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
+                    save_every=save_every, control=control, chunk=chunk, advance=advance,
+                    done=done, failure=failure, problem=problem, buffer_rows=4096)
+        raw.extra.update(step=ds, order=self.order, shift=C, exponent=self.exponent,
+                         time_transformed=True)
+        return raw
