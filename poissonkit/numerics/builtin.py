@@ -13,8 +13,7 @@ _SPLIT_PARAMS = (
     Param("iterations", "int", "fixed-point iterations of the symmetrised adaptive step", 1),
     Param("compensated", "bool",
           "Kahan-compensated summation of every drift and kick increment: removes the round-off "
-          "floor (~1e-10) of long runs at small steps for ~1.2x the time per step "
-          "(two-body systems)",
+          "floor (~1e-10) of long runs at small steps for ~1.2x the time per step",
           False),
 )
 

@@ -36,7 +36,13 @@ import sympy as sp
 
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.jit import compile_generated, jit
-from poissonkit.numerics.kernels import Kernels, rotate_slot, zero2
+from poissonkit.numerics.kernels import (
+    Kernels,
+    kahan_add,
+    rotate_slot,
+    rotate_slot_compensated,
+    zero2,
+)
 from poissonkit.numerics.potentials import (
     compile_bound_potential,
     compile_potential,
@@ -926,6 +932,40 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
             rotate_slot(y, q, q + 3, alpha[t] * h)
 
     @jit
+    def kick_compensated(y, c, h, data, work):
+        # as kick, every increment added with Kahan summation (c: rounding errors so far)
+        pos, nu, F, T = work
+        mass = data[0]
+        bslot = data[2]
+        tslot = data[3]
+        nm = mass.shape[0]
+        gather_inl(y, data, pos, nu)
+        forces_inl(pos, nu, data, F, T)
+        for b in range(bslot.shape[0]):
+            s = bslot[b]
+            if s >= 0:
+                for d in range(3):
+                    kahan_add(y, c, 6 * s + 3 + d, h * F[b, d])
+            t = tslot[b]
+            if t >= 0:
+                q = 6 * nm + 6 * t + 3
+                for d in range(3):
+                    kahan_add(y, c, q + d, h * T[b, d])
+
+    @jit
+    def drift_compensated(y, c, h, data):
+        mass = data[0]
+        alpha = data[1]
+        nm = mass.shape[0]
+        for s in range(nm):
+            cc = h / mass[s]
+            for d in range(3):
+                kahan_add(y, c, 6 * s + d, cc * y[6 * s + 3 + d])
+        for t in range(alpha.shape[0]):
+            q = 6 * nm + 6 * t
+            rotate_slot_compensated(y, c, q, q + 3, alpha[t] * h)
+
+    @jit
     def energy(y, data, work):
         pos, nu, F, T = work
         mass = data[0]
@@ -984,7 +1024,8 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
         return forces_inl(pos, nu, data, F, T)
 
     out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
-                  max_radius=max_radius, jac=None, splittable=True, forces=forces_of)
+                  max_radius=max_radius, jac=None, splittable=True, forces=forces_of,
+                  drift_compensated=drift_compensated, kick_compensated=kick_compensated)
     _kernel_cache[(id(kern_any), parallel)] = out
     return out
 

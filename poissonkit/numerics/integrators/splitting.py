@@ -469,8 +469,8 @@ class Splitting:
         comp = self.compensated
         if comp and getattr(kernels, "kick_compensated", None) is None:
             raise InputError(f"{self.name}: compensated=True needs compensated drift/kick kernels, "
-                             f"which {type(system).__name__} does not have (TwoBodySystem has "
-                             "them); use compensated=False")
+                             f"which {type(system).__name__} does not have (TwoBodySystem and "
+                             "NBodySystem have them); use compensated=False")
         if hasattr(system, "check_state"):
             system.check_state(y0)
         h = check_step(step, t_end - t0, self.name)
