@@ -412,6 +412,27 @@ def _dispatcher(kerns: Sequence[Any], rkerns: Sequence[Any]) -> tuple[Any, Any]:
 
 # ----------------------------------------------------------------------------- cell list
 @numba.njit(cache=True, error_model="numpy")
+def apply_forces(y, h, data, work):
+    """Kick every moving body's ``p`` and top's ``m`` by ``h`` times the forces ``work[2]`` and
+    torques ``work[3]`` (left there by the force loop)."""
+    F = work[2]
+    T = work[3]
+    nm = data[0].shape[0]
+    bslot = data[2]
+    tslot = data[3]
+    for b in range(bslot.shape[0]):
+        s = bslot[b]
+        if s >= 0:
+            for d in range(3):
+                y[6 * s + 3 + d] += h * F[b, d]
+        t = tslot[b]
+        if t >= 0:
+            q = 6 * nm + 6 * t + 3
+            for d in range(3):
+                y[q + d] += h * T[b, d]
+
+
+@numba.njit(cache=True, error_model="numpy")
 def cell_list(members, pos, nu, cutoff):
     """Bin ``members`` into cubic cells of side ≥ ``cutoff``.
 
@@ -901,22 +922,9 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
     @jit
     def kick(y, h, data, work):
         pos, nu, F, T = work
-        mass = data[0]
-        bslot = data[2]
-        tslot = data[3]
-        nm = mass.shape[0]
         gather_inl(y, data, pos, nu)
         forces_inl(pos, nu, data, F, T)
-        for b in range(bslot.shape[0]):
-            s = bslot[b]
-            if s >= 0:
-                for d in range(3):
-                    y[6 * s + 3 + d] += h * F[b, d]
-            t = tslot[b]
-            if t >= 0:
-                q = 6 * nm + 6 * t + 3
-                for d in range(3):
-                    y[q + d] += h * T[b, d]
+        apply_forces(y, h, data, work)
 
     @jit
     def drift(y, h, data):

@@ -62,6 +62,7 @@ from poissonkit.numerics.integrators.base import (
     SaveBuffer,
     check_step,
     locate_division,
+    step_end_kernels,
 )
 from poissonkit.numerics.integrators.driver import drive
 from poissonkit.numerics.jit import jit
@@ -230,7 +231,8 @@ def _runner(kernels, compensated: bool = False) -> Any:
     hit = _runners.get(key)
     if hit is not None:
         return hit[0]
-    min_distance, max_radius = kernels.min_distance, kernels.max_radius
+    min_distance = kernels.min_distance
+    check = step_end_kernels(kernels)[1]
     if compensated:
         drift, kick = kernels.drift_compensated, kernels.kick_compensated
     else:
@@ -343,26 +345,7 @@ def _runner(kernels, compensated: bool = False) -> Any:
             k += 1
             if not all_finite(y):
                 return 1, t, k, nsave, 0.0
-            flag = 0
-            value = 0.0
-            if contact > 0.0 or watch > 0.0:
-                d = min_distance(y, data, work)
-                hist[2] = d
-                d0 = hist[0]
-                d1 = hist[1]
-                # a grazing window takes precedence: its search also covers the step end
-                if watch > 0.0 and d1 <= d0 and d > d1 and \
-                        d1 - 2.0 * max(d0 - d1, d - d1) < watch:
-                    flag = 7
-                    value = d1
-                elif contact > 0.0 and d < contact:
-                    flag = 2
-                    value = d
-            if flag == 0 and escape > 0.0:
-                d = max_radius(y, data)
-                if d > escape:
-                    flag = 3
-                    value = d
+            flag, value = check(y, data, work, contact, escape, watch, hist)
             if last or gstep % save_every == 0:
                 out_t[nsave] = t
                 if comp:

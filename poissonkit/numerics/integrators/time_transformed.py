@@ -75,6 +75,7 @@ from poissonkit.numerics.integrators.driver import drive
 from poissonkit.numerics.integrators.splitting import WEIGHTS, drift_kick_coefficients
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import all_finite, copy_into, copy_row
+from poissonkit.numerics.nbody import apply_forces
 
 #: loop status codes beyond :mod:`~poissonkit.numerics.integrators.base`'s
 KINETIC_LOST, SHIFT_TOO_SMALL, NO_PROGRESS = 8, 9, 10
@@ -102,26 +103,6 @@ def _apply_two_body(y, h, data, work):
         y[3 + d] += h * f[d]
         y[9 + d] += h * f[3 + d]
         y[15 + d] += h * f[6 + d]
-
-
-@numba.njit(cache=True, error_model="numpy")
-def _apply_nbody(y, h, data, work):
-    """Kick every moving body's ``p`` and top's ``m`` by ``h`` times ``work[2]``, ``work[3]``."""
-    F = work[2]
-    T = work[3]
-    nm = data[0].shape[0]
-    bslot = data[2]
-    tslot = data[3]
-    for b in range(bslot.shape[0]):
-        s = bslot[b]
-        if s >= 0:
-            for d in range(3):
-                y[6 * s + 3 + d] += h * F[b, d]
-        t = tslot[b]
-        if t >= 0:
-            q = 6 * nm + 6 * t + 3
-            for d in range(3):
-                y[q + d] += h * T[b, d]
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
@@ -172,7 +153,7 @@ def _runner(kernels: Any, layout: int) -> Any:
         return hit[0]
     drift, forces = kernels.drift, kernels.forces
     remember, check = step_end_kernels(kernels)
-    apply = _apply_two_body if layout == _TWO_BODY else _apply_nbody
+    apply = _apply_two_body if layout == _TWO_BODY else apply_forces
 
     @jit
     def plain_step(y, h, a, b, data, work):
