@@ -21,7 +21,8 @@ Methods, all on the same problem, wall time measured in this process after a war
 LLVM compilation excluded):
 
 * poissonkit's splitting methods (order 4/6/8, Blanes–Moan ``splitting6_bm``; ``+adaptive`` =
-  distance-based symmetric step)
+  distance-based symmetric step; ``+compensated`` = Kahan-compensated increments, which remove
+  the round-off floor near 1e-10 of the plain loop)
   — compiled time loops over the exact sub-flows;
 * the time-transformed splittings ``logh4/6/8`` (logarithmic Hamiltonian, the physical step
   shrinks where the potential is deep; ``+k0.5`` = exponent 1/2 of the time transform);
@@ -31,12 +32,12 @@ LLVM compilation excluded):
 
 For each method the steps / tolerances are swept and the time to reach errors 1e-7 and 1e-10 is
 interpolated log–log (:func:`poissonkit.numerics.workprecision.time_to_error`). The reference is
-``splitting8`` at a tiny step, checked against DOP853 at tol 1e-13 and against ``logh8`` at a
-tiny step (an independent discretisation); both agreements are printed.
+the compensated ``splitting8`` at a tiny step, checked against heyoka at tol 1e-16, DOP853 at tol
+1e-13 and ``logh8`` at a tiny step (an independent discretisation); the agreements are printed.
 
 Run::
 
-    python benchmarks/bench_seed_orbit.py            # both scenes
+    python benchmarks/bench_seed_orbit.py            # all three scenes
     python benchmarks/bench_seed_orbit.py --quick    # fewer points
 """
 
@@ -131,6 +132,8 @@ class Solvers:
         opts = None
         if method.endswith("+adaptive"):
             method, opts = method[: -len("+adaptive")], {"adaptive": True}
+        elif method.endswith("+compensated"):  # Kahan-compensated increments (no 1e-10 floor)
+            method, opts = method[: -len("+compensated")], {"compensated": True}
         elif "+k" in method:  # time-transformed splitting with another exponent
             method, k = method.split("+k")
             opts = {"exponent": float(k)}
@@ -160,14 +163,15 @@ class Solvers:
 def scenes(quick: bool):
     """(name, RunSpec, reference step, splitting methods) of the three benchmark scenes."""
     logh = ["logh6", "logh8", "logh8+k0.5"]
+    comp = ["splitting6_bm+compensated", "splitting8+compensated"]
     return [
         ("seed orbit (20 periods, tilt 0.05)", seed000.default_run(periods=20, tilt=0.05),
          1e-3, ["splitting4", "splitting6", "splitting8", "splitting6_bm", "splitting6-yoshida",
-                "splitting8-yoshida"] + logh),
+                "splitting8-yoshida"] + comp + logh),
         ("close encounter (pericentre 0.43 l, 10 periods)",
          seed000.default_run(periods=10, tilt=0.01, momentum_factor=0.8), 5e-4,
          ["splitting6", "splitting8", "splitting6_bm", "splitting8+adaptive",
-          "splitting6-yoshida", "splitting8-yoshida"] + logh),
+          "splitting6-yoshida", "splitting8-yoshida"] + comp + logh),
         ("hard encounter (pericentre 0.25 l, 50 periods, tilt 0)",
          seed000.default_run(periods=50, tilt=0.0, momentum_factor=0.657), 2e-3,
          ["splitting8", "splitting6_bm", "splitting8+adaptive", "logh4"] + logh),
@@ -180,11 +184,16 @@ def run_scene(name, spec, ref_step, split_methods, quick: bool) -> dict[str, flo
     t_end = float(spec.t_end)
     # fixed-step splitting8: the adaptive variant's symmetrised step is solved by one fixed-point
     # iteration, which costs it its order (its error floors near 1e-9 here)
-    prim = ("splitting8", "step", ref_step)
+    # compensated: the plain loop's increments leave round-off of ~1e-10 (benchmarks/bench_kernels.py)
+    prim = ("splitting8+compensated", "step", ref_step)
     # DOP853 at tol 1e-13 fails on the hard encounter (step size underflow): checked by logh8
     hard = name.startswith("hard")
     ref = wp.reference(spec.system, spec.y0, t_end, primary=prim, solver=solver,
                        secondary=("logh8", "step", ref_step) if hard else None)
+    if not hard:  # an independent check at the 1e-12 level: heyoka at its tightest tolerance
+        hy = wp.reference(spec.system, spec.y0, t_end, primary=prim, solver=solver,
+                          secondary=("heyoka", "tol", 1e-16))
+        print(f"reference vs heyoka tol 1e-16: {hy.agreement:.1e}")
     # the primary's own error: same method at twice the step (order 8 -> /255), and an
     # independent discretisation (time-transformed, steps shrinking at pericentre)
     half = wp.reference(spec.system, spec.y0, t_end, primary=(prim[0], "step", 2 * ref_step),
