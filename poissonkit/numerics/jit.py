@@ -12,8 +12,9 @@ random per-process id (so it never hits). Here each compiled function gets a **t
 of everything its machine code depends on:
 
 * the function's bytecode, constants and names, and the compile options;
-* the source of the file that defines it and of the whole poissonkit package (the globals a
-  closure calls live there), and the numba / Python versions (through the cache folder);
+* the source of the whole poissonkit package and of the top-level package (a plugin) or module
+  that defines the function (the globals a closure calls live there), and the numba / Python
+  versions (through the cache folder);
 * for a closure, the tokens of its cell contents (compiled callees by their own tokens, numbers,
   tuples and arrays by value); for generated source, the source text and the tokens of its
   namespace.
