@@ -50,18 +50,24 @@ class Kernels(NamedTuple):
     kick_compensated: Any = None
 
 
-@numba.njit(cache=True, error_model="numpy")
-def rotate_slot(y, base, mbase, theta_per_norm):
-    """In-place Rodrigues rotation of ``y[base:base+3]`` about ``y[mbase:mbase+3]``."""
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def _unit_axis(y, mbase):
+    """``(|m|, m/|m|)`` of ``m = y[mbase:mbase+3]`` (``(0, 0, 0, 0)`` for ``m = 0``)."""
     m0 = y[mbase]
     m1 = y[mbase + 1]
     m2 = y[mbase + 2]
     mm = math.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
     if mm == 0.0:
+        return 0.0, 0.0, 0.0, 0.0
+    return mm, m0 / mm, m1 / mm, m2 / mm
+
+
+@numba.njit(cache=True, error_model="numpy")
+def rotate_slot(y, base, mbase, theta_per_norm):
+    """In-place Rodrigues rotation of ``y[base:base+3]`` about ``y[mbase:mbase+3]``."""
+    mm, k0, k1, k2 = _unit_axis(y, mbase)
+    if mm == 0.0:
         return
-    k0 = m0 / mm
-    k1 = m1 / mm
-    k2 = m2 / mm
     th = theta_per_norm * mm
     c = math.cos(th)
     s = math.sin(th)
@@ -96,15 +102,9 @@ def rotate_slot_compensated(y, c, base, mbase, theta_per_norm):
     """:func:`rotate_slot` written as an increment ``ν += −(1 − cos θ)(ν − (k·ν)k) + sin θ k × ν``
     added with :func:`kahan_add` (``1 − cos θ = 2 sin²(θ/2)``, free of cancellation): a small
     rotation changes ``ν`` by a small increment, whose rounding the compensation keeps."""
-    m0 = y[mbase]
-    m1 = y[mbase + 1]
-    m2 = y[mbase + 2]
-    mm = math.sqrt(m0 * m0 + m1 * m1 + m2 * m2)
+    mm, k0, k1, k2 = _unit_axis(y, mbase)
     if mm == 0.0:
         return
-    k0 = m0 / mm
-    k1 = m1 / mm
-    k2 = m2 / mm
     th = theta_per_norm * mm
     sh = math.sin(0.5 * th)
     omc = 2.0 * sh * sh

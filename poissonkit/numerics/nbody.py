@@ -753,33 +753,33 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
             u += us[x]
         return u
 
+    @jit(inline="always")
+    def cell_setup(members, pos, nu, cutoff):
+        """The cell list of ``members`` and zeroed per-slab accumulators (see ``slab_pairs``)."""
+        n = members.shape[0]
+        nc, count, cell_of, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
+        return (nc, count, sp_, sn_, body, np.zeros((n, 2, 3)), np.zeros((n, 2, 3)),
+                np.empty(nc[0]))
+
     @jit
     def cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut):
         """All pairs of ``members`` closer than ``cutoff``, via a cell list (O(n)), one thread."""
-        n = members.shape[0]
-        if n < 2:
+        if members.shape[0] < 2:
             return 0.0
-        nc, count, cell_of, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
-        W = np.zeros((n, 2, 3))
-        V = np.zeros((n, 2, 3))
-        us = np.empty(nc[0])
+        nc, count, sp_, sn_, body, W, V, us = cell_setup(members, pos, nu, cutoff)
         for x in range(nc[0]):
             us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
                                cutoff * cutoff)
-        return cell_gather(n, body, W, V, us, F, T)
+        return cell_gather(members.shape[0], body, W, V, us, F, T)
 
     @jit(parallel=True)
     def cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut):
         """:func:`cell_pairs` with the x-slabs shared out between threads; the same numbers
         bit for bit on any number of threads (see ``slab_pairs``: no two slabs write the same
         sum, no atomics, no reduction whose order depends on the threads)."""
-        n = members.shape[0]
-        if n < 2:
+        if members.shape[0] < 2:
             return 0.0
-        nc, count, cell_of, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
-        W = np.zeros((n, 2, 3))
-        V = np.zeros((n, 2, 3))
-        us = np.empty(nc[0])
+        nc, count, sp_, sn_, body, W, V, us = cell_setup(members, pos, nu, cutoff)
         half = (nc[0] + 1) // 2
         for k in numba.prange(nc[0]):
             # even slabs first, then odd ones: prange hands out contiguous blocks of
@@ -788,7 +788,7 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
             x = 2 * k if k < half else 2 * (k - half) + 1
             us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
                                cutoff * cutoff)
-        return cell_gather(n, body, W, V, us, F, T)
+        return cell_gather(members.shape[0], body, W, V, us, F, T)
 
     if parallel:
         @jit

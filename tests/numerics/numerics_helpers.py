@@ -52,3 +52,19 @@ def orbit_state(tilt=0.05, spin=1.0):
     m1 = spin * np.array([0.05, 0.0, v / 3])
     m2 = spin * np.array([0.0, -0.05, v / 5])
     return np.concatenate([r, p, nu1, m1, nu2, m2])
+
+
+def assert_invariants_at_roundoff(system, sol, tol=1e-13):
+    """Casimirs (|ν| = 1, (ν, m)), total angular and linear momentum of an N-body solution kept
+    to ``tol``; the momenta relative to the size of the summed terms (the round-off of the
+    sums themselves)."""
+    assert np.max(sol.casimir_drift()) <= tol
+    assert np.all(np.abs(system.casimirs(sol.y)[:, 0::2] - 1) <= tol)
+    parts = system.unpack(sol.y)
+    j = system.angular_momentum(sol.y)
+    j_scale = (np.linalg.norm(np.cross(parts["r"], parts["p"]), axis=-1).sum(-1)
+               + np.linalg.norm(parts["m"], axis=-1).sum(-1)).max()
+    assert np.max(np.linalg.norm(j - j[0], axis=1)) <= tol * j_scale
+    P = system.linear_momentum(sol.y)
+    p_scale = np.linalg.norm(parts["p"], axis=-1).sum(-1).max()
+    assert np.max(np.linalg.norm(P - P[0], axis=1)) <= tol * p_scale

@@ -141,6 +141,13 @@ def locate_division(name: str, one_step: Callable[[np.ndarray, float, int], tupl
         t = t_new
 
 
+def state_digest(y: Any) -> str:
+    """SHA-256 of a state's float64 bytes: identifies the initial state of a checkpointed run."""
+    import hashlib
+
+    return hashlib.sha256(np.ascontiguousarray(y, dtype=float).tobytes()).hexdigest()
+
+
 def check_step(step: float | None, t_end: float, name: str) -> float:
     """Validate a fixed step size."""
     if step is None:

@@ -9,7 +9,6 @@ the N-body systems (fixed-point iteration there).
 
 from __future__ import annotations
 
-import hashlib
 import math
 from typing import Any
 
@@ -23,6 +22,7 @@ from poissonkit.numerics.integrators.base import (
     SaveBuffer,
     check_step,
     locate_division,
+    state_digest,
     step_end_kernels,
 )
 from poissonkit.numerics.integrators.driver import drive
@@ -216,7 +216,7 @@ class ImplicitMidpoint:
         problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
                    "t_end": float(t_end).hex(), "n_total": n_total, "save_every": save_every,
                    "dim": int(y.size), "tol": float(itol).hex(), "newton": bool(newton),
-                   "y0": hashlib.sha256(y.tobytes()).hexdigest()}
+                   "y0": state_digest(y)}
         raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
                     save_every=save_every, control=control, chunk=chunk, advance=advance,
                     done=lambda st: st.steps >= n_total, failure=failure, problem=problem,

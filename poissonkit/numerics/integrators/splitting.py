@@ -62,6 +62,7 @@ from poissonkit.numerics.integrators.base import (
     SaveBuffer,
     check_step,
     locate_division,
+    state_digest,
     step_end_kernels,
 )
 from poissonkit.numerics.integrators.driver import drive
@@ -514,7 +515,7 @@ class Splitting:
         problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
                    "t_end": float(t_end).hex(), "n_total": n_total, "save_every": save_every,
                    "dim": int(y.size), "dref": float(dref).hex(),
-                   "y0": _digest(y)}
+                   "y0": state_digest(y)}
         if comp:  # only then, so that checkpoints of plain runs keep their description
             problem["compensated"] = True
         raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
@@ -527,9 +528,3 @@ class Splitting:
             raw.nfev = raw.steps * self.evaluations + (len(raw.t) if fsal else 0)
         raw.extra.update(step=h, order=self.order, adaptive=self.adaptive, compensated=comp)
         return raw
-
-
-def _digest(y: np.ndarray) -> str:
-    import hashlib
-
-    return hashlib.sha256(np.ascontiguousarray(y, dtype=float).tobytes()).hexdigest()

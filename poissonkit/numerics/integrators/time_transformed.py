@@ -55,7 +55,6 @@ splitting (ordinary composition steps over the sub-interval).
 
 from __future__ import annotations
 
-import hashlib
 import math
 from typing import Any
 
@@ -69,6 +68,7 @@ from poissonkit.numerics.integrators.base import (
     SaveBuffer,
     check_step,
     locate_division,
+    state_digest,
     step_end_kernels,
 )
 from poissonkit.numerics.integrators.driver import drive
@@ -383,8 +383,7 @@ class TimeTransformedSplitting:
                    "save_every": save_every, "dim": int(y.size),
                    # progress-bar granularity only (the number of steps is not known ahead)
                    "n_total": max(1, math.ceil((t_end - t0) / ds)),
-                   "y0": hashlib.sha256(np.ascontiguousarray(y0, dtype=float).tobytes())
-                   .hexdigest()}
+                   "y0": state_digest(y0)}
         raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
                     save_every=save_every, control=control, chunk=chunk, advance=advance,
                     done=done, failure=failure, problem=problem, buffer_rows=4096)
