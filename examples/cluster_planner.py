@@ -22,17 +22,17 @@ import math
 import time
 
 import numpy as np
-from poissonkit_nbody import (
+from poissonkit_nbody import random_cluster
+
+from poissonkit.numerics.solver import solve
+from poissonkit.scene.assembly import (
     auto_scales,
     bodies_of,
     edges_of,
-    random_cluster,
+    resolve,
     state_of,
     system_of,
 )
-from poissonkit_nbody.assemble import resolve
-
-from poissonkit.numerics.solver import solve
 from poissonkit.scene.planner import Planner, run_planned
 
 MAGNET = {  # seed 000 magnets, SI

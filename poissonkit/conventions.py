@@ -62,6 +62,9 @@ import math
 #: Vacuum permeability used throughout (seed 000's value, exactly 4 pi 1e-7).
 MU0: float = 4.0e-7 * math.pi
 
+#: Newton's constant (CODATA 2018) [m³/(kg s²)].
+NEWTON_G: float = 6.67430e-11
+
 #: Sign of the Hamiltonian vector field: X_H = HAMILTONIAN_SIGN * P dH.
 HAMILTONIAN_SIGN: int = 1
 

@@ -1,11 +1,11 @@
 """Built-in poissonkit plugin: N-body assemblies from networkx graphs.
 
-Nodes carry body models (:mod:`poissonkit_nbody.bodies`), edges carry potential names and
-parameters; :func:`from_graph` turns a graph into a numerics ``NBodySystem`` and
-:func:`initial_state` gives its state at t = 0.
+The plugin contributes the graph builders (:mod:`poissonkit_nbody.graphs`) and point-mass
+gravity. Turning a graph into a system is the core's job (:mod:`poissonkit.scene.assembly`,
+:mod:`poissonkit.scene.bodies`); those names are re-exported here for convenience.
 """
 
-from poissonkit_nbody.assemble import (
+from poissonkit.scene.assembly import (
     EdgeSpec,
     PairSpec,
     auto_scales,
@@ -19,8 +19,9 @@ from poissonkit_nbody.assemble import (
     state_of,
     system_of,
 )
-from poissonkit_nbody.bodies import BodyModel, pair_params
-from poissonkit_nbody.graphs import chain, complete, lattice, random_cluster, ring
+from poissonkit.scene.assembly import complete
+from poissonkit.scene.bodies import BodyModel, pair_params
+from poissonkit_nbody.graphs import chain, lattice, random_cluster, ring
 
 __all__ = [
     "BodyModel", "EdgeSpec", "PairSpec", "auto_scales", "bodies_of", "chain", "complete",

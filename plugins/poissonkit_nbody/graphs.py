@@ -1,7 +1,7 @@
 """Graph builders: chains, rings, lattices, random clusters, and completion of any user graph.
 
 Every builder returns a :class:`networkx.Graph` whose nodes are ``0..n-1`` carrying body
-attributes (see :mod:`poissonkit_nbody.bodies`: a copy of ``body`` plus the position ``r`` and,
+attributes (see :mod:`poissonkit.scene.bodies`: a copy of ``body`` plus the position ``r`` and,
 for tops, the axis ``nu``) and whose edges are the interacting pairs. ``G.graph["potential"]``
 and ``G.graph["params"]`` hold the default pair potential; an edge may override them with its
 own ``potential`` and ``params`` attributes.
@@ -22,7 +22,7 @@ import networkx as nx
 import numpy as np
 
 from poissonkit.errors import InputError
-from poissonkit_nbody.bodies import BodyModel
+from poissonkit.scene.bodies import BodyModel
 
 _INTERACTIONS = ("complete", "neighbours")
 
@@ -72,15 +72,6 @@ def _finish(G: nx.Graph, structural: list[tuple[int, int]], interactions: str) -
     else:
         G.add_edges_from(structural)
     return G
-
-
-def complete(G: nx.Graph) -> nx.Graph:
-    """A copy of ``G`` in which every pair of bodies interacts (existing edge data is kept)."""
-    H = G.copy()
-    for u, v in itertools.combinations(list(H.nodes), 2):
-        if not H.has_edge(u, v):
-            H.add_edge(u, v)
-    return H
 
 
 def chain(n: int, spacing: float, body: Mapping[str, Any], *, direction: Sequence[float] = (1, 0, 0),

@@ -6,10 +6,9 @@ from typing import Any
 
 import sympy as sp
 
+from poissonkit.conventions import NEWTON_G
 from poissonkit.plugin.contributions import PairPotential, Param
 
-#: Newton's constant (CODATA 2018) [m³/(kg s²)].
-NEWTON_G = 6.67430e-11
 
 
 def _gravity_expr(params: dict[str, Any]) -> sp.Expr:

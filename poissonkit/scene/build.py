@@ -14,12 +14,11 @@ from poissonkit.scene.schema import Scene
 def scene_graph(scene: Scene) -> nx.Graph:
     """The scene's bodies (nodes) and interacting pairs (edges) as a networkx graph.
 
-    Node attributes follow :mod:`poissonkit_nbody.bodies`; edges carry ``potential``,
+    Node attributes follow :mod:`poissonkit.scene.bodies`; edges carry ``potential``,
     ``params`` and ``first`` for listed pairs; ``G.graph`` holds the default potential.
     """
-    from poissonkit_nbody import complete
-
     from poissonkit.plugin import assembly
+    from poissonkit.scene.assembly import complete
 
     if scene.assembly is not None:
         name, params = scene.assembly
@@ -56,13 +55,13 @@ def scene_graph(scene: Scene) -> nx.Graph:
 def build_run(scene: Scene) -> RunSpec:
     """Everything ``poissonkit run`` needs to integrate the scene.
 
-    The bodies and pairs are built by the N-body plugin (the same path as any assembly); if the
+    The bodies and pairs are built by :mod:`poissonkit.scene.assembly` (the same path as any assembly); if the
     scene has a ``[planner]`` the magnet pairs get the cheapest model within its force tolerance
     at t = 0 (the plan is in ``metadata["plan"]``; re-planning during the run is
     :func:`poissonkit.scene.planner.run_planned`). Durations and steps are converted to the
     system's internal time unit; ``metadata`` keeps the SI values.
     """
-    from poissonkit_nbody import bodies_of, edges_of, pairs_of, state_of, system_of
+    from poissonkit.scene.assembly import bodies_of, edges_of, pairs_of, state_of, system_of
 
     G = scene_graph(scene)
     metadata: dict[str, Any] = {"scene": scene.name, "source": scene.source,

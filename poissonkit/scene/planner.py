@@ -381,16 +381,16 @@ class Planner:
         Parameters
         ----------
         bodies
-            :class:`poissonkit_nbody.BodyModel` objects.
+            :class:`poissonkit.scene.bodies.BodyModel` objects.
         edges
-            :class:`poissonkit_nbody.EdgeSpec` objects; an edge is *planned* when both bodies
+            :class:`poissonkit.scene.assembly.EdgeSpec` objects; an edge is *planned* when both bodies
             are magnets (``moment`` given) and its potential is unset or one of ``models``.
 
         Returns
         -------
         (bodies, pairs, plan)
             Bodies with orientation-free tops turned into point masses, the resolved
-            :class:`poissonkit_nbody.PairSpec` list for ``NBodySystem``, and the :class:`Plan`.
+            :class:`poissonkit.scene.assembly.PairSpec` list for ``NBodySystem``, and the :class:`Plan`.
         """
         positions = np.array([b.r for b in bodies], float)
         plan, pairs, new_bodies = self._plan(list(bodies), list(edges), positions, None)
@@ -414,9 +414,8 @@ class Planner:
         return plan2, pairs, sorted(changes)
 
     def _plan(self, bodies: list, edges: list, positions: np.ndarray, previous: Plan | None):
-        from poissonkit_nbody import resolve
-
         from poissonkit.plugin import potential as lookup
+        from poissonkit.scene.assembly import resolve
 
         names = tuple(b.name for b in bodies)
         prev_model = {} if previous is None else {(p.i, p.j): p.model for p in previous.pairs}
@@ -520,9 +519,8 @@ class Planner:
         entry = lookup(e.potential)
         if entry.orientation != "none":
             return None
-        from poissonkit_nbody import resolve
-
         from poissonkit.numerics.potentials import compile_potential
+        from poissonkit.scene.assembly import resolve
 
         spec = resolve(e, bodies)
         f = compile_potential(entry, dict(spec.params))
@@ -622,7 +620,7 @@ def run_planned(bodies: Sequence[Any], edges: Sequence[Any], planner: Planner, d
     Parameters
     ----------
     bodies, edges
-        :class:`poissonkit_nbody.BodyModel` list and :class:`poissonkit_nbody.EdgeSpec` list
+        :class:`poissonkit.scene.bodies.BodyModel` list and :class:`poissonkit.scene.assembly.EdgeSpec` list
         (e.g. ``bodies_of(G)``, ``edges_of(G)``).
     planner
         The planner (tolerance, models, hysteresis, cutoff, re-plan cadence).
@@ -631,7 +629,7 @@ def run_planned(bodies: Sequence[Any], edges: Sequence[Any], planner: Planner, d
     method
         Integrator registry name (a fixed-step method).
     scales
-        Internal units (``"auto"``: :func:`poissonkit_nbody.auto_scales` of the bodies), kept
+        Internal units (``"auto"``: :func:`poissonkit.scene.assembly.auto_scales` of the bodies), kept
         for the whole run so the state carries over unchanged between re-plans.
     on_replan
         Optional callback ``on_replan(t, plan, changes)``.
@@ -640,9 +638,8 @@ def run_planned(bodies: Sequence[Any], edges: Sequence[Any], planner: Planner, d
     -------
     PlannedRun
     """
-    from poissonkit_nbody import auto_scales, state_of, system_of
-
     from poissonkit.numerics import solver
+    from poissonkit.scene.assembly import auto_scales, state_of, system_of
 
     if not (duration > 0 and step > 0 and step <= duration):
         raise PlannerError(f"need 0 < step <= duration, got step={step!r}, duration={duration!r}")

@@ -315,10 +315,9 @@ class TomlScene:
 def _build(scene: Any, scales: Any) -> tuple[Any, np.ndarray, float, float | None, list[Any]]:
     """System, initial state, duration and step (internal units) and body models of a scene,
     in the given internal units (as :func:`poissonkit.scene.build_run`, which picks its own)."""
-    from poissonkit_nbody import bodies_of, edges_of, pairs_of, state_of, system_of
-
     from poissonkit.errors import PoissonkitError
     from poissonkit.scene import scene_graph
+    from poissonkit.scene.assembly import bodies_of, edges_of, pairs_of, state_of, system_of
 
     G = scene_graph(scene)
     try:

@@ -11,7 +11,7 @@ import networkx as nx
 import numpy as np
 
 from poissonkit.errors import InputError
-from poissonkit_nbody.bodies import BodyModel, pair_params
+from poissonkit.scene.bodies import BodyModel, pair_params
 
 
 @dataclass(frozen=True)
@@ -22,6 +22,15 @@ class PairSpec:
     j: int
     potential: str
     params: Mapping[str, Any]
+
+
+def complete(G: nx.Graph) -> nx.Graph:
+    """A copy of ``G`` in which every pair of bodies interacts (existing edge data is kept)."""
+    H = G.copy()
+    for u, v in itertools.combinations(list(H.nodes), 2):
+        if not H.has_edge(u, v):
+            H.add_edge(u, v)
+    return H
 
 
 def require_graph(G: Any) -> nx.Graph:
@@ -127,9 +136,8 @@ def auto_scales(bodies: list[BodyModel]) -> Any:
     """
     import math
 
-    from poissonkit.conventions import MU0
+    from poissonkit.conventions import MU0, NEWTON_G
     from poissonkit.numerics.units import Scales
-    from poissonkit_nbody.potentials import NEWTON_G
 
     pos = np.array([b.r for b in bodies], float)
     length = 0.0
@@ -155,7 +163,7 @@ def from_graph(G: nx.Graph, cutoff: float | None = None, default_potential: str 
     Parameters
     ----------
     G
-        Nodes carry body attributes (:mod:`poissonkit_nbody.bodies`), edges the interacting
+        Nodes carry body attributes (:mod:`poissonkit.scene.bodies`), edges the interacting
         pairs (all pairs if the graph has no edges).
     cutoff
         Pairs farther apart than this [m] are skipped by the numerics (``None``: never).
