@@ -1,3 +1,3 @@
-"""Example third-party poissonkit plugin: a Lennard-Jones pair potential."""
+"""Example third-party poissonkit plugin: pair potentials, a model family, a scene, an outcome."""
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"

@@ -1,12 +1,43 @@
-"""Hook implementations of the example plugin (registered through the entry point)."""
+"""Hook implementations of the example plugin (registered through the entry point).
+
+It uses every extension point a built-in plugin uses, through public API only:
+
+* pair potentials — ``lennard_jones`` (central), ``finite_dipole`` and ``point_dipole``
+  (orientation-dependent, :mod:`poissonkit_lj.dipoles`), whose charges and separations are
+  body attributes (``dipole_charge``, ``dipole_separation``) read per body;
+* a model family — ``electric_dipoles``: ``point_dipole`` far, ``finite_dipole`` near, with the
+  error estimate of :func:`poissonkit_lj.dipoles.point_dipole_error`, for the planner and
+  ``pair_interaction("auto", ...)``;
+* a scene — ``dipole_pair`` (a TOML file shipped in this package), runnable by name and
+  sweepable;
+* a sweep outcome — ``max_axis_tilt``, the largest angle any top's axis turned away from its
+  initial direction.
+"""
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
+from importlib import resources
 from typing import Any
 
+import numpy as np
 import sympy as sp
 
-from poissonkit.plugin import PairPotential, Param, hookimpl
+from poissonkit.plugin import (
+    ModelFamily,
+    OutcomeEntry,
+    PairPotential,
+    Param,
+    SceneEntry,
+    hookimpl,
+)
+from poissonkit_lj.dipoles import (
+    COULOMB_K,
+    finite_dipole_expr,
+    point_dipole_error,
+    point_dipole_expr,
+)
 
 
 def _lennard_jones(params: dict[str, Any]) -> sp.Expr:
@@ -28,8 +59,150 @@ LENNARD_JONES = PairPotential(
     orientation="none",
 )
 
+#: Parameters shared by both dipole models; per-body ones default to the body attributes.
+_DIPOLE_PARAMS = (
+    Param("charge1", "float", "charge of the first body's dipole [C]", unit="C", positive=True),
+    Param("charge2", "float", "charge of the second body's dipole [C]", unit="C", positive=True),
+    Param("separation1", "float", "charge separation of the first body [m]", unit="m",
+          positive=True),
+    Param("separation2", "float", "charge separation of the second body [m]", unit="m",
+          positive=True),
+    Param("k", "float", "Coulomb constant 1/(4 pi eps0) [N m^2/C^2]", default=COULOMB_K,
+          unit="N m^2/C^2", positive=True),
+)
+_DIPOLE_BODY_PARAMS = (("charge1", "dipole_charge", 1), ("charge2", "dipole_charge", 2),
+                       ("separation1", "dipole_separation", 1),
+                       ("separation2", "dipole_separation", 2))
+
+FINITE_DIPOLE = PairPotential(
+    name="finite_dipole",
+    doc="Exact Coulomb energy of two finite electric dipoles (charges +-q at +-d/2 along each "
+        "axis).",
+    params=_DIPOLE_PARAMS,
+    expr=finite_dipole_expr,
+    orientation="both",
+    body_params=_DIPOLE_BODY_PARAMS,
+)
+
+POINT_DIPOLE = PairPotential(
+    name="point_dipole",
+    doc="Point-dipole energy k p1 p2 (c3 - 3 c1 c2)/r^3 of two electric dipoles, p = q d.",
+    params=_DIPOLE_PARAMS,
+    expr=point_dipole_expr,
+    orientation="both",
+    body_params=_DIPOLE_BODY_PARAMS,
+)
+
+
+def _separation(body: Mapping[str, Any]) -> float:
+    return float(body.get("dipole_separation", 0.0) or 0.0)
+
+
+def _charge(body: Mapping[str, Any]) -> float:
+    return float(body.get("dipole_charge", 0.0) or 0.0)
+
+
+def _applies(body1: Mapping[str, Any], body2: Mapping[str, Any]) -> bool:
+    """Both bodies carry a dipole (a charge and a separation)."""
+    return all(_charge(b) > 0 and _separation(b) > 0 for b in (body1, body2))
+
+
+def _estimate(model: str, r: float, body1: Mapping[str, Any], body2: Mapping[str, Any]) -> float:
+    """Relative force error: 0 for the exact model, the point-dipole estimate otherwise."""
+    if model == "finite_dipole":
+        return 0.0
+    if model == "point_dipole":
+        return point_dipole_error(r, _separation(body1), _separation(body2))
+    raise ValueError(f"not a model of the electric_dipoles family: {model!r}")
+
+
+def _energy_bound(r: float, body1: Mapping[str, Any], body2: Mapping[str, Any]) -> float:
+    """|U| ≤ 2 k p1 p2 / r³ (1 + ε_point(r)): the point-dipole bound widened by its error."""
+    p1 = _charge(body1) * _separation(body1)
+    p2 = _charge(body2) * _separation(body2)
+    err = point_dipole_error(r, _separation(body1), _separation(body2))
+    return 2.0 * COULOMB_K * p1 * p2 / r ** 3 * (1.0 + err)
+
+
+ELECTRIC_DIPOLES = ModelFamily(
+    name="electric_dipoles",
+    doc="Finite electric dipoles: point dipoles far, the exact four-charge model near "
+        "(point-dipole force error <= 2 (d1^2 + d2^2)/r^2 / (1 - (rho/r)^2)).",
+    models=("point_dipole", "finite_dipole"),
+    costs=(1.0, 4.0),
+    estimate=_estimate,
+    applies=_applies,
+    reads=("dipole_separation",),
+    energy_bound=_energy_bound,
+)
+
+
+def _scene_path() -> str:
+    return str(resources.files("poissonkit_lj") / "scenes" / "dipole_pair.toml")
+
+
+def _dipole_scene(**_: Any):
+    from poissonkit.scene import load_scene
+
+    return load_scene(_scene_path())
+
+
+def _dipole_sweep(**options: Any):
+    from poissonkit.sweeps.scenes import TomlScene
+
+    return TomlScene(_scene_path(), **options)
+
+
+DIPOLE_SCENE = SceneEntry(
+    name="dipole_pair",
+    doc="Two finite electric dipoles on a circular orbit with a fixed third one far away; "
+        "the planner picks point or finite dipoles per pair.",
+    load=_dipole_scene,
+    sweep=_dipole_sweep,
+)
+
+
+def _max_axis_tilt(record: Any) -> float:
+    """Largest angle [rad] between a top's axis and its initial axis over the saved states."""
+    sol = record.solution
+    system = sol.system
+    nu = np.asarray(system.unpack(np.asarray(sol.y), si=True)["nu"], dtype=float)
+    if nu.ndim != 3 or nu.shape[1] == 0:
+        return math.nan
+    nu = nu / np.linalg.norm(nu, axis=-1, keepdims=True)
+    cos = np.clip(np.einsum("tbk,bk->tb", nu, nu[0]), -1.0, 1.0)
+    return float(np.max(np.arccos(cos)))
+
+
+MAX_AXIS_TILT = OutcomeEntry(
+    name="max_axis_tilt",
+    doc="largest angle between a top's axis and its initial direction",
+    dtype="f8",
+    unit="rad",
+    fill=math.nan,
+    compute=_max_axis_tilt,
+)
+
 
 @hookimpl
 def poissonkit_potentials() -> list[PairPotential]:
-    """The Lennard-Jones potential."""
-    return [LENNARD_JONES]
+    """The Lennard-Jones potential and the two electric-dipole models."""
+    return [LENNARD_JONES, FINITE_DIPOLE, POINT_DIPOLE]
+
+
+@hookimpl
+def poissonkit_model_families() -> list[ModelFamily]:
+    """The electric-dipole family (point dipole far, exact four charges near)."""
+    return [ELECTRIC_DIPOLES]
+
+
+@hookimpl
+def poissonkit_scenes() -> list[SceneEntry]:
+    """The ``dipole_pair`` scene."""
+    return [DIPOLE_SCENE]
+
+
+@hookimpl
+def poissonkit_outcomes() -> list[OutcomeEntry]:
+    """The ``max_axis_tilt`` sweep outcome."""
+    return [MAX_AXIS_TILT]
