@@ -10,7 +10,7 @@ import numpy as np
 from poissonkit._display import html_table, latex_table, text_block
 from poissonkit.errors import InputError, MissingDependencyError
 from poissonkit.numerics import diagnostics
-from poissonkit.numerics.diagnostics import Drift
+from poissonkit.numerics.diagnostics import Drift, HasEnergy
 from poissonkit.numerics.events import EventRecord
 
 #: Invariants :meth:`Solution.plot` can draw: name -> (method, legend label).
@@ -55,7 +55,7 @@ class Solution:
     method: str
     steps: int
     wall_time: float
-    system: Any = None
+    system: HasEnergy | None = None
     nfev: int = 0
     events: list[EventRecord] = field(default_factory=list)
     step: float | None = None

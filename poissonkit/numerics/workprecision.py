@@ -72,12 +72,11 @@ def _final(sol) -> np.ndarray:
     return y[:, -1]
 
 
-def _max_rel_energy_error(system: HasEnergy, sol: Any) -> float:
+def _max_rel_energy_error(system: HasEnergy, t: np.ndarray, y: np.ndarray) -> float:
     """``max_rel_energy_error`` of :mod:`poissonkit.numerics.diagnostics` over the saved states
-    (``sol.y`` as rows or, from other solvers, as columns)."""
-    y = np.asarray(sol.y, dtype=float)
-    t = np.asarray(sol.t, dtype=float)
-    rows = y if y.shape[0] == t.shape[0] else y.T
+    ``y`` (rows or, from other solvers, columns)."""
+    y = np.asarray(y, dtype=float)
+    rows = y if y.shape[0] == np.asarray(t).shape[0] else y.T
     return energy_error(system, rows).max_relative
 
 
@@ -240,7 +239,7 @@ def sweep(system, y0, t_end: float, ref: Reference,
                     spent += time.perf_counter() - w
                     k += 1
                 err = final_state_error(_final(sol), ref.y_end)
-                eerr = _max_rel_energy_error(system, sol)
+                eerr = _max_rel_energy_error(system, sol.t, sol.y)
                 steps = int(getattr(sol, "steps", 0))
             except PoissonkitError as exc:
                 note = f"{type(exc).__name__}: {exc}"
