@@ -393,7 +393,7 @@ def _report(args: argparse.Namespace, spec: Any, sol: Any, out: Path, parts: Pat
         figures = [p.name for p in plots.seed_figures(out, t * tunit, rel * lunit,
                                                       diag.angular_momentum[:, 2] * jscale, diag,
                                                       time_scale=tunit)]
-    shown = [f"max |ΔH|/|H(0)| = {summary['max_rel_energy_error']:.2e}"]
+    shown = [f"max |ΔH|/|H| = {summary['max_rel_energy_error']:.2e}"]
     if "max_rel_casimir_drift" in summary:
         shown.append(f"max Casimir drift = {summary['max_rel_casimir_drift']:.2e}")
     if "max_rel_angular_momentum_drift" in summary:

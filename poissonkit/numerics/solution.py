@@ -15,7 +15,7 @@ from poissonkit.numerics.events import EventRecord
 
 #: Invariants :meth:`Solution.plot` can draw: name -> (method, legend label).
 DRIFTS: dict[str, tuple[str, str]] = {
-    "energy": ("energy_error", "|ΔH|/|H(0)|"),
+    "energy": ("energy_error", "|ΔH|/|H|"),
     "casimirs": ("casimir_drift", "Casimir drift"),
     "momentum": ("linear_momentum_drift", "|ΔP|/max|p_i(0)|"),
     "angular_momentum": ("angular_momentum_drift", "|Δj|/(Σ|r×p|+Σ|m|)"),
@@ -143,7 +143,7 @@ class Solution:
                 ("wall time", f"{s['wall_time']:.3g} s"),
                 ("step" if s["step"] is not None else "tol",
                  f"{s['step'] if s['step'] is not None else s['tol']}")]
-        for key, label in (("max_rel_energy_error", "max |ΔH|/|H(0)|"),
+        for key, label in (("max_rel_energy_error", "max |ΔH|/|H|"),
                            ("max_rel_casimir_drift", "max Casimir drift"),
                            ("max_rel_linear_momentum_drift", "max |ΔP|/max|p_i(0)|"),
                            ("max_rel_angular_momentum_drift", "max |Δj|/(Σ|r×p|+Σ|m|)")):
