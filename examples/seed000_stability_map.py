@@ -29,7 +29,7 @@ from poissonkit.sweeps.execute import make_client
 from poissonkit.sweeps.plot import boundary, draw_map
 
 SEED_POINT = {"spin_ratio": 20.0, "orbit_radius": 0.5, "tilt": 0.02}
-OUTCOMES = ["fate", "fate_time", "min_distance", "max_energy_error", "megno"]
+OUTCOMES = ["fate", "fate_time", "min_distance", "max_rel_energy_error", "megno"]
 LABELS = {"spin_ratio": "spin ratio alpha|m|/omega_orb", "orbit_radius": "R_orb / h",
           "tilt": "tilt [rad]"}
 
@@ -84,7 +84,7 @@ def main(argv: list[str] | None = None) -> None:
         megno = ds["megno"].where(bounded)
         print(f"  bounded runs: {int(bounded.sum())}/{bounded.size}; their MEGNO: median "
               f"{float(megno.median()):.2f}, 90th percentile {float(megno.quantile(0.9)):.2f}; "
-              f"max energy error {float(ds['max_energy_error'].where(bounded).max()):.1e}")
+              f"max energy error {float(ds['max_rel_energy_error'].where(bounded).max()):.1e}")
     fig.suptitle(f"Seed 000 orbit: fate and MEGNO over {args.periods:g} periods "
                  f"(star: the seed's point)", fontsize=11)
     fig.tight_layout()

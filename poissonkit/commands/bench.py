@@ -96,7 +96,8 @@ def main(args: argparse.Namespace) -> int:
     def show(p: wp.WorkPoint) -> None:
         print(f"  {p.method:12s} {p.kind}={p.setting:<10.3g} steps={p.steps:<8d} "
               f"wall={p.wall_time:9.4f} s  err={p.final_error:9.2e}  "
-              f"energy={p.max_energy_error:9.2e}" + (f"  [{p.note}]" if p.note else ""),
+              f"max |ΔH|/|H|={p.max_rel_energy_error:9.2e}"
+              + (f"  [{p.note}]" if p.note else ""),
               flush=True)
 
     pts = wp.sweep(spec.system, spec.y0, t_end, ref, settings, repeats=args.repeats,

@@ -9,20 +9,17 @@ import numpy as np
 
 from poissonkit._display import html_table, latex_table, text_block
 from poissonkit.errors import InputError, MissingDependencyError
+from poissonkit.numerics import diagnostics
+from poissonkit.numerics.diagnostics import Drift, HasEnergy
 from poissonkit.numerics.events import EventRecord
 
 #: Invariants :meth:`Solution.plot` can draw: name -> (method, legend label).
 DRIFTS: dict[str, tuple[str, str]] = {
     "energy": ("energy_error", "|ΔH|/|H|"),
     "casimirs": ("casimir_drift", "Casimir drift"),
-    "momentum": ("momentum_drift", "|ΔP|/|P|"),
-    "angular_momentum": ("angular_momentum_drift", "|Δj|/|j|"),
+    "momentum": ("linear_momentum_drift", "|ΔP|/max|p_i(0)|"),
+    "angular_momentum": ("angular_momentum_drift", "|Δj|/(Σ|r×p|+Σ|m|)"),
 }
-
-
-def _relative(values: np.ndarray, ref: np.ndarray, scale: np.ndarray | float) -> np.ndarray:
-    scale = np.where(np.asarray(scale) > 0, scale, 1.0)
-    return np.abs(values - ref) / scale
 
 
 @dataclass
@@ -58,7 +55,7 @@ class Solution:
     method: str
     steps: int
     wall_time: float
-    system: Any = None
+    system: HasEnergy | None = None
     nfev: int = 0
     events: list[EventRecord] = field(default_factory=list)
     step: float | None = None
@@ -76,47 +73,44 @@ class Solution:
         """``H`` at every saved state."""
         return np.asarray(self.system.energy(self.y), dtype=float)
 
+    def drifts(self) -> dict[str, Drift]:
+        """Every diagnostic the system defines, absolute and relative with its scale
+        (:func:`poissonkit.numerics.diagnostics.drifts`)."""
+        return diagnostics.drifts(self.system, self.y)
+
     def energy_error(self) -> np.ndarray:
         """Relative energy error ``|H(t) − H(0)| / |H(0)|`` over time (absolute if ``H(0) = 0``)."""
-        e = self.energy()
-        return _relative(e, e[0], abs(e[0]))
+        return diagnostics.energy_error(self.system, self.y).relative
 
     def casimir_drift(self) -> np.ndarray:
-        """Largest Casimir drift at each saved time, relative to each Casimir's natural size
-        (``|ν|²`` absolute; ``(ν, m)`` relative to ``|m(0)|``); zeros if the system has none."""
-        if not hasattr(self.system, "casimirs"):
-            return np.zeros(len(self.t))
-        c = np.asarray(self.system.casimirs(self.y), dtype=float)
-        if c.ndim < 2 or c.shape[1] == 0:
-            return np.zeros(len(self.t))
-        if hasattr(self.system, "casimir_scales"):
-            scale = np.asarray(self.system.casimir_scales(self.y[0]), dtype=float)
-        else:
-            scale = np.maximum(np.abs(c[0]), 1.0)
-        return _relative(c, c[0], scale).max(axis=1)
+        """Relative Casimir drift ``max_k |ΔC_k| / s_k`` over time
+        (:func:`~poissonkit.numerics.diagnostics.casimir_drift`); zeros if the system has none."""
+        found = (diagnostics.casimir_drift(self.system, self.y)
+                 if isinstance(self.system, diagnostics.HasCasimirs) else None)
+        return np.zeros(len(self.t)) if found is None else found.relative
 
-    def _vector_drift(self, name: str, companion: str | None = None) -> np.ndarray:
-        fn = getattr(self.system, name, None)
-        if fn is None:
+    def linear_momentum_drift(self) -> np.ndarray:
+        """``|P(t) − P(0)| / max_i |p_i(0)|`` of the total linear momentum; zeros for a system
+        that is not made of bodies."""
+        if not isinstance(self.system, diagnostics.HasBodyMomenta):
             return np.zeros(len(self.t))
-        v = np.asarray(fn(self.y), dtype=float)
-        ref = v[0]
-        scale = np.linalg.norm(ref)
-        if scale == 0.0:
-            scale = max(float(np.max(np.abs(self.y[0]))), 1.0)
-        return np.linalg.norm(v - ref, axis=1) / scale
+        return diagnostics.linear_momentum_drift(self.system, self.y).relative
 
     def momentum_drift(self) -> np.ndarray:
-        """``|P(t) − P(0)| / |P(0)|`` of total linear momentum (scaled by the state size if
-        ``P(0) = 0``)."""
-        return self._vector_drift("linear_momentum")
+        """Same as :meth:`linear_momentum_drift` (the older name)."""
+        return self.linear_momentum_drift()
 
     def angular_momentum_drift(self) -> np.ndarray:
-        """``|j(t) − j(0)| / |j(0)|`` of total angular momentum (seed 000 eq. 21)."""
-        return self._vector_drift("angular_momentum")
+        """``|j(t) − j(0)| / (Σ|r_i × p_i| + Σ|m_k|)`` of the total angular momentum (seed 000
+        eq. 21) at ``t = 0``; zeros for a system that is not made of bodies."""
+        if not isinstance(self.system, diagnostics.HasBodyMomenta):
+            return np.zeros(len(self.t))
+        return diagnostics.angular_momentum_drift(self.system, self.y).relative
 
     def summary(self) -> dict[str, Any]:
-        """Plain-data summary: method, steps, wall time, max errors and drifts, events."""
+        """Plain-data summary: method, steps, wall time, events, and for each diagnostic the
+        system defines ``max_abs_*``, ``max_rel_*`` and ``*_scale``
+        (:mod:`poissonkit.numerics.diagnostics`)."""
         out: dict[str, Any] = {
             "method": self.method,
             "steps": int(self.steps),
@@ -131,11 +125,9 @@ class Solution:
             "events": [e.__dict__ for e in self.events],
         }
         if self.system is not None:
-            out["max_energy_error"] = float(np.max(self.energy_error()))
-            out["final_energy_error"] = float(self.energy_error()[-1])
-            out["max_casimir_drift"] = float(np.max(self.casimir_drift()))
-            out["max_momentum_drift"] = float(np.max(self.momentum_drift()))
-            out["max_angular_momentum_drift"] = float(np.max(self.angular_momentum_drift()))
+            found = self.drifts()
+            out.update(diagnostics.report(found))
+            out["final_rel_energy_error"] = float(found["energy_error"].relative[-1])
         return out
 
     # ------------------------------------------------------------------ display
@@ -151,12 +143,11 @@ class Solution:
                 ("wall time", f"{s['wall_time']:.3g} s"),
                 ("step" if s["step"] is not None else "tol",
                  f"{s['step'] if s['step'] is not None else s['tol']}")]
-        for key, label, needs in (("max_energy_error", "max |ΔH|/|H|", "energy"),
-                                  ("max_casimir_drift", "max Casimir drift", "casimirs"),
-                                  ("max_momentum_drift", "max |ΔP|/|P|", "linear_momentum"),
-                                  ("max_angular_momentum_drift", "max |Δj|/|j|",
-                                   "angular_momentum")):
-            if key in s and hasattr(self.system, needs):  # only what the system defines
+        for key, label in (("max_rel_energy_error", "max |ΔH|/|H|"),
+                           ("max_rel_casimir_drift", "max Casimir drift"),
+                           ("max_rel_linear_momentum_drift", "max |ΔP|/max|p_i(0)|"),
+                           ("max_rel_angular_momentum_drift", "max |Δj|/(Σ|r×p|+Σ|m|)")):
+            if key in s:  # only what the system defines
                 rows.append((label, f"{s[key]:.2e}"))
         rows += [("event", f"{e.kind} at t = {e.time:.6g}") for e in self.events]
         if s["message"]:
@@ -196,8 +187,9 @@ class Solution:
         -------
         xarray.Dataset
             ``y`` with dimensions ``(t, component)`` (component names from the system's
-            layout), the drifts ``energy_error``, ``casimir_drift``, ``momentum_drift``,
-            ``angular_momentum_drift`` along ``t`` when the system is known, and the run's
+            layout), the relative drifts ``energy_error``, ``casimir_drift``,
+            ``linear_momentum_drift``, ``angular_momentum_drift`` along ``t`` when the system
+            is known, and the run's
             method, steps, wall time, step and tolerance as attributes (``None`` left out, so
             the dataset writes to netCDF/zarr as is).
 
@@ -213,7 +205,7 @@ class Solution:
                 "Solution.to_xarray needs xarray: pip install xarray") from None
         data = {"y": (("t", "component"), np.asarray(self.y, dtype=float))}
         if self.system is not None:
-            for name in ("energy_error", "casimir_drift", "momentum_drift",
+            for name in ("energy_error", "casimir_drift", "linear_momentum_drift",
                          "angular_momentum_drift"):
                 data[name] = (("t",), np.asarray(getattr(self, name)(), dtype=float))
         attrs = {"method": self.method, "steps": int(self.steps), "nfev": int(self.nfev),

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from poissonkit.errors import InputError, PoissonkitError
+from poissonkit.numerics.diagnostics import HasEnergy, energy_error
 
 Solver = Callable[..., Any]
 
@@ -71,17 +72,12 @@ def _final(sol) -> np.ndarray:
     return y[:, -1]
 
 
-def _max_energy_error(system, sol) -> float:
-    if hasattr(sol, "energy_error"):
-        try:
-            return float(np.max(np.abs(np.asarray(sol.energy_error()))))
-        except (TypeError, ValueError, PoissonkitError):  # fall back to our own evaluation
-            pass
-    y = np.asarray(sol.y, dtype=float)
-    t = np.asarray(sol.t, dtype=float)
-    rows = y if y.shape[0] == t.shape[0] else y.T
-    H = np.array([float(system.energy(r)) for r in rows])
-    return float(np.max(np.abs(H - H[0])) / (abs(H[0]) or 1.0))
+def _max_rel_energy_error(system: HasEnergy, t: np.ndarray, y: np.ndarray) -> float:
+    """``max_rel_energy_error`` of :mod:`poissonkit.numerics.diagnostics` over the saved states
+    ``y`` (rows or, from other solvers, columns)."""
+    y = np.asarray(y, dtype=float)
+    rows = y if y.shape[0] == np.asarray(t).shape[0] else y.T
+    return energy_error(system, rows).max_relative
 
 
 @dataclass(frozen=True)
@@ -165,8 +161,13 @@ class WorkPoint:
     steps: int
     wall_time: float
     final_error: float
-    max_energy_error: float
+    max_rel_energy_error: float
     note: str = ""
+
+    @property
+    def max_energy_error(self) -> float:
+        """Same as ``max_rel_energy_error`` (the older name)."""
+        return self.max_rel_energy_error
 
 
 def plan(methods: Iterable[str], t_end: float, *, step_range: tuple[float, float] = (0.5, 0.005),
@@ -238,7 +239,7 @@ def sweep(system, y0, t_end: float, ref: Reference,
                     spent += time.perf_counter() - w
                     k += 1
                 err = final_state_error(_final(sol), ref.y_end)
-                eerr = _max_energy_error(system, sol)
+                eerr = _max_rel_energy_error(system, sol.t, sol.y)
                 steps = int(getattr(sol, "steps", 0))
             except PoissonkitError as exc:
                 note = f"{type(exc).__name__}: {exc}"
@@ -280,8 +281,8 @@ def time_to_error(points: Iterable[WorkPoint], target: float) -> dict[str, float
     return out
 
 
-CSV_FIELDS = ("method", "kind", "setting", "steps", "wall_time", "final_error", "max_energy_error",
-              "note")
+CSV_FIELDS = ("method", "kind", "setting", "steps", "wall_time", "final_error",
+              "max_rel_energy_error", "note")
 
 
 def write_csv(path: str | Path, points: Iterable[WorkPoint]) -> Path:
@@ -298,13 +299,16 @@ def write_csv(path: str | Path, points: Iterable[WorkPoint]) -> Path:
 
 
 def read_csv(path: str | Path) -> list[WorkPoint]:
-    """Points written by :func:`write_csv`."""
+    """Points written by :func:`write_csv` (also older files with a ``max_energy_error``
+    column)."""
     out = []
     with Path(path).open() as fh:
         for row in csv.DictReader(fh):
             out.append(WorkPoint(row["method"], row["kind"], float(row["setting"]),
                                  int(row["steps"]), float(row["wall_time"]),
-                                 float(row["final_error"]), float(row["max_energy_error"]),
+                                 float(row["final_error"]),
+                                 float(row.get("max_rel_energy_error",
+                                               row.get("max_energy_error", "nan"))),
                                  row.get("note", "")))
     return out
 
@@ -333,7 +337,7 @@ def plot(path: str | Path, points: Sequence[WorkPoint], *, title: str = "") -> P
     for m in methods:
         ps = sorted((p for p in points if p.method == m), key=lambda p: p.wall_time)
         w = [p.wall_time for p in ps]
-        for ax, key in zip(axes, ("final_error", "max_energy_error")):
+        for ax, key in zip(axes, ("final_error", "max_rel_energy_error")):
             v = [max(getattr(p, key), 1e-17) if math.isfinite(getattr(p, key)) else np.nan
                  for p in ps]
             ax.loglog(w, v, "o-", markersize=3, linewidth=1, label=m)

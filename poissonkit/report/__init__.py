@@ -1,7 +1,7 @@
 """Reports of a run: ``summary.json``, the trajectory (npz) and figures in the style of seed 000.
 
-* :func:`diagnostics` — energy error, Casimir drift, momentum drifts over time, from any system
-  exposing ``energy``, ``casimirs``, ``angular_momentum`` (and optionally ``linear_momentum``).
+* :func:`diagnostics` — energy error, Casimir drift, momentum drifts over time, as defined once
+  in :mod:`poissonkit.numerics.diagnostics` (absolute, relative and the scale of each).
 * :func:`write_summary`, :func:`write_trajectory` — files of ``poissonkit run`` (atomic,
   :mod:`poissonkit.report.atomic`);
 * :func:`invariant_report` — only the invariants a system really has, absolute and relative;

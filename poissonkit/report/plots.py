@@ -89,8 +89,8 @@ def drifts(path: str | Path, diag: Diagnostics, *, time_scale: float = 1.0,
            time_unit: str = "s") -> Path:
     """Relative energy error, Casimir drift and angular-momentum drift against time (log)."""
     t = np.asarray(diag.t) * time_scale
-    series = [("|ΔH|/|H|", np.abs(diag.energy_error)), ("Casimir drift", diag.casimir_drift),
-              ("|Δj|/|j|", diag.angular_momentum_drift)]
+    series = [("|ΔH|/|H|", diag.energy_error), ("Casimir drift", diag.casimir_drift),
+              ("|Δj|/(Σ|r×p|+Σ|m|)", diag.angular_momentum_drift)]
     fig, ax = _figure("Invariant drifts")
     for (label, y), color in zip(series, ("tab:blue", "tab:orange", "tab:green")):
         tt, yy = _thin(t, np.maximum(np.asarray(y), 1e-17))  # log axis: floor at 1e-17

@@ -11,62 +11,77 @@ from typing import Any
 import numpy as np
 
 from poissonkit.errors import DimensionError, InputError
+from poissonkit.numerics.diagnostics import (
+    QUANTITIES,
+    Drift,
+    HasBodyMomenta,
+    HasEnergy,
+    drifts,
+)
+from poissonkit.numerics.diagnostics import report as report_drifts
 
 
 @dataclass(frozen=True)
 class Diagnostics:
-    """Invariant errors along a trajectory (arrays over the saved times).
+    """Invariant errors along a trajectory (the saved times), as defined once in
+    :mod:`poissonkit.numerics.diagnostics`.
 
     Attributes
     ----------
     t
         Saved times (internal units).
-    energy_error
-        ``(H(t) - H(0)) / |H(0)|`` (absolute error if ``H(0) = 0``).
-    casimir_drift
-        ``max_k |C_k(t) - C_k(0)| / s_k`` with the natural size ``s_k`` of each Casimir
-        (1 for ``|ν|²``, ``|m|`` for ``(ν, m)``) — 0 for systems without Casimirs.
-    angular_momentum_drift
-        ``|j(t) - j(0)| / |j(0)|`` (absolute ``|j(t) - j(0)|`` when ``j(0) = 0``).
-    linear_momentum_drift
-        ``|P(t) - P(0)|`` divided by the momentum scale ``max_t |p_i|`` (0 if not available).
+    drifts
+        :class:`~poissonkit.numerics.diagnostics.Drift` of each quantity the system defines,
+        keyed by name (``energy_error``, ``casimir_drift``, ``linear_momentum_drift``,
+        ``angular_momentum_drift``).
     angular_momentum
-        ``j(t)`` itself, shape ``(n, 3)``.
-    energy_reference, angular_momentum_reference, linear_momentum_reference
-        ``H(0)``, ``|j(0)|``, ``|P(0)|`` (internal units): absolute figure = relative × reference
-        (when the reference is 0 the relative arrays hold the absolute error).
-    linear_momentum_scale
-        The momentum scale the linear drift is divided by.
+        ``j(t)`` itself, shape ``(n, 3)`` (zeros for a system that is not made of bodies).
+    energy_reference
+        ``H(0)`` (internal units).
     overall
-        Maxima over *all* saved states when the arrays hold only a thinned copy (streamed runs);
-        :meth:`maxima` returns it then.
+        Report entries over *all* saved states when the arrays hold only a thinned copy
+        (streamed runs); :meth:`maxima` returns it then.
     """
 
     t: np.ndarray
-    energy_error: np.ndarray
-    casimir_drift: np.ndarray
-    angular_momentum_drift: np.ndarray
-    linear_momentum_drift: np.ndarray
+    drifts: Mapping[str, Drift]
     angular_momentum: np.ndarray
     energy_reference: float = math.nan
-    angular_momentum_reference: float = math.nan
-    linear_momentum_reference: float = math.nan
-    linear_momentum_scale: float = 1.0
-    overall: Mapping[str, float] | None = None
+    overall: Mapping[str, float | list[float]] | None = None
 
-    def maxima(self) -> dict[str, float]:
-        """The largest value of each drift (what ``summary.json`` reports)."""
+    def _relative(self, name: str) -> np.ndarray:
+        found = self.drifts.get(name)
+        return np.zeros(len(self.t)) if found is None else found.relative
+
+    @property
+    def energy_error(self) -> np.ndarray:
+        """Relative energy error at each saved time."""
+        return self._relative("energy_error")
+
+    @property
+    def casimir_drift(self) -> np.ndarray:
+        """Relative Casimir drift at each saved time (0 without Casimirs)."""
+        return self._relative("casimir_drift")
+
+    @property
+    def angular_momentum_drift(self) -> np.ndarray:
+        """Relative angular-momentum drift at each saved time."""
+        return self._relative("angular_momentum_drift")
+
+    @property
+    def linear_momentum_drift(self) -> np.ndarray:
+        """Relative linear-momentum drift at each saved time."""
+        return self._relative("linear_momentum_drift")
+
+    def maxima(self) -> dict[str, float | list[float]]:
+        """``max_abs_*``, ``max_rel_*`` and ``*_scale`` of each drift (what ``summary.json``
+        reports)."""
         if self.overall is not None:
             return dict(self.overall)
-        return {
-            "max_rel_energy_error": float(np.max(np.abs(self.energy_error))),
-            "max_casimir_drift": float(np.max(self.casimir_drift)),
-            "max_rel_angular_momentum_drift": float(np.max(self.angular_momentum_drift)),
-            "max_linear_momentum_drift": float(np.max(self.linear_momentum_drift)),
-        }
+        return report_drifts(self.drifts)
 
 
-def diagnostics(system: Any, t: np.ndarray, y: np.ndarray) -> Diagnostics:
+def diagnostics(system: HasEnergy, t: np.ndarray, y: np.ndarray) -> Diagnostics:
     """Invariant errors of the trajectory ``y`` (rows = saved states) of ``system``.
 
     Raises
@@ -84,47 +99,17 @@ def diagnostics(system: Any, t: np.ndarray, y: np.ndarray) -> Diagnostics:
         raise InputError("empty trajectory")
     if not np.all(np.isfinite(y)):
         raise InputError("trajectory contains non-finite values")
-    H = np.asarray(system.energy(y), dtype=float).reshape(-1)
-    if H.shape[0] != y.shape[0]:  # system.energy does not take rows
-        H = np.array([float(system.energy(row)) for row in y])
-    h0 = abs(H[0]) if H[0] != 0 else 1.0
-    ee = (H - H[0]) / h0
-    if hasattr(system, "casimirs"):
-        C = np.asarray(system.casimirs(y), dtype=float).reshape(y.shape[0], -1)
-        if C.shape[1]:
-            sc = (np.asarray(system.casimir_scales(y[0]), dtype=float)
-                  if hasattr(system, "casimir_scales") else np.ones(C.shape[1]))
-            sc = np.where(sc > 0, sc, 1.0)
-            cd = np.max(np.abs(C - C[0]) / sc, axis=1)
-        else:
-            cd = np.zeros(y.shape[0])
+    found = drifts(system, y)
+    if isinstance(system, HasBodyMomenta):
+        j = np.asarray(system.angular_momentum(y), dtype=float).reshape(y.shape[0], 3)
     else:
-        cd = np.zeros(y.shape[0])
-    j = np.asarray(system.angular_momentum(y), dtype=float).reshape(y.shape[0], 3)
-    jn = np.linalg.norm(j[0]) or 1.0
-    jd = np.linalg.norm(j - j[0], axis=1) / jn
-    if hasattr(system, "linear_momentum"):
-        P = np.asarray(system.linear_momentum(y), dtype=float).reshape(y.shape[0], 3)
-        # natural scale: the largest single-body momentum at t = 0
-        if hasattr(system, "unpack"):
-            pscale = float(np.max(np.linalg.norm(system.unpack(y[0])["p"], axis=-1)))
-        else:
-            pscale = float(np.max(np.abs(y[0])))
-        pscale = pscale if pscale > 0 else 1.0
-        ld = np.linalg.norm(P - P[0], axis=1) / pscale
-    else:
-        ld = np.zeros(y.shape[0])
-        P = np.zeros((y.shape[0], 3))
-        pscale = 1.0
-    return Diagnostics(t=t, energy_error=ee, casimir_drift=cd, angular_momentum_drift=jd,
-                       linear_momentum_drift=ld, angular_momentum=j,
-                       energy_reference=float(H[0]),
-                       angular_momentum_reference=float(np.linalg.norm(j[0])),
-                       linear_momentum_reference=float(np.linalg.norm(P[0])),
-                       linear_momentum_scale=pscale)
+        j = np.zeros((y.shape[0], 3))
+    return Diagnostics(t=t, drifts=found, angular_momentum=j,
+                       energy_reference=float(np.asarray(system.energy(y[:1]),
+                                                         dtype=float).reshape(-1)[0]))
 
 
-def conserved_quantities(system: Any) -> dict[str, str]:
+def conserved_quantities(system: HasEnergy) -> dict[str, str]:
     """Which invariants the system really has: ``{name: reason}`` of those *not* conserved.
 
     Energy and the Casimirs are invariants of every autonomous Hamiltonian system here. Total
@@ -144,51 +129,49 @@ def conserved_quantities(system: Any) -> dict[str, str]:
     if reason:
         out["linear_momentum"] = reason
         out["angular_momentum"] = reason
-    if not hasattr(system, "linear_momentum"):
+    if not isinstance(system, HasBodyMomenta):
         out.setdefault("linear_momentum", "the system does not define it")
+        out.setdefault("angular_momentum", "the system does not define it")
     return out
 
 
-def invariant_report(system: Any, diag: Diagnostics) -> dict[str, Any]:
-    """The summary's invariant figures: only invariants the system has, each with an absolute
-    and a relative figure (the relative one is ``None`` when its reference value is 0 — then
-    only the absolute figure means something) and the list of quantities left out, with why."""
+#: How each relative figure of the summary was made (definitions: docs/numerics.md).
+SCALES_NOTE = ("max_rel_* = max_abs_* / *_scale, scales taken at t = 0: energy |H(0)|; "
+               "Casimirs the natural size of each (|ν|² → 1, (ν, m) → |m|; else |C(0)|); "
+               "linear momentum the largest single-body |p_i|; angular momentum "
+               "Σ|r_i × p_i| + Σ|m_k|; a scale exactly 0 is replaced by 1")
+
+
+def invariant_report(system: HasEnergy, diag: Diagnostics) -> dict[str, Any]:
+    """The summary's invariant figures: ``energy_reference`` ``H(0)``, then for each invariant
+    the system really has ``max_abs_*``, ``max_rel_*`` and ``*_scale``
+    (:mod:`poissonkit.numerics.diagnostics`), a note on the scales, and the list of quantities
+    left out, with why."""
     m = diag.maxima()
-    out: dict[str, Any] = {}
-    ref = diag.energy_reference
-    out["energy_reference"] = ref
-    if ref != 0:
-        out["max_rel_energy_error"] = m["max_rel_energy_error"]
-        out["max_abs_energy_error"] = m["max_rel_energy_error"] * abs(ref)
-    else:
-        out["max_abs_energy_error"] = m["max_rel_energy_error"]
-        out["max_rel_energy_error"] = m["max_rel_energy_error"]
-        out["energy_note"] = "H(0) = 0: max_rel_energy_error is the absolute error"
-    if hasattr(system, "casimirs"):
-        out["max_casimir_drift"] = m["max_casimir_drift"]
     skipped = conserved_quantities(system)
-    if "angular_momentum" not in skipped:
-        jref = diag.angular_momentum_reference
-        absolute = m["max_rel_angular_momentum_drift"] * (jref if jref > 0 else 1.0)
-        out["max_abs_angular_momentum_drift"] = absolute
-        out["max_rel_angular_momentum_drift"] = (m["max_rel_angular_momentum_drift"]
-                                                 if jref > 0 else None)
-        out["angular_momentum_reference"] = jref
-        out["max_rel_angular_momentum_drift_note"] = (
-            "|Δj|/|j(0)|, j = Σ r×p + Σ m (seed eq. 21)" if jref > 0 else
-            "|j(0)| = 0: only the absolute drift |Δj| is meaningful")
-    if "linear_momentum" not in skipped:
-        out["max_abs_linear_momentum_drift"] = (m["max_linear_momentum_drift"]
-                                                * diag.linear_momentum_scale)
-        out["max_linear_momentum_drift"] = m["max_linear_momentum_drift"]
-        out["max_linear_momentum_drift_note"] = (
-            "|ΔP| divided by the largest single-body momentum at t = 0 (|P(0)| = "
-            f"{diag.linear_momentum_reference:.3g})")
+    out: dict[str, Any] = {"energy_reference": diag.energy_reference}
+    for name in QUANTITIES:
+        if name.removesuffix("_drift") in skipped:
+            continue
+        for key in (f"max_abs_{name}", f"max_rel_{name}", f"{name}_scale"):
+            if key in m:
+                out[key] = m[key]
+    out["drift_scales_note"] = SCALES_NOTE
     out["not_reported"] = skipped
     return out
 
 
-def streamed_diagnostics(system: Any, folder: str | Path, plot_rows: int = 20000
+def _combine(overall: dict[str, Any], part: Mapping[str, Any]) -> None:
+    """Fold one part's report entries into ``overall``: maxima grow, scales (all taken at the
+    same first state) stay."""
+    for k, v in part.items():
+        if k.startswith("max_"):
+            overall[k] = max(overall.get(k, 0.0), v)
+        else:
+            overall.setdefault(k, v)
+
+
+def streamed_diagnostics(system: HasEnergy, folder: str | Path, plot_rows: int = 20000
                          ) -> tuple[Diagnostics, np.ndarray, np.ndarray]:
     """Diagnostics of a streamed trajectory (``part-*.npz`` of
     :class:`~poissonkit.numerics.checkpoint.TrajectoryStream`), one part in memory at a time.
@@ -205,7 +188,7 @@ def streamed_diagnostics(system: Any, folder: str | Path, plot_rows: int = 20000
             total += len(z["t"])
     every = max(1, math.ceil(total / plot_rows))
     first: np.ndarray | None = None
-    overall: dict[str, float] = {}
+    overall: dict[str, Any] = {}
     keep_t: list[np.ndarray] = []
     keep_y: list[np.ndarray] = []
     offset = 0
@@ -215,8 +198,7 @@ def streamed_diagnostics(system: Any, folder: str | Path, plot_rows: int = 20000
         if first is None:
             first_t, first = t[:1], y[:1]
         d = diagnostics(system, np.concatenate([first_t, t]), np.vstack([first, y]))
-        for k, v in d.maxima().items():
-            overall[k] = max(overall.get(k, 0.0), v)
+        _combine(overall, d.maxima())
         sel = np.arange((-offset) % every, len(t), every)
         keep_t.append(t[sel])
         keep_y.append(y[sel])

@@ -4,7 +4,7 @@ Every entry has a name, a numpy dtype, SI units, a fill value for points not com
 description, and a function of the :class:`~poissonkit.sweeps.scenes.RunRecord`. Choose them with
 ``sweep(..., outcomes=[...])`` or ``poissonkit sweep --outcomes a,b``; unknown names fail with the
 list of available ones. Drifts are the maxima over the run of the relative diagnostics of
-:class:`~poissonkit.numerics.solution.Solution` (definitions in ``docs/numerics.md``).
+:mod:`poissonkit.numerics.diagnostics`, under the same names as in ``summary.json``.
 """
 
 from __future__ import annotations
@@ -81,14 +81,16 @@ _ENTRIES = (
     Outcome("min_distance", "f8", "m", math.nan,
             "smallest centre distance between two bodies during the run",
             lambda r: float(np.min(r.distance)) if len(r.distance) else math.nan),
-    Outcome("max_energy_error", "f8", "1", math.nan,
+    Outcome("max_rel_energy_error", "f8", "1", math.nan,
             "largest relative energy error |H(t) - H(0)| / |H(0)|",
             lambda r: _max(r.solution.energy_error())),
-    Outcome("casimir_drift", "f8", "1", math.nan,
-            "largest relative Casimir drift (|nu|^2, nu.m of every top)",
+    Outcome("max_rel_casimir_drift", "f8", "1", math.nan,
+            "largest relative Casimir drift max_k |C_k(t) - C_k(0)| / s_k (|nu|^2 -> 1, "
+            "nu.m -> |m| of every top)",
             lambda r: _max(r.solution.casimir_drift())),
-    Outcome("angular_momentum_drift", "f8", "1", math.nan,
-            "largest relative drift of the total angular momentum",
+    Outcome("max_rel_angular_momentum_drift", "f8", "1", math.nan,
+            "largest drift of the total angular momentum |j(t) - j(0)| / "
+            "(sum |r_i x p_i| + sum |m_k| at t = 0)",
             lambda r: _max(r.solution.angular_momentum_drift())),
     Outcome("final_energy", "f8", "J", math.nan, "total energy at the end of the run",
             lambda r: float(np.asarray(r.solution.energy())[-1]) * r.energy_unit),

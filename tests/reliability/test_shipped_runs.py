@@ -105,7 +105,7 @@ def test_magnets_snapping_together_stop_at_the_located_contact(tmp_path, capsys)
     assert s["t_reached_s"] == pytest.approx(ev["time_s"]) and s["t_reached_s"] < 0.05
     assert s["min_distance_m"] >= 0.02 - 1e-9  # nothing saved after the contact
     # a fixed magnet pulls: momentum is not an invariant here and is not reported as a drift
-    assert "max_rel_angular_momentum_drift" not in s and "max_linear_momentum_drift" not in s
+    assert "max_rel_angular_momentum_drift" not in s and "max_rel_linear_momentum_drift" not in s
     assert "fixed bodies (a)" in s["not_reported"]["angular_momentum"]
 
 
@@ -119,9 +119,10 @@ def test_energy_error_above_tolerance_warns_and_exits_nonzero(tmp_path, capsys):
     assert "warning: energy error" in err and "exceeds" in err
     s = _summary(out)
     assert s["warnings"] and s["max_rel_energy_error"] > 1e-16
-    # released from rest: j(0) = 0, so only the absolute drift is a meaningful figure
-    assert s["max_rel_angular_momentum_drift"] is None
-    assert s["angular_momentum_reference"] == 0.0
+    # released from rest without spin: the scale Σ|r×p| + Σ|m| is 0, replaced by 1, so the
+    # relative figure is the absolute one
+    assert s["angular_momentum_drift_scale"] == 1.0
+    assert s["max_rel_angular_momentum_drift"] == s["max_abs_angular_momentum_drift"]
     assert s["max_abs_angular_momentum_drift"] < 1e-12
     assert s["max_abs_energy_error"] == pytest.approx(
         s["max_rel_energy_error"] * abs(s["energy_reference"]))

@@ -204,4 +204,4 @@ def test_cli_runs_a_scene_file(tmp_path):
     # released from rest at 40 mm, the attracting (antiparallel, side by side) pair moves closer
     assert summary["min_distance_m"] < 0.04
     assert summary["max_distance_m"] == pytest.approx(0.04)
-    assert summary["max_casimir_drift"] < 1e-13
+    assert summary["max_rel_casimir_drift"] < 1e-13

@@ -46,8 +46,8 @@ def test_circular_orbit_outcomes_match_the_seed(seed):
     assert out["end_time"] == pytest.approx(4 * T_orb, rel=1e-12)
     assert out["min_distance"] == pytest.approx(R_ORB, rel=1e-7)
     assert out["final_angular_momentum"] == pytest.approx(R_ORB * P_ORB, rel=1e-9)
-    assert out["max_energy_error"] < 1e-10
-    assert out["casimir_drift"] < 1e-12 and out["angular_momentum_drift"] < 1e-12
+    assert out["max_rel_energy_error"] < 1e-10
+    assert out["max_rel_casimir_drift"] < 1e-12 and out["max_rel_angular_momentum_drift"] < 1e-12
 
 
 def test_no_spin_collides_and_wide_start_escapes(seed):
