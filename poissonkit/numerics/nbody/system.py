@@ -1,1044 +1,47 @@
-"""Compiled N-body dynamics of symmetric tops and point masses with pair potentials.
+"""The N-body system: bodies and interactions assembled into compiled kernels and a state layout.
 
-State layout (internal, nondimensional units if ``scales`` is given; see
-:mod:`poissonkit.conventions`): for the ``N`` moving bodies in the order given,
-``r_1, p_1, …, r_N, p_N`` (6 numbers each), then for the ``K`` moving tops (bodies with
-``alpha``) ``ν_1, m_1, …, ν_K, m_K`` (6 numbers each). Fixed bodies carry no state: their
-position and axis are constants of the system, their pairs still act on the moving bodies.
-
-Hamiltonian (seed 000 eq. 14): ``H = Σ p²/2M + Σ α m²/2 + Σ_pairs U_ij(r, c1, c2, c3)`` with
-the bracket ``canonical(3)`` per body ⊕ ``e3()`` per top. Each pair (i, j), ``r = r_j − r_i``,
-contributes (seed 000 eq. 20 generalised)::
-
-    F   = −[U_r e + U_c1 (ν_i − c1 e)/r + U_c2 (ν_j − c2 e)/r]     ṗ_j += F,  ṗ_i −= F
-    ṁ_i += U_c1 e × ν_i − U_c3 ν_i × ν_j,      ṁ_j += U_c2 e × ν_j + U_c3 ν_i × ν_j
-    ν̇ = α m × ν,  ṙ = p/M
-
-A test proves this equals ``ẋ = P∇H`` of the symbolic direct sum (``to_structure()``).
-
-Pairs come from a list of :class:`Interaction` (one pair each) and/or :class:`AllPairs`
-(every pair of a set of bodies, never materialised). With ``cutoff`` set, pairs farther apart
-than the cutoff are skipped (the potential is truncated, not shifted) and :class:`AllPairs`
-uses a compiled cell list, so one force evaluation costs O(N) at fixed density.
+See :mod:`poissonkit.numerics.nbody` for the state layout and the Hamiltonian.
 """
 
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING
 
-import numba
 import numpy as np
-import sympy as sp
+import numpy.typing as npt
+from numba.core.dispatcher import Dispatcher
 
 from poissonkit.errors import DimensionError, InputError
-from poissonkit.numerics.jit import compile_generated, jit
-from poissonkit.numerics.kernels import (
-    Kernels,
-    kahan_add,
-    rotate_slot,
-    rotate_slot_compensated,
-    zero2,
+from poissonkit.numerics.kernels import Kernels
+from poissonkit.numerics.nbody.bodies import (
+    AllPairs,
+    Body,
+    Interaction,
+    NonUnitAxisError,
+    PotentialLike,
 )
-from poissonkit.numerics.potentials import (
-    compile_bound_potential,
-    compile_potential,
-    kernel_from_expr,
-    radial_kernel,
+from poissonkit.numerics.nbody.evaluate import (
+    OverlapError,
+    coincident_pair,
+    evaluate_energy,
+    evaluate_rhs,
+)
+from poissonkit.numerics.nbody.loops import _build_kernels
+from poissonkit.numerics.nbody.pairkernels import (
+    _dispatcher,
+    _registry_entry,
+    _resolve_bound,
+    _wrapped,
+    _wrapped_radial,
 )
 from poissonkit.numerics.units import Scales
 from poissonkit.plugin.contributions import PairPotential
 
+if TYPE_CHECKING:
+    from poissonkit.structure.bivector import Bivector
 
-class NonUnitAxisError(InputError):
-    """A top's axis ``ν`` is not a unit vector (pass ``normalize=True`` to normalise it)."""
-
-
-class OverlapError(InputError):
-    """Two bodies (not both fixed) sit at exactly the same place, where pair forces are singular."""
-
-
-def coincident_pair(positions: np.ndarray, fixed: np.ndarray) -> tuple[int, int] | None:
-    """Indices of two bodies at exactly the same position, or ``None``.
-
-    Pairs of two fixed bodies are ignored (they exert no force on any degree of freedom).
-    Sorting makes this O(n log n), so it is cheap even for large systems.
-    """
-    if positions.shape[0] < 2:
-        return None
-    order = np.lexsort(positions.T[::-1])
-    ordered = positions[order]
-    same = np.all(ordered[1:] == ordered[:-1], axis=1)
-    # identical rows are adjacent after sorting, so a group holding a moving body has an
-    # adjacent pair with a moving member
-    for k in np.nonzero(same)[0]:
-        a, b = int(order[k]), int(order[k + 1])
-        if not (fixed[a] and fixed[b]):
-            return (min(a, b), max(a, b))
-    return None
-
-
-def evaluate_energy(system: Any, y: Any) -> float | np.ndarray:
-    """``H(y)`` of a compiled system (``kernels.energy``); rows of a 2-D array give one value each.
-
-    Shared by :class:`NBodySystem` and :class:`~poissonkit.numerics.twobody.TwoBodySystem`.
-    A non-finite value or a division by zero inside a potential kernel is checked against
-    coincident bodies and then raises :class:`OverlapError`.
-    """
-    y = np.asarray(y, dtype=float)
-    w = system.work()
-    energy = system.kernels.energy
-
-    def one(row: np.ndarray) -> float:
-        state = system._state(row)
-        try:
-            value = float(energy(state, system.data, w))
-        except ZeroDivisionError:
-            system.check_overlap(state)
-            raise
-        if not math.isfinite(value):
-            system.check_overlap(state)
-        return value
-
-    if y.ndim == 2:
-        return np.array([one(row) for row in y])
-    return one(y)
-
-
-def evaluate_rhs(system: Any, y: Any) -> np.ndarray:
-    """``ẏ`` of a compiled system (``kernels.rhs``), raising :class:`OverlapError` at coincidences."""
-    y = system._state(y)
-    out = np.empty_like(y)
-    try:
-        system.kernels.rhs(y, system.data, system.work(), out)
-    except ZeroDivisionError:
-        system.check_overlap(y)
-        raise
-    if not np.all(np.isfinite(out)):
-        system.check_overlap(y)
-    return out
-
-
-def _vector3(value: Any, what: str) -> tuple[float, float, float]:
-    """``value`` as a finite 3-tuple of floats, else :class:`InputError` naming ``what``."""
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{what} must be three numbers, got {value!r}") from None
-    if a.shape != (3,):
-        raise InputError(f"{what} must have shape (3,), got shape {a.shape}: {value!r}")
-    if not np.all(np.isfinite(a)):
-        raise InputError(f"{what} must be finite, got {value!r}")
-    return (float(a[0]), float(a[1]), float(a[2]))
-
-
-@dataclass(frozen=True)
-class Body:
-    """A rigid body: symmetric top (``alpha`` given) or point mass (``alpha=None``).
-
-    Parameters
-    ----------
-    name
-        Unique name; coordinates are called ``name.r_x`` etc.
-    mass
-        Mass [kg] (or internal unit without scales), > 0.
-    alpha
-        ``1 / I_perp`` [1/(kg m²)], > 0, or ``None`` for a point mass.
-    fixed
-        Fixed bodies carry no degrees of freedom; they act through their pairs.
-    position, axis
-        Position [m] and unit axis of a fixed body (required when ``fixed``).
-    attributes
-        Further per-body quantities (SI) that pair potentials may take from the body, e.g.
-        ``{"charge": 1e-9}`` or ``{"moment": 0.15}`` (see ``PairPotential.body_params``);
-        stored as sorted ``(name, value)`` pairs. ``mass`` and ``alpha`` are always available.
-    """
-
-    name: str
-    mass: float
-    alpha: float | None = None
-    fixed: bool = False
-    position: tuple[float, float, float] | None = None
-    axis: tuple[float, float, float] | None = None
-    attributes: Any = ()
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.name, str) or not self.name:
-            raise InputError(f"body name must be a non-empty string, got {self.name!r}")
-        for attr in ("mass",) + (("alpha",) if self.alpha is not None else ()):
-            v = getattr(self, attr)
-            try:
-                v = float(v)
-            except (TypeError, ValueError):
-                raise InputError(f"body {self.name!r}: {attr} must be a number, got {v!r}") from None
-            if not (math.isfinite(v) and v > 0):
-                raise InputError(f"body {self.name!r}: {attr} must be positive and finite, got {v!r}")
-            object.__setattr__(self, attr, v)
-        if self.fixed and self.position is None:
-            raise InputError(f"fixed body {self.name!r} needs a position")
-        if self.fixed and self.alpha is not None and self.axis is None:
-            raise InputError(f"fixed top {self.name!r} needs an axis")
-        if self.position is not None:
-            object.__setattr__(self, "position",
-                               _vector3(self.position, f"body {self.name!r}: position"))
-        if self.axis is not None:
-            axis = _vector3(self.axis, f"body {self.name!r}: axis")
-            if not any(axis):
-                raise NonUnitAxisError(f"body {self.name!r}: axis must be non-zero, got {axis}")
-            object.__setattr__(self, "axis", axis)
-        attrs = self.attributes
-        items = attrs.items() if isinstance(attrs, Mapping) else attrs
-        try:
-            items = [(str(k), v) for k, v in items]
-        except (TypeError, ValueError):
-            raise InputError(f"body {self.name!r}: attributes must be a mapping name -> number, "
-                             f"got {attrs!r}") from None
-        clean = []
-        for k, v in sorted(items):
-            try:
-                v = float(v)
-            except (TypeError, ValueError):
-                raise InputError(f"body {self.name!r}: attribute {k!r} must be a number, "
-                                 f"got {v!r}") from None
-            if not math.isfinite(v):
-                raise InputError(f"body {self.name!r}: attribute {k!r} must be finite, got {v!r}")
-            if k in ("mass", "alpha"):
-                raise InputError(f"body {self.name!r}: {k!r} is a field of the body, not an "
-                                 "attribute")
-            clean.append((k, v))
-        object.__setattr__(self, "attributes", tuple(clean))
-
-    def attribute(self, name: str) -> float:
-        """Value of a per-body quantity (``mass``, ``alpha`` or one of :attr:`attributes`).
-
-        Raises
-        ------
-        InputError
-            If the body does not have it (the message names the body and the quantity).
-        """
-        if name == "mass":
-            return float(self.mass)
-        if name == "alpha" and self.alpha is not None:
-            return float(self.alpha)
-        for k, v in self.attributes:
-            if k == name:
-                return v
-        raise InputError(f"body {self.name!r} has no {name!r}, which a pair potential takes from "
-                         f"each body; give it (Body(..., attributes={{{name!r}: ...}}) or the "
-                         "potential's parameter explicitly")
-
-    @property
-    def is_top(self) -> bool:
-        """Whether the body carries an orientation (ν, m)."""
-        return self.alpha is not None
-
-
-@dataclass(frozen=True)
-class Interaction:
-    """One interacting pair ``(i, j)`` (indices or names of bodies) with its potential.
-
-    ``potential`` is a :class:`~poissonkit.plugin.PairPotential`, a registry name, a sympy
-    expression in ``r, c1, c2, c3`` or a compiled kernel ``f(r, c1, c2, c3) -> (U, U_r, U_c1,
-    U_c2, U_c3)``; ``params`` are the potential's parameters (SI).
-    """
-
-    i: int | str
-    j: int | str
-    potential: Any
-    params: Mapping[str, Any] = field(default_factory=dict)
-
-
-@dataclass(frozen=True)
-class AllPairs:
-    """Every pair of ``members`` (default: all bodies) interacting through one potential.
-
-    Never builds the O(N²) pair list; with a system cutoff it uses a compiled cell list.
-    """
-
-    potential: Any
-    params: Mapping[str, Any] = field(default_factory=dict)
-    members: Sequence[int | str] | None = None
-
-
-# ----------------------------------------------------------------------------- kernels
-def _resolve_kernel(potential: Any, params: Mapping[str, Any]) -> tuple[Any, str]:
-    """(SI kernel, orientation) of one interaction's potential."""
-    if isinstance(potential, str):
-        from poissonkit.plugin import potential as lookup
-
-        potential = lookup(potential)
-    if isinstance(potential, PairPotential):
-        return compile_potential(potential, params), potential.orientation
-    if isinstance(potential, numba.core.registry.CPUDispatcher):
-        return potential, "both"
-    if isinstance(potential, sp.Basic):
-        names = {s.name for s in potential.free_symbols}
-        has1, has2 = bool(names & {"c1", "c3"}), bool(names & {"c2", "c3"})
-        orient = {(True, True): "both", (True, False): "first", (False, True): "second",
-                  (False, False): "none"}[(has1, has2)]
-        return kernel_from_expr(potential, "expr"), orient
-    raise InputError(f"cannot use {type(potential).__name__} as a pair potential; give a "
-                     "PairPotential, a registry name, a sympy expression or a numba kernel")
-
-
-def _resolve_bound(potential: Any, params: Mapping[str, Any]
-                   ) -> tuple[Any, tuple[tuple[str, int], ...], str]:
-    """(SI kernel, bound slots, orientation) of one interaction's potential.
-
-    Parameters of a :class:`PairPotential` listed in its ``body_params`` and not given in
-    ``params`` are taken from the two bodies of each pair: the kernel then has one extra
-    argument per ``(attribute, which body)`` slot.
-    """
-    if isinstance(potential, str):
-        from poissonkit.plugin import potential as lookup
-
-        potential = lookup(potential)
-    if isinstance(potential, PairPotential) and potential.body_params:
-        bound = {p: (attr, int(w)) for p, attr, w in potential.body_params if p not in params}
-        if bound:
-            kern, slots = compile_bound_potential(potential, params, bound)
-            return kern, slots, potential.orientation
-    kern, orient = _resolve_kernel(potential, params)
-    return kern, (), orient
-
-
-def _registry_entry(potential: Any) -> PairPotential | None:
-    """The :class:`PairPotential` behind a registry name or entry (``None`` otherwise)."""
-    if isinstance(potential, str):
-        from poissonkit.plugin import potential as lookup
-
-        return lookup(potential)
-    return potential if isinstance(potential, PairPotential) else None
-
-
-_wrap_cache: dict[tuple, tuple[Any, Any]] = {}
-
-
-def _compile_wrapper(source: str, name: str, namespace: dict[str, Any]) -> Any:
-    """Execute generated ``source`` (a small kernel wrapper) and compile it with numba."""
-    return compile_generated(source, name, namespace)
-
-
-def _wrapped(kern: Any, spec: tuple[tuple[int, int], ...], L: float, inv_e: float) -> Any:
-    """``w(r, c1, c2, c3, B, i, j)``: the SI kernel in internal units, bound slots read from ``B``.
-
-    ``spec`` lists ``(column of B, 1 or 2)`` per extra argument of ``kern``: row ``i`` (first
-    body) or ``j`` (second body). ``U/E`` as a function of ``r/L``: ``U_r`` gains ``L/E``, the
-    angular partials ``1/E``.
-    """
-    key = (id(kern), spec, L, inv_e)
-    hit = _wrap_cache.get(key)
-    if hit is not None:
-        return hit[0]
-    extra = "".join(f", B[{'i' if w == 1 else 'j'}, {c}]" for c, w in spec)
-    if L == 1.0 and inv_e == 1.0:
-        src = ("def wrapped(r, c1, c2, c3, B, i, j):\n"
-               f"    return base(r, c1, c2, c3{extra})")
-    else:
-        src = ("def wrapped(r, c1, c2, c3, B, i, j):\n"
-               f"    u, ur, u1, u2, u3 = base(r * {L!r}, c1, c2, c3{extra})\n"
-               f"    return (u * {inv_e!r}, ur * {L * inv_e!r}, u1 * {inv_e!r}, u2 * {inv_e!r}, "
-               f"u3 * {inv_e!r})")
-    fn = _compile_wrapper(src, "wrapped", {"base": kern})
-    _wrap_cache[key] = (fn, kern)  # keep kern alive so its id stays unique
-    return fn
-
-
-def _wrapped_radial(kern: Any, spec: tuple[tuple[int, int], ...], L: float, inv_e: float) -> Any:
-    """``w(q, B, i, j) -> (U, U_r/r)`` in internal units, ``q = 1/r``: the fast-path kernel.
-
-    With ``r = r_int L``: ``q_SI = q / L``, ``U_int = U/E``, ``(U_r/r)_int = (U_r/r) L²/E``.
-    """
-    key = ("radial", id(kern), spec, L, inv_e)
-    hit = _wrap_cache.get(key)
-    if hit is not None:
-        return hit[0]
-    base = radial_kernel(kern)
-    extra = "".join(f", B[{'i' if w == 1 else 'j'}, {c}]" for c, w in spec)
-    if L == 1.0 and inv_e == 1.0:
-        src = f"def wrapped_r(q, B, i, j):\n    return base(q{extra})"
-    else:
-        src = ("def wrapped_r(q, B, i, j):\n"
-               f"    u, f = base(q * {1.0 / L!r}{extra})\n"
-               f"    return (u * {inv_e!r}, f * {L * L * inv_e!r})")
-    fn = _compile_wrapper(src, "wrapped_r", {"base": base})
-    _wrap_cache[key] = (fn, kern)
-    return fn
-
-
-_dispatch_cache: dict[tuple[int, ...], tuple[Any, ...]] = {}
-
-
-def _dispatcher(kerns: Sequence[Any], rkerns: Sequence[Any]) -> tuple[Any, Any]:
-    """``(kern_any, kern_r)`` calling wrapped kernel number ``g``; cached per kernel tuple.
-
-    ``kern_any(g, r, c1, c2, c3, B, i, j) -> (U, U_r, U_c1, U_c2, U_c3)``;
-    ``kern_r(g, q, B, i, j) -> (U, U_r/r)`` (``q = 1/r``) for the orientation-free fast path;
-    ``rkerns[g]`` is ``None`` for a kernel that depends on orientation.
-    """
-    key = tuple(id(k) for k in kerns)
-    hit = _dispatch_cache.get(key)
-    if hit is not None:
-        return hit[0], hit[1]
-    ns: dict[str, Any] = {f"k{g}": k for g, k in enumerate(kerns)}
-    ns.update({f"q{g}": k for g, k in enumerate(rkerns) if k is not None})
-    radial = [g for g, k in enumerate(rkerns) if k is not None]
-    if not kerns:
-        src_any = ("def kern_any(g, r, c1, c2, c3, B, i, j):\n"
-                   "    return (0.0, 0.0, 0.0, 0.0, 0.0)")
-    else:
-        la = ["def kern_any(g, r, c1, c2, c3, B, i, j):"]
-        last = len(kerns) - 1
-        for g in range(last):
-            la.append(f"    if g == {g}:\n        return k{g}(r, c1, c2, c3, B, i, j)")
-        la.append(f"    return k{last}(r, c1, c2, c3, B, i, j)")
-        src_any = "\n".join(la)
-    if not radial:
-        src_r = "def kern_r(g, q, B, i, j):\n    return (0.0, 0.0)"
-    else:
-        lr = ["def kern_r(g, q, B, i, j):"]
-        for g in radial[:-1]:
-            lr.append(f"    if g == {g}:\n        return q{g}(q, B, i, j)")
-        lr.append(f"    return q{radial[-1]}(q, B, i, j)")
-        src_r = "\n".join(lr)
-    fa = _compile_wrapper(src_any, "kern_any", ns)
-    fr = _compile_wrapper(src_r, "kern_r", ns)
-    _dispatch_cache[key] = (fa, fr, tuple(kerns), tuple(rkerns))  # keep kernels (and ids) alive
-    return fa, fr
-
-
-# ----------------------------------------------------------------------------- cell list
-@numba.njit(cache=True, error_model="numpy")
-def apply_forces(y, h, data, work):
-    """Kick every moving body's ``p`` and top's ``m`` by ``h`` times the forces ``work[2]`` and
-    torques ``work[3]`` (left there by the force loop)."""
-    F = work[2]
-    T = work[3]
-    nm = data[0].shape[0]
-    bslot = data[2]
-    tslot = data[3]
-    for b in range(bslot.shape[0]):
-        s = bslot[b]
-        if s >= 0:
-            for d in range(3):
-                y[6 * s + 3 + d] += h * F[b, d]
-        t = tslot[b]
-        if t >= 0:
-            q = 6 * nm + 6 * t + 3
-            for d in range(3):
-                y[q + d] += h * T[b, d]
-
-
-@numba.njit(cache=True, error_model="numpy")
-def cell_list(members, pos, nu, cutoff):
-    """Bin ``members`` into cubic cells of side ≥ ``cutoff``.
-
-    Returns ``(nc, start, cell, p, n, body)``: cells per axis, slot offsets of each cell
-    (``start[c]:start[c + 1]``, cells numbered row-major ``(cx·nc_y + cy)·nc_z + cz``), the
-    cell of each slot, positions and axes copied in slot order (neighbours sit next to each
-    other in memory) and the original body index of each slot.
-    """
-    n = members.shape[0]
-    lo = np.empty(3)
-    hi = np.empty(3)
-    for d in range(3):
-        lo[d] = np.inf
-        hi[d] = -np.inf
-    for a in range(n):
-        b = members[a]
-        for d in range(3):
-            v = pos[b, d]
-            lo[d] = min(lo[d], v)
-            hi[d] = max(hi[d], v)
-    side = cutoff
-    nc = np.empty(3, dtype=np.int64)
-    while True:
-        total = 1
-        for d in range(3):
-            nc[d] = int((hi[d] - lo[d]) / side) + 1
-            total *= nc[d]
-        if total <= 4 * n + 64:  # sparse, far-flung bodies: coarser cells, same result
-            break
-        side *= 1.5
-    ncell = nc[0] * nc[1] * nc[2]
-    cell_of = np.empty(n, dtype=np.int64)
-    count = np.zeros(ncell + 1, dtype=np.int64)
-    for a in range(n):
-        b = members[a]
-        cx = min(int((pos[b, 0] - lo[0]) / side), nc[0] - 1)
-        cy = min(int((pos[b, 1] - lo[1]) / side), nc[1] - 1)
-        cz = min(int((pos[b, 2] - lo[2]) / side), nc[2] - 1)
-        c = (cx * nc[1] + cy) * nc[2] + cz
-        cell_of[a] = c
-        count[c + 1] += 1
-    for c in range(ncell):
-        count[c + 1] += count[c]
-    start = count.copy()
-    order = np.empty(n, dtype=np.int64)
-    for a in range(n):
-        c = cell_of[a]
-        order[start[c]] = a
-        start[c] += 1
-    sp_ = np.empty((n, 3))
-    sn_ = np.empty((n, 3))
-    body = np.empty(n, dtype=np.int64)
-    cell = np.empty(n, dtype=np.int64)
-    for q in range(n):
-        b = members[order[q]]
-        body[q] = b
-        cell[q] = cell_of[order[q]]
-        for d in range(3):
-            sp_[q, d] = pos[b, d]
-            sn_[q, d] = nu[b, d]
-    return nc, count, cell, sp_, sn_, body
-
-
-@numba.njit(cache=True, error_model="numpy")
-def forward_cells(c, nc, out):
-    """The "forward" neighbours of cell ``c`` (higher index, up to 13) into ``out``, in
-    increasing index; returns how many. Each pair of adjacent cells is one cell's forward pair."""
-    cx = c // (nc[1] * nc[2])
-    cy = (c // nc[2]) % nc[1]
-    cz = c % nc[2]
-    k = 0
-    for ddx in range(2):
-        nx = cx + ddx
-        if nx >= nc[0]:
-            continue
-        for ddy in range(-1, 2):
-            if ddx == 0 and ddy < 0:
-                continue
-            ny = cy + ddy
-            if ny < 0 or ny >= nc[1]:
-                continue
-            for ddz in range(-1, 2):
-                if ddx == 0 and ddy == 0 and ddz <= 0:
-                    continue
-                nz = cz + ddz
-                if nz < 0 or nz >= nc[2]:
-                    continue
-                out[k] = (nx * nc[1] + ny) * nc[2] + nz
-                k += 1
-    return k
-
-
-_kernel_cache: dict[tuple[int, bool], Kernels] = {}
-
-
-def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
-    """Compile the N-body kernels around one pair of potential dispatchers (cached).
-
-    ``parallel`` adds the multi-threaded cell-list loop (chosen at run time by the number of
-    members, ``data[16]``); without it only the serial loop exists.
-    """
-    hit = _kernel_cache.get((id(kern_any), parallel))
-    if hit is not None:
-        return hit
-    if parallel:
-        # OpenMP's default active wait spins at every barrier: when another process holds
-        # the other core, a force evaluation of 10⁴ tops took 4× the serial time instead of
-        # the same (benchmarks/bench_nbody_parallel.py). Read once, at the first parallel
-        # launch; a value the user set wins.
-        os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
-
-    @jit(inline="always")
-    def switch(r, cut):
-        """``(S, S')`` of the C² switching function, 1 below ``r_s``, 0 at the cutoff."""
-        x = (r - cut[2]) * cut[3]
-        return (1.0 - x * x * x * (10.0 - 15.0 * x + 6.0 * x * x),
-                -30.0 * x * x * (1.0 - x) * (1.0 - x) * cut[3])
-
-    @jit(inline="always")
-    def pair_one(g, i, j, pos, nu, cut, B, bi, bj):
-        """``(U, f, τ_i, τ_j)`` of pair (i, j): ``f`` is the force on j (−f on i).
-
-        The serial and the parallel loop both evaluate a pair through this one function with
-        the lower slot as ``i``, so a pair's numbers are bit-for-bit the same in both.
-        """
-        dx = pos[j, 0] - pos[i, 0]
-        dy = pos[j, 1] - pos[i, 1]
-        dz = pos[j, 2] - pos[i, 2]
-        r2 = dx * dx + dy * dy + dz * dz
-        if r2 > cut[0]:
-            return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-        r = math.sqrt(r2)
-        inv = 1.0 / r
-        ex = dx * inv
-        ey = dy * inv
-        ez = dz * inv
-        a0 = nu[i, 0]
-        a1 = nu[i, 1]
-        a2 = nu[i, 2]
-        b0 = nu[j, 0]
-        b1 = nu[j, 1]
-        b2 = nu[j, 2]
-        c1 = ex * a0 + ey * a1 + ez * a2
-        c2 = ex * b0 + ey * b1 + ez * b2
-        c3 = a0 * b0 + a1 * b1 + a2 * b2
-        u, ur, u1, u2, u3 = kern_any(g, r, c1, c2, c3, B, bi, bj)
-        if r2 > cut[1]:  # smooth cutoff: U S(r), S' adds to the radial partial only
-            sw, dsw = switch(r, cut)
-            ur = sw * ur + dsw * u
-            u *= sw
-            u1 *= sw
-            u2 *= sw
-            u3 *= sw
-        # force on j (seed 000 eq. 20); the projections (ν − c e)/r come from ∂c/∂r_j
-        f0 = -(ur * ex + (u1 * (a0 - c1 * ex) + u2 * (b0 - c2 * ex)) * inv)
-        f1 = -(ur * ey + (u1 * (a1 - c1 * ey) + u2 * (b1 - c2 * ey)) * inv)
-        f2 = -(ur * ez + (u1 * (a2 - c1 * ez) + u2 * (b2 - c2 * ez)) * inv)
-        w0 = a1 * b2 - a2 * b1
-        w1 = a2 * b0 - a0 * b2
-        w2 = a0 * b1 - a1 * b0
-        return (u, f0, f1, f2,
-                u1 * (ey * a2 - ez * a1) - u3 * w0,
-                u1 * (ez * a0 - ex * a2) - u3 * w1,
-                u1 * (ex * a1 - ey * a0) - u3 * w2,
-                u2 * (ey * b2 - ez * b1) + u3 * w0,
-                u2 * (ez * b0 - ex * b2) + u3 * w1,
-                u2 * (ex * b1 - ey * b0) + u3 * w2)
-
-    @jit
-    def pair_term(g, i, j, pos, nu, F, T, cut, B, bi, bj):
-        u, f0, f1, f2, ti0, ti1, ti2, tj0, tj1, tj2 = pair_one(g, i, j, pos, nu, cut, B, bi, bj)
-        F[j, 0] += f0
-        F[j, 1] += f1
-        F[j, 2] += f2
-        F[i, 0] -= f0
-        F[i, 1] -= f1
-        F[i, 2] -= f2
-        T[i, 0] += ti0
-        T[i, 1] += ti1
-        T[i, 2] += ti2
-        T[j, 0] += tj0
-        T[j, 1] += tj1
-        T[j, 2] += tj2
-        return u
-
-    @jit(inline="always")
-    def pair_r_one(g, i, j, pos, cut, B, bi, bj):
-        """``(U, (U_r/r) d)`` of an orientation-free pair, ``d = r_j − r_i`` (the fast path):
-        the force on j is minus the vector part, on i plus it."""
-        dx = pos[j, 0] - pos[i, 0]
-        dy = pos[j, 1] - pos[i, 1]
-        dz = pos[j, 2] - pos[i, 2]
-        r2 = dx * dx + dy * dy + dz * dz
-        if r2 > cut[0]:
-            return 0.0, 0.0, 0.0, 0.0
-        q = 1.0 / math.sqrt(r2)
-        u, s = kern_r(g, q, B, bi, bj)
-        if r2 > cut[1]:  # smooth cutoff: (U S)_r / r = S U_r/r + S' U / r
-            sw, dsw = switch(r2 * q, cut)
-            s = sw * s + dsw * u * q
-            u *= sw
-        return u, s * dx, s * dy, s * dz
-
-    @jit(inline="always")
-    def pair_r(g, i, j, pos, F, cut, B, bi, bj):
-        """Orientation-free pair: no axes, no c1, c2, c3, no torques (the fast path)."""
-        u, g0, g1, g2 = pair_r_one(g, i, j, pos, cut, B, bi, bj)
-        F[j, 0] -= g0
-        F[j, 1] -= g1
-        F[j, 2] -= g2
-        F[i, 0] += g0
-        F[i, 1] += g1
-        F[i, 2] += g2
-        return u
-
-    @jit(inline="always")
-    def all_pairs_r(g, members, lo, hi, pos, F, B):
-        """Every pair of ``members[lo:hi]`` with an orientation-free potential, no cutoff."""
-        u = 0.0
-        for a in range(lo, hi):
-            ia = members[a]
-            xa = pos[ia, 0]
-            ya = pos[ia, 1]
-            za = pos[ia, 2]
-            fx = 0.0
-            fy = 0.0
-            fz = 0.0
-            for b in range(a + 1, hi):
-                ib = members[b]
-                dx = pos[ib, 0] - xa
-                dy = pos[ib, 1] - ya
-                dz = pos[ib, 2] - za
-                uu, s = kern_r(g, 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz), B, ia, ib)
-                u += uu
-                F[ib, 0] -= s * dx
-                F[ib, 1] -= s * dy
-                F[ib, 2] -= s * dz
-                fx += s * dx
-                fy += s * dy
-                fz += s * dz
-            F[ia, 0] += fx
-            F[ia, 1] += fy
-            F[ia, 2] += fz
-        return u
-
-    @jit(inline="always")
-    def slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B, cut2):
-        """Pairs of the cell list whose first cell lies in x-slab ``x`` (cells of one ``cx``).
-
-        Newton's third law: each pair is evaluated once and added to both bodies, the lower
-        slot as ``i``. Slots are visited in cell order; for each slot its own cell's later
-        slots, then the 13 "forward" neighbour cells in increasing index. A body's share goes
-        to ``W[q, 0]`` (forces) / ``V[q, 0]`` (torques) when the pair's first cell is in the
-        body's own slab and to ``W[q, 1]`` / ``V[q, 1]`` when it is in the slab before, so
-        two slabs never write the same numbers: the slabs can run on any threads, in any
-        order, and every sum is still formed in one fixed order.
-        """
-        fwd = np.empty(13, dtype=np.int64)
-        per_slab = nc[1] * nc[2]
-        first_next = (x + 1) * per_slab
-        u = 0.0
-        for c in range(x * per_slab, first_next):
-            if count[c] == count[c + 1]:
-                continue
-            nf = forward_cells(c, nc, fwd)
-            for qa in range(count[c], count[c + 1]):
-                xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
-                ua = 0.0
-                for k in range(-1, nf):
-                    c2 = c if k < 0 else fwd[k]
-                    h = 1 if c2 >= first_next else 0  # j's cell in the next slab
-                    for qb in range(qa + 1 if k < 0 else count[c2], count[c2 + 1]):
-                        # cheap distance test before the pair term
-                        dx = sp_[qb, 0] - xa
-                        dy = sp_[qb, 1] - ya
-                        dz = sp_[qb, 2] - za
-                        if dx * dx + dy * dy + dz * dz > cut2:
-                            continue
-                        if central:
-                            uu, g0, g1, g2 = pair_r_one(g, qa, qb, sp_, cut, B,
-                                                        body[qa], body[qb])
-                            W[qa, 0, 0] += g0
-                            W[qa, 0, 1] += g1
-                            W[qa, 0, 2] += g2
-                            W[qb, h, 0] -= g0
-                            W[qb, h, 1] -= g1
-                            W[qb, h, 2] -= g2
-                        else:
-                            (uu, f0, f1, f2, ti0, ti1, ti2,
-                             tj0, tj1, tj2) = pair_one(g, qa, qb, sp_, sn_, cut, B,
-                                                       body[qa], body[qb])
-                            W[qa, 0, 0] -= f0
-                            W[qa, 0, 1] -= f1
-                            W[qa, 0, 2] -= f2
-                            W[qb, h, 0] += f0
-                            W[qb, h, 1] += f1
-                            W[qb, h, 2] += f2
-                            V[qa, 0, 0] += ti0
-                            V[qa, 0, 1] += ti1
-                            V[qa, 0, 2] += ti2
-                            V[qb, h, 0] += tj0
-                            V[qb, h, 1] += tj1
-                            V[qb, h, 2] += tj2
-                        ua += uu
-                u += ua
-        return u
-
-    @jit(inline="always")
-    def cell_gather(n, body, W, V, us, F, T):
-        """Add the slot sums to the bodies' rows; total energy, summed slab by slab."""
-        for q in range(n):
-            b = body[q]
-            for d in range(3):
-                F[b, d] += W[q, 1, d] + W[q, 0, d]
-                T[b, d] += V[q, 1, d] + V[q, 0, d]
-        u = 0.0
-        for x in range(us.shape[0]):
-            u += us[x]
-        return u
-
-    @jit(inline="always")
-    def cell_setup(members, pos, nu, cutoff):
-        """The cell list of ``members`` and zeroed per-slab accumulators (see ``slab_pairs``)."""
-        n = members.shape[0]
-        nc, count, cell_of, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
-        return (nc, count, sp_, sn_, body, np.zeros((n, 2, 3)), np.zeros((n, 2, 3)),
-                np.empty(nc[0]))
-
-    @jit
-    def cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut):
-        """All pairs of ``members`` closer than ``cutoff``, via a cell list (O(n)), one thread."""
-        if members.shape[0] < 2:
-            return 0.0
-        nc, count, sp_, sn_, body, W, V, us = cell_setup(members, pos, nu, cutoff)
-        for x in range(nc[0]):
-            us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
-                               cutoff * cutoff)
-        return cell_gather(members.shape[0], body, W, V, us, F, T)
-
-    @jit(parallel=True)
-    def cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut):
-        """:func:`cell_pairs` with the x-slabs shared out between threads; the same numbers
-        bit for bit on any number of threads (see ``slab_pairs``: no two slabs write the same
-        sum, no atomics, no reduction whose order depends on the threads)."""
-        if members.shape[0] < 2:
-            return 0.0
-        nc, count, sp_, sn_, body, W, V, us = cell_setup(members, pos, nu, cutoff)
-        half = (nc[0] + 1) // 2
-        for k in numba.prange(nc[0]):
-            # even slabs first, then odd ones: prange hands out contiguous blocks of
-            # iterations, and this way the lighter last slab (no slab after it) goes to the
-            # block that has one slab more; any order gives the same numbers
-            x = 2 * k if k < half else 2 * (k - half) + 1
-            us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
-                               cutoff * cutoff)
-        return cell_gather(members.shape[0], body, W, V, us, F, T)
-
-    if parallel:
-        @jit
-        def cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n):
-            """The cell-list pairs on numba's threads once there are ``min_n`` members.
-
-            The thread count is numba's (``numba.set_num_threads``); it is not read here:
-            ``numba.get_num_threads`` in compiled code would keep every kernel that calls
-            this one out of the disk cache, and on one thread the parallel loop does the
-            serial loop's work anyway.
-            """
-            if members.shape[0] >= min_n:
-                return cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut)
-            return cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut)
-    else:
-        # no parallel loop compiled at all: compiling it costs seconds that small systems
-        # (and systems told to stay serial) never get back
-        @jit(inline="always")
-        def cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n):
-            return cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut)
-
-    def forces_py(pos, nu, data, F, T):
-        pairs = data[6]
-        cmembers = data[7]
-        coffs = data[8]
-        cgid = data[9]
-        cutoff = data[10]
-        B = data[11]
-        rpairs = data[12]
-        ccentral = data[13]
-        axes = data[14]
-        for b in range(F.shape[0]):
-            F[b, 0] = 0.0
-            F[b, 1] = 0.0
-            F[b, 2] = 0.0
-        if axes:
-            zero2(T)
-        cut2 = cutoff * cutoff if np.isfinite(cutoff) else np.inf
-        rs = data[15]
-        # (cutoff², switch start², switch start, 1 / switch width); no switch: start = inf
-        cut = (cut2, rs * rs, rs, 1.0 / (cutoff - rs) if rs < cutoff else 0.0)
-        u = 0.0
-        for k in range(pairs.shape[0]):
-            i = pairs[k, 0]
-            j = pairs[k, 1]
-            u += pair_term(pairs[k, 2], i, j, pos, nu, F, T, cut, B, i, j)
-        for k in range(rpairs.shape[0]):
-            i = rpairs[k, 0]
-            j = rpairs[k, 1]
-            u += pair_r(rpairs[k, 2], i, j, pos, F, cut, B, i, j)
-        for g in range(cgid.shape[0]):
-            gid = cgid[g]
-            central = ccentral[g] != 0
-            lo = coffs[g]
-            hi = coffs[g + 1]
-            if np.isfinite(cutoff):
-                u += cells(gid, central, cmembers[lo:hi], pos, nu, F, T, cutoff, B, cut,
-                           data[16])
-            elif central:
-                u += all_pairs_r(gid, cmembers, lo, hi, pos, F, B)
-            else:
-                for a in range(lo, hi):
-                    for b in range(a + 1, hi):
-                        ia = cmembers[a]
-                        ib = cmembers[b]
-                        u += pair_term(gid, ia, ib, pos, nu, F, T, cut, B, ia, ib)
-        return u
-
-    def gather_py(y, data, pos, nu):
-        mass = data[0]
-        bslot = data[2]
-        tslot = data[3]
-        fpos = data[4]
-        fnu = data[5]
-        nm = mass.shape[0]
-        axes = data[14]
-        for b in range(bslot.shape[0]):
-            s = bslot[b]
-            if s >= 0:
-                for d in range(3):
-                    pos[b, d] = y[6 * s + d]
-            else:
-                for d in range(3):
-                    pos[b, d] = fpos[b, d]
-            if not axes:  # point masses only: ν and torques are never read
-                continue
-            t = tslot[b]
-            if t >= 0:
-                for d in range(3):
-                    nu[b, d] = y[6 * nm + 6 * t + d]
-            else:
-                for d in range(3):
-                    nu[b, d] = fnu[b, d]
-
-    # two compilations of each: inlined into the hot kick (numba does not inline calls between
-    # separately compiled functions, and the call costs as much as a small system's pair loop)
-    # and a plain one for the other kernels (inlining everywhere only lengthens compilation)
-    forces = jit(forces_py)
-    gather = jit(gather_py)
-    forces_inl = jit(inline="always")(forces_py)
-    gather_inl = jit(inline="always")(gather_py)
-
-    @jit
-    def rhs(y, data, work, out):
-        pos, nu, F, T = work
-        mass = data[0]
-        alpha = data[1]
-        bslot = data[2]
-        tslot = data[3]
-        nm = mass.shape[0]
-        gather(y, data, pos, nu)
-        forces(pos, nu, data, F, T)
-        for b in range(bslot.shape[0]):
-            s = bslot[b]
-            if s >= 0:
-                for d in range(3):
-                    out[6 * s + d] = y[6 * s + 3 + d] / mass[s]
-                    out[6 * s + 3 + d] = F[b, d]
-            t = tslot[b]
-            if t >= 0:
-                q = 6 * nm + 6 * t
-                a = alpha[t]
-                n0, n1, n2 = y[q], y[q + 1], y[q + 2]
-                m0, m1, m2 = y[q + 3], y[q + 4], y[q + 5]
-                out[q] = a * (m1 * n2 - m2 * n1)
-                out[q + 1] = a * (m2 * n0 - m0 * n2)
-                out[q + 2] = a * (m0 * n1 - m1 * n0)
-                for d in range(3):
-                    out[q + 3 + d] = T[b, d]
-
-    @jit
-    def kick(y, h, data, work):
-        pos, nu, F, T = work
-        gather_inl(y, data, pos, nu)
-        forces_inl(pos, nu, data, F, T)
-        apply_forces(y, h, data, work)
-
-    @jit
-    def drift(y, h, data):
-        mass = data[0]
-        alpha = data[1]
-        nm = mass.shape[0]
-        for s in range(nm):
-            c = h / mass[s]
-            for d in range(3):
-                y[6 * s + d] += c * y[6 * s + 3 + d]
-        for t in range(alpha.shape[0]):
-            q = 6 * nm + 6 * t
-            rotate_slot(y, q, q + 3, alpha[t] * h)
-
-    @jit
-    def kick_compensated(y, c, h, data, work):
-        # as kick, every increment added with Kahan summation (c: rounding errors so far)
-        pos, nu, F, T = work
-        mass = data[0]
-        bslot = data[2]
-        tslot = data[3]
-        nm = mass.shape[0]
-        gather_inl(y, data, pos, nu)
-        forces_inl(pos, nu, data, F, T)
-        for b in range(bslot.shape[0]):
-            s = bslot[b]
-            if s >= 0:
-                for d in range(3):
-                    kahan_add(y, c, 6 * s + 3 + d, h * F[b, d])
-            t = tslot[b]
-            if t >= 0:
-                q = 6 * nm + 6 * t + 3
-                for d in range(3):
-                    kahan_add(y, c, q + d, h * T[b, d])
-
-    @jit
-    def drift_compensated(y, c, h, data):
-        mass = data[0]
-        alpha = data[1]
-        nm = mass.shape[0]
-        for s in range(nm):
-            cc = h / mass[s]
-            for d in range(3):
-                kahan_add(y, c, 6 * s + d, cc * y[6 * s + 3 + d])
-        for t in range(alpha.shape[0]):
-            q = 6 * nm + 6 * t
-            rotate_slot_compensated(y, c, q, q + 3, alpha[t] * h)
-
-    @jit
-    def energy(y, data, work):
-        pos, nu, F, T = work
-        mass = data[0]
-        alpha = data[1]
-        nm = mass.shape[0]
-        gather(y, data, pos, nu)
-        e = forces(pos, nu, data, F, T)
-        for s in range(nm):
-            p2 = y[6 * s + 3] ** 2 + y[6 * s + 4] ** 2 + y[6 * s + 5] ** 2
-            e += 0.5 * p2 / mass[s]
-        for t in range(alpha.shape[0]):
-            q = 6 * nm + 6 * t + 3
-            e += 0.5 * alpha[t] * (y[q] ** 2 + y[q + 1] ** 2 + y[q + 2] ** 2)
-        return e
-
-    @jit
-    def min_distance(y, data, work):
-        pos = work[0]
-        nu = work[1]
-        gather(y, data, pos, nu)
-        bslot = data[2]
-        n = pos.shape[0]
-        best = np.inf
-        for a in range(n):
-            for b in range(a + 1, n):
-                if bslot[a] < 0 and bslot[b] < 0:
-                    continue
-                d2 = ((pos[a, 0] - pos[b, 0]) ** 2 + (pos[a, 1] - pos[b, 1]) ** 2
-                      + (pos[a, 2] - pos[b, 2]) ** 2)
-                best = min(best, d2)
-        return math.sqrt(best)
-
-    @jit
-    def max_radius(y, data):
-        mass = data[0]
-        nm = mass.shape[0]
-        mt = 0.0
-        c = np.zeros(3)
-        for s in range(nm):
-            mt += mass[s]
-            for d in range(3):
-                c[d] += mass[s] * y[6 * s + d]
-        best = 0.0
-        for s in range(nm):
-            d2 = 0.0
-            for d in range(3):
-                d2 += (y[6 * s + d] - c[d] / mt) ** 2
-            best = max(best, d2)
-        return math.sqrt(best)
-
-    @jit(inline="always")
-    def forces_of(y, data, work):
-        """Forces and torques into ``work[2]``, ``work[3]`` (rows: all bodies); returns U."""
-        pos, nu, F, T = work
-        gather_inl(y, data, pos, nu)
-        return forces_inl(pos, nu, data, F, T)
-
-    out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
-                  max_radius=max_radius, jac=None, splittable=True, forces=forces_of,
-                  drift_compensated=drift_compensated, kick_compensated=kick_compensated)
-    _kernel_cache[(id(kern_any), parallel)] = out
-    return out
-
-
-# ----------------------------------------------------------------------------- the system
 #: Fewest members of a cell-listed :class:`AllPairs` for which the parallel pair loop is used
 #: by default. On an idle 2-core machine the two loops break even near 1000 bodies and the
 #: parallel one is 1.3× faster at 2200 (``benchmarks/bench_nbody_parallel.py``); the margin
@@ -1046,13 +49,18 @@ def _build_kernels(kern_any, kern_r, parallel: bool = False) -> Kernels:
 PARALLEL_MIN_BODIES = 1500
 
 
-def _count_option(value: Any, what: str, low: int) -> int:
+def _count_option(value: object, what: str, low: int) -> int:
     """``value`` as an int ``>= low``, else :class:`InputError` naming ``what``."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
         raise InputError(f"{what} must be an integer, got {value!r}")
     if value < low:
         raise InputError(f"{what} must be at least {low}, got {value!r}")
     return int(value)
+
+
+def _label(potential: PotentialLike) -> object:
+    """How an error message names a potential: its registry name, else the potential itself."""
+    return potential.name if isinstance(potential, PairPotential) else potential
 
 
 class NBodySystem:
@@ -1176,19 +184,19 @@ class NBodySystem:
         # kernels: one per distinct (potential, params, bound slots), in internal units;
         # parameters bound to body attributes are read per pair from the table B (SI values)
         kern_ids: dict[tuple, int] = {}
-        kerns: list[Any] = []
-        rkerns: list[Any] = []
+        kerns: list[Dispatcher] = []
+        rkerns: list[Dispatcher | None] = []
         attr_cols: dict[str, int] = {}
         inv_e = 1.0 / E
 
-        def kernel_id(pot: Any, params: Mapping[str, Any], i: int | None, j: int | None
+        def kernel_id(pot: PotentialLike, params: Mapping[str, object], i: int | None, j: int | None
                       ) -> tuple[int, str]:
             kern, slots, orient = _resolve_bound(pot, params)
             needs_i = orient in ("both", "first")
             needs_j = orient in ("both", "second")
             for k, need in ((i, needs_i), (j, needs_j)):
                 if k is not None and need and not bodies[k].is_top:
-                    raise InputError(f"potential {getattr(pot, 'name', pot)!s} depends on the "
+                    raise InputError(f"potential {_label(pot)!s} depends on the "
                                      f"axis of body {bodies[k].name!r}, which is a point mass")
             spec = tuple((attr_cols.setdefault(a, len(attr_cols)), w) for a, w in slots)
             key = (id(kern), spec)
@@ -1319,70 +327,71 @@ class NBodySystem:
         n = len(self.bodies)
         return (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
 
-    def _state(self, y: Any) -> np.ndarray:
+    def _state(self, y: npt.ArrayLike) -> np.ndarray:
         y = np.asarray(y, dtype=float)
         if y.ndim != 1 or y.shape[0] != self.dim:
             raise DimensionError(f"state has shape {y.shape}, expected ({self.dim},)")
         return np.ascontiguousarray(y)
 
     # ------------------------------------------------------------------ evaluation
-    def rhs(self, t: float, y: Any) -> np.ndarray:
+    def rhs(self, t: float, y: npt.ArrayLike) -> np.ndarray:
         """``ẏ`` at state ``y`` (time ``t`` is ignored: the system is autonomous).
 
         Raises :class:`OverlapError` if two interacting bodies coincide.
         """
         return evaluate_rhs(self, y)
 
-    def forces(self, y: Any) -> tuple[np.ndarray, np.ndarray, float]:
+    def forces(self, y: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray, float]:
         """Forces and torques on every body ``(F (n,3), T (n,3), U)`` (internal units)."""
         y = self._state(y)
         work = self.work()
         u = self.kernels.forces(y, self.data, work)
         return work[2], work[3], float(u)
 
-    def energy(self, y: Any) -> float | np.ndarray:
+    def energy(self, y: npt.ArrayLike) -> float | np.ndarray:
         """Total energy ``H(y)``; a 2-D array of states gives one value per row.
 
         Raises :class:`OverlapError` if two interacting bodies coincide.
         """
         return evaluate_energy(self, y)
 
-    def _split(self, y: np.ndarray):
+    def _split(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         nm = self.n_moving
         rp = y[..., :6 * nm].reshape(y.shape[:-1] + (nm, 2, 3))
         nm_ = y[..., 6 * nm:].reshape(y.shape[:-1] + (self.n_tops, 2, 3))
         return rp[..., 0, :], rp[..., 1, :], nm_[..., 0, :], nm_[..., 1, :]
 
-    def casimirs(self, y: Any) -> np.ndarray:
+    def casimirs(self, y: npt.ArrayLike) -> np.ndarray:
         """Per top ``|ν|²`` and ``(ν, m)``, flattened ``[|ν_1|², (ν_1,m_1), …]`` (rows if 2-D)."""
         y = np.asarray(y, dtype=float)
         _, _, nu, m = self._split(y)
         out = np.stack([np.sum(nu * nu, axis=-1), np.sum(nu * m, axis=-1)], axis=-1)
         return out.reshape(y.shape[:-1] + (2 * self.n_tops,))
 
-    def casimir_scales(self, y: Any) -> np.ndarray:
+    def casimir_scales(self, y: npt.ArrayLike) -> np.ndarray:
         """Natural size of each Casimir at ``y`` (1 for ``|ν|²``, ``|m|`` for ``(ν, m)``)."""
         y = np.asarray(y, dtype=float)
         m = self._split(y)[3]
         s = np.stack([np.ones(m.shape[:-1]), np.linalg.norm(m, axis=-1)], axis=-1)
         return s.reshape(y.shape[:-1] + (2 * self.n_tops,))
 
-    def linear_momentum(self, y: Any) -> np.ndarray:
+    def linear_momentum(self, y: npt.ArrayLike) -> np.ndarray:
         """Total ``Σ p`` of the moving bodies (conserved without fixed bodies)."""
         _, p, _, _ = self._split(np.asarray(y, dtype=float))
         return p.sum(axis=-2)
 
-    def angular_momentum(self, y: Any) -> np.ndarray:
+    def angular_momentum(self, y: npt.ArrayLike) -> np.ndarray:
         """Total ``Σ r × p + Σ m`` about the origin (seed 000 eq. 21)."""
         r, p, _, m = self._split(np.asarray(y, dtype=float))
         return np.cross(r, p).sum(axis=-2) + m.sum(axis=-2)
 
-    def min_distance(self, y: Any) -> float:
+    def min_distance(self, y: npt.ArrayLike) -> float:
         """Smallest distance between two bodies (internal units)."""
         return float(self.kernels.min_distance(self._state(y), self.data, self.work()))
 
     # ------------------------------------------------------------------ packing
-    def pack(self, positions: Any, momenta: Any, axes: Any = None, angular_momenta: Any = None,
+    def pack(self, positions: npt.ArrayLike, momenta: npt.ArrayLike,
+             axes: npt.ArrayLike | None = None, angular_momenta: npt.ArrayLike | None = None,
              *, si: bool = False, normalize: bool = False) -> np.ndarray:
         """Build a state vector.
 
@@ -1405,7 +414,7 @@ class NBodySystem:
         fP = s.unit("momentum") if s else 1.0
         fA = s.unit("angular_momentum") if s else 1.0
 
-        def rows(a: Any, wanted: tuple[int, ...], what: str) -> np.ndarray:
+        def rows(a: npt.ArrayLike, wanted: tuple[int, ...], what: str) -> np.ndarray:
             a = np.asarray(a, dtype=float)
             if a.ndim == 1 and a.size == 3 and len(wanted) == 1:
                 a = a[None, :]
@@ -1443,7 +452,7 @@ class NBodySystem:
             parts.append(np.concatenate([nu, m], axis=1).ravel())
         return np.concatenate(parts)
 
-    def unpack(self, y: Any, *, si: bool = False) -> dict[str, np.ndarray]:
+    def unpack(self, y: npt.ArrayLike, *, si: bool = False) -> dict[str, np.ndarray]:
         """Split a state (or rows of states) into ``r, p`` (moving bodies) and ``nu, m`` (tops)."""
         r, p, nu, m = self._split(np.asarray(y, dtype=float))
         s = self.scales if si else None
@@ -1463,12 +472,12 @@ class NBodySystem:
                                f"{pos[hit[0]].tolist()} (internal units); every pair force is "
                                "singular there")
 
-    def check_overlap(self, y: Any) -> None:
+    def check_overlap(self, y: npt.ArrayLike) -> None:
         """Raise :class:`OverlapError` if two bodies of state ``y`` sit at the same place."""
         y = self._state(y)
         self._check_positions(self._split(y)[0])
 
-    def check_state(self, y: Any, tol: float = 1e-10) -> None:
+    def check_state(self, y: npt.ArrayLike, tol: float = 1e-10) -> None:
         """Raise :class:`NonUnitAxisError` if some axis of ``y`` is not a unit vector and
         :class:`OverlapError` if two bodies coincide."""
         self.check_overlap(y)
@@ -1481,7 +490,7 @@ class NBodySystem:
                                    "normalise them (pack(..., normalize=True))")
 
     # ------------------------------------------------------------------ symbolic
-    def to_structure(self):
+    def to_structure(self) -> Bivector:
         """The symbolic Poisson structure: ``canonical(3)`` per moving body ⊕ ``e3()`` per top.
 
         Coordinates are named ``<body>.q_x … <body>.p_z`` and ``<body>_top.nu_x … .m_z``,
