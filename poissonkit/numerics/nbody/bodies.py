@@ -76,7 +76,9 @@ class Body:
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
             raise InputError(f"body name must be a non-empty string, got {self.name!r}")
-        checked = [("mass", self.mass)] + ([("alpha", self.alpha)] if self.alpha is not None else [])
+        checked = [("mass", self.mass)]
+        if self.alpha is not None:
+            checked.append(("alpha", self.alpha))
         for attr, v in checked:
             try:
                 v = float(v)
