@@ -1,0 +1,263 @@
+"""Cell lists: the pairs of a set of bodies closer than a cutoff in O(n), serial and parallel.
+
+:func:`cell_list` bins the bodies into cubic cells of side at least the cutoff, so every pair
+within the cutoff lies in one cell or in two adjacent ones. The pair loop runs over x-slabs of
+cells (:func:`cell_loops`); each pair is evaluated once, and the sums are arranged so that the
+slabs can run on any threads in any order and still give the same numbers bit for bit.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numba
+import numpy as np
+from numba.core.dispatcher import Dispatcher
+
+from poissonkit.numerics.jit import jit
+
+
+@numba.njit(cache=True, error_model="numpy")
+def cell_list(members, pos, nu, cutoff):
+    """Bin ``members`` into cubic cells of side ≥ ``cutoff``.
+
+    Returns ``(nc, start, cell, p, n, body)``: cells per axis, slot offsets of each cell
+    (``start[c]:start[c + 1]``, cells numbered row-major ``(cx·nc_y + cy)·nc_z + cz``), the
+    cell of each slot, positions and axes copied in slot order (neighbours sit next to each
+    other in memory) and the original body index of each slot.
+    """
+    n = members.shape[0]
+    lo = np.empty(3)
+    hi = np.empty(3)
+    for d in range(3):
+        lo[d] = np.inf
+        hi[d] = -np.inf
+    for a in range(n):
+        b = members[a]
+        for d in range(3):
+            v = pos[b, d]
+            lo[d] = min(lo[d], v)
+            hi[d] = max(hi[d], v)
+    side = cutoff
+    nc = np.empty(3, dtype=np.int64)
+    while True:
+        total = 1
+        for d in range(3):
+            nc[d] = int((hi[d] - lo[d]) / side) + 1
+            total *= nc[d]
+        if total <= 4 * n + 64:  # sparse, far-flung bodies: coarser cells, same result
+            break
+        side *= 1.5
+    ncell = nc[0] * nc[1] * nc[2]
+    cell_of = np.empty(n, dtype=np.int64)
+    count = np.zeros(ncell + 1, dtype=np.int64)
+    for a in range(n):
+        b = members[a]
+        cx = min(int((pos[b, 0] - lo[0]) / side), nc[0] - 1)
+        cy = min(int((pos[b, 1] - lo[1]) / side), nc[1] - 1)
+        cz = min(int((pos[b, 2] - lo[2]) / side), nc[2] - 1)
+        c = (cx * nc[1] + cy) * nc[2] + cz
+        cell_of[a] = c
+        count[c + 1] += 1
+    for c in range(ncell):
+        count[c + 1] += count[c]
+    start = count.copy()
+    order = np.empty(n, dtype=np.int64)
+    for a in range(n):
+        c = cell_of[a]
+        order[start[c]] = a
+        start[c] += 1
+    sp_ = np.empty((n, 3))
+    sn_ = np.empty((n, 3))
+    body = np.empty(n, dtype=np.int64)
+    cell = np.empty(n, dtype=np.int64)
+    for q in range(n):
+        b = members[order[q]]
+        body[q] = b
+        cell[q] = cell_of[order[q]]
+        for d in range(3):
+            sp_[q, d] = pos[b, d]
+            sn_[q, d] = nu[b, d]
+    return nc, count, cell, sp_, sn_, body
+
+
+@numba.njit(cache=True, error_model="numpy")
+def forward_cells(c, nc, out):
+    """The "forward" neighbours of cell ``c`` (higher index, up to 13) into ``out``, in
+    increasing index; returns how many. Each pair of adjacent cells is one cell's forward pair."""
+    cx = c // (nc[1] * nc[2])
+    cy = (c // nc[2]) % nc[1]
+    cz = c % nc[2]
+    k = 0
+    for ddx in range(2):
+        nx = cx + ddx
+        if nx >= nc[0]:
+            continue
+        for ddy in range(-1, 2):
+            if ddx == 0 and ddy < 0:
+                continue
+            ny = cy + ddy
+            if ny < 0 or ny >= nc[1]:
+                continue
+            for ddz in range(-1, 2):
+                if ddx == 0 and ddy == 0 and ddz <= 0:
+                    continue
+                nz = cz + ddz
+                if nz < 0 or nz >= nc[2]:
+                    continue
+                out[k] = (nx * nc[1] + ny) * nc[2] + nz
+                k += 1
+    return k
+
+
+@jit(inline="always")
+def cell_setup(members, pos, nu, cutoff):
+    """The cell list of ``members`` and zeroed per-slab accumulators (see ``slab_pairs``)."""
+    n = members.shape[0]
+    nc, count, cell_of, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
+    return (nc, count, sp_, sn_, body, np.zeros((n, 2, 3)), np.zeros((n, 2, 3)),
+            np.empty(nc[0]))
+
+
+@jit(inline="always")
+def cell_gather(n, body, W, V, us, F, T):
+    """Add the slot sums to the bodies' rows; total energy, summed slab by slab."""
+    for q in range(n):
+        b = body[q]
+        for d in range(3):
+            F[b, d] += W[q, 1, d] + W[q, 0, d]
+            T[b, d] += V[q, 1, d] + V[q, 0, d]
+    u = 0.0
+    for x in range(us.shape[0]):
+        u += us[x]
+    return u
+
+
+def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> Dispatcher:
+    """The cell-list pair loop around the pair terms ``pair_one`` and ``pair_r_one``.
+
+    Returns ``cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n) -> U``: every
+    pair of ``members`` closer than ``cutoff`` through potential ``g`` (the orientation-free
+    term if ``central``), forces and torques added to ``F`` and ``T``. With ``parallel`` the loop
+    runs on numba's threads once there are ``min_n`` members; without it only the serial loop
+    is compiled.
+    """
+    if parallel:
+        # OpenMP's default active wait spins at every barrier: when another process holds
+        # the other core, a force evaluation of 10⁴ tops took 4× the serial time instead of
+        # the same (benchmarks/bench_nbody_parallel.py). Read once, at the first parallel
+        # launch; a value the user set wins.
+        os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+    @jit(inline="always")
+    def slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B, cut2):
+        """Pairs of the cell list whose first cell lies in x-slab ``x`` (cells of one ``cx``).
+
+        Newton's third law: each pair is evaluated once and added to both bodies, the lower
+        slot as ``i``. Slots are visited in cell order; for each slot its own cell's later
+        slots, then the 13 "forward" neighbour cells in increasing index. A body's share goes
+        to ``W[q, 0]`` (forces) / ``V[q, 0]`` (torques) when the pair's first cell is in the
+        body's own slab and to ``W[q, 1]`` / ``V[q, 1]`` when it is in the slab before, so
+        two slabs never write the same numbers: the slabs can run on any threads, in any
+        order, and every sum is still formed in one fixed order.
+        """
+        fwd = np.empty(13, dtype=np.int64)
+        per_slab = nc[1] * nc[2]
+        first_next = (x + 1) * per_slab
+        u = 0.0
+        for c in range(x * per_slab, first_next):
+            if count[c] == count[c + 1]:
+                continue
+            nf = forward_cells(c, nc, fwd)
+            for qa in range(count[c], count[c + 1]):
+                xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
+                ua = 0.0
+                for k in range(-1, nf):
+                    c2 = c if k < 0 else fwd[k]
+                    h = 1 if c2 >= first_next else 0  # j's cell in the next slab
+                    for qb in range(qa + 1 if k < 0 else count[c2], count[c2 + 1]):
+                        # cheap distance test before the pair term
+                        dx = sp_[qb, 0] - xa
+                        dy = sp_[qb, 1] - ya
+                        dz = sp_[qb, 2] - za
+                        if dx * dx + dy * dy + dz * dz > cut2:
+                            continue
+                        if central:
+                            uu, g0, g1, g2 = pair_r_one(g, qa, qb, sp_, cut, B,
+                                                        body[qa], body[qb])
+                            W[qa, 0, 0] += g0
+                            W[qa, 0, 1] += g1
+                            W[qa, 0, 2] += g2
+                            W[qb, h, 0] -= g0
+                            W[qb, h, 1] -= g1
+                            W[qb, h, 2] -= g2
+                        else:
+                            (uu, f0, f1, f2, ti0, ti1, ti2,
+                             tj0, tj1, tj2) = pair_one(g, qa, qb, sp_, sn_, cut, B,
+                                                       body[qa], body[qb])
+                            W[qa, 0, 0] -= f0
+                            W[qa, 0, 1] -= f1
+                            W[qa, 0, 2] -= f2
+                            W[qb, h, 0] += f0
+                            W[qb, h, 1] += f1
+                            W[qb, h, 2] += f2
+                            V[qa, 0, 0] += ti0
+                            V[qa, 0, 1] += ti1
+                            V[qa, 0, 2] += ti2
+                            V[qb, h, 0] += tj0
+                            V[qb, h, 1] += tj1
+                            V[qb, h, 2] += tj2
+                        ua += uu
+                u += ua
+        return u
+
+    @jit
+    def cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut):
+        """All pairs of ``members`` closer than ``cutoff``, via a cell list (O(n)), one thread."""
+        if members.shape[0] < 2:
+            return 0.0
+        nc, count, sp_, sn_, body, W, V, us = cell_setup(members, pos, nu, cutoff)
+        for x in range(nc[0]):
+            us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
+                               cutoff * cutoff)
+        return cell_gather(members.shape[0], body, W, V, us, F, T)
+
+    @jit(parallel=True)
+    def cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut):
+        """:func:`cell_pairs` with the x-slabs shared out between threads; the same numbers
+        bit for bit on any number of threads (see ``slab_pairs``: no two slabs write the same
+        sum, no atomics, no reduction whose order depends on the threads)."""
+        if members.shape[0] < 2:
+            return 0.0
+        nc, count, sp_, sn_, body, W, V, us = cell_setup(members, pos, nu, cutoff)
+        half = (nc[0] + 1) // 2
+        for k in numba.prange(nc[0]):
+            # even slabs first, then odd ones: prange hands out contiguous blocks of
+            # iterations, and this way the lighter last slab (no slab after it) goes to the
+            # block that has one slab more; any order gives the same numbers
+            x = 2 * k if k < half else 2 * (k - half) + 1
+            us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
+                               cutoff * cutoff)
+        return cell_gather(members.shape[0], body, W, V, us, F, T)
+
+    if parallel:
+        @jit
+        def cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n):
+            """The cell-list pairs on numba's threads once there are ``min_n`` members.
+
+            The thread count is numba's (``numba.set_num_threads``); it is not read here:
+            ``numba.get_num_threads`` in compiled code would keep every kernel that calls
+            this one out of the disk cache, and on one thread the parallel loop does the
+            serial loop's work anyway.
+            """
+            if members.shape[0] >= min_n:
+                return cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut)
+            return cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut)
+    else:
+        # no parallel loop compiled at all: compiling it costs seconds that small systems
+        # (and systems told to stay serial) never get back
+        @jit(inline="always")
+        def cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n):
+            return cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut)
+
+    return cells

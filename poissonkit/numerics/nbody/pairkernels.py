@@ -1,0 +1,182 @@
+"""From a pair potential as given to the compiled kernels the force loops call.
+
+Three steps, each cached: resolve what the user gave (registry entry or name, sympy
+expression, numba kernel) to an SI kernel ``f(r, c1, c2, c3[, body values]) -> (U, U_r, U_c1,
+U_c2, U_c3)``; wrap it in internal units with its per-body parameters read from the attribute
+table ``B``; and generate one dispatcher that calls kernel number ``g`` of a system, so the
+compiled loops take the potential as an integer.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numba
+import sympy as sp
+from numba.core.dispatcher import Dispatcher
+
+from poissonkit.errors import InputError
+from poissonkit.numerics.jit import compile_generated
+from poissonkit.numerics.nbody.bodies import PotentialLike
+from poissonkit.numerics.potentials import (
+    compile_bound_potential,
+    compile_potential,
+    kernel_from_expr,
+    radial_kernel,
+)
+from poissonkit.plugin.contributions import PairPotential
+
+#: ``(column of the attribute table B, 1 or 2)`` per extra argument of a kernel: the first or
+#: the second body of the pair.
+SlotSpec = tuple[tuple[int, int], ...]
+
+
+def _resolve_kernel(potential: PotentialLike, params: Mapping[str, object]
+                    ) -> tuple[Dispatcher, str]:
+    """(SI kernel, orientation) of one interaction's potential."""
+    if isinstance(potential, str):
+        from poissonkit.plugin import potential as lookup
+
+        potential = lookup(potential)
+    if isinstance(potential, PairPotential):
+        return compile_potential(potential, params), potential.orientation
+    if isinstance(potential, numba.core.registry.CPUDispatcher):
+        return potential, "both"
+    if isinstance(potential, sp.Basic):
+        names = {s.name for s in potential.free_symbols}
+        has1, has2 = bool(names & {"c1", "c3"}), bool(names & {"c2", "c3"})
+        orient = {(True, True): "both", (True, False): "first", (False, True): "second",
+                  (False, False): "none"}[(has1, has2)]
+        return kernel_from_expr(potential, "expr"), orient
+    raise InputError(f"cannot use {type(potential).__name__} as a pair potential; give a "
+                     "PairPotential, a registry name, a sympy expression or a numba kernel")
+
+
+def _resolve_bound(potential: PotentialLike, params: Mapping[str, object]
+                   ) -> tuple[Dispatcher, tuple[tuple[str, int], ...], str]:
+    """(SI kernel, bound slots, orientation) of one interaction's potential.
+
+    Parameters of a :class:`PairPotential` listed in its ``body_params`` and not given in
+    ``params`` are taken from the two bodies of each pair: the kernel then has one extra
+    argument per ``(attribute, which body)`` slot.
+    """
+    if isinstance(potential, str):
+        from poissonkit.plugin import potential as lookup
+
+        potential = lookup(potential)
+    if isinstance(potential, PairPotential) and potential.body_params:
+        bound = {p: (attr, int(w)) for p, attr, w in potential.body_params if p not in params}
+        if bound:
+            kern, slots = compile_bound_potential(potential, params, bound)
+            return kern, slots, potential.orientation
+    kern, orient = _resolve_kernel(potential, params)
+    return kern, (), orient
+
+
+def _registry_entry(potential: PotentialLike) -> PairPotential | None:
+    """The :class:`PairPotential` behind a registry name or entry (``None`` otherwise)."""
+    if isinstance(potential, str):
+        from poissonkit.plugin import potential as lookup
+
+        return lookup(potential)
+    return potential if isinstance(potential, PairPotential) else None
+
+
+#: (kind, kernel id, slots, L, 1/E) -> (wrapper, kernel kept alive so its id stays unique)
+_wrap_cache: dict[tuple[object, ...], tuple[Dispatcher, Dispatcher]] = {}
+
+
+def _compile_wrapper(source: str, name: str, namespace: dict[str, Dispatcher]) -> Dispatcher:
+    """Execute generated ``source`` (a small kernel wrapper) and compile it with numba."""
+    return compile_generated(source, name, namespace)
+
+
+def _wrapped(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float) -> Dispatcher:
+    """``w(r, c1, c2, c3, B, i, j)``: the SI kernel in internal units, bound slots read from ``B``.
+
+    ``spec`` lists ``(column of B, 1 or 2)`` per extra argument of ``kern``: row ``i`` (first
+    body) or ``j`` (second body). ``U/E`` as a function of ``r/L``: ``U_r`` gains ``L/E``, the
+    angular partials ``1/E``.
+    """
+    key = (id(kern), spec, L, inv_e)
+    hit = _wrap_cache.get(key)
+    if hit is not None:
+        return hit[0]
+    extra = "".join(f", B[{'i' if w == 1 else 'j'}, {c}]" for c, w in spec)
+    if L == 1.0 and inv_e == 1.0:
+        src = ("def wrapped(r, c1, c2, c3, B, i, j):\n"
+               f"    return base(r, c1, c2, c3{extra})")
+    else:
+        src = ("def wrapped(r, c1, c2, c3, B, i, j):\n"
+               f"    u, ur, u1, u2, u3 = base(r * {L!r}, c1, c2, c3{extra})\n"
+               f"    return (u * {inv_e!r}, ur * {L * inv_e!r}, u1 * {inv_e!r}, u2 * {inv_e!r}, "
+               f"u3 * {inv_e!r})")
+    fn = _compile_wrapper(src, "wrapped", {"base": kern})
+    _wrap_cache[key] = (fn, kern)  # keep kern alive so its id stays unique
+    return fn
+
+
+def _wrapped_radial(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float) -> Dispatcher:
+    """``w(q, B, i, j) -> (U, U_r/r)`` in internal units, ``q = 1/r``: the fast-path kernel.
+
+    With ``r = r_int L``: ``q_SI = q / L``, ``U_int = U/E``, ``(U_r/r)_int = (U_r/r) L²/E``.
+    """
+    key = ("radial", id(kern), spec, L, inv_e)
+    hit = _wrap_cache.get(key)
+    if hit is not None:
+        return hit[0]
+    base = radial_kernel(kern)
+    extra = "".join(f", B[{'i' if w == 1 else 'j'}, {c}]" for c, w in spec)
+    if L == 1.0 and inv_e == 1.0:
+        src = f"def wrapped_r(q, B, i, j):\n    return base(q{extra})"
+    else:
+        src = ("def wrapped_r(q, B, i, j):\n"
+               f"    u, f = base(q * {1.0 / L!r}{extra})\n"
+               f"    return (u * {inv_e!r}, f * {L * L * inv_e!r})")
+    fn = _compile_wrapper(src, "wrapped_r", {"base": base})
+    _wrap_cache[key] = (fn, kern)
+    return fn
+
+
+#: kernel ids -> (kern_any, kern_r, the kernels and radial kernels, kept alive)
+_dispatch_cache: dict[tuple[int, ...], tuple[Dispatcher, Dispatcher, tuple[Dispatcher, ...],
+                                             tuple[Dispatcher | None, ...]]] = {}
+
+
+def _dispatcher(kerns: Sequence[Dispatcher], rkerns: Sequence[Dispatcher | None]
+                ) -> tuple[Dispatcher, Dispatcher]:
+    """``(kern_any, kern_r)`` calling wrapped kernel number ``g``; cached per kernel tuple.
+
+    ``kern_any(g, r, c1, c2, c3, B, i, j) -> (U, U_r, U_c1, U_c2, U_c3)``;
+    ``kern_r(g, q, B, i, j) -> (U, U_r/r)`` (``q = 1/r``) for the orientation-free fast path;
+    ``rkerns[g]`` is ``None`` for a kernel that depends on orientation.
+    """
+    key = tuple(id(k) for k in kerns)
+    hit = _dispatch_cache.get(key)
+    if hit is not None:
+        return hit[0], hit[1]
+    ns: dict[str, Dispatcher] = {f"k{g}": k for g, k in enumerate(kerns)}
+    ns.update({f"q{g}": k for g, k in enumerate(rkerns) if k is not None})
+    radial = [g for g, k in enumerate(rkerns) if k is not None]
+    if not kerns:
+        src_any = ("def kern_any(g, r, c1, c2, c3, B, i, j):\n"
+                   "    return (0.0, 0.0, 0.0, 0.0, 0.0)")
+    else:
+        la = ["def kern_any(g, r, c1, c2, c3, B, i, j):"]
+        last = len(kerns) - 1
+        for g in range(last):
+            la.append(f"    if g == {g}:\n        return k{g}(r, c1, c2, c3, B, i, j)")
+        la.append(f"    return k{last}(r, c1, c2, c3, B, i, j)")
+        src_any = "\n".join(la)
+    if not radial:
+        src_r = "def kern_r(g, q, B, i, j):\n    return (0.0, 0.0)"
+    else:
+        lr = ["def kern_r(g, q, B, i, j):"]
+        for g in radial[:-1]:
+            lr.append(f"    if g == {g}:\n        return q{g}(q, B, i, j)")
+        lr.append(f"    return q{radial[-1]}(q, B, i, j)")
+        src_r = "\n".join(lr)
+    fa = _compile_wrapper(src_any, "kern_any", ns)
+    fr = _compile_wrapper(src_r, "kern_r", ns)
+    _dispatch_cache[key] = (fa, fr, tuple(kerns), tuple(rkerns))  # keep kernels (and ids) alive
+    return fa, fr

@@ -1,0 +1,507 @@
+"""The N-body system: bodies and interactions assembled into compiled kernels and a state layout.
+
+See :mod:`poissonkit.numerics.nbody` for the state layout and the Hamiltonian.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+import numpy.typing as npt
+from numba.core.dispatcher import Dispatcher
+
+from poissonkit.errors import DimensionError, InputError
+from poissonkit.numerics.kernels import Kernels
+from poissonkit.numerics.nbody.bodies import (
+    AllPairs,
+    Body,
+    Interaction,
+    NonUnitAxisError,
+    PotentialLike,
+)
+from poissonkit.numerics.nbody.evaluate import (
+    OverlapError,
+    coincident_pair,
+    evaluate_energy,
+    evaluate_rhs,
+)
+from poissonkit.numerics.nbody.loops import _build_kernels
+from poissonkit.numerics.nbody.pairkernels import (
+    _dispatcher,
+    _registry_entry,
+    _resolve_bound,
+    _wrapped,
+    _wrapped_radial,
+)
+from poissonkit.numerics.units import Scales
+from poissonkit.plugin.contributions import PairPotential
+
+if TYPE_CHECKING:
+    from poissonkit.structure.bivector import Bivector
+
+#: Fewest members of a cell-listed :class:`AllPairs` for which the parallel pair loop is used
+#: by default. On an idle 2-core machine the two loops break even near 1000 bodies and the
+#: parallel one is 1.3× faster at 2200 (``benchmarks/bench_nbody_parallel.py``); the margin
+#: keeps small systems off the thread pool.
+PARALLEL_MIN_BODIES = 1500
+
+
+def _count_option(value: object, what: str, low: int) -> int:
+    """``value`` as an int ``>= low``, else :class:`InputError` naming ``what``."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"{what} must be an integer, got {value!r}")
+    if value < low:
+        raise InputError(f"{what} must be at least {low}, got {value!r}")
+    return int(value)
+
+
+def _label(potential: PotentialLike) -> object:
+    """How an error message names a potential: its registry name, else the potential itself."""
+    return potential.name if isinstance(potential, PairPotential) else potential
+
+
+class NBodySystem:
+    """Interacting symmetric tops and point masses (see the module docstring for the layout).
+
+    Parameters
+    ----------
+    bodies
+        The bodies, in state order.
+    interactions
+        :class:`Interaction` (one pair) and/or :class:`AllPairs` entries.
+    cutoff
+        Optional interaction radius [m] (pairs farther apart are skipped).
+    scales
+        Optional :class:`~poissonkit.numerics.units.Scales`: then masses, ``alpha``, fixed
+        positions, the cutoff and the potentials are given in SI and the state is internal
+        (``r/L``, ``p/(M L/T)``, ``m/(M L²/T)``); :meth:`pack` / :meth:`unpack` convert with
+        ``si=True``. Without scales every number is used as given.
+    smooth_cutoff
+        Optional start ``r_s < cutoff`` [m] of a smooth cutoff: every pair energy is multiplied
+        by the switching function ``S = 1 − 10x³ + 15x⁴ − 6x⁵``, ``x = (r − r_s)/(cutoff −
+        r_s)`` (C², so energy and forces are continuous when a pair crosses the cutoff and a
+        splitting's energy error stays bounded); ``None`` truncates at the cutoff.
+    fast_path
+        Evaluate orientation-free potentials (gravity, ``U(r)``) in the specialised pair loop
+        without axes and torques (default). ``False`` sends them through the general loop;
+        the results agree to round-off (a test checks it), only the speed differs.
+    parallel
+        Run the cell-list pair loop (needs ``cutoff``) of an :class:`AllPairs` with at least
+        ``parallel_min_bodies`` members on numba's threads (default). Their number is
+        numba's: ``numba.set_num_threads(k)`` (at most ``NUMBA_NUM_THREADS``, which defaults
+        to the number of cores). ``False`` always runs the serial loop and does not compile
+        the parallel one (a few seconds saved on the first use of a potential). Forces,
+        torques and energy are bit-for-bit the same either way and on any number of threads:
+        the cell list's x-slabs are shared out between threads, each pair is evaluated once,
+        and every sum is formed in one fixed order (no atomics, no thread-dependent
+        reduction).
+    parallel_min_bodies
+        Fewest members of an :class:`AllPairs` for which the parallel loop is used
+        (default :data:`PARALLEL_MIN_BODIES`); smaller sets run the serial loop.
+
+    Notes
+    -----
+    The object is immutable after construction; kernels are compiled on first use and shared
+    between systems with the same potentials.
+    """
+
+    def __init__(self, bodies: Sequence[Body], interactions: Sequence[Interaction | AllPairs] = (),
+                 cutoff: float | None = None, scales: Scales | None = None,
+                 fast_path: bool = True, smooth_cutoff: float | None = None,
+                 parallel: bool = True,
+                 parallel_min_bodies: int | None = None) -> None:
+        bodies = tuple(bodies)
+        if not bodies:
+            raise InputError("NBodySystem needs at least one body")
+        for b in bodies:
+            if not isinstance(b, Body):
+                raise InputError(f"bodies must be Body objects, got {type(b).__name__}")
+        names = [b.name for b in bodies]
+        if len(set(names)) != len(names):
+            raise InputError(f"body names must be unique, got {names}")
+        if cutoff is not None and not (math.isfinite(float(cutoff)) and float(cutoff) > 0):
+            raise InputError(f"cutoff must be positive and finite, got {cutoff!r}")
+        self.bodies = bodies
+        self.interactions = tuple(interactions)
+        self.cutoff = None if cutoff is None else float(cutoff)
+        if smooth_cutoff is not None:
+            if self.cutoff is None:
+                raise InputError("smooth_cutoff needs a cutoff")
+            rs = float(smooth_cutoff)
+            if not (math.isfinite(rs) and 0 < rs < self.cutoff):
+                raise InputError(f"smooth_cutoff must be in (0, cutoff = {self.cutoff}), got "
+                                 f"{smooth_cutoff!r}")
+        self.smooth_cutoff = None if smooth_cutoff is None else float(smooth_cutoff)
+        if not isinstance(parallel, (bool, np.bool_)):
+            raise InputError(f"parallel must be True or False, got {parallel!r}")
+        self.parallel = bool(parallel)
+        self.parallel_min_bodies = _count_option(
+            PARALLEL_MIN_BODIES if parallel_min_bodies is None else parallel_min_bodies,
+            "parallel_min_bodies", 0)
+        self.scales = scales
+        index = {b.name: k for k, b in enumerate(bodies)}
+
+        def idx(v: int | str) -> int:
+            if isinstance(v, str):
+                if v not in index:
+                    from poissonkit.errors import UnknownNameError
+
+                    raise UnknownNameError("body", v, index)
+                return index[v]
+            k = int(v)
+            if not 0 <= k < len(bodies):
+                raise InputError(f"body index {v} out of range 0..{len(bodies) - 1}")
+            return k
+
+        L = scales.length if scales else 1.0
+        M = scales.mass if scales else 1.0
+        E = scales.energy if scales else 1.0
+        moving = [k for k, b in enumerate(bodies) if not b.fixed]
+        tops = [k for k in moving if bodies[k].is_top]
+        self._moving = tuple(moving)
+        self._tops = tuple(tops)
+        bslot = np.full(len(bodies), -1, dtype=np.int64)
+        tslot = np.full(len(bodies), -1, dtype=np.int64)
+        bslot[moving] = np.arange(len(moving))
+        tslot[tops] = np.arange(len(tops))
+        mass = np.array([bodies[k].mass / M for k in moving], dtype=float)
+        alpha = np.array([bodies[k].alpha * M * L * L for k in tops], dtype=float)
+        fpos = np.zeros((len(bodies), 3))
+        fnu = np.zeros((len(bodies), 3))
+        for k, b in enumerate(bodies):
+            if b.fixed:
+                fpos[k] = np.asarray(b.position, dtype=float) / L
+                if b.is_top:
+                    ax = np.asarray(b.axis, dtype=float)
+                    n = np.linalg.norm(ax)
+                    if not n > 0:
+                        raise InputError(f"fixed top {b.name!r} has a zero axis")
+                    fnu[k] = ax / n
+
+        # kernels: one per distinct (potential, params, bound slots), in internal units;
+        # parameters bound to body attributes are read per pair from the table B (SI values)
+        kern_ids: dict[tuple, int] = {}
+        kerns: list[Dispatcher] = []
+        rkerns: list[Dispatcher | None] = []
+        attr_cols: dict[str, int] = {}
+        inv_e = 1.0 / E
+
+        def kernel_id(pot: PotentialLike, params: Mapping[str, object], i: int | None, j: int | None
+                      ) -> tuple[int, str]:
+            kern, slots, orient = _resolve_bound(pot, params)
+            needs_i = orient in ("both", "first")
+            needs_j = orient in ("both", "second")
+            for k, need in ((i, needs_i), (j, needs_j)):
+                if k is not None and need and not bodies[k].is_top:
+                    raise InputError(f"potential {_label(pot)!s} depends on the "
+                                     f"axis of body {bodies[k].name!r}, which is a point mass")
+            spec = tuple((attr_cols.setdefault(a, len(attr_cols)), w) for a, w in slots)
+            key = (id(kern), spec)
+            if key not in kern_ids:
+                kern_ids[key] = len(kerns)
+                lu, eu = (L, inv_e) if scales else (1.0, 1.0)
+                kerns.append(_wrapped(kern, spec, lu, eu))
+                rkerns.append(_wrapped_radial(kern, spec, lu, eu) if orient == "none" else None)
+            return kern_ids[key], orient
+
+        pairs: list[tuple[int, int, int]] = []
+        rpairs: list[tuple[int, int, int]] = []
+        gravity_g: list[float] = []
+        cmembers: list[int] = []
+        coffs = [0]
+        cgid: list[int] = []
+        ccentral: list[int] = []
+        for it in self.interactions:
+            if isinstance(it, Interaction):
+                i, j = idx(it.i), idx(it.j)
+                if i == j:
+                    raise InputError(f"interaction of body {bodies[i].name!r} with itself")
+                if bodies[i].fixed and bodies[j].fixed:
+                    continue  # constant energy, no force on any degree of freedom
+                gid, orient = kernel_id(it.potential, it.params, i, j)
+                (rpairs if orient == "none" and fast_path else pairs).append((i, j, gid))
+            elif isinstance(it, AllPairs):
+                mem = list(range(len(bodies))) if it.members is None else [idx(v) for v in it.members]
+                if len(set(mem)) != len(mem):
+                    raise InputError("AllPairs members repeat a body")
+                point = [bodies[k].name for k in mem if not bodies[k].is_top]
+                gid, orient = kernel_id(it.potential, it.params, None, None)
+                if point and orient != "none":
+                    raise InputError(f"potential depends on axes but AllPairs includes point "
+                                     f"masses {point}")
+                entry = _registry_entry(it.potential)
+                if (entry is not None and entry.name == "gravity"
+                        and sorted(mem) == list(range(len(bodies)))
+                        and not {"mass1", "mass2"} & set(it.params)):
+                    gravity_g.append(float(entry.resolve_params(
+                        {k: v for k, v in it.params.items()} | {"mass1": 1.0, "mass2": 1.0}
+                    )["G"]))
+                cmembers.extend(mem)
+                coffs.append(len(cmembers))
+                cgid.append(gid)
+                ccentral.append(1 if orient == "none" and fast_path else 0)
+            else:
+                raise InputError(f"interactions must be Interaction or AllPairs, got "
+                                 f"{type(it).__name__}")
+        table = np.zeros((len(bodies), max(1, len(attr_cols))))
+        for a, c in attr_cols.items():
+            for k, b in enumerate(bodies):
+                table[k, c] = b.attribute(a)
+        self._kerns = tuple(kerns)
+        self._rkerns = tuple(rkerns)
+        # G in internal units (L³ / (M T²)) of a gravity interaction among all bodies, if any
+        T = scales.time if scales else 1.0
+        self._gravity = (gravity_g[0] * M * T * T / L ** 3 if len(gravity_g) == 1 else None)
+        self._attributes = tuple(attr_cols)
+        self._energy_shift = 0.0
+        cut = np.inf if self.cutoff is None else self.cutoff / L
+        rs_int = np.inf if self.smooth_cutoff is None else self.smooth_cutoff / L
+        self.data = (mass, alpha, bslot, tslot, fpos, fnu,
+                     np.array(pairs, dtype=np.int64).reshape(-1, 3),
+                     np.array(cmembers, dtype=np.int64), np.array(coffs, dtype=np.int64),
+                     np.array(cgid, dtype=np.int64), float(cut), table,
+                     np.array(rpairs, dtype=np.int64).reshape(-1, 3),
+                     np.array(ccentral, dtype=np.int64),
+                     any(b.is_top for b in bodies), float(rs_int),
+                     int(self.parallel_min_bodies))
+        # compile the parallel loop only for a system that may use it
+        self._parallel = (self.cutoff is not None and self.parallel
+                          and any(coffs[g + 1] - coffs[g] >= max(2, self.parallel_min_bodies)
+                                  for g in range(len(cgid))))
+        self._kernels: Kernels | None = None
+
+    # ------------------------------------------------------------------ structure
+    def gravity_constant(self) -> float:
+        """``G`` in internal units, from the one ``AllPairs("gravity")`` over all bodies.
+
+        Raises
+        ------
+        InputError
+            If there is no such interaction (or more than one), e.g. for Wisdom–Holman.
+        """
+        if self._gravity is None:
+            raise InputError("the system needs exactly one AllPairs('gravity', ...) over all "
+                             "bodies (the Kepler part of a Wisdom–Holman splitting)")
+        return self._gravity
+
+    @property
+    def n_moving(self) -> int:
+        """Number of moving bodies (with ``r, p`` in the state)."""
+        return len(self._moving)
+
+    @property
+    def n_tops(self) -> int:
+        """Number of moving tops (with ``ν, m`` in the state)."""
+        return len(self._tops)
+
+    @property
+    def dim(self) -> int:
+        """Length of the state vector."""
+        return 6 * (self.n_moving + self.n_tops)
+
+    @property
+    def layout(self) -> tuple[str, ...]:
+        """Names of the state slots, e.g. ``('a.r_x', …, 'a.p_z', …, 'a.nu_x', …, 'a.m_z')``."""
+        out: list[str] = []
+        for k in self._moving:
+            n = self.bodies[k].name
+            out += [f"{n}.{v}_{a}" for v in ("r", "p") for a in "xyz"]
+        for k in self._tops:
+            n = self.bodies[k].name
+            out += [f"{n}.{v}_{a}" for v in ("nu", "m") for a in "xyz"]
+        return tuple(out)
+
+    @property
+    def kernels(self) -> Kernels:
+        """The compiled kernels (compiled on first access)."""
+        if self._kernels is None:
+            self._kernels = _build_kernels(*_dispatcher(self._kerns, self._rkerns),
+                                           parallel=self._parallel)
+        return self._kernels
+
+    def work(self) -> tuple[np.ndarray, ...]:
+        """Fresh scratch arrays ``(pos, nu, F, T)`` for the kernels."""
+        n = len(self.bodies)
+        return (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
+
+    def _state(self, y: npt.ArrayLike) -> np.ndarray:
+        y = np.asarray(y, dtype=float)
+        if y.ndim != 1 or y.shape[0] != self.dim:
+            raise DimensionError(f"state has shape {y.shape}, expected ({self.dim},)")
+        return np.ascontiguousarray(y)
+
+    # ------------------------------------------------------------------ evaluation
+    def rhs(self, t: float, y: npt.ArrayLike) -> np.ndarray:
+        """``ẏ`` at state ``y`` (time ``t`` is ignored: the system is autonomous).
+
+        Raises :class:`OverlapError` if two interacting bodies coincide.
+        """
+        return evaluate_rhs(self, y)
+
+    def forces(self, y: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray, float]:
+        """Forces and torques on every body ``(F (n,3), T (n,3), U)`` (internal units)."""
+        y = self._state(y)
+        work = self.work()
+        u = self.kernels.forces(y, self.data, work)
+        return work[2], work[3], float(u)
+
+    def energy(self, y: npt.ArrayLike) -> float | np.ndarray:
+        """Total energy ``H(y)``; a 2-D array of states gives one value per row.
+
+        Raises :class:`OverlapError` if two interacting bodies coincide.
+        """
+        return evaluate_energy(self, y)
+
+    def _split(self, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        nm = self.n_moving
+        rp = y[..., :6 * nm].reshape(y.shape[:-1] + (nm, 2, 3))
+        nm_ = y[..., 6 * nm:].reshape(y.shape[:-1] + (self.n_tops, 2, 3))
+        return rp[..., 0, :], rp[..., 1, :], nm_[..., 0, :], nm_[..., 1, :]
+
+    def casimirs(self, y: npt.ArrayLike) -> np.ndarray:
+        """Per top ``|ν|²`` and ``(ν, m)``, flattened ``[|ν_1|², (ν_1,m_1), …]`` (rows if 2-D)."""
+        y = np.asarray(y, dtype=float)
+        _, _, nu, m = self._split(y)
+        out = np.stack([np.sum(nu * nu, axis=-1), np.sum(nu * m, axis=-1)], axis=-1)
+        return out.reshape(y.shape[:-1] + (2 * self.n_tops,))
+
+    def casimir_scales(self, y: npt.ArrayLike) -> np.ndarray:
+        """Natural size of each Casimir at ``y`` (1 for ``|ν|²``, ``|m|`` for ``(ν, m)``)."""
+        y = np.asarray(y, dtype=float)
+        m = self._split(y)[3]
+        s = np.stack([np.ones(m.shape[:-1]), np.linalg.norm(m, axis=-1)], axis=-1)
+        return s.reshape(y.shape[:-1] + (2 * self.n_tops,))
+
+    def linear_momentum(self, y: npt.ArrayLike) -> np.ndarray:
+        """Total ``Σ p`` of the moving bodies (conserved without fixed bodies)."""
+        _, p, _, _ = self._split(np.asarray(y, dtype=float))
+        return p.sum(axis=-2)
+
+    def angular_momentum(self, y: npt.ArrayLike) -> np.ndarray:
+        """Total ``Σ r × p + Σ m`` about the origin (seed 000 eq. 21)."""
+        r, p, _, m = self._split(np.asarray(y, dtype=float))
+        return np.cross(r, p).sum(axis=-2) + m.sum(axis=-2)
+
+    def min_distance(self, y: npt.ArrayLike) -> float:
+        """Smallest distance between two bodies (internal units)."""
+        return float(self.kernels.min_distance(self._state(y), self.data, self.work()))
+
+    # ------------------------------------------------------------------ packing
+    def pack(self, positions: npt.ArrayLike, momenta: npt.ArrayLike,
+             axes: npt.ArrayLike | None = None, angular_momenta: npt.ArrayLike | None = None,
+             *, si: bool = False, normalize: bool = False) -> np.ndarray:
+        """Build a state vector.
+
+        Parameters
+        ----------
+        positions, momenta
+            ``(n, 3)`` arrays for all bodies (rows of fixed bodies are ignored) or for the moving
+            bodies only.
+        axes, angular_momenta
+            ``(n, 3)`` for all bodies (rows of point masses / fixed bodies ignored) or for the
+            moving tops only. Required if there are tops.
+        si
+            Inputs are SI and are converted with the system's scales.
+        normalize
+            Normalise the axes; otherwise an axis with ``| |ν| − 1 | > 1e-12`` raises
+            :class:`NonUnitAxisError`.
+        """
+        s = self.scales if si else None
+        fL = s.unit("length") if s else 1.0
+        fP = s.unit("momentum") if s else 1.0
+        fA = s.unit("angular_momentum") if s else 1.0
+
+        def rows(a: npt.ArrayLike, wanted: tuple[int, ...], what: str) -> np.ndarray:
+            a = np.asarray(a, dtype=float)
+            if a.ndim == 1 and a.size == 3 and len(wanted) == 1:
+                a = a[None, :]
+            if a.ndim != 2 or a.shape[1] != 3:
+                raise DimensionError(f"{what} must have shape (n, 3), got {a.shape}")
+            if a.shape[0] == len(self.bodies):
+                a = a[list(wanted)]
+            elif a.shape[0] != len(wanted):
+                raise DimensionError(f"{what}: {a.shape[0]} rows, expected {len(self.bodies)} "
+                                     f"(all bodies) or {len(wanted)}")
+            if not np.all(np.isfinite(a)):
+                raise InputError(f"{what} contain non-finite values")
+            return a
+
+        r = rows(positions, self._moving, "positions") / fL
+        p = rows(momenta, self._moving, "momenta") / fP
+        self._check_positions(r)
+        parts = [np.concatenate([r, p], axis=1).ravel()]
+        if self.n_tops:
+            if axes is None or angular_momenta is None:
+                raise InputError("the system has tops: give axes and angular_momenta")
+            nu = rows(axes, self._tops, "axes")
+            m = rows(angular_momenta, self._tops, "angular momenta") / fA
+            norms = np.linalg.norm(nu, axis=1)
+            if normalize:
+                if np.any(norms == 0):
+                    raise NonUnitAxisError("cannot normalise a zero axis")
+                nu = nu / norms[:, None]
+            elif np.any(np.abs(norms - 1.0) > 1e-12):
+                bad = [self.bodies[self._tops[k]].name for k in np.nonzero(np.abs(norms - 1) > 1e-12)[0]]
+                bad_norms = ", ".join(f"{v:.3g} (off by {v - 1:.1e})"
+                                      for v in norms[np.abs(norms - 1) > 1e-12])
+                raise NonUnitAxisError(f"axes of {bad} are not unit vectors (|ν| = "
+                                       f"{bad_norms}); pass normalize=True")
+            parts.append(np.concatenate([nu, m], axis=1).ravel())
+        return np.concatenate(parts)
+
+    def unpack(self, y: npt.ArrayLike, *, si: bool = False) -> dict[str, np.ndarray]:
+        """Split a state (or rows of states) into ``r, p`` (moving bodies) and ``nu, m`` (tops)."""
+        r, p, nu, m = self._split(np.asarray(y, dtype=float))
+        s = self.scales if si else None
+        if s:
+            r, p, m = r * s.unit("length"), p * s.unit("momentum"), m * s.unit("angular_momentum")
+        return {"r": r, "p": p, "nu": nu, "m": m}
+
+    def _check_positions(self, r: np.ndarray) -> None:
+        """:class:`OverlapError` if two bodies (moving rows ``r``, internal units) coincide."""
+        pos = self.data[4].copy()
+        pos[list(self._moving)] = r
+        fixed = np.array([b.fixed for b in self.bodies], dtype=bool)
+        hit = coincident_pair(pos, fixed)
+        if hit is not None:
+            a, b = (self.bodies[k].name for k in hit)
+            raise OverlapError(f"bodies {a!r} and {b!r} are at the same position "
+                               f"{pos[hit[0]].tolist()} (internal units); every pair force is "
+                               "singular there")
+
+    def check_overlap(self, y: npt.ArrayLike) -> None:
+        """Raise :class:`OverlapError` if two bodies of state ``y`` sit at the same place."""
+        y = self._state(y)
+        self._check_positions(self._split(y)[0])
+
+    def check_state(self, y: npt.ArrayLike, tol: float = 1e-10) -> None:
+        """Raise :class:`NonUnitAxisError` if some axis of ``y`` is not a unit vector and
+        :class:`OverlapError` if two bodies coincide."""
+        self.check_overlap(y)
+        c = self.casimirs(self._state(y))[0::2]
+        bad = np.nonzero(np.abs(c - 1.0) > tol)[0]
+        if bad.size:
+            names = [self.bodies[self._tops[k]].name for k in bad]
+            shown = ", ".join(f"{v:.3g} (off by {v - 1:.1e})" for v in c[bad])
+            raise NonUnitAxisError(f"axes of {names} are not unit vectors (|ν|² = {shown}); "
+                                   "normalise them (pack(..., normalize=True))")
+
+    # ------------------------------------------------------------------ symbolic
+    def to_structure(self) -> Bivector:
+        """The symbolic Poisson structure: ``canonical(3)`` per moving body ⊕ ``e3()`` per top.
+
+        Coordinates are named ``<body>.q_x … <body>.p_z`` and ``<body>_top.nu_x … .m_z``,
+        in exactly the state order.
+        """
+        from poissonkit.structure import canonical, direct_sum, e3
+
+        parts = [(self.bodies[k].name, canonical(3)) for k in self._moving]
+        parts += [(f"{self.bodies[k].name}_top", e3()) for k in self._tops]
+        return direct_sum(*parts)
+
+    def __repr__(self) -> str:
+        return (f"NBodySystem({len(self.bodies)} bodies, {self.n_moving} moving, {self.n_tops} "
+                f"tops, {len(self.interactions)} interaction entries, cutoff={self.cutoff})")
