@@ -12,16 +12,10 @@ import numpy as np
 from poissonkit.contracts import CompiledFunction, CompiledKernels
 from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
 from poissonkit.numerics.events import EventRecord
-from poissonkit.plugin.contributions import Capabilities
 
 # status codes returned by the compiled loops
 # GRAZE: the smallest distance has a local minimum between step ends worth a closer look
 RUNNING, NONFINITE, COLLISION, ESCAPE, BUFFER_FULL, DONE, NO_CONVERGENCE, GRAZE = range(8)
-
-#: What every compiled loop on the shared driver (:mod:`~poissonkit.numerics.integrators.driver`)
-#: can do: checkpoint/resume, stream, stop, located events; it needs compiled kernels.
-CAPABILITIES_COMPILED = Capabilities(checkpoint=True, stream=True, stop=True, events=True,
-                                     located_events=True, needs_kernels=True)
 
 #: ``one_step(y, t, steps_done) -> (status, t_new)``: one step of a loop, in place (replays).
 StepFn = Callable[[np.ndarray, float, int], tuple[int, float]]

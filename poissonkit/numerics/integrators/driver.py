@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from poissonkit.contracts import Event, System
 from poissonkit.errors import IntegrationError, NonFiniteStateError
 from poissonkit.numerics.checkpoint import (
     Checkpoint,
@@ -103,13 +104,17 @@ class LoopState:
         return self.y - self.comp if self.comp.size else self.y.copy()
 
 
+#: Plain-data description of a run (JSON values), checked when resuming.
+Problem = Mapping[str, str | int | float | bool]
+
 ChunkFn = Callable[[LoopState, int, SaveBuffer], tuple[int, float, int, int, int, float]]
 
 
-def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, events,
-          progress: bool, save_every: int, control: Control | None, chunk: ChunkFn,
-          advance: Callable[[np.ndarray, float], np.ndarray], done: Callable[[LoopState], bool],
-          failure: Callable[[int, LoopState], Exception | None], problem: dict[str, Any],
+def drive(name: str, system: System, y0: np.ndarray, t0: float, t_end: float, *,
+          events: Sequence[Event], progress: bool, save_every: int, control: Control | None,
+          chunk: ChunkFn, advance: Callable[[np.ndarray, float], np.ndarray],
+          done: Callable[[LoopState], bool],
+          failure: Callable[[int, LoopState], Exception | None], problem: Problem,
           buffer_rows: int, compensated: bool = False,
           carry: Mapping[str, np.ndarray] | None = None) -> RawResult:
     """Run ``chunk`` until ``done``; see the module docstring.
@@ -206,7 +211,7 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
     interrupted = False
 
     def save_checkpoint() -> None:
-        meta: dict[str, Any] = {"problem": problem, "nfev": st.nfev,
+        meta: dict[str, Any] = {"problem": dict(problem), "nfev": st.nfev,
                                 "records": [asdict(r) for r in st.records], "method": name,
                                 "every": ck.every}
         arrays = {"y": st.y, "prev": st.prev, "prev2": st.prev2, "hist": st.hist,
@@ -297,6 +302,6 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
                      extra=extra)
 
 
-def _all_clear(system: Any, events: Any, y: np.ndarray) -> bool:
+def _all_clear(system: System, events: Sequence[Event], y: np.ndarray) -> bool:
     """No terminal event function is negative at ``y``."""
     return all(ev.value(system, y) >= 0 for ev in events if ev.terminal)

@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import replace
 
 import numba
 import numpy as np
@@ -49,7 +48,6 @@ from poissonkit.contracts import (
 from poissonkit.errors import InputError
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
-    CAPABILITIES_COMPILED,
     RawResult,
     SaveBuffer,
     StepFn,
@@ -58,6 +56,7 @@ from poissonkit.numerics.integrators.base import (
     state_digest,
     step_end_kernels,
 )
+from poissonkit.numerics.integrators.capabilities import WISDOM_HOLMAN
 from poissonkit.numerics.integrators.driver import Control, LoopState, drive
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import all_finite, copy_row
@@ -425,7 +424,7 @@ class WisdomHolman:
     """
 
     family = "hierarchical"
-    capabilities = replace(CAPABILITIES_COMPILED, point_masses_only=True)
+    capabilities = WISDOM_HOLMAN
 
     def __init__(self, stages: int = 1, corrector: bool = False) -> None:
         self.c, self.d = saba_coefficients(int(stages))
