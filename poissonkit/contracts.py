@@ -10,7 +10,7 @@ what an integrator *can* do (checkpoint, stream, events, ...) is declared on its
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Protocol, Union, runtime_checkable
+from typing import TYPE_CHECKING, Any, Protocol, Union, runtime_checkable
 
 import numpy as np
 
@@ -21,8 +21,9 @@ if TYPE_CHECKING:  # only for annotations: the numerics import this module
 
 # --------------------------------------------------------------------------- numerics systems
 #: A compiled (numba) function; its signature is fixed by the slot it fills in
-#: :class:`CompiledKernels` (see :mod:`poissonkit.numerics.kernels`).
-CompiledFunction = Callable[..., object]
+#: :class:`CompiledKernels` (see :mod:`poissonkit.numerics.kernels`). numba dispatchers are
+#: dynamically typed, so their results are ``Any`` to a static checker.
+CompiledFunction = Callable[..., Any]
 
 #: The plain data every compiled kernel receives (floats and numpy arrays, in a system's order).
 KernelData = tuple[object, ...]
@@ -227,7 +228,7 @@ class Event(Protocol):
     @property
     def error(self) -> bool: ...
 
-    def value(self, system: System, y: np.ndarray) -> float: ...
+    def value(self, system: HasCompiledKernels, y: np.ndarray) -> float: ...
 
 
 @runtime_checkable

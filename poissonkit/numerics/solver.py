@@ -229,7 +229,7 @@ def _control(checkpoint: Checkpoint | None, resume: bool,
     if stream is not None and not isinstance(stream, TrajectoryStream):
         if not isinstance(stream, (str, bytes, os.PathLike)):
             raise InputError(f"stream must be a folder or a TrajectoryStream, got {stream!r}")
-        stream = TrajectoryStream(stream)
+        stream = TrajectoryStream(os.fsdecode(stream))
     if stop is not None and not callable(stop):
         raise InputError(f"stop must be a callable returning a bool, got {stop!r}")
     return Control(checkpoint=checkpoint, resume=bool(resume), stream=stream, stop=stop)
@@ -255,7 +255,9 @@ def refuse_beyond(caps: Capabilities, name: str, system: System, events: Sequenc
             system.n_tops or system.n_moving != len(system.bodies)):
         raise CapabilityError(name, "point_masses_only", "the system has tops or fixed "
                               "bodies; this method needs moving point masses only")
-    if caps.needs_kernels and not isinstance(system, HasCompiledKernels):
+    if not (caps.needs_kernels or caps.needs_splitting):
+        return
+    if not isinstance(system, HasCompiledKernels):
         raise CapabilityError(name, "needs_kernels", f"{type(system).__name__} has no compiled "
                               "kernels (kernels, data, work()); compile it with "
                               "compile_system or use a scipy method")

@@ -132,7 +132,8 @@ def progress_bar(enabled: bool, total: float, desc: str) -> ProgressBar | None:
     return tqdm(total=total, desc=desc, unit="t", leave=False)
 
 
-def locate_division(name: str, one_step: StepFn, y: np.ndarray, t: float, steps: int) -> IntegrationError:
+def locate_division(name: str, one_step: StepFn, y: np.ndarray, t: float,
+                    steps: int) -> IntegrationError:
     """Error for a ``ZeroDivisionError`` raised by a compiled kernel during a chunk of steps.
 
     The chunk is replayed one step at a time from its start state ``y`` (time ``t``, ``steps``

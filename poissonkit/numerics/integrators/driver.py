@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from poissonkit.contracts import Event, System
+from poissonkit.contracts import Event, HasCompiledKernels
 from poissonkit.errors import IntegrationError, NonFiniteStateError
 from poissonkit.numerics.checkpoint import (
     Checkpoint,
@@ -105,12 +105,12 @@ class LoopState:
 
 
 #: Plain-data description of a run (JSON values), checked when resuming.
-Problem = Mapping[str, str | int | float | bool]
+Problem = Mapping[str, object]
 
 ChunkFn = Callable[[LoopState, int, SaveBuffer], tuple[int, float, int, int, int, float]]
 
 
-def drive(name: str, system: System, y0: np.ndarray, t0: float, t_end: float, *,
+def drive(name: str, system: HasCompiledKernels, y0: np.ndarray, t0: float, t_end: float, *,
           events: Sequence[Event], progress: bool, save_every: int, control: Control | None,
           chunk: ChunkFn, advance: Callable[[np.ndarray, float], np.ndarray],
           done: Callable[[LoopState], bool],
@@ -302,6 +302,6 @@ def drive(name: str, system: System, y0: np.ndarray, t0: float, t_end: float, *,
                      extra=extra)
 
 
-def _all_clear(system: System, events: Sequence[Event], y: np.ndarray) -> bool:
+def _all_clear(system: HasCompiledKernels, events: Sequence[Event], y: np.ndarray) -> bool:
     """No terminal event function is negative at ``y``."""
     return all(ev.value(system, y) >= 0 for ev in events if ev.terminal)

@@ -96,6 +96,9 @@ class ScipyIVP:
             raise InputError(f"{self.name} needs a system with rhs(t, y) or compiled kernels; "
                              f"{type(system).__name__} has neither")
         events = check_events(events)
+        if events and not isinstance(system, HasCompiledKernels):
+            raise InputError(f"{self.name}: events need a system with compiled kernels "
+                             f"(distances, radii); {type(system).__name__} has none")
         ev_funcs = []
         for ev in events:
             if not ev.terminal:

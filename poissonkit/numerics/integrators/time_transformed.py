@@ -74,7 +74,6 @@ from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
     RawResult,
     SaveBuffer,
-    StepFn,
     check_step,
     locate_division,
     state_digest,

@@ -460,7 +460,6 @@ class WisdomHolman:
         m = np.ascontiguousarray(system.data[0], dtype=float)
         eta = np.cumsum(m)
         gm = G * eta
-        n = m.shape[0]
         xj, uj = _jacobi_of(y, m)
         tau = -CORRECTOR_G[self.stages] * h ** 3 / 2.0 if self.corrector else 0.0
         data, work = system.data, system.work()
