@@ -9,9 +9,253 @@ what an integrator *can* do (checkpoint, stream, events, ...) is declared on its
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, Any, Protocol, Union, runtime_checkable
+
+import numpy as np
+
+if TYPE_CHECKING:  # only for annotations: the numerics import this module
+    from poissonkit.numerics.integrators.base import RawResult
+    from poissonkit.numerics.integrators.driver import Control
+    from poissonkit.plugin.contributions import Capabilities
+
 # --------------------------------------------------------------------------- numerics systems
+#: A compiled (numba) function; its signature is fixed by the slot it fills in
+#: :class:`CompiledKernels` (see :mod:`poissonkit.numerics.kernels`). numba dispatchers are
+#: dynamically typed, so their results are ``Any`` to a static checker.
+CompiledFunction = Callable[..., Any]
+
+#: The plain data every compiled kernel receives (floats and numpy arrays, in a system's order).
+KernelData = tuple[object, ...]
+
+
+@runtime_checkable
+class CompiledKernels(Protocol):
+    """The compiled functions of one system that the compiled time loops call.
+
+    :class:`poissonkit.numerics.kernels.Kernels` is the built-in implementation; the signatures
+    are listed in :mod:`poissonkit.numerics.kernels`. Optional kernels are ``None`` when absent:
+    ``jac`` (Jacobian, for Newton iterations), ``forces`` (forces into the work arrays, returning
+    the potential energy: Wisdom–Holman, the time-transformed splitting), and the compensated
+    ``drift_compensated``/``kick_compensated``. ``splittable`` says whether ``drift``/``kick``
+    are the exact kinetic and potential flows (else placeholders).
+    """
+
+    @property
+    def rhs(self) -> CompiledFunction: ...
+    @property
+    def drift(self) -> CompiledFunction: ...
+    @property
+    def kick(self) -> CompiledFunction: ...
+    @property
+    def energy(self) -> CompiledFunction: ...
+    @property
+    def min_distance(self) -> CompiledFunction: ...
+    @property
+    def max_radius(self) -> CompiledFunction: ...
+    @property
+    def jac(self) -> CompiledFunction | None: ...
+    @property
+    def splittable(self) -> bool: ...
+    @property
+    def forces(self) -> CompiledFunction | None: ...
+    @property
+    def drift_compensated(self) -> CompiledFunction | None: ...
+    @property
+    def kick_compensated(self) -> CompiledFunction | None: ...
+
+
+@runtime_checkable
+class NumericsSystem(Protocol):
+    """The core of a numerics system: what :func:`~poissonkit.numerics.solve`, a
+    :class:`~poissonkit.numerics.Solution` and the scipy integrators need.
+
+    ``dim`` is the state length; ``rhs(t, y)`` the vector field ``ẏ = P(y)∇H(y)``;
+    ``energy(y)`` the Hamiltonian of one state or of rows of states. Everything else a system
+    may offer is one of the small capability protocols below, checked with ``isinstance``.
+    """
+
+    @property
+    def dim(self) -> int: ...
+
+    def rhs(self, t: float, y: np.ndarray) -> np.ndarray: ...
+
+    def energy(self, y: np.ndarray) -> float | np.ndarray: ...
+
+
+@runtime_checkable
+class HasCompiledKernels(Protocol):
+    """Compiled kernels, their data and scratch arrays: the compiled time loops need these.
+
+    (Under Python 3.11, ``isinstance`` evaluates the ``kernels`` property, which may compile:
+    check it where the kernels are about to be used anyway.)
+    """
+
+    @property
+    def kernels(self) -> CompiledKernels: ...
+
+    @property
+    def data(self) -> KernelData: ...
+
+    def work(self) -> tuple[np.ndarray, ...]: ...
+
+
+@runtime_checkable
+class HasLayout(Protocol):
+    """Names of the state's components, in order (``top1.nu_x``...)."""
+
+    @property
+    def layout(self) -> tuple[str, ...]: ...
+
+
+@runtime_checkable
+class HasStateCheck(Protocol):
+    """``check_state(y)``: raise a typed error for a state the system cannot integrate
+    (non-unit axis, coincident bodies)."""
+
+    def check_state(self, y: np.ndarray, tol: float = ...) -> None: ...
+
+
+@runtime_checkable
+class HasOverlapCheck(Protocol):
+    """``check_overlap(y)``: raise :class:`~poissonkit.numerics.nbody.OverlapError` if two
+    bodies coincide (singular forces whatever the method)."""
+
+    def check_overlap(self, y: np.ndarray) -> None: ...
+
+
+@runtime_checkable
+class HasCasimirs(Protocol):
+    """Casimir functions of the bracket, one column per Casimir (``casimirs(rows)``)."""
+
+    def casimirs(self, y: np.ndarray) -> np.ndarray: ...
+
+
+@runtime_checkable
+class HasCasimirScales(Protocol):
+    """Natural scale of each Casimir at a state, to make drifts relative."""
+
+    def casimir_scales(self, y: np.ndarray) -> np.ndarray: ...
+
+
+@runtime_checkable
+class HasIntegrals(Protocol):
+    """Further first integrals declared by the system (columns, like :class:`HasCasimirs`)."""
+
+    def integrals(self, y: np.ndarray) -> np.ndarray: ...
+
+
+@runtime_checkable
+class HasMomenta(Protocol):
+    """Total linear and angular momentum (3 components per state)."""
+
+    def linear_momentum(self, y: np.ndarray) -> np.ndarray: ...
+
+    def angular_momentum(self, y: np.ndarray) -> np.ndarray: ...
+
+
+@runtime_checkable
+class HasJacobian(Protocol):
+    """``jacobian(t, y)``: the matrix ``∂ẏ/∂y`` (implicit scipy methods use it)."""
+
+    def jacobian(self, t: float, y: np.ndarray) -> np.ndarray: ...
+
+
+@runtime_checkable
+class HasUnpack(Protocol):
+    """``unpack(y)``: the state's named blocks (``r``, ``p``, ``nu1``...), optionally in SI."""
+
+    def unpack(self, y: np.ndarray, *, si: bool = False) -> dict[str, np.ndarray]: ...
+
+
+@runtime_checkable
+class HasScales(Protocol):
+    """Internal units (:class:`~poissonkit.numerics.units.Units`), or ``None`` if SI."""
+
+    @property
+    def scales(self) -> object | None: ...
+
+
+class Body(Protocol):
+    """What the numerics read of one body of a system with bodies."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def fixed(self) -> bool: ...
+
+
+@runtime_checkable
+class HasBodies(Protocol):
+    """Named bodies in the state: the N-body form (``bodies``, ``n_moving`` bodies that move,
+    ``n_tops`` of them oriented); the two-body centre-of-mass form has none."""
+
+    @property
+    def bodies(self) -> Sequence[Body]: ...
+
+    @property
+    def n_moving(self) -> int: ...
+
+    @property
+    def n_tops(self) -> int: ...
+
+
+@runtime_checkable
+class HasGravity(Protocol):
+    """``gravity_constant()``: Newton's constant of the system's all-pairs gravity (internal
+    units); raises a typed error when the system has none (hierarchical integrators)."""
+
+    def gravity_constant(self) -> float: ...
+
+
+#: What :func:`~poissonkit.numerics.solve` accepts: a full numerics system, or a bare set of
+#: compiled kernels (enough for the compiled time loops).
+System = Union[NumericsSystem, HasCompiledKernels]
 
 # --------------------------------------------------------------------------- integrators
+@runtime_checkable
+class Event(Protocol):
+    """An event of :mod:`poissonkit.numerics.events`: a continuous function ``value(system, y)``
+    positive while nothing happens; ``terminal`` ones stop the run (or raise, with ``error``)."""
+
+    @property
+    def kind(self) -> str: ...
+
+    @property
+    def terminal(self) -> bool: ...
+
+    @property
+    def error(self) -> bool: ...
+
+    def value(self, system: HasCompiledKernels, y: np.ndarray) -> float: ...
+
+
+@runtime_checkable
+class Integrator(Protocol):
+    """A time integrator, as :func:`~poissonkit.numerics.solve` calls it.
+
+    ``capabilities`` declares what it can do
+    (:class:`~poissonkit.plugin.contributions.Capabilities`); ``solve`` refuses a run that asks
+    for more, before any work, with :class:`~poissonkit.errors.CapabilityError`. ``control``
+    (checkpoint, resume, stream, stop: :class:`~poissonkit.numerics.integrators.driver.Control`)
+    is passed only when the capabilities say the integrator honours it; otherwise it is
+    ``None``. ``integrate`` returns a :class:`~poissonkit.numerics.integrators.base.RawResult`.
+    """
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def order(self) -> int: ...
+
+    @property
+    def capabilities(self) -> Capabilities: ...
+
+    def integrate(self, system: System, y0: np.ndarray, t_end: float, *, step: float | None,
+                  tol: float | None, events: Sequence[Event] = (), progress: bool = False,
+                  save_every: int = 1, t0: float = 0.0, control: Control | None = None
+                  ) -> RawResult: ...
 
 # --------------------------------------------------------------------------- model families
 

@@ -103,3 +103,25 @@ class EscapeError(EventTerminated):
 
 class MissingDependencyError(PoissonkitError, ImportError):
     """An optional dependency is needed for this feature; the message gives the install hint."""
+
+
+class CapabilityError(InputError):
+    """A run asks an integrator for something it cannot do (checkpoints from an adaptive scipy
+    method, located events from a method without them, a system it cannot integrate).
+
+    Attributes
+    ----------
+    method
+        The integrator's name.
+    capability
+        The capability it lacks (a field of
+        :class:`~poissonkit.plugin.contributions.Capabilities`).
+    """
+
+    def __init__(self, method: str, capability: str, detail: str = "") -> None:
+        self.method = method
+        self.capability = capability
+        msg = f"{method} cannot do {capability!r}"
+        if detail:
+            msg += f": {detail}"
+        super().__init__(msg)

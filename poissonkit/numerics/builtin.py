@@ -2,8 +2,16 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
+from poissonkit.contracts import Integrator
+from poissonkit.numerics.integrators import capabilities as caps
 from poissonkit.plugin.contributions import IntegratorEntry, Param
 from poissonkit.plugin.hookspecs import hookimpl
+
+#: A registry parameter's value (see :class:`~poissonkit.plugin.contributions.Param`).
+Option = float | int | str | bool
+Factory = Callable[..., Integrator]
 
 _SPLIT_PARAMS = (
     Param("adaptive", "bool", "time-symmetrised distance-based step for close encounters", False),
@@ -25,8 +33,8 @@ _SPLIT_DOCS = {
 }
 
 
-def _splitting(order: int, scheme: str | None = None):
-    def factory(**params):
+def _splitting(order: int, scheme: str | None = None) -> Factory:
+    def factory(**params: Option) -> Integrator:
         from poissonkit.numerics.integrators.splitting import Splitting
 
         return Splitting(order=order, scheme=scheme, **params)
@@ -45,8 +53,8 @@ _RKN_DOCS = {
 }
 
 
-def _logh(order: int):
-    def factory(**params):
+def _logh(order: int) -> Factory:
+    def factory(**params: Option) -> Integrator:
         from poissonkit.numerics.integrators.time_transformed import TimeTransformedSplitting
 
         return TimeTransformedSplitting(order=order, **params)
@@ -68,23 +76,23 @@ _LOGH_DOCS = {
 }
 
 
-def _scipy(method: str):
-    def factory(**params):
+def _scipy(method: str) -> Factory:
+    def factory(**params: Option) -> Integrator:
         from poissonkit.numerics.integrators.scipy_ivp import ScipyIVP
 
         return ScipyIVP(method=method, **params)
     return factory
 
 
-def _wisdom_holman(corrector: bool):
-    def factory(**params):
+def _wisdom_holman(corrector: bool) -> Factory:
+    def factory(**params: Option) -> Integrator:
         from poissonkit.numerics.integrators.wisdom_holman import WisdomHolman
 
         return WisdomHolman(corrector=corrector, **params)
     return factory
 
 
-def _midpoint(**params):
+def _midpoint(**params: Option) -> Integrator:
     from poissonkit.numerics.integrators.midpoint import ImplicitMidpoint
 
     return ImplicitMidpoint(**params)
@@ -104,14 +112,16 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
             name=f"splitting{p}",
             doc=_SPLIT_DOCS[p] + " Compiled time loop; fixed step (give step=); preserves |ν|, "
             "(ν, m), total linear and angular momentum to round-off; symplectic on each leaf.",
-            params=_SPLIT_PARAMS, factory=_splitting(p), order=p, family="splitting")
+            params=_SPLIT_PARAMS, factory=_splitting(p), order=p, family="splitting",
+            capabilities=caps.SPLITTING)
         for p in (2, 4, 6, 8)
     ]
     out += [
         IntegratorEntry(
             name=name, doc=doc + " Exact sub-flows as splitting2–8, so the same invariants hold "
             "to round-off; its order uses {V,{V,{V,T}}} = 0, true for every splittable system.",
-            params=_SPLIT_PARAMS, factory=_splitting(p, name), order=p, family="splitting")
+            params=_SPLIT_PARAMS, factory=_splitting(p, name), order=p, family="splitting",
+            capabilities=caps.SPLITTING)
         for name, (p, doc) in _RKN_DOCS.items()
     ]
     out.extend(
@@ -123,22 +133,26 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
             "(close encounters); step = fictitious-time step (= physical step at the start). "
             "Preserves |ν|, (ν, m), total linear and angular momentum to round-off; symplectic "
             "in extended phase space, energy error bounded. TwoBodySystem and NBodySystem.",
-            params=_LOGH_PARAMS, factory=_logh(p), order=p, family="time_transformed")
+            params=_LOGH_PARAMS, factory=_logh(p), order=p, family="time_transformed",
+            capabilities=caps.TIME_TRANSFORMED)
         for p in (2, 4, 6, 8))
     wh_doc = ("Wisdom–Holman splitting in Jacobi coordinates (exact Kepler drifts, interaction "
               "kicks; SABA_n of Laskar & Robutel 2001) for point masses around one dominant "
               "body 0, with AllPairs('gravity'). Fixed step; symplectic; total momenta to "
-              "round-off; energy error O(eps h^2n + eps^2 h^2), eps = planet/star mass ratio.")
+              "round-off; energy error O(eps h^2n + eps^2 h^2), eps = planet/star mass ratio. "
+              "Compiled loop on the shared driver: located events, checkpoints, streaming.")
     out.append(IntegratorEntry(
         name="wisdom_holman", doc=wh_doc + " stages=1 is the classical WH map (as WHFast).",
         params=(Param("stages", "int", "kicks per step n = 1 ... 4 (SABA_n)", 1, positive=True),),
-        factory=_wisdom_holman(False), order=2, family="hierarchical"))
+        factory=_wisdom_holman(False), order=2, family="hierarchical",
+        capabilities=caps.WISDOM_HOLMAN))
     out.append(IntegratorEntry(
         name="wisdom_holman_corrected", doc=wh_doc + " With the SABAC_n corrector: error "
         "O(eps h^2n + eps^2 h^4), 3 extra force evaluations per step.",
         params=(Param("stages", "int", "kicks per step n = 2 ... 4 (SABAC_n)", 4,
                       positive=True),),
-        factory=_wisdom_holman(True), order=4, family="hierarchical"))
+        factory=_wisdom_holman(True), order=4, family="hierarchical",
+        capabilities=caps.WISDOM_HOLMAN))
     out.append(IntegratorEntry(
         name="midpoint",
         doc="Implicit midpoint rule (order 2, symmetric); preserves all quadratic invariants. "
@@ -147,7 +161,7 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
         params=(Param("tol", "float", "iteration tolerance (relative)", 1e-14, positive=True),
                 Param("max_iterations", "int", "iteration limit per step", 50, positive=True),
                 Param("newton", "bool", "use Newton's method when a Jacobian exists", True)),
-        factory=_midpoint, order=2, family="implicit"))
+        factory=_midpoint, order=2, family="implicit", capabilities=caps.MIDPOINT))
     for method, order, doc in (
             ("RK45", 5, "scipy solve_ivp RK45 (Dormand–Prince 5(4)), adaptive; baseline."),
             ("DOP853", 8, ("scipy solve_ivp DOP853 (Dormand–Prince 8(5,3)), adaptive; "
@@ -156,5 +170,6 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
             ("LSODA", 0, "scipy solve_ivp LSODA (Adams/BDF switching), variable order.")):
         out.append(IntegratorEntry(name=method.lower(), doc=doc + " Tolerance: tol (rtol; atol "
                                    "defaults to tol).", params=_SCIPY_PARAMS,
-                                   factory=_scipy(method), order=order, family="scipy"))
+                                   factory=_scipy(method), order=order, family="scipy",
+                                   capabilities=caps.SCIPY))
     return out

@@ -31,17 +31,21 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from poissonkit.contracts import HasCompiledKernels, System
 from poissonkit.errors import CollisionError, EscapeError, InputError
+
+if TYPE_CHECKING:
+    from poissonkit.scene.geometry import Shape
 
 #: Default bisection tolerance on the event time, relative to the step size.
 DEFAULT_RELATIVE_TIME_TOL = 1e-9
 
 
-def _positive(value: Any, what: str) -> float:
+def _positive(value: object, what: str) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -51,7 +55,7 @@ def _positive(value: Any, what: str) -> float:
     return v
 
 
-def _time_tol(value: Any, what: str) -> float | None:
+def _time_tol(value: object, what: str) -> float | None:
     return None if value is None else _positive(value, f"{what} time_tol")
 
 
@@ -84,7 +88,7 @@ class Collision:
         """Centre distance below which the compiled loop hands the step to the locator."""
         return self.distance
 
-    def value(self, system: Any, y: np.ndarray) -> float:
+    def value(self, system: HasCompiledKernels, y: np.ndarray) -> float:
         """``g(y)``: smallest centre distance minus ``distance``."""
         return centre_distance(system, y) - self.distance
 
@@ -137,7 +141,7 @@ class Contact:
         b = sorted((math.hypot(s.radius, s.half_length) for s in self.shapes), reverse=True)
         return b[0] + b[1]
 
-    def value(self, system: Any, y: np.ndarray) -> float:
+    def value(self, system: HasCompiledKernels, y: np.ndarray) -> float:
         """``g(y)``: positive while no two shapes touch, negative once they do.
 
         Its sign is exact; its value is the gap where cheap — a lower bound (bounding spheres,
@@ -193,7 +197,7 @@ class Escape:
         object.__setattr__(self, "radius", _positive(self.radius, "Escape radius"))
         object.__setattr__(self, "time_tol", _time_tol(self.time_tol, "Escape"))
 
-    def value(self, system: Any, y: np.ndarray) -> float:
+    def value(self, system: HasCompiledKernels, y: np.ndarray) -> float:
         """``g(y)``: ``radius`` minus the largest distance from the centre of mass."""
         return self.radius - float(system.kernels.max_radius(np.ascontiguousarray(y),
                                                              system.data))
@@ -219,7 +223,7 @@ class ClosestApproach:
         """Centre distance watched by the grazing test."""
         return self.distance
 
-    def value(self, system: Any, y: np.ndarray) -> float:
+    def value(self, system: HasCompiledKernels, y: np.ndarray) -> float:
         """Smallest centre distance minus ``distance`` (negative inside the watched zone)."""
         return centre_distance(system, y) - self.distance
 
@@ -256,21 +260,21 @@ class EventRecord:
     detail: dict[str, Any] = field(default_factory=dict)
 
 
-def check_events(events: Sequence[Any]) -> tuple[Any, ...]:
+def check_events(events: Sequence[object] | object | None) -> tuple[Event, ...]:
     """Validate an ``events`` sequence; :class:`InputError` for anything unknown."""
     if events is None:
         return ()
     if isinstance(events, (Collision, Contact, Escape, ClosestApproach)):
         events = (events,)
-    out = tuple(events)
+    out = tuple(events)  # type: ignore[arg-type]  # a non-iterable fails below as unknown
     for ev in out:
         if not isinstance(ev, (Collision, Contact, Escape, ClosestApproach)):
             raise InputError(f"events: unknown event {ev!r}; use numerics.events.Collision, "
                              "Contact, Escape or ClosestApproach")
-    return out
+    return out  # type: ignore[return-value]  # each checked above
 
 
-def event_thresholds(events: Sequence[Any]) -> tuple[float, float, float]:
+def event_thresholds(events: Sequence[object]) -> tuple[float, float, float]:
     """``(contact, escape, watch)`` thresholds of the compiled loops; 0 disables a check.
 
     ``contact``: centre distance below which a step end is handed to the locator; ``escape``:
@@ -287,7 +291,7 @@ def event_thresholds(events: Sequence[Any]) -> tuple[float, float, float]:
     return contact, escape, watch
 
 
-def raise_or_record(ev: Any, record: EventRecord, records: list[EventRecord]) -> None:
+def raise_or_record(ev: Event, record: EventRecord, records: list[EventRecord]) -> None:
     """Raise the typed error of a terminal event asked as error, or append its record."""
     if ev.error:
         where = (f"at step {record.step} (t = {record.time:.10g} "
@@ -300,7 +304,7 @@ def raise_or_record(ev: Any, record: EventRecord, records: list[EventRecord]) ->
 
 
 # ------------------------------------------------------------------ geometry of a state
-def centre_distance(system: Any, y: np.ndarray) -> float:
+def centre_distance(system: HasCompiledKernels, y: np.ndarray) -> float:
     """Smallest centre distance between two bodies (not both fixed), internal length."""
     return float(system.kernels.min_distance(np.ascontiguousarray(y), system.data, system.work()))
 
@@ -309,7 +313,7 @@ def centre_distance(system: Any, y: np.ndarray) -> float:
 TWO_BODY_NAMES = ("body1", "body2")
 
 
-def body_names(system: Any) -> tuple[str, ...]:
+def body_names(system: System) -> tuple[str, ...]:
     """Names of a system's bodies (``body1``, ``body2`` for the two-body form)."""
     bodies = getattr(system, "bodies", None)
     if bodies is None:
@@ -317,7 +321,8 @@ def body_names(system: Any) -> tuple[str, ...]:
     return tuple(b.name for b in bodies)
 
 
-def body_frames(system: Any, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def body_frames(system: HasCompiledKernels, y: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Positions, axes and fixed flags of every body (internal length).
 
     N-body systems: moving point masses get a zero axis; fixed bodies their fixed position and
@@ -362,10 +367,10 @@ def _segment_distance(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2: np.nda
     return float(np.linalg.norm((p1 + s * d1) - (p2 + t * d2)))
 
 
-def _capsule_gap(a: Any, b: Any) -> float:
+def _capsule_gap(a: Shape, b: Shape) -> float:
     """Gap between the capsules (axis segment swept by a ball of the radius) around two shapes;
     a lower bound of the shapes' own gap, since each capsule contains its cylinder or ball."""
-    def segment(sh: Any) -> tuple[np.ndarray, np.ndarray]:
+    def segment(sh: Shape) -> tuple[np.ndarray, np.ndarray]:
         if sh.kind == "cylinder":
             return sh.center - sh.half_length * sh.axis, sh.center + sh.half_length * sh.axis
         return sh.center, sh.center

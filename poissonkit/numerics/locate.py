@@ -24,13 +24,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from typing import Any
-
 import numpy as np
 
+from poissonkit.contracts import HasCompiledKernels
 from poissonkit.numerics.events import (
     DEFAULT_RELATIVE_TIME_TOL,
     ClosestApproach,
+    Event,
     EventRecord,
     centre_distance,
 )
@@ -109,8 +109,10 @@ def _bisect(g: Callable[[float], float], lo: float, hi: float, tol: float) -> tu
     return lo, hi
 
 
-def locate(system: Any, events: Sequence[Any], window: Window, last_step: int, graze: bool
-           ) -> tuple[list[tuple[Any, EventRecord]], tuple[Any, EventRecord, np.ndarray] | None]:
+def locate(system: HasCompiledKernels, events: Sequence[Event], window: Window,
+           last_step: int, graze: bool
+           ) -> tuple[list[tuple[Event, EventRecord]],
+                      tuple[Event, EventRecord, np.ndarray] | None]:
     """Search ``window`` for events.
 
     Parameters
@@ -142,7 +144,7 @@ def locate(system: Any, events: Sequence[Any], window: Window, last_step: int, g
             cache[u] = window.state(u)
         return cache[u]
 
-    def tol_of(ev: Any) -> float:
+    def tol_of(ev: Event) -> float:
         return ev.time_tol if ev.time_tol is not None else DEFAULT_RELATIVE_TIME_TOL * h_ref
 
     def step_index(u: float) -> int:
@@ -152,7 +154,7 @@ def locate(system: Any, events: Sequence[Any], window: Window, last_step: int, g
     approaches = [ev for ev in events if isinstance(ev, ClosestApproach)]
     n = SAMPLES_PER_STEP * len(window.segments)
     us = [window.length * j / n for j in range(n + 1)]
-    found: tuple[Any, EventRecord, np.ndarray] | None = None
+    found: tuple[Event, EventRecord, np.ndarray] | None = None
     best_u = math.inf
     for ev in terminal:
         g = [ev.value(system, state(u)) for u in us]
@@ -178,7 +180,7 @@ def locate(system: Any, events: Sequence[Any], window: Window, last_step: int, g
                           time_error=float(hi - lo))
         best_u = hi
         found = (ev, rec, y_hit)
-    recorded: list[tuple[Any, EventRecord]] = []
+    recorded: list[tuple[Event, EventRecord]] = []
     for ev in approaches:
         d = [centre_distance(system, state(u)) for u in us]
         j = int(np.argmin(d))

@@ -8,6 +8,8 @@ from typing import Any
 
 import numpy as np
 
+from poissonkit.contracts import Event, System
+
 
 @dataclass(frozen=True)
 class RunSpec:
@@ -18,8 +20,9 @@ class RunSpec:
     name
         Scene name, for reports.
     system
-        A numerics system object exposing ``rhs(t, y)``, ``energy(y)``, ``layout`` and the
-        invariants (see ``docs/architecture.md``).
+        A numerics system (:class:`poissonkit.contracts.NumericsSystem`: ``dim``, ``rhs(t, y)``,
+        ``energy(y)``, and the capability protocols it offers: compiled kernels, bodies,
+        invariants...).
     y0
         Initial state in the system's (nondimensional) layout.
     t_end
@@ -41,12 +44,12 @@ class RunSpec:
     """
 
     name: str
-    system: Any
+    system: System
     y0: np.ndarray
     t_end: float
     method: str = "splitting6"
     step: float | None = None
     tol: float | None = None
     metadata: Mapping[str, Any] = field(default_factory=dict)
-    events: tuple[Any, ...] = ()
+    events: tuple[Event, ...] = ()
     energy_tol: float | None = None

@@ -3,39 +3,77 @@
 from __future__ import annotations
 
 import math
+import os
 import time
-from collections.abc import Mapping, Sequence
-from typing import Any
+from dataclasses import replace
+from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING
+
+from numpy.typing import ArrayLike
 
 import numpy as np
 
-from poissonkit.errors import DimensionError, InputError, IntegrationError
+from poissonkit.contracts import (
+    Event,
+    HasBodies,
+    HasCompiledKernels,
+    HasOverlapCheck,
+    Integrator,
+    NumericsSystem,
+    System,
+)
+from poissonkit.errors import CapabilityError, DimensionError, InputError, IntegrationError
 from poissonkit.numerics.solution import Solution
+from poissonkit.plugin.contributions import Capabilities
 
+if TYPE_CHECKING:
+    from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
+    from poissonkit.numerics.integrators.driver import Control
 
 #: Most fixed steps one call may ask for (10^7 steps of a small system take minutes; 10^10
 #: would take days, and a step of 1e-300 overflows the step counter).
 MAX_STEPS = 10**10
 
+#: Option values a registry entry's parameters accept (checked against their declared types).
+OptionValue = float | int | str | bool | Sequence[float]
 
-def make_integrator(method: Any, options: Mapping[str, Any] | None = None) -> Any:
-    """Integrator object for a registry name (validated ``options``) or pass one through."""
-    if hasattr(method, "integrate"):
+
+def make_integrator(method: str | Integrator,
+                    options: Mapping[str, OptionValue] | None = None) -> Integrator:
+    """Integrator object for a registry name (validated ``options``) or pass one through.
+
+    An object must follow :class:`poissonkit.contracts.Integrator` (``name``, ``order``,
+    ``capabilities``, ``integrate``).
+    """
+    return _integrator_and_capabilities(method, options)[0]
+
+
+def _integrator_and_capabilities(method: str | Integrator,
+                                 options: Mapping[str, OptionValue] | None
+                                 ) -> tuple[Integrator, Capabilities]:
+    """The integrator and what it declares it can do: a registry name's entry, or the
+    object's own ``capabilities``."""
+    if isinstance(method, str):
+        from poissonkit.plugin import integrator
+
+        entry = integrator(method)
+        return entry.factory(**entry.resolve_params(dict(options or {}))), entry.capabilities
+    if isinstance(method, Integrator):
         if options:
             raise InputError("options are only accepted with a registry name")
-        return method
-    if not isinstance(method, str):
-        raise InputError(f"method must be a registry name or an integrator, got {method!r}")
-    from poissonkit.plugin import integrator
+        caps = method.capabilities
+        if not isinstance(caps, Capabilities):
+            raise InputError(f"integrator {method.name!r}: capabilities must be a "
+                             f"poissonkit.plugin.Capabilities, got {caps!r}")
+        return method, caps
+    raise InputError(f"method must be a registry name or an integrator (name, order, "
+                     f"capabilities, integrate: poissonkit.contracts.Integrator), got {method!r}")
 
-    entry = integrator(method)
-    return entry.factory(**entry.resolve_params(dict(options or {})))
 
-
-def _finite_number(value: Any, name: str) -> float:
+def _finite_number(value: object, name: str) -> float:
     """``float(value)``; :class:`InputError` naming ``name`` unless a finite number."""
     try:
-        v = float(value)
+        v = float(value)  # type: ignore[arg-type]  # any number-like; others are refused here
     except (TypeError, ValueError, OverflowError):  # 10**400 overflows
         raise InputError(f"{name} must be a finite number, got {value!r}") from None
     if not math.isfinite(v):
@@ -43,11 +81,13 @@ def _finite_number(value: Any, name: str) -> float:
     return v
 
 
-def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: float | None = None,
-          tol: float | None = None, events: Sequence[Any] = (), progress: bool = False,
-          save_every: int = 1, options: Mapping[str, Any] | None = None, t0: float = 0.0,
-          checkpoint: Any = None, resume: bool = False, stream: Any = None,
-          stop: Any = None) -> Solution:
+def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator = "splitting6",
+          step: float | None = None, tol: float | None = None, events: Sequence[Event] = (),
+          progress: bool = False, save_every: int = 1,
+          options: Mapping[str, OptionValue] | None = None, t0: float = 0.0,
+          checkpoint: Checkpoint | None = None, resume: bool = False,
+          stream: TrajectoryStream | str | os.PathLike[str] | None = None,
+          stop: Callable[[], bool] | None = None) -> Solution:
     """Integrate ``system`` from ``y0`` at ``t0`` to ``t_end``.
 
     Parameters
@@ -82,7 +122,8 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
         Start time.
     checkpoint
         :class:`~poissonkit.numerics.checkpoint.Checkpoint` (folder, every ``n`` steps): atomic,
-        checksummed checkpoints. Fixed-step methods only (splittings, midpoint).
+        checksummed checkpoints. Methods whose capabilities include ``checkpoint`` (the compiled
+        loops: splittings, logh, midpoint, Wisdom–Holman; not scipy).
     resume
         Continue from the newest valid checkpoint of ``checkpoint.folder``; the final state is
         bit-identical to an uninterrupted run's.
@@ -94,8 +135,8 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
         (:func:`~poissonkit.numerics.checkpoint.read_trajectory` reads it).
     stop
         Callable checked between chunks of steps; when it returns true the run stops cleanly
-        (``extra["interrupted"]``, ``message`` says where), writing a last checkpoint. Not
-        honoured by the scipy methods.
+        (``extra["interrupted"]``, ``message`` says where), writing a last checkpoint. A request,
+        not a demand: methods without the ``stop`` capability (scipy) run to their end.
 
     Returns
     -------
@@ -104,7 +145,11 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
     Raises
     ------
     InputError
-        Bad arguments (named); checkpoint/stream/stop with a method that cannot honour them.
+        Bad arguments (named).
+    CapabilityError
+        The run asks the method for something its declared
+        :class:`~poissonkit.plugin.contributions.Capabilities` exclude (checkpoint/resume,
+        events, located events, a system it cannot integrate); raised before any work.
     CheckpointError
         ``resume`` without a valid checkpoint, or one of another problem.
     """
@@ -112,7 +157,8 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
         y0 = np.array(y0, dtype=float)
     except (TypeError, ValueError) as exc:
         raise InputError(f"y0 must be a flat sequence of numbers, got {y0!r} ({exc})") from None
-    dim = getattr(system, "dim", y0.size)
+    # a bare set of compiled kernels (no ``dim``) takes the state's length
+    dim = system.dim if isinstance(system, NumericsSystem) else y0.size
     if y0.ndim != 1 or y0.size != dim:
         raise DimensionError(f"y0 has shape {y0.shape}, the system needs ({dim},)")
     if not np.all(np.isfinite(y0)):
@@ -138,45 +184,38 @@ def solve(system: Any, y0: Any, t_end: float, method: Any = "splitting6", step: 
         tol = _finite_number(tol, "tol")
         if not tol > 0:
             raise InputError(f"tol must be positive, got {tol!r}")
-    overlap = getattr(system, "check_overlap", None)
-    if callable(overlap):  # coincident bodies: singular forces whatever the method
-        overlap(y0)
     from poissonkit.numerics.events import check_events
 
     events = check_events(events)
-    integ = make_integrator(method, options)
-    kwargs: dict[str, Any] = {}
+    integ, caps = _integrator_and_capabilities(method, options)
     control = _control(checkpoint, resume, stream, stop)
-    late_stream = None
-    if control is not None:
-        if getattr(integ, "supports_control", False):
-            kwargs["control"] = control
-        elif control.checkpoint is not None or control.resume:
-            raise InputError(f"checkpoint/resume need a fixed-step method "
-                             f"(splitting2/4/6/8, midpoint); {getattr(integ, 'name', method)} "
-                             "cannot be checkpointed")
-        else:  # e.g. scipy: rows are streamed once the run is over, stop is not honoured
-            late_stream = control.stream
+    refuse_beyond(caps, integ.name, system, events, control)
+    if isinstance(system, HasOverlapCheck):  # coincident bodies: singular forces whatever
+        system.check_overlap(y0)              # the method
+    control, late_stream = _within(caps, control)
+    kwargs = {"control": control} if control is not None else {}  # older integrators: none
     start = time.perf_counter()
     try:
         raw = integ.integrate(system, y0, t_end, step=step, tol=tol, events=events,
                               progress=progress, save_every=int(save_every), t0=t0, **kwargs)
     except ZeroDivisionError:
         # built-in integrators name the step themselves; this catches third-party ones
-        raise IntegrationError(f"{getattr(integ, 'name', method)}: division by zero in a "
-                               "compiled kernel (two bodies at the same place?)") from None
+        raise IntegrationError(f"{integ.name}: division by zero in a compiled kernel (two "
+                               "bodies at the same place?)") from None
     wall = time.perf_counter() - start
     if late_stream is not None:
         late_stream.write(raw.t, raw.y)
         raw.extra.update(stream=str(late_stream.folder), streamed_rows=late_stream.rows,
                          interrupted=False)
         raw.t, raw.y = raw.t[[0, -1]], raw.y[[0, -1]]
-    return Solution(t=raw.t, y=raw.y, method=getattr(integ, "name", str(method)), steps=raw.steps,
+    return Solution(t=raw.t, y=raw.y, method=integ.name, steps=raw.steps,
                     wall_time=wall, system=system, nfev=raw.nfev, events=raw.events, step=step,
                     tol=tol, message=raw.message, extra=raw.extra)
 
 
-def _control(checkpoint: Any, resume: bool, stream: Any, stop: Any) -> Any:
+def _control(checkpoint: Checkpoint | None, resume: bool,
+             stream: TrajectoryStream | str | os.PathLike[str] | None,
+             stop: Callable[[], bool] | None) -> Control | None:
     """The driver's :class:`~poissonkit.numerics.integrators.driver.Control`, or ``None``."""
     if checkpoint is None and not resume and stream is None and stop is None:
         return None
@@ -188,9 +227,58 @@ def _control(checkpoint: Any, resume: bool, stream: Any, stop: Any) -> Any:
     if resume and checkpoint is None:
         raise InputError("resume=True needs checkpoint=Checkpoint(folder, every)")
     if stream is not None and not isinstance(stream, TrajectoryStream):
-        if not isinstance(stream, (str, bytes)) and not hasattr(stream, "__fspath__"):
+        if not isinstance(stream, (str, bytes, os.PathLike)):
             raise InputError(f"stream must be a folder or a TrajectoryStream, got {stream!r}")
-        stream = TrajectoryStream(stream)
+        stream = TrajectoryStream(os.fsdecode(stream))
     if stop is not None and not callable(stop):
         raise InputError(f"stop must be a callable returning a bool, got {stop!r}")
     return Control(checkpoint=checkpoint, resume=bool(resume), stream=stream, stop=stop)
+
+
+def refuse_beyond(caps: Capabilities, name: str, system: System, events: Sequence[Event],
+                  control: Control | None) -> None:
+    """Raise :class:`~poissonkit.errors.CapabilityError` for the first thing a run asks of
+    the integrator ``name`` that its capabilities ``caps`` exclude (nothing is computed)."""
+    if control is not None and control.checkpoint is not None and not caps.checkpoint:
+        raise CapabilityError(name, "checkpoint", "checkpoint/resume need a compiled "
+                              "fixed-step loop (splitting2/4/6/8, logh2–8, midpoint, "
+                              "wisdom_holman); this method cannot be checkpointed")
+    if events and not caps.events:
+        raise CapabilityError(name, "events", f"events {[e.kind for e in events]} need a method "
+                              "with the events capability")
+    inside = [e.kind for e in events if not e.terminal]
+    if inside and not caps.located_events:
+        raise CapabilityError(name, "located_events", f"{inside[0]} events are located inside "
+                              "the step; use a splitting, logh, midpoint or wisdom_holman "
+                              "(this method locates sign changes only)")
+    if caps.point_masses_only and isinstance(system, HasBodies) and (
+            system.n_tops or system.n_moving != len(system.bodies)):
+        raise CapabilityError(name, "point_masses_only", "the system has tops or fixed "
+                              "bodies; this method needs moving point masses only")
+    if not (caps.needs_kernels or caps.needs_splitting):
+        return
+    if not isinstance(system, HasCompiledKernels):
+        raise CapabilityError(name, "needs_kernels", f"{type(system).__name__} has no compiled "
+                              "kernels (kernels, data, work()); compile it with "
+                              "compile_system or use a scipy method")
+    if caps.needs_splitting and not system.kernels.splittable:
+        raise CapabilityError(name, "needs_splitting", "this method needs a system with exact "
+                              f"kinetic/potential flows (NBodySystem, TwoBodySystem); "
+                              f"{type(system).__name__} has none — use 'midpoint' or a scipy "
+                              "method")
+
+
+def _within(caps: Capabilities, control: Control | None
+            ) -> tuple[Control | None, TrajectoryStream | None]:
+    """The controls the integrator honours, and a stream ``solve`` fills after the run when
+    the integrator cannot stream (a stop request it cannot honour is dropped: a request)."""
+    if control is None:
+        return None, None
+    late = None
+    if control.stream is not None and not caps.stream:
+        late, control = control.stream, replace(control, stream=None)
+    if control.stop is not None and not caps.stop:
+        control = replace(control, stop=None)
+    if control.checkpoint is None and control.stream is None and control.stop is None:
+        return None, late  # (resume without checkpoint was refused by _control)
+    return control, late

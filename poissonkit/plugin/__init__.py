@@ -2,6 +2,7 @@
 
 from poissonkit.plugin.contributions import (
     Assembly,
+    Capabilities,
     Entry,
     IntegratorEntry,
     PairPotential,
@@ -24,7 +25,7 @@ from poissonkit.plugin.registry import (
 )
 
 __all__ = [
-    "Assembly", "Entry", "IntegratorEntry", "PairPotential", "Param", "SceneEntry", "SystemEntry",
+    "Assembly", "Capabilities", "Entry", "IntegratorEntry", "PairPotential", "Param", "SceneEntry", "SystemEntry",
     "assembly", "default_scene", "entries", "hookimpl", "integrator", "integrators", "lookup",
     "names", "plugin_manager",
     "plugin_reports", "potential", "reset", "scene", "system",

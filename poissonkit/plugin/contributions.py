@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 import numbers
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 from poissonkit.errors import InputError, UnknownNameError
@@ -212,14 +212,65 @@ class SystemEntry(Entry):
 
 
 @dataclass(frozen=True)
+class Capabilities:
+    """What an integrator can do, declared once (on its registry entry and on the object).
+
+    :func:`~poissonkit.numerics.solve` reads it and refuses, before any work and with
+    :class:`~poissonkit.errors.CapabilityError`, a run that asks for more.
+
+    Attributes
+    ----------
+    checkpoint
+        Writes checkpoints and resumes from them, bit-identically to an uninterrupted run.
+    stream
+        Streams saved rows to disk while it runs (memory bounded). Without it a stream still
+        works: ``solve`` writes the rows once the run is over.
+    stop
+        Honours a stop request between chunks of steps (a clean partial result). Without it the
+        request is not looked at (the run goes to its end).
+    events
+        Terminal events (collision, contact, escape) stop the run where they happen.
+    located_events
+        Events are located inside the step to their time tolerance, including grazing
+        encounters and the non-terminal :class:`~poissonkit.numerics.events.ClosestApproach`.
+    adaptive
+        Can choose its own step (from ``tol``, or a step-size rule among its options).
+    point_masses_only
+        Needs an N-body system of moving point masses (no tops, no fixed bodies).
+    needs_kernels
+        Needs a system with compiled kernels (``kernels``, ``data``, ``work()``).
+    needs_splitting
+        Needs kernels whose drift and kick are the exact kinetic and potential flows
+        (``kernels.splittable``).
+    """
+
+    checkpoint: bool = False
+    stream: bool = False
+    stop: bool = False
+    events: bool = False
+    located_events: bool = False
+    adaptive: bool = False
+    point_masses_only: bool = False
+    needs_kernels: bool = False
+    needs_splitting: bool = False
+
+    def names(self) -> tuple[str, ...]:
+        """The names of the capabilities that are true (for listings)."""
+        return tuple(f.name for f in fields(self) if getattr(self, f.name))
+
+
+@dataclass(frozen=True)
 class IntegratorEntry(Entry):
     """A time integrator. ``factory(**params)`` returns an object following the integrator
-    contract of :mod:`poissonkit.numerics`. ``order`` is the classical order (0 if adaptive
-    with variable order); ``family`` is e.g. ``"splitting"``, ``"implicit"``, ``"scipy"``."""
+    contract (:class:`poissonkit.contracts.Integrator`). ``order`` is the classical order (0 if
+    adaptive with variable order); ``family`` is e.g. ``"splitting"``, ``"implicit"``,
+    ``"scipy"``; ``capabilities`` declares what it can do (:class:`Capabilities`), which
+    :func:`~poissonkit.numerics.solve` checks before it runs."""
 
     factory: Callable[..., Any] = field(default=lambda **_: None)
     order: int = 0
     family: str = ""
+    capabilities: Capabilities = field(default_factory=Capabilities)
 
 
 @dataclass(frozen=True)

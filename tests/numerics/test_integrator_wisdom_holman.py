@@ -170,28 +170,3 @@ def test_unsuitable_systems_are_typed_errors():
         solve(fixed, y, 1.0, method="wisdom_holman", step=0.1)
     with pytest.raises(InputError):
         solve(fixed, y, 1.0, method="wisdom_holman", step=0.1, options={"stages": 5})
-
-
-def test_collision_is_reported_within_the_step_of_the_closed_form_time():
-    """Two bodies on an ellipse (e = 0.9) from apocentre; the map is exact Kepler motion for two
-    bodies, so the first step end with r < 0.2 lies in [t*, t* + h] of Kepler's equation."""
-    from poissonkit.numerics.events import Collision
-
-    mu, a, e, h = 2.0, 1.0, 0.9, 0.01
-    x, v = elements_to_state(mu, a, e, 0.0, math.pi)
-    m = np.array([1.0, 1.0])
-    system = NBodySystem([Body("a", 1.0), Body("b", 1.0)], [AllPairs("gravity", {"G": 1.0})])
-    pos = np.array([-x / 2, x / 2])
-    vel = np.array([-v / 2, v / 2])
-    y = system.pack(pos, m[:, None] * vel)
-    sol = solve(system, y, 10.0, method="wisdom_holman", step=h,
-                events=(Collision(0.2, error=False),))
-    (ev,) = sol.events
-    E = 2 * math.pi - math.acos((1 - 0.2 / a) / e)  # eccentric anomaly on the way in
-    t_true = (E - e * math.sin(E) - math.pi) / math.sqrt(mu / a ** 3)
-    assert ev.kind == "collision" and ev.time_error == pytest.approx(h)
-    assert t_true <= ev.time <= t_true + h + 1e-12
-    with pytest.raises(InputError, match="closest-approach"):
-        from poissonkit.numerics.events import ClosestApproach
-
-        solve(system, y, 1.0, method="wisdom_holman", step=h, events=(ClosestApproach(0.5),))

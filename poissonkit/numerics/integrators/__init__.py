@@ -1,9 +1,14 @@
 """Time integrators, one module per family.
 
-Contract: an integrator object has ``name``, ``order`` and
-``integrate(system, y0, t_end, *, step, tol, events, progress, save_every) -> RawResult``;
-:func:`poissonkit.numerics.solve` wraps it into a :class:`~poissonkit.numerics.Solution`.
-Registry entries (name, doc, typed parameters) live in :mod:`poissonkit.numerics.builtin`.
+Contract: :class:`poissonkit.contracts.Integrator` — an object with ``name``, ``order``,
+``capabilities`` (:class:`~poissonkit.plugin.contributions.Capabilities`, declared once per
+family in :mod:`~poissonkit.numerics.integrators.capabilities`) and
+``integrate(system, y0, t_end, *, step, tol, events, progress, save_every, t0, control)
+-> RawResult``; :func:`poissonkit.numerics.solve` checks the capabilities and wraps the result
+into a :class:`~poissonkit.numerics.Solution`. The compiled loops share
+:func:`~poissonkit.numerics.integrators.driver.drive` (events, checkpoints, streaming, stop).
+Registry entries (name, doc, typed parameters, capabilities) live in
+:mod:`poissonkit.numerics.builtin`.
 """
 
 from poissonkit.numerics.integrators.base import RawResult

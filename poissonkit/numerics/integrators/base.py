@@ -5,16 +5,31 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
+from poissonkit.contracts import CompiledFunction, CompiledKernels
 from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
 from poissonkit.numerics.events import EventRecord
 
 # status codes returned by the compiled loops
 # GRAZE: the smallest distance has a local minimum between step ends worth a closer look
 RUNNING, NONFINITE, COLLISION, ESCAPE, BUFFER_FULL, DONE, NO_CONVERGENCE, GRAZE = range(8)
+
+#: ``one_step(y, t, steps_done) -> (status, t_new)``: one step of a loop, in place (replays).
+StepFn = Callable[[np.ndarray, float, int], tuple[int, float]]
+
+if TYPE_CHECKING:
+    from poissonkit.numerics.checkpoint import TrajectoryStream
+
+
+class ProgressBar(Protocol):
+    """The part of a tqdm bar the loops use."""
+
+    def update(self, n: float) -> object: ...
+
+    def close(self) -> None: ...
 
 
 @dataclass
@@ -39,7 +54,7 @@ class SaveBuffer:
     compiled chunk's buffer); :attr:`peak_rows` records the most rows ever held.
     """
 
-    def __init__(self, dim: int, chunk: int, sink: Any = None) -> None:
+    def __init__(self, dim: int, chunk: int, sink: TrajectoryStream | None = None) -> None:
         self.dim = dim
         if sink is not None:  # a compiled chunk never holds more rows than one part
             chunk = min(int(chunk), int(sink.max_rows))
@@ -104,7 +119,7 @@ class SaveBuffer:
         return np.concatenate(self.ts), np.concatenate(self.ys)
 
 
-def progress_bar(enabled: bool, total: float, desc: str):
+def progress_bar(enabled: bool, total: float, desc: str) -> ProgressBar | None:
     """A tqdm bar (or a no-op) measuring progress in ``total`` units."""
     if not enabled:
         return None
@@ -117,8 +132,8 @@ def progress_bar(enabled: bool, total: float, desc: str):
     return tqdm(total=total, desc=desc, unit="t", leave=False)
 
 
-def locate_division(name: str, one_step: Callable[[np.ndarray, float, int], tuple[int, float]],
-                    y: np.ndarray, t: float, steps: int) -> IntegrationError:
+def locate_division(name: str, one_step: StepFn, y: np.ndarray, t: float,
+                    steps: int) -> IntegrationError:
     """Error for a ``ZeroDivisionError`` raised by a compiled kernel during a chunk of steps.
 
     The chunk is replayed one step at a time from its start state ``y`` (time ``t``, ``steps``
@@ -141,7 +156,7 @@ def locate_division(name: str, one_step: Callable[[np.ndarray, float, int], tupl
         t = t_new
 
 
-def state_digest(y: Any) -> str:
+def state_digest(y: np.ndarray) -> str:
     """SHA-256 of a state's float64 bytes: identifies the initial state of a checkpointed run."""
     import hashlib
 
@@ -161,10 +176,11 @@ def check_step(step: float | None, t_end: float, name: str) -> float:
     return step
 
 
-_step_end: dict[tuple[int, int], tuple[Any, Any, Any]] = {}
+_step_end: dict[tuple[int, int],
+                tuple[CompiledFunction, CompiledFunction, CompiledKernels]] = {}
 
 
-def step_end_kernels(kernels: Any) -> tuple[Any, Any]:
+def step_end_kernels(kernels: CompiledKernels) -> tuple[CompiledFunction, CompiledFunction]:
     """Compiled ``(remember, check)`` shared by the compiled time loops (inlined into them).
 
     ``remember(y, prev, prev2, hist, t)`` shifts the event-search memory before a step: the

@@ -1,4 +1,4 @@
-"""The Python side of the compiled fixed-step loops (splitting, midpoint).
+"""The Python side of the compiled time loops (splittings, midpoint, logh, Wisdom–Holman).
 
 A compiled loop advances the state in place for up to ``max_steps`` steps and returns a status;
 :func:`drive` runs it in chunks and, between chunks, does what must not live in compiled code:
@@ -11,13 +11,15 @@ the same whatever the chunk sizes, and resuming a checkpoint is bit-identical.
 from __future__ import annotations
 
 import json
+import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
 
+from poissonkit.contracts import Event, HasCompiledKernels
 from poissonkit.errors import IntegrationError, NonFiniteStateError
 from poissonkit.numerics.checkpoint import (
     Checkpoint,
@@ -91,20 +93,30 @@ class LoopState:
     records: list[EventRecord] = field(default_factory=list)
     #: compensation array of a compensated loop (the state is ``y − comp``); empty otherwise
     comp: np.ndarray = field(default_factory=lambda: np.empty(0))
+    #: further arrays a loop carries from chunk to chunk (e.g. Wisdom–Holman's Jacobi state):
+    #: checkpointed with ``y`` and restored in place on resume
+    carry: dict[str, np.ndarray] = field(default_factory=dict)
+    #: method-specific value of the last status (e.g. the offending value of a failure)
+    detail: float = math.nan
 
     def state(self) -> np.ndarray:
         """The state: ``y`` (a copy), or ``y − comp`` for a compensated loop."""
         return self.y - self.comp if self.comp.size else self.y.copy()
 
 
+#: Plain-data description of a run (JSON values), checked when resuming.
+Problem = Mapping[str, object]
+
 ChunkFn = Callable[[LoopState, int, SaveBuffer], tuple[int, float, int, int, int, float]]
 
 
-def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, events,
-          progress: bool, save_every: int, control: Control | None, chunk: ChunkFn,
-          advance: Callable[[np.ndarray, float], np.ndarray], done: Callable[[LoopState], bool],
-          failure: Callable[[int, LoopState], Exception | None], problem: dict[str, Any],
-          buffer_rows: int, compensated: bool = False) -> RawResult:
+def drive(name: str, system: HasCompiledKernels, y0: np.ndarray, t0: float, t_end: float, *,
+          events: Sequence[Event], progress: bool, save_every: int, control: Control | None,
+          chunk: ChunkFn, advance: Callable[[np.ndarray, float], np.ndarray],
+          done: Callable[[LoopState], bool],
+          failure: Callable[[int, LoopState], Exception | None], problem: Problem,
+          buffer_rows: int, compensated: bool = False,
+          carry: Mapping[str, np.ndarray] | None = None) -> RawResult:
     """Run ``chunk`` until ``done``; see the module docstring.
 
     Parameters
@@ -132,6 +144,11 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
     compensated
         The loop carries a compensation array ``LoopState.comp`` (compensated summation); it is
         part of the state, so it is checkpointed and restored with ``y``.
+    carry
+        Named arrays the loop keeps beyond ``y`` and reads in ``chunk`` through
+        ``LoopState.carry`` (e.g. a state in other coordinates, whose round trip through ``y``
+        would not be exact): checkpointed and restored in place, so a resumed run continues
+        bit-identically.
     """
     events = check_events(events)
     contact, escape, watch = event_thresholds(events)
@@ -141,7 +158,7 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
     n = y0.size
     st = LoopState(y=np.array(y0, dtype=float), t=float(t0), steps=0, prev=np.zeros(n),
                    prev2=np.zeros(n), hist=np.array([np.inf, np.inf, np.inf, t0, t0]),
-                   comp=np.zeros(n) if compensated else np.empty(0))
+                   comp=np.zeros(n) if compensated else np.empty(0), carry=dict(carry or {}))
     if contact > 0 or watch > 0:
         st.hist[2] = centre_distance(system, st.y)
     buf = SaveBuffer(n, buffer_rows, sink=stream)
@@ -162,6 +179,14 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
                 raise CheckpointError("checkpoint has no compensation array; it was not written "
                                       "by a compensated run (compensated=True)")
             st.comp = np.array(arrays["comp"], dtype=float)
+        for key, arr in st.carry.items():
+            saved = arrays.get(f"carry_{key}")
+            if saved is None or saved.shape != arr.shape:
+                from poissonkit.numerics.checkpoint import CheckpointError
+
+                raise CheckpointError(f"checkpoint has no {key!r} array of shape {arr.shape}; "
+                                      f"it was not written by {name}")
+            arr[...] = saved
         st.t, st.steps, st.nfev = float(arrays["t"]), int(arrays["steps"]), int(meta["nfev"])
         st.records = [EventRecord(**r) for r in meta["records"]]
         if stream is not None:
@@ -186,13 +211,14 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
     interrupted = False
 
     def save_checkpoint() -> None:
-        meta: dict[str, Any] = {"problem": problem, "nfev": st.nfev,
+        meta: dict[str, Any] = {"problem": dict(problem), "nfev": st.nfev,
                                 "records": [asdict(r) for r in st.records], "method": name,
                                 "every": ck.every}
         arrays = {"y": st.y, "prev": st.prev, "prev2": st.prev2, "hist": st.hist,
                   "t": np.float64(st.t), "steps": np.int64(st.steps)}
         if compensated:
             arrays["comp"] = st.comp
+        arrays.update({f"carry_{key}": arr for key, arr in st.carry.items()})
         if stream is not None:
             buf.spill(force=True)
             meta.update(stream_parts=stream.parts, stream_rows=stream.rows)
@@ -276,6 +302,6 @@ def drive(name: str, system: Any, y0: np.ndarray, t0: float, t_end: float, *, ev
                      extra=extra)
 
 
-def _all_clear(system: Any, events: Any, y: np.ndarray) -> bool:
+def _all_clear(system: HasCompiledKernels, events: Sequence[Event], y: np.ndarray) -> bool:
     """No terminal event function is negative at ``y``."""
     return all(ev.value(system, y) >= 0 for ev in events if ev.terminal)

@@ -10,10 +10,17 @@ the N-body systems (fixed-point iteration there).
 from __future__ import annotations
 
 import math
-from typing import Any
+from collections.abc import Sequence
 
 import numpy as np
 
+from poissonkit.contracts import (
+    CompiledFunction,
+    CompiledKernels,
+    Event,
+    HasCompiledKernels,
+    System,
+)
 from poissonkit.errors import InputError, IntegrationError
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
@@ -25,7 +32,8 @@ from poissonkit.numerics.integrators.base import (
     state_digest,
     step_end_kernels,
 )
-from poissonkit.numerics.integrators.driver import drive
+from poissonkit.numerics.integrators.capabilities import MIDPOINT
+from poissonkit.numerics.integrators.driver import Control, LoopState, drive
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import all_finite, copy_into, copy_row, gauss_solve
 
@@ -35,10 +43,10 @@ def _nojac(y, data, work, out):
     return
 
 
-_runners: dict[int, Any] = {}
+_runners: dict[int, tuple[CompiledFunction, CompiledKernels]] = {}
 
 
-def _runner(kernels) -> Any:
+def _runner(kernels: CompiledKernels) -> CompiledFunction:
     key = id(kernels.rhs)
     hit = _runners.get(key)
     if hit is not None:
@@ -142,6 +150,7 @@ class ImplicitMidpoint:
     """
 
     family = "implicit"
+    capabilities = MIDPOINT
     order = 2
     name = "midpoint"
 
@@ -154,17 +163,16 @@ class ImplicitMidpoint:
         self.max_iterations = int(max_iterations)
         self.newton = bool(newton)
 
-    supports_control = True
-
-    def integrate(self, system: Any, y0: np.ndarray, t_end: float, *, step: float | None,
-                  tol: float | None, events=(), progress: bool = False, save_every: int = 1,
-                  t0: float = 0.0, control: Any = None) -> RawResult:
+    def integrate(self, system: System, y0: np.ndarray, t_end: float, *, step: float | None,
+                  tol: float | None, events: Sequence[Event] = (), progress: bool = False,
+                  save_every: int = 1, t0: float = 0.0,
+                  control: Control | None = None) -> RawResult:
         """Integrate with fixed step ``step``; ``tol`` overrides the iteration tolerance
         (``control``: checkpoints, streaming, stop requests, see
         :func:`~poissonkit.numerics.integrators.driver.drive`)."""
-        kernels = getattr(system, "kernels", None)
-        if kernels is None:
+        if not isinstance(system, HasCompiledKernels):
             raise InputError(f"midpoint needs a compiled system, got {type(system).__name__}")
+        kernels = system.kernels
         h = check_step(step, t_end - t0, self.name)
         span = t_end - t0
         n_total = max(1, math.ceil(span / h - 1e-12))
@@ -179,7 +187,8 @@ class ImplicitMidpoint:
         scratch = SaveBuffer(y.size, 4)
         no_hist = np.zeros(5)
 
-        def chunk(st, max_steps, buf):
+        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
+                  ) -> tuple[int, float, int, int, int, float]:
             start = st.y.copy()
             try:
                 status, t_new, k, nsave, nf, value = run(
@@ -205,7 +214,7 @@ class ImplicitMidpoint:
                                        "event")
             return yc
 
-        def failure(status: int, st) -> Exception | None:
+        def failure(status: int, st: LoopState) -> Exception | None:
             if status == NO_CONVERGENCE:
                 return IntegrationError(
                     f"midpoint: iteration did not converge to {itol:g} in "

@@ -8,14 +8,17 @@ controller's state is internal to scipy).
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Callable, Sequence
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from poissonkit.contracts import Event, HasCompiledKernels, HasJacobian, NumericsSystem, System
 from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
 from poissonkit.numerics.events import EventRecord, check_events, raise_or_record
 from poissonkit.numerics.integrators.base import RawResult
+from poissonkit.numerics.integrators.capabilities import SCIPY
+from poissonkit.numerics.integrators.driver import Control
 
 
 class ScipyIVP:
@@ -32,6 +35,7 @@ class ScipyIVP:
     """
 
     family = "scipy"
+    capabilities = SCIPY
 
     def __init__(self, method: str = "DOP853", atol: float = 0.0, max_step: float = 0.0) -> None:
         if method not in ("RK45", "DOP853", "Radau", "LSODA"):
@@ -42,10 +46,20 @@ class ScipyIVP:
         self.atol = float(atol)
         self.max_step = float(max_step)
 
-    def integrate(self, system: Any, y0: np.ndarray, t_end: float, *, step: float | None,
-                  tol: float | None, events=(), progress: bool = False, save_every: int = 1,
-                  t0: float = 0.0) -> RawResult:
-        """Integrate with ``rtol = tol`` (default 1e-9) and ``atol`` (default ``tol``)."""
+    def integrate(self, system: System, y0: np.ndarray, t_end: float, *, step: float | None,
+                  tol: float | None, events: Sequence[Event] = (), progress: bool = False,
+                  save_every: int = 1, t0: float = 0.0,
+                  control: Control | None = None) -> RawResult:
+        """Integrate with ``rtol = tol`` (default 1e-9) and ``atol`` (default ``tol``).
+
+        ``control`` must be ``None``: scipy's step-size controller cannot be checkpointed
+        (:func:`~poissonkit.numerics.solve` streams the rows after the run instead).
+        """
+        if control is not None:
+            from poissonkit.errors import CapabilityError
+
+            raise CapabilityError(self.name, "checkpoint", "scipy methods take no run "
+                                  "controls (checkpoint, stream, stop)")
         from poissonkit.numerics.solver import MAX_STEPS
 
         rtol = 1e-9 if tol is None else float(tol)
@@ -54,10 +68,10 @@ class ScipyIVP:
             # scipy would step for days (or fail deep inside on a subnormal max_step)
             raise InputError(f"{self.name}: max_step {self.max_step!r} would take more than "
                              f"{MAX_STEPS:.0e} steps to reach t_end = {t_end!r}")
-        kernels = getattr(system, "kernels", None)
         counter = [0]
-        if kernels is not None:
-            data, work, f = system.data, system.work(), kernels.rhs
+        fun: Callable[[float, np.ndarray], np.ndarray]
+        if isinstance(system, HasCompiledKernels):
+            data, work, f = system.data, system.work(), system.kernels.rhs
 
             def fun(t: float, y: np.ndarray) -> np.ndarray:
                 out = np.empty_like(y)
@@ -72,11 +86,19 @@ class ScipyIVP:
                     raise NonFiniteStateError(counter[0], t, f"{self.name}: non-finite RHS at "
                                               f"evaluation {counter[0]}")
                 return out
-        else:
+        elif isinstance(system, NumericsSystem):
+            rhs = system.rhs
+
             def fun(t: float, y: np.ndarray) -> np.ndarray:
                 counter[0] += 1
-                return np.asarray(system.rhs(t, y), dtype=float)
+                return np.asarray(rhs(t, y), dtype=float)
+        else:
+            raise InputError(f"{self.name} needs a system with rhs(t, y) or compiled kernels; "
+                             f"{type(system).__name__} has neither")
         events = check_events(events)
+        if events and not isinstance(system, HasCompiledKernels):
+            raise InputError(f"{self.name}: events need a system with compiled kernels "
+                             f"(distances, radii); {type(system).__name__} has none")
         ev_funcs = []
         for ev in events:
             if not ev.terminal:
@@ -87,12 +109,12 @@ class ScipyIVP:
                 return ev.value(system, y)
             g.terminal = True  # type: ignore[attr-defined]
             ev_funcs.append((ev, g))
-        kwargs: dict[str, Any] = {"rtol": rtol, "atol": atol}
+        kwargs: dict[str, object] = {"rtol": rtol, "atol": atol}
         if self.max_step > 0:
             kwargs["max_step"] = self.max_step
         if step is not None and self.method != "LSODA":
             kwargs["first_step"] = float(step)
-        if self.method in ("Radau",) and hasattr(system, "jacobian"):
+        if self.method in ("Radau",) and isinstance(system, HasJacobian):
             kwargs["jac"] = system.jacobian
         res = solve_ivp(fun, (t0, t_end), np.asarray(y0, dtype=float), method=self.method,
                         events=[e[1] for e in ev_funcs] or None, **kwargs)

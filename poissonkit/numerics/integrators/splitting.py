@@ -51,21 +51,31 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from collections.abc import Sequence
 
 import numpy as np
 
+from poissonkit.contracts import (
+    CompiledFunction,
+    CompiledKernels,
+    Event,
+    HasCompiledKernels,
+    HasStateCheck,
+    System,
+)
 from poissonkit.errors import InputError
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
     RawResult,
     SaveBuffer,
+    StepFn,
     check_step,
     locate_division,
     state_digest,
     step_end_kernels,
 )
-from poissonkit.numerics.integrators.driver import drive
+from poissonkit.numerics.integrators.capabilities import SPLITTING
+from poissonkit.numerics.integrators.driver import Control, LoopState, drive
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import (
     all_finite,
@@ -218,10 +228,10 @@ SCHEMES: dict[str, Scheme] = {s.name: s for s in (
 
 
 # --------------------------------------------------------------------------- compiled loop
-_runners: dict[tuple[int, bool], Any] = {}
+_runners: dict[tuple[int, bool], tuple[CompiledFunction, CompiledKernels]] = {}
 
 
-def _runner(kernels, compensated: bool = False) -> Any:
+def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunction:
     """The compiled time loop specialised to one system's kernels (cached).
 
     With ``compensated`` the loop uses the kernels' compensated drift and kick, which carry the
@@ -391,6 +401,7 @@ class Splitting:
     """
 
     family = "splitting"
+    capabilities = SPLITTING
 
     def __init__(self, order: int = 6, adaptive: bool = False, reference_distance: float = 0.0,
                  iterations: int = 1, scheme: str | Scheme | None = None,
@@ -438,24 +449,23 @@ class Splitting:
         """Force evaluations per fixed step in a long run (one less than the kicks if FSAL)."""
         return len(self.b) - (1 if self.fsal else 0)
 
-    supports_control = True
-
-    def integrate(self, system: Any, y0: np.ndarray, t_end: float, *, step: float | None,
-                  tol: float | None, events=(), progress: bool = False, save_every: int = 1,
-                  t0: float = 0.0, control: Any = None) -> RawResult:
+    def integrate(self, system: System, y0: np.ndarray, t_end: float, *, step: float | None,
+                  tol: float | None, events: Sequence[Event] = (), progress: bool = False,
+                  save_every: int = 1, t0: float = 0.0,
+                  control: Control | None = None) -> RawResult:
         """Integrate from ``t0`` to ``t_end`` with the compiled loop (see :func:`drive` for
         ``control``: checkpoints, streaming, stop requests)."""
-        kernels = getattr(system, "kernels", None)
-        if kernels is None or not getattr(kernels, "splittable", False):
+        if not isinstance(system, HasCompiledKernels) or not system.kernels.splittable:
             raise InputError(f"{self.name} needs a system with exact kinetic/potential flows "
                              f"(NBodySystem, TwoBodySystem); {type(system).__name__} has none — "
                              "use 'midpoint' or a scipy method")
+        kernels = system.kernels
         comp = self.compensated
-        if comp and getattr(kernels, "kick_compensated", None) is None:
+        if comp and kernels.kick_compensated is None:
             raise InputError(f"{self.name}: compensated=True needs compensated drift/kick kernels, "
                              f"which {type(system).__name__} does not have (TwoBodySystem and "
                              "NBodySystem have them); use compensated=False")
-        if hasattr(system, "check_state"):
+        if isinstance(system, HasStateCheck):
             system.check_state(y0)
         h = check_step(step, t_end - t0, self.name)
         span = t_end - t0
@@ -479,7 +489,8 @@ class Splitting:
         scratch = SaveBuffer(y.size, 4)
         no_hist = np.zeros(5)
 
-        def chunk(st, max_steps, buf):
+        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
+                  ) -> tuple[int, float, int, int, int, float]:
             start, start_c = st.y.copy(), st.comp.copy()
             try:
                 status, t_new, k, nsave, value = run(
@@ -492,7 +503,7 @@ class Splitting:
                 raise locate_division(self.name, replay, start, st.t, st.steps) from None
             return status, t_new, k, nsave, 0, value
 
-        def _replay(cs: np.ndarray):
+        def _replay(cs: np.ndarray) -> StepFn:
             def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
                 out = run(ys, cs, t0, ts, t_end, h, n_total, self.adaptive, dref,
                           self.iterations, self.a, self.b, fsal, data, work, save_every, done, 1,
@@ -509,7 +520,7 @@ class Splitting:
                 0, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, trial, ctrial, yc, yc, no_hist)
             return yc - cc if comp else yc
 
-        def done(st) -> bool:
+        def done(st: LoopState) -> bool:
             return st.t >= t_end if self.adaptive else st.steps >= n_total
 
         problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),

@@ -56,11 +56,19 @@ splitting (ordinary composition steps over the sub-interval).
 from __future__ import annotations
 
 import math
-from typing import Any
+from collections.abc import Sequence
 
 import numba
 import numpy as np
 
+from poissonkit.contracts import (
+    CompiledFunction,
+    CompiledKernels,
+    Event,
+    HasCompiledKernels,
+    HasStateCheck,
+    System,
+)
 from poissonkit.errors import InputError, IntegrationError
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
@@ -71,7 +79,8 @@ from poissonkit.numerics.integrators.base import (
     state_digest,
     step_end_kernels,
 )
-from poissonkit.numerics.integrators.driver import drive
+from poissonkit.numerics.integrators.capabilities import TIME_TRANSFORMED
+from poissonkit.numerics.integrators.driver import Control, LoopState, drive
 from poissonkit.numerics.integrators.splitting import WEIGHTS, drift_kick_coefficients
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import all_finite, copy_into, copy_row
@@ -115,7 +124,7 @@ def _power(x, k):
     return x**k
 
 
-def _layout(system: Any, name: str) -> tuple[int, np.ndarray, np.ndarray]:
+def _layout(system: System, name: str) -> tuple[int, np.ndarray, np.ndarray]:
     """(forces layout, momentum slots, kinetic weights) of a supported system."""
     from poissonkit.numerics.nbody import NBodySystem
     from poissonkit.numerics.twobody import TwoBodySystem
@@ -142,10 +151,11 @@ def _layout(system: Any, name: str) -> tuple[int, np.ndarray, np.ndarray]:
 
 
 # --------------------------------------------------------------------------- compiled loop
-_runners: dict[tuple[int, int], Any] = {}
+_runners: dict[tuple[int, int],
+               tuple[CompiledFunction, CompiledFunction, CompiledKernels]] = {}
 
 
-def _runner(kernels: Any, layout: int) -> Any:
+def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
     """The compiled time loop specialised to one system's kernels (cached)."""
     key = (id(kernels.forces), layout)
     hit = _runners.get(key)
@@ -236,7 +246,7 @@ def _runner(kernels: Any, layout: int) -> Any:
     return run
 
 
-def _plain(kernels: Any, layout: int) -> Any:
+def _plain(kernels: CompiledKernels, layout: int) -> CompiledFunction:
     _runner(kernels, layout)
     return _runners[(id(kernels.forces), layout)][1]
 
@@ -261,7 +271,7 @@ class TimeTransformedSplitting:
     """
 
     family = "time_transformed"
-    supports_control = True
+    capabilities = TIME_TRANSFORMED
 
     def __init__(self, order: int = 6, shift: float = 0.0, exponent: float = 1.0) -> None:
         if order not in WEIGHTS:
@@ -290,19 +300,20 @@ class TimeTransformedSplitting:
         """Number of force evaluations per step."""
         return len(self.b)
 
-    def integrate(self, system: Any, y0: np.ndarray, t_end: float, *, step: float | None,
-                  tol: float | None, events=(), progress: bool = False, save_every: int = 1,
-                  t0: float = 0.0, control: Any = None) -> RawResult:
+    def integrate(self, system: System, y0: np.ndarray, t_end: float, *, step: float | None,
+                  tol: float | None, events: Sequence[Event] = (), progress: bool = False,
+                  save_every: int = 1, t0: float = 0.0,
+                  control: Control | None = None) -> RawResult:
         """Integrate from ``t0`` to ``t_end``; ``step`` is the fictitious-time step ``Δs``,
         equal to the physical step at the initial state (see :func:`drive` for ``control``)."""
-        kernels = getattr(system, "kernels", None)
-        if kernels is None or not getattr(kernels, "splittable", False):
+        if not isinstance(system, HasCompiledKernels) or not system.kernels.splittable:
             raise InputError(f"{self.name} needs a system with exact kinetic/potential flows "
                              f"(NBodySystem, TwoBodySystem); {type(system).__name__} has none")
         layout, kidx, kw = _layout(system, self.name)
-        if getattr(kernels, "forces", None) is None:
+        kernels = system.kernels
+        if kernels.forces is None:
             raise InputError(f"{self.name}: {type(system).__name__} has no forces kernel")
-        if hasattr(system, "check_state"):
+        if isinstance(system, HasStateCheck):
             system.check_state(y0)
         ds = check_step(step, t_end - t0, self.name)
         y = np.array(y0, dtype=float)
@@ -333,7 +344,8 @@ class TimeTransformedSplitting:
         no_hist = np.zeros(5)
         a, b, kexp = self.a, self.b, self.exponent
 
-        def chunk(st, max_steps, buf):
+        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
+                  ) -> tuple[int, float, int, int, int, float]:
             start = st.y.copy()
             try:
                 status, t_new, k, nsave, value = run(
@@ -342,7 +354,7 @@ class TimeTransformedSplitting:
                     watch, trial, st.prev, st.prev2, st.hist)
             except ZeroDivisionError:
                 raise locate_division(self.name, one_step, start, st.t, st.steps) from None
-            st.bad = value
+            st.detail = value
             return status, t_new, k, nsave, k * len(b), value
 
         def one_step(ys: np.ndarray, ts: float, done_steps: int) -> tuple[int, float]:
@@ -356,8 +368,8 @@ class TimeTransformedSplitting:
             plain(yc, s, a, b, data, work)
             return yc
 
-        def failure(status: int, st) -> Exception | None:
-            bad = getattr(st, "bad", math.nan)
+        def failure(status: int, st: LoopState) -> Exception | None:
+            bad = st.detail
             where = f"at step {st.steps + 1} (t = {st.t:.10g})"
             if status == SHIFT_TOO_SMALL:
                 return IntegrationError(
@@ -374,7 +386,7 @@ class TimeTransformedSplitting:
                     "the fictitious-time step is far too large; use a smaller step")
             return None
 
-        def done(st) -> bool:
+        def done(st: LoopState) -> bool:
             return st.t >= t_end
 
         problem = {"method": self.name, "ds": float(ds).hex(), "t0": float(t0).hex(),

@@ -31,30 +31,35 @@ error stays bounded without drift.
 from __future__ import annotations
 
 import math
-from typing import Any
+from collections.abc import Sequence
 
 import numba
 import numpy as np
 
-from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
-from poissonkit.numerics.events import (
-    EventRecord,
-    check_events,
-    event_thresholds,
-    raise_or_record,
+from poissonkit.contracts import (
+    CompiledFunction,
+    CompiledKernels,
+    Event,
+    HasBodies,
+    HasCompiledKernels,
+    HasGravity,
+    System,
 )
+from poissonkit.errors import InputError
+from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
-    BUFFER_FULL,
-    COLLISION,
-    DONE,
-    ESCAPE,
-    NONFINITE,
     RawResult,
     SaveBuffer,
+    StepFn,
     check_step,
-    progress_bar,
+    locate_division,
+    state_digest,
+    step_end_kernels,
 )
+from poissonkit.numerics.integrators.capabilities import WISDOM_HOLMAN
+from poissonkit.numerics.integrators.driver import Control, LoopState, drive
 from poissonkit.numerics.jit import jit
+from poissonkit.numerics.kernels import all_finite, copy_row
 
 #: ``g_n`` of the ``ε² h²`` error term of ``SABA_n`` (Laskar & Robutel 2001, Table 1).
 CORRECTOR_G = {
@@ -223,17 +228,17 @@ def jacobi_of_inertial(a, m, eta, aj):
 
 
 # --------------------------------------------------------------------------- compiled loop
-_runners: dict[int, Any] = {}
+_runners: dict[int, tuple[CompiledFunction, CompiledKernels]] = {}
 
 
-def _runner(kernels) -> Any:
+def _runner(kernels: CompiledKernels) -> CompiledFunction:
     """The compiled Wisdom–Holman loop around one system's force kernel (cached)."""
     key = id(kernels.forces)
     hit = _runners.get(key)
     if hit is not None:
         return hit[0]
     forces = kernels.forces
-    min_distance, max_radius = kernels.min_distance, kernels.max_radius
+    remember, check = step_end_kernels(kernels)
 
     @jit
     def accel(xj, m, eta, gm, ybuf, r, a, aj, data, work):
@@ -307,13 +312,20 @@ def _runner(kernels) -> Any:
                 y[6 * i + 3 + d] = m[i] * u[i, d]
 
     @jit
-    def run(y, xj, uj, m, eta, gm, t_orig, h, n_total, c, dk, tau, data, work, save_every,
-            step0, max_steps, out_t, out_y, contact, escape):
+    def run(y, xj, uj, carried, m, eta, gm, t_orig, h, n_total, c, dk, tau, data, work,
+            save_every, step0, max_steps, out_t, out_y, contact, escape, watch, prev, prev2,
+            hist):
         """Advance the Jacobi state ``xj, uj`` (written to ``y`` at every save and on return).
 
         Returns (status, t, steps done, saved, value). Without corrector the last drift of a
         step is merged into the first drift of the next; with it, the closing corrector of a
         step and the opening one of the next are one kick (both depend on positions only).
+        ``carried = [pending drift, corrector opened]`` is that merge's state between calls:
+        a call ends by writing into ``y`` the state at ``t`` computed from *copies*, so where
+        a chunk ends never changes the arithmetic (resumed runs are bit-identical).
+
+        With events, every step end is synchronised into ``y`` and checked; ``prev``, ``prev2``
+        and ``hist`` are the event-search memory (see :mod:`poissonkit.numerics.locate`).
         """
         n = m.shape[0]
         ybuf = y.copy()
@@ -325,13 +337,16 @@ def _runner(kernels) -> Any:
         a_plus = np.empty((n, 3))
         ns = dk.shape[0]
         nsave = 0
-        pending = 0.0
-        opened = False
+        pending = carried[0]
+        opened = carried[1] != 0.0
+        track = contact > 0.0 or escape > 0.0 or watch > 0.0
         ok = True
         t = t_orig + step0 * h
         k = 0
         while k < max_steps:
             gstep = step0 + k + 1
+            if track:
+                remember(y, prev, prev2, hist, t)
             if tau != 0.0 and not opened:
                 correct(xj, uj, tau, m, eta, gm, ybuf, r, a, aj, xt, a_plus, data, work)
             ok = drift_all(xj, uj, gm, pending + c[0] * h) and ok
@@ -347,7 +362,7 @@ def _runner(kernels) -> Any:
             last = gstep >= n_total
             k += 1
             t = t_orig + gstep * h
-            need = last or gstep % save_every == 0 or contact > 0.0 or escape > 0.0
+            need = last or gstep % save_every == 0 or track
             if tau != 0.0:
                 ok = drift_all(xj, uj, gm, c[ns] * h) and ok
                 correct(xj, uj, tau if need else 2.0 * tau, m, eta, gm, ybuf, r, a, aj, xt,
@@ -360,40 +375,30 @@ def _runner(kernels) -> Any:
             if not need:
                 continue
             sync(xj, uj, m, eta, y, r, u)
-            bad = not ok
-            for i in range(y.shape[0]):
-                if not math.isfinite(y[i]):
-                    bad = True
-            if bad:
+            if not ok or not all_finite(y):
+                carried[0] = pending
+                carried[1] = 1.0 if opened else 0.0
                 return 1, t, k, nsave, 0.0
-            if contact > 0.0:
-                dmin = min_distance(y, data, work)
-                if dmin < contact:
-                    out_t[nsave] = t
-                    for i in range(y.shape[0]):
-                        out_y[nsave, i] = y[i]
-                    return 2, t, k, nsave + 1, dmin
-            if escape > 0.0:
-                dmax = max_radius(y, data)
-                if dmax > escape:
-                    out_t[nsave] = t
-                    for i in range(y.shape[0]):
-                        out_y[nsave, i] = y[i]
-                    return 3, t, k, nsave + 1, dmax
+            flag, value = check(y, data, work, contact, escape, watch, hist)
             if last or gstep % save_every == 0:
                 out_t[nsave] = t
-                for i in range(y.shape[0]):
-                    out_y[nsave, i] = y[i]
+                copy_row(y, out_y, nsave)
                 nsave += 1
+            if flag != 0:
+                return flag, t, k, nsave, value
             if last:
                 return 5, t, k, nsave, 0.0
-            if nsave == out_t.shape[0] - 1:
+            if nsave == out_t.shape[0]:
                 return 4, t, k, nsave, 0.0
-        # chunk done between saves: leave Jacobi and y synchronised at t
-        ok = drift_all(xj, uj, gm, pending) and ok
+        # chunk done between saves: the state at t, from copies (the merge state is kept)
+        carried[0] = pending
+        carried[1] = 1.0 if opened else 0.0
+        xc = xj.copy()
+        uc = uj.copy()
+        ok = drift_all(xc, uc, gm, pending) and ok
         if opened:
-            correct(xj, uj, -tau, m, eta, gm, ybuf, r, a, aj, xt, a_plus, data, work)
-        sync(xj, uj, m, eta, y, r, u)
+            correct(xc, uc, -tau, m, eta, gm, ybuf, r, a, aj, xt, a_plus, data, work)
+        sync(xc, uc, m, eta, y, r, u)
         return 0 if ok else 1, t, k, nsave, 0.0
 
     _runners[key] = (run, kernels)
@@ -419,6 +424,7 @@ class WisdomHolman:
     """
 
     family = "hierarchical"
+    capabilities = WISDOM_HOLMAN
 
     def __init__(self, stages: int = 1, corrector: bool = False) -> None:
         self.c, self.d = saba_coefficients(int(stages))
@@ -428,80 +434,87 @@ class WisdomHolman:
         self.name = f"wisdom_holman{'_corrected' if corrector else ''}" + (
             f"{self.stages}" if self.stages != 1 else "")
 
-    def integrate(self, system: Any, y0: np.ndarray, t_end: float, *, step: float | None,
-                  tol: float | None, events=(), progress: bool = False, save_every: int = 1,
-                  t0: float = 0.0) -> RawResult:
-        """Integrate from ``t0`` to ``t_end`` with fixed step ``step``."""
-        kernels = getattr(system, "kernels", None)
-        gravity = getattr(system, "gravity_constant", None)
-        if kernels is None or getattr(kernels, "forces", None) is None or gravity is None:
+    def integrate(self, system: System, y0: np.ndarray, t_end: float, *,
+                  step: float | None, tol: float | None, events: Sequence[Event] = (),
+                  progress: bool = False, save_every: int = 1, t0: float = 0.0,
+                  control: Control | None = None) -> RawResult:
+        """Integrate from ``t0`` to ``t_end`` with fixed step ``step`` on the shared driver
+        (:func:`~poissonkit.numerics.integrators.driver.drive`: located events, checkpoints,
+        streaming, stop requests)."""
+        if not (isinstance(system, HasGravity) and isinstance(system, HasBodies)
+                and isinstance(system, HasCompiledKernels)) or system.kernels.forces is None:
             raise InputError(f"{self.name} needs an NBodySystem of point masses with gravity; "
                              f"{type(system).__name__} is not one — use a splitting instead")
-        G = gravity()  # raises a typed error naming what is missing
+        G = system.gravity_constant()  # raises a typed error naming what is missing
         if system.n_tops or system.n_moving != len(system.bodies):
             raise InputError(f"{self.name} needs moving point masses only (no tops, no fixed "
                              "bodies)")
+        kernels = system.kernels
         h = check_step(step, t_end - t0, self.name)
         span = t_end - t0
         n_total = max(1, math.ceil(span / h - 1e-12))
         h = span / n_total
-        events = check_events(events)
-        if any(e.kind == "closest_approach" for e in events):
-            raise InputError(f"{self.name} checks collisions and escapes at step ends only; "
-                             "a closest-approach event needs a splitting or a scipy method")
-        contact, escape, _watch = event_thresholds(events)
+        contact, escape, watch = event_thresholds(events)
         run = _runner(kernels)
         y = np.array(y0, dtype=float)
         m = np.ascontiguousarray(system.data[0], dtype=float)
         eta = np.cumsum(m)
         gm = G * eta
-        n = m.shape[0]
-        rp = y.reshape(n, 2, 3)
-        xj, uj = np.empty((n, 3)), np.empty((n, 3))
-        to_jacobi(np.ascontiguousarray(rp[:, 0]), np.ascontiguousarray(rp[:, 1] / m[:, None]),
-                  m, xj, uj)
-        tau = 0.0
-        if self.corrector:
-            tau = -CORRECTOR_G[self.stages] * h ** 3 / 2.0
+        xj, uj = _jacobi_of(y, m)
+        tau = -CORRECTOR_G[self.stages] * h ** 3 / 2.0 if self.corrector else 0.0
         data, work = system.data, system.work()
-        buf = SaveBuffer(y.size, min(n_total // save_every + 2, 4096))
-        buf.add(t0, y)
-        bar = progress_bar(progress, span, self.name)
-        chunk = max(1, n_total // 200) if progress else (1 << 62)
-        steps, records, t = 0, [], t0
-        try:
-            while True:
-                status, t_new, k, nsave, value = run(
-                    y, xj, uj, m, eta, gm, t0, h, n_total, self.c, self.d, tau, data, work,
-                    save_every, steps, chunk, buf.cur_t, buf.cur_y, contact, escape)
-                buf.commit(nsave)
-                if bar is not None:
-                    bar.update(t_new - t)
-                steps += k
-                t = t_new
-                if status == NONFINITE:
-                    raise NonFiniteStateError(steps, t, f"{self.name} step {steps} produced "
-                                              "NaN/inf (bodies collided or escaped the Kepler "
-                                              "solver's range?)")
-                if status in (COLLISION, ESCAPE):
-                    # checked at step ends, not located: the event lies within the last step
-                    escaped = status == ESCAPE
-                    ev = next(e for e in events if (e.kind == "escape") == escaped)
-                    raise_or_record(ev, EventRecord(ev.kind, steps, t, value, time_error=h),
-                                    records)
-                    break
-                if status == DONE:
-                    break
-                if status not in (0, BUFFER_FULL):
-                    raise IntegrationError(f"{self.name}: unexpected status {status}")
-        except ZeroDivisionError:
-            raise NonFiniteStateError(steps + 1, t, f"{self.name}: division by zero in a "
-                                      "compiled kernel (two bodies at the same place?)") from None
-        finally:
-            if bar is not None:
-                bar.close()
-        ts, ys = buf.arrays()
+        c, dk = self.c, self.d
         per_step = self.stages + (3 if self.corrector else 0)
-        return RawResult(ts, ys, steps, nfev=steps * per_step, events=records,
-                         message="event" if records else "done",
-                         extra={"step": h, "stages": self.stages, "corrector": self.corrector})
+        scratch = SaveBuffer(y.size, 4)
+        no_hist = np.zeros(5)
+
+        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
+                  ) -> tuple[int, float, int, int, int, float]:
+            start = {key: arr.copy() for key, arr in st.carry.items()}
+            try:
+                status, t_new, k, nsave, value = run(
+                    st.y, st.carry["xj"], st.carry["uj"], st.carry["merge"], m, eta, gm, t0, h,
+                    n_total, c, dk, tau, data, work, save_every, st.steps, max_steps, buf.cur_t,
+                    buf.cur_y, contact, escape, watch, st.prev, st.prev2, st.hist)
+            except ZeroDivisionError:
+                raise locate_division(self.name, _replay(start), st.y, st.t, st.steps) from None
+            return status, t_new, k, nsave, k * per_step, value
+
+        def _replay(start: dict[str, np.ndarray]) -> StepFn:
+            def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
+                out = run(ys, start["xj"], start["uj"], start["merge"], m, eta, gm, t0, h,
+                          n_total, c, dk, tau, data, work, save_every, done, 1, scratch.cur_t,
+                          scratch.cur_y, 0.0, 0.0, 0.0, ys, ys, no_hist)
+                return out[0], out[1]
+            return one_step
+
+        def advance(ys: np.ndarray, s: float) -> np.ndarray:
+            # one whole step of length s from a state (event location)
+            yc = np.array(ys, dtype=float)
+            xs, us = _jacobi_of(yc, m)
+            ts = -CORRECTOR_G[self.stages] * s ** 3 / 2.0 if self.corrector else 0.0
+            run(yc, xs, us, np.zeros(2), m, eta, gm, 0.0, s, 1, c, dk, ts, data, work, 1, 0, 1,
+                scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, yc, yc, no_hist)
+            return yc
+
+        problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
+                   "t_end": float(t_end).hex(), "n_total": n_total, "save_every": save_every,
+                   "dim": int(y.size), "G": float(G).hex(), "y0": state_digest(y)}
+        raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
+                    save_every=save_every, control=control, chunk=chunk, advance=advance,
+                    done=lambda st: st.steps >= n_total, failure=lambda status, st: None,
+                    problem=problem, buffer_rows=min(n_total // save_every + 2, 4096),
+                    carry={"xj": xj, "uj": uj, "merge": np.zeros(2)})
+        raw.nfev = raw.steps * per_step
+        raw.extra.update(step=h, stages=self.stages, corrector=self.corrector)
+        return raw
+
+
+def _jacobi_of(y: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Jacobi positions and velocities (row 0: centre of mass) of an N-body state ``y``."""
+    n = m.shape[0]
+    rp = y.reshape(n, 2, 3)
+    xj, uj = np.empty((n, 3)), np.empty((n, 3))
+    to_jacobi(np.ascontiguousarray(rp[:, 0]), np.ascontiguousarray(rp[:, 1] / m[:, None]),
+              m, xj, uj)
+    return xj, uj
