@@ -17,7 +17,6 @@ another. For a direct sum this recovers its summands (and splits ``canonical(3)`
 from __future__ import annotations
 
 import math
-import random
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
@@ -35,6 +34,7 @@ from poissonkit.errors import (
 )
 from poissonkit.structure._expr import as_bivector, as_expr
 from poissonkit.structure.bivector import Bivector
+from poissonkit.structure.sampling import Sampler, false_positive_fraction
 from poissonkit.structure.checks import (
     CheckResult,
     _as_exprs,
@@ -129,11 +129,19 @@ class RankResult(int):
         return f"RankResult({int(self)}, {kind}, error_bound={self.error_bound})"
 
 
-_SAMPLE_N = 10 ** 6  # sample set {k/N : |k| <= N}, size 2N+1
+class _PointStream:
+    """Successive random points of the one sampler (:class:`~poissonkit.structure.sampling.
+    Sampler`): call :meth:`next_point`, then read values by key."""
 
+    def __init__(self, sampler: Sampler) -> None:
+        self.sampler, self.index = sampler, -1
 
-def _random_rational(rng: random.Random) -> sp.Rational:
-    return sp.Rational(rng.randint(-_SAMPLE_N, _SAMPLE_N), _SAMPLE_N)
+    def next_point(self) -> None:
+        self.index += 1
+
+    def value(self, key: str) -> sp.Rational:
+        """The rational ``p / SAMPLE_RANGE`` of ``key`` at the current point."""
+        return self.sampler.rational(key, self.index)
 
 
 def _function_atoms(M: sp.Matrix) -> set:
@@ -144,7 +152,7 @@ def _function_atoms(M: sp.Matrix) -> set:
     return atoms
 
 
-def _jets(expr_matrix: sp.Matrix, rng: random.Random, values: dict) -> sp.Matrix:
+def _jets(expr_matrix: sp.Matrix, rng: _PointStream, values: dict) -> sp.Matrix:
     """Replace undefined-function values/derivatives by random rationals.
 
     Each distinct quantity gets its own value: atoms are keyed by :func:`canonical_atom`
@@ -159,7 +167,7 @@ def _jets(expr_matrix: sp.Matrix, rng: random.Random, values: dict) -> sp.Matrix
     for a in sorted(atoms, key=sp.default_sort_key):
         key = canonical_atom(a)
         if key not in values:
-            values[key] = _random_rational(rng)
+            values[key] = rng.value("jet:" + sp.srepr(key))
         rep[a] = values[key]
     return expr_matrix.xreplace(rep)
 
@@ -224,14 +232,16 @@ def rank(P, point=None, *, trials: int = 2, seed: int | None = None) -> RankResu
     The rank at a random point is never larger than the generic rank; it is smaller only if the
     point is a zero of a non-zero ``r x r`` minor, of total degree at most ``n * delta``
     (``delta`` = largest entry degree after clearing row denominators). Points are drawn from
-    ``{k/N : |k| <= N}^n`` with ``N = 10**6``, so each trial errs with probability at most
-    ``n delta / (2N + 1)`` (Schwartz–Zippel), and all trials with at most its power.
+    ``{k/N : |k| <= N}^n`` with ``N = 10**6`` (the one sampler of the symbolic checks,
+    :mod:`poissonkit.structure.sampling`; ``seed=None`` draws a fresh seed, named in
+    ``note``), so each trial errs with probability at most ``n delta / (2N + 1)``
+    (Schwartz–Zippel), and all trials with at most its power.
     Independent blocks are ranked separately.
     """
     P = _bivector(P)
     if not isinstance(trials, int) or trials < 1:
         raise InputError(f"trials must be a positive int, got {trials!r}")
-    rng = random.Random(seed)
+    rng = _PointStream(Sampler(seed))
     given: dict = {}
     if point is not None:
         given = _point_dict(P, point)
@@ -254,15 +264,14 @@ def rank(P, point=None, *, trials: int = 2, seed: int | None = None) -> RankResu
             if delta is None:
                 bound = None
             else:
-                per = Fraction(B.dim * delta, 2 * _SAMPLE_N + 1)
-                bound += min(Fraction(1), per) ** n_trials
+                bound += false_positive_fraction(B.dim * delta, n_trials)
     if point is not None:
         sampled = any(s not in given for s in free_params) or any(
             e.has(AppliedUndef, sp.Derivative, sp.Subs) for e in P.matrix)
         # exact at the point, unless parameters / function jets had to be sampled
         bound = None if sampled else Fraction(0)
     note = ("parameters and undefined-function jets not given were drawn at random "
-            "(rank for generic values)")
+            f"(rank for generic values; seed {rng.sampler.seed})")
     return RankResult(total, used, point is None, bound, note)
 
 
@@ -291,7 +300,7 @@ def _point_value(v, name: str) -> sp.Expr:
     return sp.nsimplify(e, rational=True) if isinstance(e, sp.Float) else e
 
 
-def _rank_once(B: Bivector, given: dict, params: list, rng, generic: bool):
+def _rank_once(B: Bivector, given: dict, params: list, rng: _PointStream, generic: bool):
     """Rank of ``B`` at one point (given coordinates, random parameters / jets where not given).
 
     Undefined-function atoms (``g(gamma)``, ``dg/dgamma_x``, ``Subs(..)``) are replaced by
@@ -300,11 +309,12 @@ def _rank_once(B: Bivector, given: dict, params: list, rng, generic: bool):
     meaningless (differentiation with respect to a number).
     """
     for _attempt in range(20):
+        rng.next_point()
         vals = {}
         for c in B.coords:
-            vals[c] = given[c] if c in given else _random_rational(rng)
+            vals[c] = given[c] if c in given else rng.value(c.name)
         for s in params:
-            vals[s] = given[s] if s in given else _random_rational(rng)
+            vals[s] = given[s] if s in given else rng.value(s.name)
         jets: dict = {}
         M = _jets(B.matrix, rng, jets)
         M = M.xreplace(vals)
@@ -599,11 +609,12 @@ def _reduce_algebraic(p, rels, R):
     return p
 
 
-def _specialised_nullspace(A: DomainMatrix, rng: random.Random):
+def _specialised_nullspace(A: DomainMatrix, rng: _PointStream):
     """Null space over QQ of ``A`` with random rational parameter values (or None)."""
     K = A.domain
     syms = K.symbols if hasattr(K, "symbols") else K.gens
-    vals = {s: _random_rational(rng) for s in syms}
+    rng.next_point()
+    vals = {s: rng.value(str(s)) for s in syms}
     out = {}
     for r, d in A.rep.to_sdm().items():
         row = {}
@@ -629,7 +640,8 @@ def _guess_nullspace(A: DomainMatrix) -> DomainMatrix | None:
     *increase* the nullity: ``k`` independent generic solutions and specialised nullity ``k``
     leave no room for more.
     """
-    rng = random.Random(12345)
+    # any seed will do: the candidates are proved below, the seed only affects speed
+    rng = _PointStream(Sampler(12345))
     a = _specialised_nullspace(A, rng)
     b = _specialised_nullspace(A, rng)
     if a is None or b is None or a.shape != b.shape:

@@ -32,14 +32,16 @@ Randomized check
 exact square roots). Parameters are sampled too, and every undefined-function atom
 (``g(gamma)``, ``dg/dgamma_1``, ``d^2 g/dgamma_1 dgamma_2``, ...) gets an independent random
 value: these are the jet values of a random polynomial of sufficient degree, so the check covers
-arbitrary ``g``. By Schwartz–Zippel, a non-zero Jacobiator whose cleared numerator has degree
-``<= D`` vanishes at a uniform point of ``S^N`` with probability ``<= D/|S|``; the result
-states ``(D/|S|)**trials`` with a conservative ``D`` (see :func:`_degree_bound`).
+arbitrary ``g``. The values come from the one sampler of the symbolic checks
+(:mod:`poissonkit.structure.sampling`: integers in ``S = [-SAMPLE_RANGE, SAMPLE_RANGE]``,
+seeded and reproducible; a ``None`` seed is drawn fresh and reported in the note). By
+Schwartz–Zippel, a non-zero Jacobiator whose cleared numerator has degree ``<= D`` vanishes at a
+uniform point of ``S^N`` with probability ``<= D/|S|``; the result states ``(D/|S|)**trials``
+with a conservative ``D`` (see :func:`_degree_bound`).
 """
 
 from __future__ import annotations
 
-import random as _random
 import time
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -51,11 +53,15 @@ from poissonkit._display import html_table, latex_aligned, latex_text, text_bloc
 from poissonkit.errors import InputError, NotPoissonError
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
+from poissonkit.structure.sampling import (
+    SAMPLE_RANGE,
+    Sampler,
+    false_positive_bound,
+    is_zero_at_point,
+)
 
 Key = tuple[int, int, int]
 
-#: Half-width of the integer sample set S = [-SAMPLE_RANGE, SAMPLE_RANGE] of the random check.
-SAMPLE_RANGE: int = 2**40
 _METHODS = ("auto", "exact", "random")
 #: Without square roots, the polynomial-ring path is used above this total operation count.
 RING_MIN_OPS: int = 300
@@ -589,13 +595,11 @@ def _degree_bound(at: _Atomised, gens: Sequence[sp.Symbol]) -> int:
     return max(1, 2 * 9 * n * max(delta, 1) + udeg)
 
 
-def _random_values(symbols: Iterable[sp.Expr], rng: _random.Random) -> dict[sp.Expr, sp.Integer]:
-    return {s: sp.Integer(rng.randint(-SAMPLE_RANGE, SAMPLE_RANGE)) for s in symbols}
-
-
 def _check_random(P: Bivector, trials: int, seed: int | None,
                   parametrization: Mapping[sp.Symbol, sp.Expr] | None
-                  ) -> tuple[dict[Key, sp.Expr], float]:
+                  ) -> tuple[dict[Key, sp.Expr], float, int]:
+    """Jacobiator values at random integer points (:class:`~poissonkit.structure.sampling.
+    Sampler`); ``(failures, false-positive bound, seed)``."""
     from poissonkit.structure.checks import canonical_atom
 
     at = _Atomised(P)
@@ -609,33 +613,37 @@ def _check_random(P: Bivector, trials: int, seed: int | None,
         free |= e.free_symbols
     radical_syms = set(at.radicals)
     params = sorted(free - set(P.coords) - radical_syms, key=str)
-    rng = _random.Random(seed)
+    sampler = Sampler(seed)
     gens = list(P.coords) + params + sorted(radical_syms, key=str)
     D = _degree_bound(at, gens)
-    per_trial = min(1.0, D / (2 * SAMPLE_RANGE + 1))
     failures: dict[Key, sp.Expr] = {}
+    par_syms: list[sp.Symbol] = []
     if parametrization is not None:
         par_syms = sorted(set().union(*(sp.sympify(v).free_symbols
                                         for v in parametrization.values())) - set(params), key=str)
+    # one random value per distinct jet quantity (atoms equal up to argument expansion)
+    jet_keys = {a: canonical_atom(a) for a in fatoms}
+    jet_names = {k: "jet:" + sp.srepr(k) for k in set(jet_keys.values())}
+
+    def draw(symbols: Iterable[sp.Symbol], index: int) -> dict[sp.Expr, sp.Integer]:
+        return {x: sp.Integer(sampler.integer(x.name, index)) for x in symbols}
+
     done = 0
     attempts = 0
     while done < trials:
+        index = attempts
         attempts += 1
         if attempts > 20 * trials + 20:
             raise InputError("random Jacobi check: could not find points where P is defined")
-        values = _random_values(params, rng)
+        values = draw(params, index)
         if parametrization is not None:
-            pv = _random_values(par_syms, rng)
+            pv = draw(par_syms, index)
             for c in P.coords:
-                values[c] = sp.sympify(parametrization.get(c, c)).xreplace(pv)
-                if c not in parametrization:
-                    values[c] = sp.Integer(rng.randint(-SAMPLE_RANGE, SAMPLE_RANGE))
+                values[c] = (sp.sympify(parametrization[c]).xreplace(pv)
+                             if c in parametrization else sp.Integer(sampler.integer(c.name, index)))
         else:
-            values.update(_random_values(P.coords, rng))
-        # one random value per distinct jet quantity (atoms equal up to argument expansion)
-        jet_keys = {a: canonical_atom(a) for a in fatoms}
-        key_vals = _random_values(sorted(set(jet_keys.values()), key=sp.default_sort_key), rng)
-        jets = {a: key_vals[k] for a, k in jet_keys.items()}
+            values.update(draw(P.coords, index))
+        jets = {a: sp.Integer(sampler.integer(jet_names[k], index)) for a, k in jet_keys.items()}
         rule = {**jets, **values}
         # radical symbols take the exact square root of their base at the point
         for G, u in at.radicals.items():
@@ -645,19 +653,19 @@ def _check_random(P: Bivector, trials: int, seed: int | None,
             rule[G] = sp.sqrt(uval)
         else:
             try:
-                vals = {key: sp.expand(e.xreplace(rule)) for key, e in jac_exprs.items()}
+                vals = {key: e.xreplace(rule) for key, e in jac_exprs.items()}
             except ZeroDivisionError:
                 continue
             if any(v.has(sp.zoo, sp.nan, sp.oo) for v in vals.values()):
                 continue
             for key, v in vals.items():
-                if v != 0:
-                    failures[key] = v
+                if not is_zero_at_point(v):
+                    failures[key] = sp.expand(v)
             done += 1
             if failures:
                 break
-    bound = 0.0 if failures else per_trial ** trials
-    return failures, bound
+    bound = 0.0 if failures else false_positive_bound(D, trials)
+    return failures, bound, sampler.seed
 
 
 # ---------------------------------------------------------------------- public API
@@ -743,11 +751,12 @@ def check_jacobi(P: Bivector, method: str = "auto", constraints: Sequence = (),
             note = (note + "; " if note else "") + "reduced modulo a Groebner basis of the constraints"
         result_trials = 0
     else:
-        failures, bound = _check_random(P, trials, seed,
-                                        parametrization if constraints else None)
+        failures, bound, used_seed = _check_random(P, trials, seed,
+                                                   parametrization if constraints else None)
         result_trials = trials
         note = (note + "; " if note else "") + (
-            f"{trials} random integer points in [-2^40, 2^40], exact arithmetic")
+            f"{trials} random integer points in [-{SAMPLE_RANGE}, {SAMPLE_RANGE}] "
+            f"(seed {used_seed}), exact arithmetic")
     return JacobiResult(is_poisson=not failures, method=chosen, failures=failures,
                         false_positive_bound=bound, seconds=time.perf_counter() - t0,
                         coords=P.coords, trials=result_trials, note=note)

@@ -10,6 +10,7 @@ How a point is evaluated
 ------------------------
 Every sampled symbol (coordinates and parameters) gets a random rational
 ``scale * p / SAMPLE_RANGE`` with ``p`` a uniform integer in ``[-SAMPLE_RANGE, SAMPLE_RANGE]``
+from the one sampler of the symbolic checks (:class:`~poissonkit.structure.sampling.Sampler`)
 (symbols declared ``positive`` or ``negative`` get that sign, ``integer`` ones the integer
 ``p``), drawn from a generator seeded by ``(seed, point index, symbol name)``: a run is
 reproducible and does not depend on the order in which symbols are met. The scale is 1 (the
@@ -69,7 +70,6 @@ not supported here (``RandomPointError``): use the exact method.
 
 from __future__ import annotations
 
-import random as _random
 from collections.abc import Callable, Mapping, Sequence
 from math import gcd, isqrt
 from typing import Any
@@ -79,14 +79,18 @@ from sympy.polys.domains import QQ
 
 from poissonkit.errors import InputError
 from poissonkit.structure._expr import as_expr, as_symbols
+from poissonkit.structure.sampling import (
+    SAMPLE_RANGE,
+    Sampler,
+    false_positive_bound,
+    is_zero_at_point,
+)
 
 __all__ = [
     "SAMPLE_RANGE", "RandomPointError", "RandomPoints",
     "sphere_parametrization",
 ]
 
-#: Random coordinates are ``scale * p / SAMPLE_RANGE``, ``p`` uniform in ``[-SAMPLE_RANGE, SAMPLE_RANGE]``.
-SAMPLE_RANGE: int = 10**6
 #: Points tried per requested point before giving up (denominators / radicands vanishing).
 MAX_ATTEMPTS_FACTOR: int = 20
 
@@ -683,7 +687,8 @@ class RandomPoints:
         if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int)):
             raise InputError(f"seed must be an int or None, got {seed!r}")
         self.trials = trials
-        self.seed: int = seed if seed is not None else _random.SystemRandom().randrange(2**32)
+        self._sampler = Sampler(seed)
+        self.seed: int = self._sampler.seed
         if isinstance(constraints, (sp.Basic, str)):
             constraints = [constraints]
         self.constraints: tuple[sp.Expr, ...] = tuple(as_expr(c, "constraint")
@@ -728,15 +733,10 @@ class RandomPoints:
         through ``1/8, 8, 1/64, 64, ...`` for further points (domains of square roots such as
         ``1 - d (gamma, A gamma) > 0`` are bounded; others may exclude the unit box).
         """
-        rng = _random.Random(f"{self.seed}/{index}/{s.name}")
         # the sign respects the symbol's assumptions: sympy may have simplified with them
         # (sqrt(I**2) = I for a positive I), so a point violating them could be a false witness
-        if s.is_nonnegative:
-            num = rng.randint(1, SAMPLE_RANGE)
-        elif s.is_nonpositive:
-            num = -rng.randint(1, SAMPLE_RANGE)
-        else:
-            num = rng.randint(-SAMPLE_RANGE, SAMPLE_RANGE)
+        sign = 1 if s.is_nonnegative else -1 if s.is_nonpositive else 0
+        num = self._sampler.integer(s.name, index, sign)
         if s.is_integer:
             return _MPQ(num)
         level = index // self.trials
@@ -886,8 +886,6 @@ class RandomPoints:
         for _, build in components:
             D = max(D, _as_degree(build(degrees)).bound())
         D *= self.param_degree
-        eps = 1.0 / SAMPLE_RANGE
-        per_point = min(1.0, D * eps)
         done = 0
         index = 0
         skipped = 0
@@ -904,11 +902,13 @@ class RandomPoints:
             except _Undefined:
                 skipped += 1
                 continue
-            fails = tuple((label, _to_sympy(v)) for label, v in vals if v)
+            fails = tuple((label, _to_sympy(v)) for label, v in vals if not is_zero_at_point(v))
             if fails:
                 return fails, ctx.point(), 0.0, self._note(index, skipped, D)
             done += 1
-        return (), None, per_point ** self.trials, self._note(index, skipped, D)
+        # sign-restricted draws have point masses up to 1/SAMPLE_RANGE: the unsigned bound
+        bound = false_positive_bound(D, self.trials, signed=False)
+        return (), None, bound, self._note(index, skipped, D)
 
     def _note(self, used: int, skipped: int, D: int) -> str:
         where = " on the constraint surface (rational parametrisation)" if self.constraints else ""
