@@ -65,6 +65,13 @@ from poissonkit.structure.verification import (  # noqa: F401
 )
 from poissonkit.structure.verification.loading import Verifiable
 
+__all__ = [
+    "ALMOST_POISSON_TAG", "AUTO_POINTS_OPS", "DEFAULT_TIMEOUT", "EXIT_CODES", "EXIT_ERROR",
+    "EXIT_FAILED", "EXIT_OK", "EXIT_UNDECIDED", "JSON_KEYS", "MAX_DIM", "MAX_EXPONENT",
+    "BoundedChecks", "VerifyReport", "add_arguments", "check_jacobi_at_points", "exact_number",
+    "format_report", "load_structure_json", "load_target", "main", "verify",
+]
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``poissonkit verify``."""

@@ -28,7 +28,7 @@ passes three points with probability below ``1.3e-13``.
 The zero test
 -------------
 At a point, values are exact: rationals, or exact sums of products of square roots
-(:class:`~poissonkit.structure.randompoints.Surd`, or sympy numbers). :func:`is_zero_at_point`
+(:class:`~poissonkit.structure.surds.Surd`, or sympy numbers). :func:`is_zero_at_point`
 decides zero exactly (no floating point), so a non-zero value is a genuine counterexample.
 """
 
@@ -111,7 +111,7 @@ def is_zero_at_point(value: sp.Expr | ExactValue | int) -> bool:
     A sympy number (rationals and square roots of rationals) is zero iff its expansion is
     ``0``: sympy writes products of square roots of rationals over square-free integers, which
     are linearly independent over ``Q``. Any other exact value (a rational, a
-    :class:`~poissonkit.structure.randompoints.Surd`) is zero iff it is falsy.
+    :class:`~poissonkit.structure.surds.Surd`) is zero iff it is falsy.
     """
     if isinstance(value, sp.Basic):
         return sp.expand(value) == 0
