@@ -40,8 +40,8 @@ from typing import Protocol
 
 import sympy as sp
 
-__all__ = ["SAMPLE_RANGE", "Sampler", "false_positive_bound", "false_positive_fraction",
-           "is_zero_at_point"]
+__all__ = ["SAMPLE_RANGE", "PointStream", "Sampler", "false_positive_bound",
+           "false_positive_fraction", "is_zero_at_point"]
 
 #: Half-width of the sample set: integers ``p`` with ``|p| <= SAMPLE_RANGE``.
 SAMPLE_RANGE: int = 10**6
@@ -89,6 +89,28 @@ class Sampler:
     def rational(self, key: str, index: int, sign: int = 0) -> sp.Rational:
         """``integer(key, index, sign) / SAMPLE_RANGE`` as an exact sympy rational."""
         return sp.Rational(self.integer(key, index, sign), SAMPLE_RANGE)
+
+
+class PointStream:
+    """Successive random points of one :class:`Sampler`: call :meth:`next_point`, then read
+    values by key (point ``k`` of the stream is point ``k`` of the sampler).
+
+    Parameters
+    ----------
+    sampler
+        The sampler (its seed makes the stream reproducible).
+    """
+
+    def __init__(self, sampler: Sampler) -> None:
+        self.sampler, self.index = sampler, -1
+
+    def next_point(self) -> None:
+        """Move to the next point."""
+        self.index += 1
+
+    def value(self, key: str) -> sp.Rational:
+        """The rational ``p / SAMPLE_RANGE`` of ``key`` at the current point."""
+        return self.sampler.rational(key, self.index)
 
 
 def false_positive_fraction(degree: int, trials: int, *, signed: bool = True) -> Fraction:
