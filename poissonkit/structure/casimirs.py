@@ -30,13 +30,8 @@ from poissonkit.errors import (
     InputError,
 )
 from poissonkit.structure.bivector import Bivector
-from poissonkit.structure.checks import (
-    CheckResult,
-    _as_exprs,
-    _Atomizer,
-    _expr,
-    _vanishing,
-)
+from poissonkit.structure.checks import CheckResult
+from poissonkit.structure.zerotest import _as_exprs, _Atomizer, _expr, _vanishing
 from poissonkit.structure.sampling import PointStream, Sampler
 from poissonkit.structure.decomposition import _bivector, _blocks, _sub
 from poissonkit.structure.rank import RankResult, rank

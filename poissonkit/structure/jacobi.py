@@ -60,6 +60,7 @@ from poissonkit.structure.sampling import (
 )
 from poissonkit.structure.zerotest import (
     _function_atoms,
+    canonical_atom,
     _has_transcendental,
     _is_half_power,
     _ZeroTester,
@@ -439,7 +440,6 @@ def _check_random(P: Bivector, trials: int, seed: int | None,
                   ) -> tuple[dict[Key, sp.Expr], float, int]:
     """Jacobiator values at random integer points (:class:`~poissonkit.structure.sampling.
     Sampler`); ``(failures, false-positive bound, seed)``."""
-    from poissonkit.structure.checks import canonical_atom
 
     at = _Atomised(P)
     keys = at.candidates()

@@ -21,10 +21,7 @@ from poissonkit.errors import (
 )
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
-from poissonkit.structure.checks import (
-    _Atomizer,
-    canonical_atom,
-)
+from poissonkit.structure.zerotest import _Atomizer, canonical_atom
 from poissonkit.structure.sampling import PointStream, Sampler, false_positive_fraction
 from poissonkit.structure.decomposition import _bivector, _blocks, _sub
 

@@ -15,9 +15,7 @@ import sympy as sp
 from poissonkit.errors import (
     PoissonkitError,
 )
-from poissonkit.structure.checks import (
-    _Atomizer,
-)
+from poissonkit.structure.zerotest import _Atomizer
 from poissonkit.structure.decomposition import _bivector, _blocks, _sub
 from poissonkit.structure.rank import rank
 
