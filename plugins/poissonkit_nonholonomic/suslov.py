@@ -17,11 +17,10 @@ from typing import Any
 import sympy as sp
 
 from poissonkit.errors import InputError
-from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.casimirs import is_casimir, rank
 from poissonkit.structure.jacobi import is_zero_expression, jacobiator_terms
-from poissonkit.structure.parsing import parse_expression
+from poissonkit.structure.parsing import as_expr, parse_expression
 from poissonkit.structure.system import HamiltonianSystem
 from poissonkit_nonholonomic.common import (
     cross,
