@@ -136,7 +136,7 @@ def main(args: argparse.Namespace) -> int:
         rep = verify(obj, name, doc, casimir_degree=args.casimir_degree, method=args.method,
                      seed=args.seed, timeout=args.timeout, claims=entry_claims(name),
                      almost_poisson=is_almost_poisson(name),
-                     equations=getattr(args, "equations", False))
+                     equations=args.equations)
     except PoissonkitError as exc:
         print(f"poissonkit verify: error: {exc}", file=sys.stderr)
         return EXIT_ERROR
