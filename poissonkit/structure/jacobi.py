@@ -478,8 +478,8 @@ def _check_random(P: Bivector, trials: int, seed: int | None,
         if parametrization is not None:
             pv = draw(par_syms, index)
             for c in P.coords:
-                values[c] = (sp.sympify(parametrization[c]).xreplace(pv)
-                             if c in parametrization else sp.Integer(sampler.integer(c.name, index)))
+                values[c] = (sp.sympify(parametrization[c]).xreplace(pv) if c in parametrization
+                             else sp.Integer(sampler.integer(c.name, index)))
         else:
             values.update(draw(P.coords, index))
         jets = {a: sp.Integer(sampler.integer(jet_names[k], index)) for a, k in jet_keys.items()}

@@ -1,7 +1,8 @@
 """The verify engine: Jacobi identity, brackets, rank, Casimirs and claims of a structure.
 
 :func:`verify` is what ``poissonkit verify`` runs and what :func:`poissonkit.verify` is. Every
-check runs under one wall-clock budget (:class:`~.budget.BoundedChecks`): a check that has not
+check runs under one wall-clock budget
+(:class:`~poissonkit.structure.verification.budget.BoundedChecks`): a check that has not
 finished is reported as *undecided within the budget* instead of running on.
 
 Entries tagged ``"almost-poisson"`` carry a bracket that is deliberately not Poisson (an
@@ -47,8 +48,8 @@ def verify(obj: Verifiable, name: str = "", doc: str = "", *, casimir_degree: in
     method
         ``"auto"``, ``"exact"`` or ``"random"``: method of the Jacobi and field checks.
     timeout
-        Wall-clock budget (s) of all checks together (:class:`~.budget.BoundedChecks`);
-        ``<= 0``: none.
+        Wall-clock budget (s) of all checks together
+        (:class:`~poissonkit.structure.verification.budget.BoundedChecks`); ``<= 0``: none.
     claims
         The entry's system-specific claims (:class:`~poissonkit.plugin.SystemEntry`).
     almost_poisson
@@ -64,7 +65,7 @@ def verify(obj: Verifiable, name: str = "", doc: str = "", *, casimir_degree: in
         ``"error"`` (a check raised: listed in ``report["errors"]``) or ``"undecided"``
         (nothing failed, some claim did not finish within the budget: ``report["undecided"]``);
         ``report["ok"]`` is true only for ``"ok"``; ``report["exit_code"]`` is
-        :data:`~.report.EXIT_CODES` of the status.
+        :data:`~poissonkit.structure.verification.report.EXIT_CODES` of the status.
 
     Examples
     --------
