@@ -49,7 +49,7 @@ _LAZY: dict[str, str] = {
     "schouten_bracket": "poissonkit.structure.schouten",
     "is_poisson_map": "poissonkit.structure.poisson_map",
     "parse_expression": "poissonkit.structure.parsing",
-    "verify": "poissonkit.commands.verify",
+    "verify": "poissonkit.structure.verification",
     "hamiltonize": "poissonkit.structure.hamiltonize",
     # numerics
     "solve": "poissonkit.numerics.solver",

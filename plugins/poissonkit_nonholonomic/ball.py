@@ -15,6 +15,8 @@ import sympy as sp
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.system import HamiltonianSystem
 from poissonkit_nonholonomic.common import (
+    Scalar,
+    Triple,
     block,
     cross,
     dot,
@@ -38,7 +40,7 @@ def _ball_parts(I1, I2, I3, d):
     return I, d, gam, M, a, Ag, Q, g, MAg, omega
 
 
-def chaplygin_ball(I1: Any = 1, I2: Any = 2, I3: Any = 3, d: Any = 1) -> HamiltonianSystem:
+def chaplygin_ball(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar = 1) -> HamiltonianSystem:
     """Chaplygin ball rolling on a plane, survey (34)–(40).
 
     ``X = -g^{-1} P_g dH`` with ``H = (M, omega)/2``; Casimirs ``(gamma, gamma)``,
@@ -76,8 +78,8 @@ def chaplygin_ball(I1: Any = 1, I2: Any = 2, I3: Any = 3, d: Any = 1) -> Hamilto
     )
 
 
-def chaplygin_gyrostat(I1: Any = 1, I2: Any = 2, I3: Any = 3, d: Any = 1,
-                       S: Any = (1, 0, -1)) -> HamiltonianSystem:
+def chaplygin_gyrostat(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar = 1,
+                       S: Triple = (1, 0, -1)) -> HamiltonianSystem:
     """Chaplygin ball with a rotor (gyrostat), survey (49).
 
     ``Mdot = (M + S) x omega``, ``gammadot = gamma x omega``; bracket ``P_sg`` with the correction
@@ -112,7 +114,7 @@ def chaplygin_gyrostat(I1: Any = 1, I2: Any = 2, I3: Any = 3, d: Any = 1,
     )
 
 
-def bmf_parts(I1: Any = 1, I2: Any = 2, I3: Any = 3, d: Any = 1) -> dict[str, Any]:
+def bmf_parts(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar = 1) -> dict[str, Any]:
     """Pieces of the BMF system (54)–(56): ``b``, ``g``, ``s``, ``H1``, ``H2``, ``P_b``, ``omega``.
 
     Used by :func:`chaplygin_ball_sphere_bmf` and by the decomposition check (55).
@@ -151,8 +153,8 @@ def bmf_parts(I1: Any = 1, I2: Any = 2, I3: Any = 3, d: Any = 1) -> dict[str, An
                 C2=C2, P=P, c=c, omega=omega)
 
 
-def chaplygin_ball_sphere_bmf(I1: Any = 1, I2: Any = 2, I3: Any = 3,
-                              d: Any = 1) -> HamiltonianSystem:
+def chaplygin_ball_sphere_bmf(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3,
+                              d: Scalar = 1) -> HamiltonianSystem:
     """Chaplygin ball rolling on a sphere, Borisov–Mamaev–Fedorov case ``kappa = -1`` (50)–(56).
 
     Proposition 3: ``X = (d / (g s)) P_b dH`` with ``H = (2d (gamma, gamma) - tr B) H1 + 2 H2``

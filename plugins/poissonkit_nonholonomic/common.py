@@ -8,17 +8,25 @@ from __future__ import annotations
 
 from fractions import Fraction
 from numbers import Real
-from typing import Any
+from collections.abc import Sequence
+from typing import Union
 
 import sympy as sp
 
 from poissonkit.errors import InputError
 from poissonkit.structure.blocks import eps_matrix
+from poissonkit.structure.checks import CheckResult
+
+#: A physical parameter: an exact or float number, or a sympy expression (a symbol keeps it
+#: symbolic).
+Scalar = Union[int, float, Fraction, sp.Expr]
+#: A vector parameter: three scalars.
+Triple = Union[Sequence[Scalar], sp.Matrix]
 
 __all__ = ["block", "cross", "dot", "eps_matrix", "exact", "gamma_M", "positive", "vec"]
 
 
-def exact(value: Any, name: str = "parameter") -> sp.Expr:
+def exact(value: Scalar, name: str = "parameter") -> sp.Expr:
     """An exact sympy number (or keep a sympy expression / symbol as it is).
 
     Floats are read through their shortest decimal representation, so ``0.3 -> 3/10``.
@@ -44,7 +52,7 @@ def exact(value: Any, name: str = "parameter") -> sp.Expr:
     raise InputError(f"{name} must be a number or a sympy expression, got {value!r}")
 
 
-def positive(value: Any, name: str) -> sp.Expr:
+def positive(value: Scalar, name: str) -> sp.Expr:
     """:func:`exact`, and reject numbers that are not > 0 (symbols pass)."""
     v = exact(value, name)
     if v.is_number and not v > 0:
@@ -82,7 +90,7 @@ def block(top_left, top_right, bottom_left, bottom_right) -> sp.Matrix:
     return m
 
 
-def three(values: Any, name: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+def three(values: Triple, name: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
     """Three exact components of a parameter vector."""
     try:
         items = list(values)
@@ -112,7 +120,7 @@ def euler_bivector(field, coords, momenta, hamiltonian) -> sp.Matrix:
     return P
 
 
-def claim_outcome(res: Any, method: str) -> tuple[bool, str, str]:
+def claim_outcome(res: CheckResult, method: str) -> tuple[bool, str, str]:
     """``(holds, detail, method)`` of a claim checked by a core check (a ``CheckResult``).
 
     A failure's detail names the first failing component, its value and, for the random-point
@@ -121,7 +129,7 @@ def claim_outcome(res: Any, method: str) -> tuple[bool, str, str]:
     if res.holds:
         return True, "", method
     label, value = res.failures[0]
-    point = getattr(res, "point", None) or {}
+    point = res.point or {}
     at = ", ".join(f"{k} = {v}" for k, v in point.items())
     return False, (f"component {label} = {str(value)[:120]}" + (f" at {at}" if at else ""))[:400], \
         method

@@ -57,6 +57,7 @@ from poissonkit.numerics.conformal import LambdifiedSystem
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.system import HamiltonianSystem
 from poissonkit_nonholonomic.common import (
+    Scalar,
     cross,
     dot,
     euler_bivector,
@@ -99,8 +100,8 @@ def integral_coefficients(kappa: Any, gamma3: sp.Expr) -> dict[str, sp.Expr]:
             "v1_2": g**(-nu), "v2_2": g**(1 - nu) - nu / (1 + nu) * g**(-nu - 1)}
 
 
-def paraboloid_parts(mu: Any = _QUARTER, m: Any = 3, R: Any = _HALF,
-                     c: Any = _HALF, G: Any = 30) -> dict[str, Any]:
+def paraboloid_parts(mu: Scalar = _QUARTER, m: Scalar = 3, R: Scalar = _HALF,
+                     c: Scalar = _HALF, G: Scalar = 30) -> dict[str, Any]:
     """Symbols and expressions of the ball in a paraboloid (field, omega, H, U, J1, J2, rho, ...).
 
     Raises
@@ -160,8 +161,8 @@ def symmetry_field(gamma: Any, M: Any) -> list[sp.Expr]:
     return revolution_symmetry_field(gamma, M)
 
 
-def ball_on_paraboloid(mu: Any = _QUARTER, m: Any = 3, R: Any = _HALF,
-                       c: Any = _HALF, G: Any = 30,
+def ball_on_paraboloid(mu: Scalar = _QUARTER, m: Scalar = 3, R: Scalar = _HALF,
+                       c: Scalar = _HALF, G: Scalar = 30,
                        linear_integrals: bool | None = None) -> HamiltonianSystem:
     """Dynamically symmetric ball rolling in a paraboloid z = c(x^2+y^2), survey (104)-(121).
 
@@ -241,8 +242,8 @@ def _rank4(mu: sp.Expr, m: sp.Expr, R: sp.Expr, c: sp.Expr, G: sp.Expr) -> sp.Ma
     return e3_pullback(gam, p["M"], A, B, radical=(root, g3))
 
 
-def ball_on_paraboloid_rank4(mu: Any = _QUARTER, m: Any = 3, R: Any = _HALF,
-                             c: Any = _HALF, G: Any = 30) -> HamiltonianSystem:
+def ball_on_paraboloid_rank4(mu: Scalar = _QUARTER, m: Scalar = 3, R: Scalar = _HALF,
+                             c: Scalar = _HALF, G: Scalar = 30) -> HamiltonianSystem:
     """Ball in a paraboloid with the rank-4 Poisson bivector P^(1) of survey (110) (Casimir J1).
 
     ``P^(1)`` is the pull-back of e(3) through ``(gamma, M) -> (gamma, L)`` with

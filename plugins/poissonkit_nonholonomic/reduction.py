@@ -51,7 +51,7 @@ from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.blocks import e3
 from poissonkit.structure.jacobi import is_zero_expression
 from poissonkit.structure.system import HamiltonianSystem
-from poissonkit_nonholonomic.common import dot, exact
+from poissonkit_nonholonomic.common import Scalar, dot, exact
 
 __all__ = [
     "CHAPLYGIN_REDUCTION_CLAIMS",
@@ -195,8 +195,8 @@ def _vectors(gam, g, kappa2):
     return U, V, rho2
 
 
-def reduction_map(system: HamiltonianSystem, g: sp.Expr, kappa2: sp.Expr, k: Any = 1,
-                  c0: Any = 0, origin: str = "") -> ReductionMap:
+def reduction_map(system: HamiltonianSystem, g: sp.Expr, kappa2: sp.Expr, k: Scalar = 1,
+                  c0: Scalar = 0, origin: str = "") -> ReductionMap:
     """The map ``L = M/g + b U + c V`` for a system on ``(gamma, M)`` with a ``P_{g,f}`` bracket.
 
     Parameters
@@ -244,8 +244,8 @@ def reduction_map(system: HamiltonianSystem, g: sp.Expr, kappa2: sp.Expr, k: Any
                         g=g, kappa2=kappa2, rho2=rho2, k=k, c0=c0, b=bsym, origin=origin)
 
 
-def chaplygin_reduction(I1: Any = 1, I2: Any = 2, I3: Any = 3, d: Any = 1, k: Any = 1,
-                        c0: Any = 0) -> ReductionMap:
+def chaplygin_reduction(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar = 1, k: Scalar = 1,
+                        c0: Scalar = 0) -> ReductionMap:
     """Survey (45)/(46): the Chaplygin ball's ``P_g`` to e(3), reconstructed and verified.
 
     Parameters
@@ -276,8 +276,8 @@ def chaplygin_reduction(I1: Any = 1, I2: Any = 2, I3: Any = 3, d: Any = 1, k: An
                                 "(Poisson map on R^6 minus gamma_1 = gamma_2 = 0)")
 
 
-def veselova_reduction(a1: Any = 1, a2: Any = 2, a3: Any = 3, k: Any = 1,
-                       c0: Any = 0) -> ReductionMap:
+def veselova_reduction(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3, k: Scalar = 1,
+                       c0: Scalar = 0) -> ReductionMap:
     """Survey (69): the Veselova bracket ``P_v`` (with ``b = (gamma, K)``) to e(3).
 
     Same form as (45) with ``K`` for ``M``, ``g = sqrt((gamma, A gamma))`` and

@@ -29,6 +29,7 @@ from poissonkit.errors import InputError
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.system import HamiltonianSystem
 from poissonkit_nonholonomic.common import (
+    Scalar,
     claim_outcome,
     cross,
     dot,
@@ -40,8 +41,8 @@ from poissonkit_nonholonomic.common import (
 from poissonkit_nonholonomic.revolution import e3_frame_map, e3_pullback, symmetry_decomposition
 
 
-def routh_parts(R: Any = 2, a: Any = sp.Rational(1, 2), m: Any = 3, I1: Any = 5, I3: Any = 7,
-                u: Any = 10) -> dict[str, Any]:
+def routh_parts(R: Scalar = 2, a: Scalar = sp.Rational(1, 2), m: Scalar = 3, I1: Scalar = 5, I3: Scalar = 7,
+                u: Scalar = 10) -> dict[str, Any]:
     """Symbols and expressions of the Routh sphere (field, omega, H, J1, J2, g)."""
     R, m = positive(R, "R"), positive(m, "m")
     I1, I3 = positive(I1, "I1"), positive(I3, "I3")
@@ -68,8 +69,8 @@ def routh_parts(R: Any = 2, a: Any = sp.Rational(1, 2), m: Any = 3, I1: Any = 5,
                 params={"R": R, "a": a, "m": m, "I1": I1, "I3": I3, "u": u})
 
 
-def routh_sphere(R: Any = 2, a: Any = sp.Rational(1, 2), m: Any = 3, I1: Any = 5, I3: Any = 7,
-                 u: Any = 10) -> HamiltonianSystem:
+def routh_sphere(R: Scalar = 2, a: Scalar = sp.Rational(1, 2), m: Scalar = 3, I1: Scalar = 5, I3: Scalar = 7,
+                 u: Scalar = 10) -> HamiltonianSystem:
     """Routh sphere on a horizontal plane with the Jellett and Routh integrals.
 
     Parameters
@@ -128,8 +129,8 @@ def _rank4(R: sp.Expr, a: sp.Expr, m: sp.Expr, I1: sp.Expr, I3: sp.Expr, casimir
     return P, A.xreplace({G: g}), B.xreplace({G: g})
 
 
-def routh_sphere_rank4(R: Any = 2, a: Any = sp.Rational(1, 2), m: Any = 3, I1: Any = 5,
-                       I3: Any = 7, u: Any = 10, casimir: str = "jellett") -> HamiltonianSystem:
+def routh_sphere_rank4(R: Scalar = 2, a: Scalar = sp.Rational(1, 2), m: Scalar = 3, I1: Scalar = 5,
+                       I3: Scalar = 7, u: Scalar = 10, casimir: str = "jellett") -> HamiltonianSystem:
     """Routh sphere with the rank-4 Poisson bivector P^(k) of survey §5.2 (Casimir J_k).
 
     The structure is the pull-back of e(3) through the Poisson map ``phi_k`` (91):
@@ -263,8 +264,8 @@ def routh_e3_hamiltonian(system) -> tuple[bool, str, str]:
 RANK4_CLAIMS = (routh_prop5, routh_field_integrals, routh_poisson_map, routh_e3_hamiltonian)
 
 
-def routh_gyrostat_parts(R: Any = 2, a: Any = sp.Rational(1, 2), m: Any = 3, I1: Any = 5,
-                         I3: Any = 7, u: Any = 10, s: Any = sp.Rational(3, 2)) -> dict[str, Any]:
+def routh_gyrostat_parts(R: Scalar = 2, a: Scalar = sp.Rational(1, 2), m: Scalar = 3, I1: Scalar = 5,
+                         I3: Scalar = 7, u: Scalar = 10, s: Scalar = sp.Rational(3, 2)) -> dict[str, Any]:
     """The Routh sphere with a rotor ``S = (0, 0, s)`` on the axis (survey (95)–(96)) and its
     shifted linear integrals (not in FORMULAS.md: derived here, checked by the tests).
 

@@ -17,13 +17,14 @@ from typing import Any
 import sympy as sp
 
 from poissonkit.errors import InputError
-from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.casimirs import is_casimir, rank
 from poissonkit.structure.jacobi import is_zero_expression, jacobiator_terms
-from poissonkit.structure.parsing import parse_expression
+from poissonkit.structure.parsing import as_expr, parse_expression
 from poissonkit.structure.system import HamiltonianSystem
 from poissonkit_nonholonomic.common import (
+    Scalar,
+    Triple,
     cross,
     dot,
     euler_bivector,
@@ -42,8 +43,8 @@ def _gamma_dot(gam, w) -> list[sp.Expr]:
 _HALF, _THIRD = sp.Rational(1, 2), sp.Rational(1, 3)  # defaults of suslov (FORMULAS §12 oracle)
 
 
-def suslov(I11: Any = 2, I22: Any = 1, I13: Any = _HALF,
-           I23: Any = _THIRD) -> HamiltonianSystem:
+def suslov(I11: Scalar = 2, I22: Scalar = 1, I13: Scalar = _HALF,
+           I23: Scalar = _THIRD) -> HamiltonianSystem:
     """Inertial Suslov system (123)–(125).
 
     ``I11 omega1' = -omega2 (I13 omega1 + I23 omega2)``, ``I22 omega2' = omega1 (I13 omega1 + I23
@@ -83,7 +84,7 @@ def suslov(I11: Any = 2, I22: Any = 1, I13: Any = _HALF,
     )
 
 
-def suslov_rank2_bivector(I11: Any = 2, I22: Any = 1, c: Any = (0, 0, 1)) -> HamiltonianSystem:
+def suslov_rank2_bivector(I11: Scalar = 2, I22: Scalar = 1, c: Triple = (0, 0, 1)) -> HamiltonianSystem:
     """The rank-2 bivector of §7.1: ``{gamma_i, omega1} = -g_i I22 omega2``,
     ``{gamma_i, omega2} = g_i I11 omega1`` with ``g(gamma) = gamma x c`` (so ``(g, gamma) = 0``).
 
@@ -113,7 +114,7 @@ def suslov_rank2_bivector(I11: Any = 2, I22: Any = 1, c: Any = (0, 0, 1)) -> Ham
     )
 
 
-def suslov_potential(I11: Any = 2, I22: Any = 1, U: Any = "3*gamma_z + gamma_x**2*gamma_y"
+def suslov_potential(I11: Scalar = 2, I22: Scalar = 1, U: str | sp.Expr = "3*gamma_z + gamma_x**2*gamma_y"
                      ) -> HamiltonianSystem:
     """Suslov problem in a potential field, §7.2, (127): ``X = P dH`` with ``H = (gamma, gamma)/2``.
 
@@ -162,7 +163,7 @@ def suslov_potential(I11: Any = 2, I22: Any = 1, U: Any = "3*gamma_z + gamma_x**
 
 
 # --------------------------------------------------------------------------- rank 4: (126), Prop. 9
-def suslov_rank4_parts(I22: Any = 1, I23: Any = 1, I11: Any = None) -> dict[str, Any]:
+def suslov_rank4_parts(I22: Scalar = 1, I23: Scalar = 1, I11: Scalar | None = None) -> dict[str, Any]:
     """The pieces of the survey's rank-4 bivector (126) and of Proposition 9 (§7.1).
 
     Case ``I13 = 0``, ``I23**2 = (I11 - I22) I22``, where ``H4 = (f, gamma)``,
@@ -248,7 +249,7 @@ def suslov_rank4_parts(I22: Any = 1, I23: Any = 1, I11: Any = None) -> dict[str,
             "field": field}
 
 
-def suslov_rank4(I22: Any = 1, I23: Any = 1, I11: Any = None) -> HamiltonianSystem:
+def suslov_rank4(I22: Scalar = 1, I23: Scalar = 1, I11: Scalar | None = None) -> HamiltonianSystem:
     """Suslov problem, rank-4 bivector P = P' + P'' (126) with Proposition 9 (§7.1).
 
     Case ``I13 = 0``, ``I23**2 = (I11 - I22) I22`` (``I11`` is derived unless given). The

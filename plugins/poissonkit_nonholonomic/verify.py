@@ -4,7 +4,7 @@
 (:mod:`poissonkit.structure`):
 
 * the Jacobi identity ``[P, P] = 0`` (components ``Jac^{ijk}``, FORMULAS.md §0):
-  :func:`poissonkit.structure.jacobi.check_jacobi`;
+  :func:`poissonkit.structure.verification.jacobi_verdict`;
 * each Casimir ``C``: ``P dC = 0`` (:func:`poissonkit.structure.casimirs.is_casimir`);
 * each first integral ``F``: ``X(F) = 0`` with ``X = N P dH``
   (:func:`poissonkit.structure.checks.is_first_integral`);
@@ -16,6 +16,10 @@
   (:func:`poissonkit.structure.checks.is_invariant_measure`);
 * extra, system-specific claims (:mod:`poissonkit_nonholonomic.claims`), e.g. the BMF
   decomposition (55) or the Chaplygin–Veselova equivalence (Prop. 4).
+
+The Jacobi identity is decided by the verify engine that also serves ``poissonkit verify`` and
+:func:`poissonkit.verify` (:func:`poissonkit.structure.verification.jacobi_verdict`, on the
+constraint set when the system has constraints); this module adds the survey's own report.
 
 Modes. ``"exact"`` is a symbolic proof of every claim. ``"random"`` runs the core's randomized
 Jacobi check (exact arithmetic at random integer points, Schwartz–Zippel bound) and the core's
@@ -54,9 +58,10 @@ from poissonkit.structure.checks import (
     is_first_integral,
     is_invariant_measure,
 )
-from poissonkit.structure.jacobi import check_jacobi, jacobiator_terms
+from poissonkit.structure.jacobi import jacobiator_terms
 from poissonkit.structure.randompoints import RandomPoints
 from poissonkit.structure.system import HamiltonianSystem
+from poissonkit.structure.verification import has_undefined_functions, jacobi_verdict
 
 __all__ = ["AUTO_EXACT_OPS", "format_report", "jacobiator", "verify_system"]
 
@@ -134,44 +139,32 @@ def _random_check(claim: str, run: Callable[[RandomPoints], CheckResult],
 
 def _jacobi_check(system: HamiltonianSystem, mode: str, points: int, seed: int,
                   almost_poisson: bool = False) -> dict[str, Any]:
-    """The core's :func:`check_jacobi` (exact, randomized or its own automatic choice); in
-    ``"auto"`` mode a large bracket is checked at random points on the constraint set
-    (:func:`poissonkit.commands.verify.check_jacobi_at_points`: the Routh sphere's ~48000
-    operations take ~10 s there). With ``almost_poisson`` the claim is that the identity
-    *fails* (a bracket kept for integration only)."""
-    from poissonkit.commands.verify import AUTO_POINTS_OPS, check_jacobi_at_points
-
+    """The Jacobi claim by the verify engine's :func:`~poissonkit.structure.verification.
+    jacobi_verdict` (what ``poissonkit verify`` and :func:`poissonkit.verify` run): exact,
+    randomized, or in ``"auto"`` mode a large bracket at random points on the constraint set
+    (the Routh sphere's ~48000 operations take ~10 s there). With ``almost_poisson`` the claim
+    is that the identity *fails* (a bracket kept for integration only)."""
     t0 = time.perf_counter()
-    P = system.structure
-    big = sum(sp.count_ops(e) for e in P.matrix if e != 0) > AUTO_POINTS_OPS
-    if mode == "auto" and big and not _has_functions(P.matrix):
-        res = check_jacobi_at_points(P, system.constraints, trials=points, seed=seed)
-        is_poisson, fails = res["is_poisson"], [f"{k} = {_short(v)}"
-                                                for k, v in res["failures"].items()]
+    res = jacobi_verdict(system.structure, mode, constraints=system.constraints,
+                         trials=points, seed=seed)
+    fails = [f"{k} = {_short(v)}" for k, v in res.failures.items()]
+    if res.at_points:
         where = "on the constraint set " if system.constraints else ""
         method = (f"exact arithmetic at random rational points {where}(false-positive bound "
-                  f"{res['false_positive_bound']:.1e})")
+                  f"{res.false_positive_bound:.1e})")
+    elif res.method == "exact":
+        method = _EXACT
     else:
-        res = check_jacobi(P, method=mode, trials=points, seed=seed)
-        is_poisson = res.is_poisson
-        fails = [f"{k} = {_short(v)}" for k, v in res.named_failures().items()]
-        if res.method == "exact":
-            method = _EXACT
-        else:
-            method = (f"poissonkit.structure.check_jacobi at {res.trials} random integer points, "
-                      f"exact arithmetic (false-positive bound {res.false_positive_bound:.1e})")
-    detail = "" if is_poisson else "; ".join(fails[:4]) + (
+        method = (f"poissonkit.structure.check_jacobi at {res.trials} random integer points, "
+                  f"exact arithmetic (false-positive bound {res.false_positive_bound:.1e})")
+    detail = "" if res.is_poisson else "; ".join(fails[:4]) + (
         f" (+{len(fails) - 4} more)" if len(fails) > 4 else "")
     if almost_poisson:
         return _result("Jacobi identity fails (almost-Poisson bracket, as the entry states)",
-                       not is_poisson, method, time.perf_counter() - t0,
+                       not res.is_poisson, method, time.perf_counter() - t0,
                        detail or "P is Poisson after all")
-    return _result("Jacobi identity [P,P] = 0", is_poisson, method,
+    return _result("Jacobi identity [P,P] = 0", res.is_poisson, method,
                    time.perf_counter() - t0, detail)
-
-
-def _has_functions(exprs) -> bool:
-    return any(sp.sympify(e).atoms(sp.core.function.AppliedUndef) for e in exprs)
 
 
 def verify_system(system: HamiltonianSystem, *, mode: str = "auto", points: int = 3,
@@ -226,7 +219,7 @@ def verify_system(system: HamiltonianSystem, *, mode: str = "auto", points: int 
         pieces.append(system.measure)
     if system.original is not None:
         pieces.extend(system.original.values())
-    has_f = _has_functions(pieces)
+    has_f = has_undefined_functions(pieces)
     if mode == "random" and has_f:
         raise InputError("random mode cannot evaluate undefined functions; use mode='exact'")
     if mode == "auto":

@@ -14,6 +14,8 @@ import sympy as sp
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.system import HamiltonianSystem
 from poissonkit_nonholonomic.common import (
+    Scalar,
+    Triple,
     block,
     cross,
     dot,
@@ -32,7 +34,7 @@ def _parts(a1, a2, a3, second="K"):
     return a, gam, K, Ag, Q, sp.sqrt(Q)
 
 
-def veselova_maps(a1: Any = 1, a2: Any = 2, a3: Any = 3) -> dict[str, Any]:
+def veselova_maps(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3) -> dict[str, Any]:
     """``M(K)`` (inverse of (61)) and ``omega = A M(K)`` in the variables ``(gamma, K)``."""
     a, gam, K, Ag, Q, g = _parts(a1, a2, a3)
     coef = dot([(1 - a[i]) * K[i] for i in range(3)], gam) / Q
@@ -40,7 +42,7 @@ def veselova_maps(a1: Any = 1, a2: Any = 2, a3: Any = 3) -> dict[str, Any]:
     return dict(gamma=gam, K=K, M=Mv, omega=[a[i] * Mv[i] for i in range(3)], g=g)
 
 
-def veselova(a1: Any = 1, a2: Any = 2, a3: Any = 3) -> HamiltonianSystem:
+def veselova(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3) -> HamiltonianSystem:
     """Veselova system in the variables ``(gamma, K)`` of (61)–(66).
 
     ``structure = P_v`` of (65) with the Casimir value ``b`` replaced by the function
@@ -82,7 +84,7 @@ def veselova(a1: Any = 1, a2: Any = 2, a3: Any = 3) -> HamiltonianSystem:
     )
 
 
-def veselova_original_field(a1: Any = 1, a2: Any = 2, a3: Any = 3) -> dict[str, Any]:
+def veselova_original_field(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3) -> dict[str, Any]:
     """The original equations (58) in ``(gamma, M)`` with the multiplier ``lambda``.
 
     Returns a dict with ``coords``, ``field`` (list), ``lam`` (the multiplier) and ``K`` (the map
@@ -99,7 +101,7 @@ def veselova_original_field(a1: Any = 1, a2: Any = 2, a3: Any = 3) -> dict[str, 
     return dict(coords=gam + M, field=field, lam=lam, K=Kmap, a=a)
 
 
-def veselova_gyrostat(a1: Any = 1, a2: Any = 2, a3: Any = 3, k: Any = (1, 1, 0)) -> HamiltonianSystem:
+def veselova_gyrostat(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3, k: Triple = (1, 1, 0)) -> HamiltonianSystem:
     """Veselova gyrostat, survey (70), FORMULAS.md §10.
 
     ``Kdot = (K + k) x omega``, ``omega = A (K - S gamma)``,

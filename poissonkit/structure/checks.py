@@ -39,7 +39,7 @@ unless the inputs are large (:data:`AUTO_RANDOM_OPS`) and free of undefined func
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from itertools import combinations
 
 import sympy as sp
@@ -50,9 +50,11 @@ from poissonkit.errors import DimensionError, InputError
 from poissonkit.structure._expr import as_bivector, as_expr, as_symbols
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.system import HamiltonianSystem
+from poissonkit.structure.zerotest import _as_exprs, _expr, _vanishing, canonical_atom, vanishes
 
 __all__ = [
-    "AUTO_RANDOM_OPS", "CheckResult", "check_vanishing", "divergence", "in_involution",
+    "AUTO_RANDOM_OPS", "CheckResult", "canonical_atom", "check_vanishing", "divergence",
+    "in_involution",
     "is_conformally_hamiltonian", "is_first_integral", "is_invariant_measure", "vanishes",
 ]
 
@@ -141,160 +143,7 @@ class CheckResult:
         return latex_aligned([(latex_text(str(label)), sp.latex(v)) for label, v in self.failures])
 
 
-# ---------------------------------------------------------------------------------- atoms
-@dataclass
-class _Atomizer:
-    """Replace non-polynomial sub-expressions by symbols (see the module docstring)."""
-
-    table: dict = field(default_factory=dict)        # key -> Dummy
-    back: dict = field(default_factory=dict)         # Dummy -> original expression
-    relations: list = field(default_factory=list)    # polynomials t**q - b
-    opaque: bool = False                             # saw sin/exp/... (not generic functions)
-    memo: dict = field(default_factory=dict)         # sub-expression -> atomized form
-
-    def _new(self, key, original) -> sp.Symbol:
-        if key not in self.table:
-            t = sp.Dummy(f"t{len(self.table)}")
-            self.table[key] = t
-            self.back[t] = original
-        return self.table[key]
-
-    def __call__(self, e):
-        e = sp.sympify(e)
-        if e.is_Atom:
-            return e
-        hit = self.memo.get(e)
-        if hit is None:
-            hit = self.memo[e] = self._atomize(e)
-        return hit
-
-    def _atomize(self, e):
-        if isinstance(e, sp.Pow):
-            base, ex = e.args
-            if ex.is_Integer:
-                return self(base) ** ex
-            if ex.is_Rational:
-                # b = nb/db: b**(1/q) = (nb db**(q-1))**(1/q) / db, so that the relation
-                # t**q = nb db**(q-1) is polynomial
-                nb, db = sp.fraction(sp.together(self(base)))
-                q = int(ex.q)
-                B = sp.expand(nb * db ** (q - 1))
-                key = ("root", B, q)
-                fresh = key not in self.table
-                t = self._new(key, sp.Pow(base, sp.Rational(1, q)) * self.restore(db))
-                if fresh:
-                    self.relations.append(t ** q - B)
-                return (t / db) ** int(ex.p)
-            self.opaque = True
-            return self._new(("opaque", e), e)
-        if isinstance(e, sp.Subs):
-            # Subs(Derivative(g(.., u, ..), u), u, x) with a symbol x is just dg/dx: canonical
-            done = e.doit()
-            if not isinstance(done, sp.Subs) and done != e:
-                return self(done)
-        if isinstance(e, (AppliedUndef, sp.Derivative, sp.Subs)):
-            # the same jet value may arrive in different literal forms (arguments expanded or
-            # not): key it by a canonical form so that it becomes one atom, not two
-            return self._new(("function", canonical_atom(e)), e)
-        if isinstance(e, sp.Function) or not (e.is_Add or e.is_Mul):
-            self.opaque = True
-            return self._new(("opaque", e), e)
-        return e.func(*[self(a) for a in e.args])
-
-    def restore(self, e):
-        """Substitute the original sub-expressions back."""
-        return sp.sympify(e).xreplace(self.back)
-
-
-def canonical_atom(e: sp.Expr) -> sp.Expr:
-    """Canonical form of an undefined-function atom (``g(..)``, a derivative, a ``Subs``).
-
-    The arguments (and substitution points) are expanded, so that ``U((a + b)/r)`` and
-    ``U(a/r + b/r)`` - the same value of ``U`` - are recognised as one quantity.
-    """
-    try:
-        return sp.expand(e)
-    except Exception:  # noqa: BLE001 - expansion failed: the literal form is still a valid key
-        return e
-
-
-def _numerators(exprs: list) -> list:
-    """Expanded numerators of rational expressions (sparse field arithmetic, else together)."""
-    syms = sorted(set().union(*(e.free_symbols for e in exprs)), key=str)
-    if syms:
-        try:
-            F, *_ = sp.polys.fields.field(syms, sp.QQ)
-            return [F.from_expr(e).numer.as_expr() if e != 0 else sp.Integer(0) for e in exprs]
-        except (sp.PolynomialError, sp.CoercionFailed, ValueError, TypeError):
-            pass  # non-rational constants (pi, I, ...): fall back to sympy's together
-    return [sp.expand(sp.fraction(sp.together(e))[0]) for e in exprs]
-
-
-def _polys(exprs: Iterable, constraints: Sequence, atomizer: _Atomizer):
-    nums = _numerators([atomizer(e) for e in exprs])
-    cons = _numerators([atomizer(c) for c in constraints]) if constraints else []
-    return nums, cons
-
-
-def _reduce(nums: list, ideal: list) -> list:
-    """Normal forms of ``nums`` modulo the ideal generated by ``ideal`` (0 = member)."""
-    ideal = [g for g in ideal if g != 0]
-    if not ideal:
-        return nums
-    gens = sorted(set().union(*(n.free_symbols for n in nums + ideal)), key=str)
-    if not gens:
-        return nums
-    G = sp.groebner(ideal, *gens, order="grevlex")
-    if list(G.exprs) == [1]:
-        raise InputError("constraints are inconsistent (their ideal contains 1)")
-    return [G.reduce(n)[1] if n != 0 else n for n in nums]
-
-
-def _vanishing(exprs: Sequence, constraints: Sequence = ()) -> list:
-    """Residuals (0 for each expression that vanishes identically / modulo constraints)."""
-    atomizer = _Atomizer()
-    nums, cons = _polys(exprs, constraints, atomizer)
-    if all(n == 0 for n in nums):
-        return [sp.Integer(0)] * len(nums)
-    red = _reduce(nums, atomizer.relations + cons)
-    out = []
-    for e, r in zip(exprs, red):
-        if r != 0 and atomizer.opaque and not cons:
-            # atoms such as sin/cos were treated as independent: let sympy try identities
-            if sp.simplify(e) == 0:
-                r = sp.Integer(0)
-        out.append(atomizer.restore(r) if r != 0 else sp.Integer(0))
-    return out
-
-
-def vanishes(expr, constraints: Sequence = ()) -> bool:
-    """Whether ``expr`` vanishes identically (or modulo the ideal of ``constraints``).
-
-    Parameters
-    ----------
-    expr
-        A sympy expression (may contain parameters, undefined functions, square roots).
-    constraints
-        Expressions that vanish on the surface of interest, e.g. ``gx**2 + gy**2 + gz**2 - 1``.
-
-    Returns
-    -------
-    bool
-        ``True`` is a proof; see the module docstring for what ``False`` means.
-    """
-    return _vanishing([as_expr(expr)], _as_exprs(constraints))[0] == 0
-
-
-# Shared conversions (strings are refused: sympify would eval them).
-_expr = as_expr
-
-
-def _as_exprs(items) -> list:
-    if items is None:
-        return []
-    if isinstance(items, (sp.Basic, str)):
-        items = [items]
-    return [_expr(c, "constraint") for c in items]
+# The exact zero tests live in zerotest; canonical_atom and vanishes stay importable from here.
 
 
 # ---------------------------------------------------------------------------------- fields

@@ -32,30 +32,43 @@ Randomized check
 exact square roots). Parameters are sampled too, and every undefined-function atom
 (``g(gamma)``, ``dg/dgamma_1``, ``d^2 g/dgamma_1 dgamma_2``, ...) gets an independent random
 value: these are the jet values of a random polynomial of sufficient degree, so the check covers
-arbitrary ``g``. By Schwartz–Zippel, a non-zero Jacobiator whose cleared numerator has degree
-``<= D`` vanishes at a uniform point of ``S^N`` with probability ``<= D/|S|``; the result
-states ``(D/|S|)**trials`` with a conservative ``D`` (see :func:`_degree_bound`).
+arbitrary ``g``. The values come from the one sampler of the symbolic checks
+(:mod:`poissonkit.structure.sampling`: integers in ``S = [-SAMPLE_RANGE, SAMPLE_RANGE]``,
+seeded and reproducible; a ``None`` seed is drawn fresh and reported in the note). By
+Schwartz–Zippel, a non-zero Jacobiator whose cleared numerator has degree ``<= D`` vanishes at a
+uniform point of ``S^N`` with probability ``<= D/|S|``; the result states ``(D/|S|)**trials``
+with a conservative ``D`` (see :func:`_degree_bound`).
 """
 
 from __future__ import annotations
 
-import random as _random
 import time
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import sympy as sp
-from sympy.core.function import AppliedUndef
 
 from poissonkit._display import html_table, latex_aligned, latex_text, text_block
 from poissonkit.errors import InputError, NotPoissonError
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
+from poissonkit.structure.sampling import (
+    SAMPLE_RANGE,
+    Sampler,
+    false_positive_bound,
+    is_zero_at_point,
+)
+from poissonkit.structure.zerotest import (
+    _function_atoms,
+    canonical_atom,
+    _has_transcendental,
+    _is_half_power,
+    _ZeroTester,
+    is_zero_expression,
+)
 
 Key = tuple[int, int, int]
 
-#: Half-width of the integer sample set S = [-SAMPLE_RANGE, SAMPLE_RANGE] of the random check.
-SAMPLE_RANGE: int = 2**40
 _METHODS = ("auto", "exact", "random")
 #: Without square roots, the polynomial-ring path is used above this total operation count.
 RING_MIN_OPS: int = 300
@@ -144,11 +157,6 @@ class JacobiResult:
 
 
 # ---------------------------------------------------------------------- radicals and atoms
-def _is_half_power(e: sp.Basic) -> bool:
-    return (isinstance(e, sp.Pow) and e.exp.is_Rational and e.exp.q == 2
-            and bool(e.base.free_symbols))
-
-
 class _Atomised:
     """Entries of P with square roots replaced by symbols, and a derivation that knows them."""
 
@@ -261,168 +269,6 @@ def jacobiator_terms(P: Bivector) -> dict[Key, sp.Expr]:
         if e != 0:
             out[key] = at.restore(e)
     return out
-
-
-def _function_atoms(e: sp.Expr) -> set[sp.Expr]:
-    return {a for a in sp.preorder_traversal(e)
-            if isinstance(a, (AppliedUndef, sp.Derivative, sp.Subs))}
-
-
-def _dummify_functions(exprs: Sequence[sp.Expr]) -> tuple[list[sp.Expr], dict]:
-    """Replace undefined-function atoms by dummies (for polynomial reduction)."""
-    atoms: set[sp.Expr] = set()
-    for e in exprs:
-        atoms |= _function_atoms(e)
-    # xreplace matches whole sub-trees top-down; atoms equal up to expansion of their
-    # arguments (the same jet value written twice) share one dummy
-    from poissonkit.structure.checks import canonical_atom
-
-    by_key: dict[sp.Expr, sp.Dummy] = {}
-    rule = {}
-    for a in sorted(atoms, key=sp.default_sort_key):
-        key = canonical_atom(a)
-        if key not in by_key:
-            by_key[key] = sp.Dummy(f"F{len(by_key)}")
-        rule[a] = by_key[key]
-    return [e.xreplace(rule) for e in exprs], rule
-
-
-def _rational_numerator(e: sp.Expr) -> sp.Expr | None:
-    """Expanded numerator of ``e`` over a common denominator, or ``None`` if not rational.
-
-    ``e`` must be a rational function of its symbols and undefined-function atoms (these are
-    treated as independent variables, see :func:`_dummify_functions`); square roots and
-    transcendental functions give ``None``. Uses sympy's sparse rational-function field, which
-    cancels as it goes: much faster than ``expand`` / ``simplify`` on sums of fractions.
-    """
-    (d,), rule = _dummify_functions([e])
-    syms = sorted(d.free_symbols, key=str)
-    if not syms:
-        return None
-    try:
-        F, *_ = sp.polys.fields.field(syms, sp.QQ)
-        num = F.from_expr(d).numer.as_expr()
-    except (sp.PolynomialError, sp.CoercionFailed, ValueError, TypeError):
-        return None  # radicals, transcendental functions, non-rational constants
-    back = {v: k for k, v in rule.items()}
-    return num.xreplace(back) if back else num
-
-
-class _ZeroTester:
-    """Exact zero test with square-root relations and optional constraints."""
-
-    def __init__(self, radicals: Mapping[sp.Symbol, sp.Expr], coords: Sequence[sp.Symbol],
-                 constraints: Sequence[sp.Expr] = ()) -> None:
-        self.radicals = dict(radicals)
-        self.coords = tuple(coords)
-        self.gb = None
-        if constraints:
-            cons = [sp.numer(sp.together(sp.sympify(c))) for c in constraints]
-            cons, _ = _dummify_functions(cons)
-            for c in cons:
-                if not c.is_polynomial(*self.coords):
-                    raise InputError(f"constraint {c} is not polynomial in the coordinates")
-            self.gb = sp.groebner(cons, *self.coords, order="grevlex")
-
-    def _reduce_constraints(self, e: sp.Expr) -> sp.Expr:
-        if self.gb is None or e == 0:
-            return e
-        (e,), _ = _dummify_functions([e])
-        return sp.expand(self.gb.reduce(sp.expand(e))[1])
-
-    def residual(self, e: sp.Expr) -> sp.Expr:
-        """``0`` if ``e`` vanishes (on the constraint surface), else a non-zero residual."""
-        ex = sp.expand(e)
-        if ex == 0:
-            return ex
-        if not self.radicals and self.gb is None:
-            # a sum of fractions with different denominators only cancels over a common one
-            num = _rational_numerator(e)
-            if num is None:
-                num = sp.expand(sp.numer(sp.together(ex)))
-            return sp.Integer(0) if num == 0 else ex
-        num = _rational_numerator(e)
-        if num is None:
-            num = sp.expand(sp.numer(sp.together(ex)))
-        parts = [num]
-        for G, u in self.radicals.items():
-            new = []
-            for part in parts:
-                if not part.has(G):
-                    new.append(part)
-                    continue
-                even = sp.Integer(0)
-                odd = sp.Integer(0)
-                for term, coeff in sp.collect(part, G, evaluate=False).items():
-                    _, k = term.as_coeff_exponent(G)
-                    if not k.is_Integer or k < 0:
-                        raise InputError("unexpected power of a square-root symbol")
-                    k = int(k)
-                    rest = term / G**k
-                    piece = coeff * rest * u ** (k // 2)
-                    if k % 2:
-                        odd += piece
-                    else:
-                        even += piece
-                new.extend([sp.expand(even), sp.expand(odd)])
-            parts = new
-        nonzero = [p for p in (self._reduce_constraints(sp.expand(p)) for p in parts) if p != 0]
-        if not nonzero:
-            return sp.Integer(0)
-        return ex
-
-    def is_zero(self, e: sp.Expr) -> bool:
-        return self.residual(e) == 0
-
-
-def is_zero_expression(e: sp.Expr, constraints: Sequence[sp.Expr] = (),
-                       coords: Sequence[sp.Symbol] = ()) -> bool:
-    """Exact zero test: expansion, then square-root rationalisation, then constraints.
-
-    Rational functions (of symbols and undefined-function atoms, no constraints) take a fast
-    exact path: the numerator over a common denominator, computed in sympy's sparse
-    rational-function field, must be zero.
-
-    Square roots ``sqrt(u)`` are replaced by symbols ``G`` with ``G**2 = u``; a residual that does
-    not expand to zero is put over a common denominator and reduced (see module docstring).
-    Falls back to ``sympy.simplify`` for what the algebraic test cannot decide
-    (transcendental functions).
-    """
-    e = as_expr(e)
-    constraints = tuple(as_expr(c, "constraint") for c in constraints)
-    if e == 0:
-        return True
-    if not constraints and not _has_fractional_power(e):
-        # rational fast path: exact, and no expansion of the unreduced sum
-        num = _rational_numerator(e)
-        if num is not None:
-            return num == 0
-    if sp.expand(e) == 0:
-        return True
-    bases: dict[sp.Expr, sp.Symbol] = {}
-    rule = {}
-    for p in sp.preorder_traversal(e):
-        if _is_half_power(p):
-            base = sp.expand(p.base)
-            G = bases.setdefault(base, sp.Dummy(f"G{len(bases)}"))
-            rule[p] = G ** p.exp.p
-    radicals = {G: u for u, G in bases.items()}
-    if constraints and not coords:
-        # the variables of the constraints are the surface's coordinates
-        coords = sorted(set().union(*(sp.sympify(c).free_symbols for c in constraints)), key=str)
-    tester = _ZeroTester(radicals, coords, constraints)
-    if tester.is_zero(e.xreplace(rule)):
-        return True
-    return not constraints and sp.simplify(e) == 0
-
-
-def _has_fractional_power(e: sp.Expr) -> bool:
-    return any(isinstance(a, sp.Pow) and not a.exp.is_Integer for a in sp.preorder_traversal(e))
-
-
-def _has_transcendental(e: sp.Expr) -> bool:
-    return any(isinstance(a, sp.Function) and not isinstance(a, AppliedUndef)
-               for a in sp.preorder_traversal(e))
 
 
 # ---------------------------------------------------------------------- polynomial-ring path
@@ -589,14 +435,11 @@ def _degree_bound(at: _Atomised, gens: Sequence[sp.Symbol]) -> int:
     return max(1, 2 * 9 * n * max(delta, 1) + udeg)
 
 
-def _random_values(symbols: Iterable[sp.Expr], rng: _random.Random) -> dict[sp.Expr, sp.Integer]:
-    return {s: sp.Integer(rng.randint(-SAMPLE_RANGE, SAMPLE_RANGE)) for s in symbols}
-
-
 def _check_random(P: Bivector, trials: int, seed: int | None,
                   parametrization: Mapping[sp.Symbol, sp.Expr] | None
-                  ) -> tuple[dict[Key, sp.Expr], float]:
-    from poissonkit.structure.checks import canonical_atom
+                  ) -> tuple[dict[Key, sp.Expr], float, int]:
+    """Jacobiator values at random integer points (:class:`~poissonkit.structure.sampling.
+    Sampler`); ``(failures, false-positive bound, seed)``."""
 
     at = _Atomised(P)
     keys = at.candidates()
@@ -609,33 +452,37 @@ def _check_random(P: Bivector, trials: int, seed: int | None,
         free |= e.free_symbols
     radical_syms = set(at.radicals)
     params = sorted(free - set(P.coords) - radical_syms, key=str)
-    rng = _random.Random(seed)
+    sampler = Sampler(seed)
     gens = list(P.coords) + params + sorted(radical_syms, key=str)
     D = _degree_bound(at, gens)
-    per_trial = min(1.0, D / (2 * SAMPLE_RANGE + 1))
     failures: dict[Key, sp.Expr] = {}
+    par_syms: list[sp.Symbol] = []
     if parametrization is not None:
         par_syms = sorted(set().union(*(sp.sympify(v).free_symbols
                                         for v in parametrization.values())) - set(params), key=str)
+    # one random value per distinct jet quantity (atoms equal up to argument expansion)
+    jet_keys = {a: canonical_atom(a) for a in fatoms}
+    jet_names = {k: "jet:" + sp.srepr(k) for k in set(jet_keys.values())}
+
+    def draw(symbols: Iterable[sp.Symbol], index: int) -> dict[sp.Expr, sp.Integer]:
+        return {x: sp.Integer(sampler.integer(x.name, index)) for x in symbols}
+
     done = 0
     attempts = 0
     while done < trials:
+        index = attempts
         attempts += 1
         if attempts > 20 * trials + 20:
             raise InputError("random Jacobi check: could not find points where P is defined")
-        values = _random_values(params, rng)
+        values = draw(params, index)
         if parametrization is not None:
-            pv = _random_values(par_syms, rng)
+            pv = draw(par_syms, index)
             for c in P.coords:
-                values[c] = sp.sympify(parametrization.get(c, c)).xreplace(pv)
-                if c not in parametrization:
-                    values[c] = sp.Integer(rng.randint(-SAMPLE_RANGE, SAMPLE_RANGE))
+                values[c] = (sp.sympify(parametrization[c]).xreplace(pv) if c in parametrization
+                             else sp.Integer(sampler.integer(c.name, index)))
         else:
-            values.update(_random_values(P.coords, rng))
-        # one random value per distinct jet quantity (atoms equal up to argument expansion)
-        jet_keys = {a: canonical_atom(a) for a in fatoms}
-        key_vals = _random_values(sorted(set(jet_keys.values()), key=sp.default_sort_key), rng)
-        jets = {a: key_vals[k] for a, k in jet_keys.items()}
+            values.update(draw(P.coords, index))
+        jets = {a: sp.Integer(sampler.integer(jet_names[k], index)) for a, k in jet_keys.items()}
         rule = {**jets, **values}
         # radical symbols take the exact square root of their base at the point
         for G, u in at.radicals.items():
@@ -645,19 +492,19 @@ def _check_random(P: Bivector, trials: int, seed: int | None,
             rule[G] = sp.sqrt(uval)
         else:
             try:
-                vals = {key: sp.expand(e.xreplace(rule)) for key, e in jac_exprs.items()}
+                vals = {key: e.xreplace(rule) for key, e in jac_exprs.items()}
             except ZeroDivisionError:
                 continue
             if any(v.has(sp.zoo, sp.nan, sp.oo) for v in vals.values()):
                 continue
             for key, v in vals.items():
-                if v != 0:
-                    failures[key] = v
+                if not is_zero_at_point(v):
+                    failures[key] = sp.expand(v)
             done += 1
             if failures:
                 break
-    bound = 0.0 if failures else per_trial ** trials
-    return failures, bound
+    bound = 0.0 if failures else false_positive_bound(D, trials)
+    return failures, bound, sampler.seed
 
 
 # ---------------------------------------------------------------------- public API
@@ -743,11 +590,12 @@ def check_jacobi(P: Bivector, method: str = "auto", constraints: Sequence = (),
             note = (note + "; " if note else "") + "reduced modulo a Groebner basis of the constraints"
         result_trials = 0
     else:
-        failures, bound = _check_random(P, trials, seed,
-                                        parametrization if constraints else None)
+        failures, bound, used_seed = _check_random(P, trials, seed,
+                                                   parametrization if constraints else None)
         result_trials = trials
         note = (note + "; " if note else "") + (
-            f"{trials} random integer points in [-2^40, 2^40], exact arithmetic")
+            f"{trials} random integer points in [-{SAMPLE_RANGE}, {SAMPLE_RANGE}] "
+            f"(seed {used_seed}), exact arithmetic")
     return JacobiResult(is_poisson=not failures, method=chosen, failures=failures,
                         false_positive_bound=bound, seconds=time.perf_counter() - t0,
                         coords=P.coords, trials=result_trials, note=note)

@@ -15,6 +15,11 @@ import sympy as sp
 from sympy.parsing.sympy_parser import parse_expr, standard_transformations
 
 from poissonkit.errors import ParseError
+# the public home of the non-string conversion: parse text here, convert values with as_expr
+from poissonkit.structure._expr import as_expr
+
+__all__ = ["ALLOWED_FUNCTIONS", "MAX_DIGITS", "MAX_EXPONENT", "MAX_LENGTH", "as_expr",
+           "parse_expression"]
 
 ALLOWED_FUNCTIONS: dict[str, object] = {
     "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "asin": sp.asin, "acos": sp.acos,

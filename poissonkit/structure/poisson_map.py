@@ -30,7 +30,8 @@ from sympy.core.function import AppliedUndef
 
 from poissonkit.errors import DimensionError, InputError, PoissonkitError
 from poissonkit.structure.bivector import Bivector, _as_symbols
-from poissonkit.structure.checks import CheckResult, _as_exprs, _Atomizer, _expr, _vanishing
+from poissonkit.structure.checks import CheckResult
+from poissonkit.structure.zerotest import _as_exprs, _Atomizer, _expr, _vanishing
 
 __all__ = ["PushForward", "PushForwardError", "is_poisson_map", "jacobian_bracket",
            "push_forward"]

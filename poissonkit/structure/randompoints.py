@@ -10,6 +10,7 @@ How a point is evaluated
 ------------------------
 Every sampled symbol (coordinates and parameters) gets a random rational
 ``scale * p / SAMPLE_RANGE`` with ``p`` a uniform integer in ``[-SAMPLE_RANGE, SAMPLE_RANGE]``
+from the one sampler of the symbolic checks (:class:`~poissonkit.structure.sampling.Sampler`)
 (symbols declared ``positive`` or ``negative`` get that sign, ``integer`` ones the integer
 ``p``), drawn from a generator seeded by ``(seed, point index, symbol name)``: a run is
 reproducible and does not depend on the order in which symbols are met. The scale is 1 (the
@@ -69,365 +70,52 @@ not supported here (``RandomPointError``): use the exact method.
 
 from __future__ import annotations
 
-import random as _random
 from collections.abc import Callable, Mapping, Sequence
-from math import gcd, isqrt
 from typing import Any
 
 import sympy as sp
-from sympy.polys.domains import QQ
 
 from poissonkit.errors import InputError
 from poissonkit.structure._expr import as_expr, as_symbols
+from poissonkit.structure.degreebound import _as_degree, _Degree
+from poissonkit.structure.surds import (
+    _HALF,
+    _MPQ,
+    _ONE,
+    _ZERO,
+    Surd,
+    _Base,
+    _inverse,
+    _Rebase,
+    _to_sympy,
+    _Undefined,
+)
+from poissonkit.structure.surfaces import (
+    _check_acyclic,
+    _param_degree,
+    _recognise,
+    sphere_parametrization,
+)
+from poissonkit.structure.sampling import (
+    SAMPLE_RANGE,
+    Sampler,
+    false_positive_bound,
+    is_zero_at_point,
+)
 
 __all__ = [
     "SAMPLE_RANGE", "RandomPointError", "RandomPoints",
     "sphere_parametrization",
 ]
 
-#: Random coordinates are ``scale * p / SAMPLE_RANGE``, ``p`` uniform in ``[-SAMPLE_RANGE, SAMPLE_RANGE]``.
-SAMPLE_RANGE: int = 10**6
 #: Points tried per requested point before giving up (denominators / radicands vanishing).
 MAX_ATTEMPTS_FACTOR: int = 20
-
-_MPQ = QQ.dtype
-_ZERO = _MPQ(0)
-_ONE = _MPQ(1)
-_HALF = _MPQ(1, 2)
-
 
 class RandomPointError(InputError):
     """An expression cannot be evaluated exactly at random points (undefined or transcendental
     functions, nested or higher roots, floats that are not finite), or no point of the domain
     was found."""
 
-
-class _Undefined(Exception):
-    """The expression is not defined (real) at this point: skip the point."""
-
-
-class _Rebase(Exception):
-    """A new radicand shares a factor with a generator: refine the base, re-evaluate."""
-
-    def __init__(self, n: int) -> None:
-        super().__init__(n)
-        self.n = n
-
-
-# ---------------------------------------------------------------------- multi-quadratic numbers
-class _Base:
-    """Pairwise coprime, non-square integers ``b_j`` (generators ``sqrt(b_j)``) of one point."""
-
-    def __init__(self, gens: Sequence[int] = ()) -> None:
-        self.gens: list[int] = list(gens)
-        self._prod: dict[int, int] = {0: 1}
-
-    def product(self, mask: int) -> int:
-        """``prod_{j in mask} b_j``."""
-        p = self._prod.get(mask)
-        if p is None:
-            p = 1
-            for j, b in enumerate(self.gens):
-                if mask >> j & 1:
-                    p *= b
-            self._prod[mask] = p
-        return p
-
-    def express(self, n: int) -> tuple[int, int]:
-        """``(c, mask)`` with ``n = c**2 * prod_{j in mask} b_j``; may append a generator."""
-        c, mask, rem = 1, 0, n
-        for j, b in enumerate(self.gens):
-            k = 0
-            while rem % b == 0:
-                rem //= b
-                k += 1
-            if k:
-                c *= b ** (k // 2)
-                if k % 2:
-                    mask |= 1 << j
-            if gcd(rem, b) > 1:
-                raise _Rebase(n)
-        r = isqrt(rem)
-        if r * r == rem:
-            return c * r, mask
-        # rem is coprime to every generator and not a square: a new independent generator
-        self.gens.append(rem)
-        return c, mask | 1 << (len(self.gens) - 1)
-
-    def refined(self, n: int) -> _Base:
-        """A coprime base of the generators and ``n`` (squares dropped)."""
-        items = [x for x in [*self.gens, n] if x > 1]
-        changed = True
-        while changed:
-            changed = False
-            items = sorted(set(items))
-            for a_i in range(len(items)):
-                for b_i in range(a_i + 1, len(items)):
-                    a, b = items[a_i], items[b_i]
-                    g = gcd(a, b)
-                    if g > 1:
-                        rest = [x for t, x in enumerate(items) if t not in (a_i, b_i)]
-                        items = [x for x in (*rest, a // g, b // g, g) if x > 1]
-                        changed = True
-                        break
-                if changed:
-                    break
-        return _Base([x for x in items if isqrt(x) ** 2 != x])
-
-
-class Surd:
-    """An element ``sum_mask c_mask prod_{j in mask} sqrt(b_j)`` of ``Q(sqrt(b_1), ...)``.
-
-    The coefficients are exact rationals and the generators form a coprime base, so the element
-    is zero iff it has no term. Instances are produced by the evaluator; arithmetic with
-    rationals and with surds of the same point is supported.
-    """
-
-    __slots__ = ("base", "terms")
-
-    def __init__(self, base: _Base, terms: dict[int, Any]) -> None:
-        self.base = base
-        self.terms = terms
-
-    @staticmethod
-    def make(base: _Base, terms: dict[int, Any]):
-        terms = {m: c for m, c in terms.items() if c}
-        if not terms:
-            return _MPQ(0)
-        if len(terms) == 1 and 0 in terms:
-            return terms[0]
-        return Surd(base, terms)
-
-    def _terms(self, other) -> dict[int, Any]:
-        return other.terms if isinstance(other, Surd) else {0: other}
-
-    def __add__(self, other):
-        out = dict(self.terms)
-        for m, c in self._terms(other).items():
-            out[m] = out.get(m, 0) + c
-        return Surd.make(self.base, out)
-
-    __radd__ = __add__
-
-    def __neg__(self):
-        return Surd(self.base, {m: -c for m, c in self.terms.items()})
-
-    def __sub__(self, other):
-        return self + (-other)
-
-    def __rsub__(self, other):
-        return (-self) + other
-
-    def __mul__(self, other):
-        if not isinstance(other, Surd):
-            if not other:
-                return _MPQ(0)
-            return Surd(self.base, {m: c * other for m, c in self.terms.items()})
-        out: dict[int, Any] = {}
-        prod = self.base.product
-        for m1, c1 in self.terms.items():
-            for m2, c2 in other.terms.items():
-                m = m1 ^ m2
-                out[m] = out.get(m, 0) + c1 * c2 * prod(m1 & m2)
-        return Surd.make(self.base, out)
-
-    __rmul__ = __mul__
-
-    def __pow__(self, k: int):
-        result: Any = _MPQ(1)
-        base: Any = self
-        while k:
-            if k & 1:
-                result = base * result
-            k >>= 1
-            if k:
-                base = base * base
-        return result
-
-    def inverse(self):
-        """``1/self`` by successive conjugation (``(a + b t)(a - b t) = a**2 - b**2 t**2``)."""
-        top = max(m.bit_length() for m in self.terms) - 1
-        bit = 1 << top
-        a = Surd.make(self.base, {m: c for m, c in self.terms.items() if not m & bit})
-        b = Surd.make(self.base, {m ^ bit: c for m, c in self.terms.items() if m & bit})
-        conj = a - b * Surd(self.base, {bit: _MPQ(1)})
-        norm = a * a - b * b * self.base.gens[top]
-        return conj * _inverse(norm)
-
-    def __bool__(self) -> bool:
-        return bool(self.terms)
-
-    def to_sympy(self) -> sp.Expr:
-        return sp.Add(*[sp.Rational(c.numerator, c.denominator) * sp.sqrt(self.base.product(m))
-                        for m, c in self.terms.items()])
-
-
-def _inverse(x):
-    if isinstance(x, Surd):
-        return x.inverse()
-    if not x:
-        raise _Undefined
-    return 1 / x
-
-
-def _to_sympy(x) -> sp.Expr:
-    if isinstance(x, Surd):
-        return x.to_sympy()
-    return sp.Rational(x.numerator, x.denominator)
-
-
-# ---------------------------------------------------------------------- degree bookkeeping
-class _Degree:
-    """Upper bounds for a rational expression written ``num / den``: ``num`` total degree and the
-    denominator's distinct factors ``{key: (degree, multiplicity)}``; ``radicals`` are the
-    distinct square-root bases (each doubles the degree of the final norm)."""
-
-    __slots__ = ("den", "num", "radicals")
-
-    def __init__(self, num: int, den: dict | None = None, radicals: frozenset = frozenset()):
-        self.num = num
-        self.den = den or {}
-        self.radicals = radicals
-
-    def den_degree(self) -> int:
-        return sum(d * k for d, k in self.den.values())
-
-    def __add__(self, other):
-        other = _as_degree(other)
-        den = dict(self.den)
-        for key, (d, k) in other.den.items():
-            den[key] = (d, max(k, den.get(key, (d, 0))[1]))
-        total = sum(d * k for d, k in den.values())
-        num = max(self.num + total - self.den_degree(), other.num + total - other.den_degree())
-        return _Degree(num, den, self.radicals | other.radicals)
-
-    __radd__ = __add__
-
-    def __sub__(self, other):
-        return self + other
-
-    __rsub__ = __sub__
-
-    def __neg__(self):
-        return self
-
-    def __mul__(self, other):
-        other = _as_degree(other)
-        den = dict(self.den)
-        for key, (d, k) in other.den.items():
-            den[key] = (d, den.get(key, (d, 0))[1] + k)
-        return _Degree(self.num + other.num, den, self.radicals | other.radicals)
-
-    __rmul__ = __mul__
-
-    def __pow__(self, k: int):
-        return _Degree(self.num * k, {key: (d, m * k) for key, (d, m) in self.den.items()},
-                       self.radicals)
-
-    def inverse(self, key) -> _Degree:
-        return _Degree(self.den_degree(), {key: (self.num, 1)} if self.num else {},
-                       self.radicals)
-
-    def bound(self) -> int:
-        """Degree of the numerator after taking the norm over the square roots."""
-        return max(self.num, 1) * 2 ** len(self.radicals)
-
-
-def _as_degree(x) -> _Degree:
-    return x if isinstance(x, _Degree) else _Degree(0)
-
-
-# ---------------------------------------------------------------------- the point set
-def sphere_parametrization(x: sp.Symbol, y: sp.Symbol, z: sp.Symbol,
-                           u: sp.Symbol | None = None, v: sp.Symbol | None = None
-                           ) -> dict[sp.Symbol, sp.Expr]:
-    """Rational parametrisation of the unit sphere ``x**2 + y**2 + z**2 = 1``.
-
-    Inverse stereographic projection from the south pole:
-    ``(x, y, z) = (2u, 2v, 1 - u**2 - v**2) / (1 + u**2 + v**2)`` (every rational point of the
-    sphere except the pole ``(0, 0, -1)``).
-
-    Parameters
-    ----------
-    x, y, z
-        The three coordinates on the sphere.
-    u, v
-        The parameters; default symbols named after the coordinates (``_u_x_y_z``, ...), so
-        that seeded points are reproducible.
-
-    Returns
-    -------
-    dict
-        ``{x: ..., y: ..., z: ...}``, usable as ``parametrization=`` of the random checks and
-        of :func:`~poissonkit.structure.jacobi.check_jacobi`.
-    """
-    tag = "_".join(str(s) for s in (x, y, z))
-    u = u if u is not None else sp.Symbol(f"_u_{tag}", real=True)
-    v = v if v is not None else sp.Symbol(f"_v_{tag}", real=True)
-    n = 1 + u**2 + v**2
-    return {x: 2 * u / n, y: 2 * v / n, z: (1 - u**2 - v**2) / n}
-
-
-def _recognise(constraints: Sequence[sp.Expr], coords: Sequence[sp.Symbol] | None
-               ) -> dict[sp.Symbol, sp.Expr]:
-    """A parametrisation for unit spheres and constraints linear in one variable."""
-    out: dict[sp.Symbol, sp.Expr] = {}
-    for c in constraints:
-        c = sp.expand(sp.numer(sp.together(c.xreplace(out))))
-        vs = sorted(c.free_symbols, key=str)
-        cand = [x for x in (coords if coords is not None else vs) if x in c.free_symbols]
-        if len(cand) == 3 and not set(cand) & set(out) \
-                and sp.expand(c - sum(x**2 for x in cand) + 1) == 0:
-            out.update(sphere_parametrization(*cand))
-            continue
-        for x in cand:
-            if x in out:
-                continue
-            try:
-                poly = sp.Poly(c, x)
-            except sp.PolynomialError:
-                continue
-            if poly.degree() == 1:
-                a1, a0 = poly.all_coeffs()
-                if a1.is_number and a1 != 0:   # solvable everywhere, no division by zero
-                    out[x] = sp.together(-a0 / a1)
-                    break
-        else:
-            raise InputError(f"random points on the constraint {c} = 0 need a "
-                             "parametrization of the surface (parametrization={coord: expr})")
-    return out
-
-
-def _check_acyclic(param: Mapping[sp.Symbol, sp.Expr]) -> None:
-    """A parametrisation must not define a coordinate through itself (even indirectly)."""
-    state: dict[sp.Symbol, int] = {}
-
-    def visit(s: sp.Symbol) -> None:
-        if state.get(s) == 2:
-            return
-        if state.get(s) == 1:
-            raise InputError(f"parametrization defines {s} through itself")
-        state[s] = 1
-        for t in param[s].free_symbols & set(param):
-            visit(t)
-        state[s] = 2
-
-    for s in param:
-        visit(s)
-
-
-def _param_degree(param: Mapping[sp.Symbol, sp.Expr]) -> int:
-    deg = 1
-    for e in param.values():
-        num, den = sp.fraction(sp.together(e))
-        gens = sorted(e.free_symbols, key=str)
-        if not gens:
-            continue
-        try:
-            deg = max(deg, sp.Poly(num, *gens).total_degree(), sp.Poly(den, *gens).total_degree())
-        except sp.PolynomialError:
-            raise InputError(f"parametrization component {e} is not a rational function") from None
-    return deg
 
 
 class _PointContext:
@@ -683,7 +371,8 @@ class RandomPoints:
         if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int)):
             raise InputError(f"seed must be an int or None, got {seed!r}")
         self.trials = trials
-        self.seed: int = seed if seed is not None else _random.SystemRandom().randrange(2**32)
+        self._sampler = Sampler(seed)
+        self.seed: int = self._sampler.seed
         if isinstance(constraints, (sp.Basic, str)):
             constraints = [constraints]
         self.constraints: tuple[sp.Expr, ...] = tuple(as_expr(c, "constraint")
@@ -728,15 +417,10 @@ class RandomPoints:
         through ``1/8, 8, 1/64, 64, ...`` for further points (domains of square roots such as
         ``1 - d (gamma, A gamma) > 0`` are bounded; others may exclude the unit box).
         """
-        rng = _random.Random(f"{self.seed}/{index}/{s.name}")
         # the sign respects the symbol's assumptions: sympy may have simplified with them
         # (sqrt(I**2) = I for a positive I), so a point violating them could be a false witness
-        if s.is_nonnegative:
-            num = rng.randint(1, SAMPLE_RANGE)
-        elif s.is_nonpositive:
-            num = -rng.randint(1, SAMPLE_RANGE)
-        else:
-            num = rng.randint(-SAMPLE_RANGE, SAMPLE_RANGE)
+        sign = 1 if s.is_nonnegative else -1 if s.is_nonpositive else 0
+        num = self._sampler.integer(s.name, index, sign)
         if s.is_integer:
             return _MPQ(num)
         level = index // self.trials
@@ -886,8 +570,6 @@ class RandomPoints:
         for _, build in components:
             D = max(D, _as_degree(build(degrees)).bound())
         D *= self.param_degree
-        eps = 1.0 / SAMPLE_RANGE
-        per_point = min(1.0, D * eps)
         done = 0
         index = 0
         skipped = 0
@@ -904,11 +586,13 @@ class RandomPoints:
             except _Undefined:
                 skipped += 1
                 continue
-            fails = tuple((label, _to_sympy(v)) for label, v in vals if v)
+            fails = tuple((label, _to_sympy(v)) for label, v in vals if not is_zero_at_point(v))
             if fails:
                 return fails, ctx.point(), 0.0, self._note(index, skipped, D)
             done += 1
-        return (), None, per_point ** self.trials, self._note(index, skipped, D)
+        # sign-restricted draws have point masses up to 1/SAMPLE_RANGE: the unsigned bound
+        bound = false_positive_bound(D, self.trials, signed=False)
+        return (), None, bound, self._note(index, skipped, D)
 
     def _note(self, used: int, skipped: int, D: int) -> str:
         where = " on the constraint surface (rational parametrisation)" if self.constraints else ""

@@ -78,7 +78,8 @@ def test_positive_controls(build, method):
     assert res.is_poisson and not res.failures
     assert res.method == method
     if method == "random":
-        assert 0 < res.false_positive_bound < 1e-20
+        # three points of the 10^6 sample set: (D / (2*10^6 + 1))^3 with D of a few hundred
+        assert 0 < res.false_positive_bound < 1e-9
     else:
         assert res.false_positive_bound == 0
 
@@ -160,7 +161,7 @@ def test_jacobi_modulo_constraint_surface_random_with_parametrisation():
     stereo = {y[0]: 2 * u / den, y[1]: 2 * v / den, y[2]: (1 - u ** 2 - v ** 2) / den}
     sphere = y[0] ** 2 + y[1] ** 2 + y[2] ** 2 - 1
     res = check_jacobi(P, method="random", constraints=[sphere], parametrization=stereo, seed=2)
-    assert res.is_poisson and res.false_positive_bound < 1e-20
+    assert res.is_poisson and res.false_positive_bound < 1e-9
     off = {y[0]: 2 * u / den, y[1]: 2 * v / den, y[2]: 2 * (1 - u ** 2 - v ** 2) / den}
     with pytest.raises(InputError):
         check_jacobi(P, method="random", constraints=[sphere], parametrization=off)

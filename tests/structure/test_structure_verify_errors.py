@@ -15,6 +15,7 @@ from poissonkit.cli import main
 from poissonkit.commands import verify as verify_cmd
 from poissonkit.commands.verify import verify
 from poissonkit.structure import HamiltonianSystem, checks, so3
+from poissonkit.structure.verification import TimeLimit
 
 
 def _system():
@@ -75,7 +76,7 @@ def test_timeout_of_the_casimir_search_is_a_note_not_an_error(monkeypatch):
     from poissonkit.structure import casimirs
 
     def slow(*a, **k):
-        raise verify_cmd._TimeLimit
+        raise TimeLimit
 
     monkeypatch.setattr(casimirs, "find_casimirs", slow)
     rep = verify(so3(), casimir_degree=2, timeout=5)
