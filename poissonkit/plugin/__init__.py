@@ -4,6 +4,7 @@ from poissonkit.plugin.contributions import (
     Assembly,
     Entry,
     IntegratorEntry,
+    ModelFamily,
     PairPotential,
     Param,
     SceneEntry,
@@ -17,6 +18,8 @@ from poissonkit.plugin.registry import (
     integrator,
     integrators,
     lookup,
+    model_families,
+    model_family,
     names,
     potential,
     scene,
@@ -24,8 +27,8 @@ from poissonkit.plugin.registry import (
 )
 
 __all__ = [
-    "Assembly", "Entry", "IntegratorEntry", "PairPotential", "Param", "SceneEntry", "SystemEntry",
+    "Assembly", "Entry", "IntegratorEntry", "ModelFamily", "PairPotential", "Param", "SceneEntry", "SystemEntry",
     "assembly", "default_scene", "entries", "hookimpl", "integrator", "integrators", "lookup",
-    "names", "plugin_manager",
+    "model_families", "model_family", "names", "plugin_manager",
     "plugin_reports", "potential", "reset", "scene", "system",
 ]
