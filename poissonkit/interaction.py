@@ -211,20 +211,23 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
                            f"{sizes[0]:.6g}, {sizes[2]:.6g} m, lengths {sizes[1]:.6g}, "
                            f"{sizes[3]:.6g} m)")
     body1, body2 = _body(given, "1"), _body(given, "2")
+    read: set[str] = set()  # what the family read to choose: not the model's unless it takes it
     if model == "auto":
         if tol is None:
             raise InputError("model='auto' needs tol (relative force tolerance)")
         family = _family_for(families, body1, body2)
         model = _cheapest(family, tol, dist, body1, body2)
+        read = {q + i for q in family.reads for i in ("1", "2")}
     elif tol is not None:
         raise InputError("tol is only used with model='auto'")
     entry = potential(model)
     needed = [p.name for p in entry.params]
-    known = set(needed) | {q + i for q in entry.body_quantities for i in ("1", "2")}
+    known = set(needed) | read | {q + i for q in entry.body_quantities for i in ("1", "2")}
     unknown = sorted(set(given) - known)
     if unknown:
         raise UnknownNameError(f"parameter of {model!r}", unknown[0], needed)
     completed = given if entry.complete_params is None else entry.complete_params(given)
+    completed = {k: v for k, v in completed.items() if k in needed or k not in read}
     resolved = entry.resolve_params(completed)
     estimate = _estimate(families, model, dist, body1, body2)
     if "half_length1" in resolved and "half_length2" in resolved:
@@ -274,7 +277,7 @@ def _family_for(families: Sequence[ModelFamily], body1: Mapping[str, Any],
                              f"potential instead")
 
 
-def _cheapest(family: ModelFamily, tol: Any, r: float, body1: Mapping[str, Any],
+def _cheapest(family: ModelFamily, tol: float, r: float, body1: Mapping[str, Any],
               body2: Mapping[str, Any]) -> str:
     """The cheapest model of ``family`` within ``tol``; among equal costs the most accurate;
     the most expensive model if none is within ``tol``."""

@@ -41,7 +41,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -50,6 +50,9 @@ from poissonkit.plugin.contributions import ModelFamily
 from poissonkit.scene.assembly import EdgeSpec, PairSpec, resolve
 from poissonkit.scene.bodies import BodyModel
 from poissonkit.scene.plans import DroppedPair, PairPlan, Plan, PlannerError
+
+if TYPE_CHECKING:
+    from poissonkit.scene.schema import PlannerSpec
 
 #: Once kept, a pair is dropped only beyond this multiple of the cutoff.
 CUTOFF_HYSTERESIS = 1.05
@@ -160,7 +163,7 @@ class Planner:
         object.__setattr__(self, "_specs", {})
 
     @classmethod
-    def from_spec(cls, spec: Any) -> Planner:
+    def from_spec(cls, spec: PlannerSpec) -> Planner:
         """From a scene's :class:`~poissonkit.scene.schema.PlannerSpec`."""
         return cls(tol=spec.tol, models=tuple(spec.models), hysteresis=spec.hysteresis,
                    cutoff=spec.cutoff, replan_every=spec.replan_every)
