@@ -201,9 +201,13 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
     families = model_families()
     if model == "auto":
         candidates = [potential(m) for f in families for m in f.models]
+        own = list(families)
     else:
         candidates = [potential(model)]
-    given = _expand(params, _bases(candidates))
+        own = [f for f in families if model in f.models]
+    # what the families read to choose or estimate: accepted, passed on only if taken
+    reads = {q for f in own for q in f.reads}
+    given = _expand(params, _bases(candidates) | reads)
     tol = given.pop("tol", None)
     sizes = _sizes(given)
     if sizes is not None and cylinder_gap(rvec, n1, n2, *sizes) <= 0.0:
@@ -211,7 +215,7 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
                            f"{sizes[0]:.6g}, {sizes[2]:.6g} m, lengths {sizes[1]:.6g}, "
                            f"{sizes[3]:.6g} m)")
     body1, body2 = _body(given, "1"), _body(given, "2")
-    read: set[str] = set()  # what the family read to choose: not the model's unless it takes it
+    read = {q + i for q in reads for i in ("1", "2")}
     if model == "auto":
         if tol is None:
             raise InputError("model='auto' needs tol (relative force tolerance)")

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from poissonkit.errors import InputError
+from poissonkit.errors import UnknownNameError
 from poissonkit.interaction import NoModelFamilyError, pair_interaction
 from poissonkit.plugin import model_families, reset
 from poissonkit.scene.assembly import EdgeSpec
@@ -145,7 +145,7 @@ def test_the_planner_plans_toy_pairs_with_the_toy_family(toy_plugin):
 
 
 def test_planner_models_must_belong_to_a_registered_family(toy_plugin):
-    with pytest.raises(InputError, match="toy_point"):
+    with pytest.raises(UnknownNameError, match="toy_point"):
         Planner(tol=1e-3, models=("gravity",))
 
 
