@@ -277,8 +277,10 @@ class Planner:
             :class:`poissonkit.scene.bodies.BodyModel` objects.
         edges
             :class:`poissonkit.scene.assembly.EdgeSpec` objects; an edge is *planned* when a
-            family of the planner applies to its bodies (magnets: both have a ``moment``) and
-            its potential is unset or one of that family's candidates.
+            family of the planner applies to its bodies (magnets: both have a ``moment``) unless
+            the edge names its own potential that is not one of that family's candidates. Edges
+            not planned use their potential (their own or the default); without one they do not
+            interact.
 
         Returns
         -------
@@ -329,7 +331,9 @@ class Planner:
                 dropped.append(DroppedPair(e.i, e.j, r, "fixed"))
                 continue
             ai, aj = body_attributes(bi), body_attributes(bj)
-            found = self.family_for(ai, aj, e.potential)
+            # a default potential does not keep a family from planning the pair; an edge's own
+            # potential does unless it is one of the family's candidates
+            found = self.family_for(ai, aj, e.potential if e.own_potential else None)
             if found is None and e.potential is None:
                 continue  # no potential and no family models the pair: it does not interact
             if self.cutoff is not None:

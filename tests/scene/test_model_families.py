@@ -165,3 +165,48 @@ def test_without_the_magnets_plugin_the_core_still_plans_and_evaluates():
     with pytest.raises(PlannerError):
         planner.choose(1.0, {}, {})
     assert math.isfinite(float(pairs[0].params["mass1"]))
+
+
+SCENE = """
+name = "default_potential_and_planner"
+[defaults]
+mass = 7.658e-4
+inertia = 2.5827e-8
+magnetization = 1.58359e6
+radius = 1.25e-3
+length = 0.02
+[[bodies]]
+name = "a"
+r = [0.0, 0.0, 0.0]
+nu = [0.0, 0.0, 1.0]
+[[bodies]]
+name = "b"
+r = [0.05, 0.0, 0.0]
+nu = [0.0, 0.0, 1.0]
+[[bodies]]
+name = "brass"
+moment = 0.0
+mass = 0.05
+r = [0.0, 0.08, 0.0]
+nu = [1.0, 0.0, 0.0]
+[interactions]
+pairs = "all"
+potential = "gravity"
+[planner]
+tol = 1e-2
+[run]
+duration = 1e-3
+step = 1e-4
+"""
+
+
+def test_a_default_potential_does_not_keep_the_planner_from_planning_magnet_pairs():
+    """docs/scenes.md: every pair of two magnets is planned; the default potential serves the
+    other pairs (it used to replace the magnets' models, and a plugin potential that cannot
+    describe magnets failed naming the magnet pair)."""
+    from poissonkit.scene import build_run, loads_scene
+
+    plan = build_run(loads_scene(SCENE)).metadata["plan"]
+    # side by side at 5 cm, 2 cm long magnets: too close for the cheap models at 1 %
+    assert [(p["bodies"], p["model"]) for p in plan["pairs"]] == [(["a", "b"], "cylinder")]
+    assert plan["unplanned_pairs"] == 2  # brass-a, brass-b: gravity
