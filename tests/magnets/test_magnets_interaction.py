@@ -141,3 +141,15 @@ def test_gap_solver_sees_a_shallow_overlap_where_projections_stall():
     with pytest.raises(OverlapError):
         pair_interaction("dipole", d, n1 / np.linalg.norm(n1), n2 / np.linalg.norm(n2),
                          moment=0.1, radius=A, length=H)
+
+
+def test_auto_asks_the_magnet_family_which_uses_the_one_fidelity_estimator():
+    from poissonkit_magnets.fidelity import cheapest_model, estimated_error
+
+    n2 = np.array([0.6, 0.0, 0.8])
+    for dist in (0.03, 0.05, 0.1, 0.3):
+        for tol in (1e-2, 1e-4):
+            r = dist * np.array([0.0, 0.6, 0.8])
+            out = pair_interaction("auto", r, Z, n2, magnetization=M, radius=A, length=H, tol=tol)
+            assert out.model == cheapest_model(tol, dist, A, H)
+            assert out.estimated_error == estimated_error(out.model, dist, A, H)
