@@ -9,7 +9,7 @@ what an integrator *can* do (checkpoint, stream, events, ...) is declared on its
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING, Any, Protocol, Union, runtime_checkable
 
 import numpy as np
@@ -258,5 +258,20 @@ class Integrator(Protocol):
                   ) -> RawResult: ...
 
 # --------------------------------------------------------------------------- model families
+
+
+@runtime_checkable
+class ErrorEstimator(Protocol):
+    """A model family's error estimate (:attr:`poissonkit.plugin.ModelFamily.estimate`).
+
+    ``estimator(model, r, body1, body2)``: estimated worst-case relative force error of the
+    registered potential ``model`` for two bodies, given as attribute mappings (``radius``,
+    ``length``, ``moment``, ... as the family declares in ``reads``), at centre distance
+    ``r`` [m]; ``inf`` where the model is not trusted. Non-increasing in ``r``.
+    """
+
+    def __call__(self, model: str, r: float, body1: Mapping[str, Any],
+                 body2: Mapping[str, Any]) -> float: ...
+
 
 # --------------------------------------------------------------------------- sweep scenes

@@ -20,14 +20,15 @@ from typing import Any
 import numpy as np
 
 from poissonkit.errors import InputError, UnknownNameError
-
-#: Shorthands for two identical bodies, expanded to ``<name>1`` and ``<name>2``.
-SHORTHANDS: tuple[str, ...] = ("moment", "magnetization", "radius", "length", "half_length",
-                               "current", "flux", "wire_radius")
+from poissonkit.plugin.contributions import ModelFamily, PairPotential
 
 
 class OverlapError(InputError):
     """The two bodies overlap (or touch), so the pair energy is not defined by the model."""
+
+
+class NoModelFamilyError(InputError):
+    """``model="auto"`` but no registered model family applies to the pair."""
 
 
 @dataclass(frozen=True)
@@ -45,8 +46,9 @@ class PairInteraction:
     torque1, torque2
         Torques on bodies 1 and 2 about their own centres (N m).
     estimated_error
-        For the magnet models: estimated worst-case relative force error of ``model`` against
-        the exact cylinders (``None`` when the cylinder sizes are unknown).
+        For a model of a registered model family (e.g. the magnet models): its family's
+        estimated worst-case relative force error (``None`` when the family does not apply
+        or the body attributes it reads, e.g. the cylinder sizes, are unknown).
     """
 
     model: str
@@ -79,84 +81,49 @@ def _axis(name: str, value: Any) -> np.ndarray:
     return v / n
 
 
-def _project_cylinder(p: np.ndarray, centre: np.ndarray, nu: np.ndarray, a: float,
-                      l: float) -> np.ndarray:
-    d = p - centre
-    z = float(d @ nu)
-    rv = d - z * nu
-    rho = float(np.linalg.norm(rv))
-    if rho > a:
-        rv *= a / rho
-    return centre + min(max(z, -l), l) * nu + rv
-
-
 def cylinder_gap(r: np.ndarray, nu1: np.ndarray, nu2: np.ndarray, a1: float, h1: float,
                  a2: float, h2: float) -> float:
     """Smallest distance between two solid cylinders (0 if they touch or overlap).
 
-    Alternating projections between the two convex bodies (Cheney–Goldstein), which converge
-    to a closest pair for disjoint bodies and into the intersection otherwise.
+    Body 1 (radius ``a1``, full height ``h1``, axis ``nu1``) at the origin, body 2 at ``r``.
+    The one gap solver of poissonkit, :func:`poissonkit.scene.geometry.distance` (alternating
+    projections checked by a separating plane, to ``1e-10`` of the larger body or distance).
     """
-    c1 = np.zeros(3)
-    c2 = np.asarray(r, dtype=float)
-    scale = max(a1, a2, h1, h2)
-    x = c1.copy()
-    y = _project_cylinder(c2, c1, nu1, a1, 0.5 * h1)
-    last = math.inf
-    for _ in range(5000):
-        y = _project_cylinder(x, c2, nu2, a2, 0.5 * h2)
-        x = _project_cylinder(y, c1, nu1, a1, 0.5 * h1)
-        dist = float(np.linalg.norm(x - y))
-        if dist < 1e-12 * scale or last - dist < 1e-15 * scale:
-            break
-        last = dist
-    return dist
+    from poissonkit.scene.geometry import distance, shape_of
+
+    return distance(shape_of(np.zeros(3), nu1, a1, 0.5 * h1),
+                    shape_of(np.asarray(r, dtype=float), nu2, a2, 0.5 * h2))
 
 
-def _expand(params: Mapping[str, Any]) -> dict[str, Any]:
-    out = dict(params)
-    for key in SHORTHANDS:
-        if key in out:
-            value = out.pop(key)
-            for i in ("1", "2"):
-                if key + i in out:
-                    raise InputError(f"give either {key!r} or {key + i!r}, not both")
-                out[key + i] = value
+def _bases(entries: Sequence[PairPotential]) -> set[str]:
+    """Per-body quantities (names without the 1/2 suffix) these potentials accept."""
+    out: set[str] = set()
+    for entry in entries:
+        out.update(p.name[:-1] for p in entry.params if p.name[-1:] in ("1", "2"))
+        out.update(entry.body_quantities)
     return out
 
 
-def _complete(needed: Sequence[str], given: dict[str, Any]) -> dict[str, Any]:
-    """Derive missing per-body quantities the model needs from the ones given."""
-    out = dict(given)
-    for i in ("1", "2"):
-        m, mu, a, h = (out.get("magnetization" + i), out.get("moment" + i),
-                       out.get("radius" + i), out.get("length" + i))
-        if a is not None and h is not None:
-            try:
-                volume = math.pi * float(a) ** 2 * float(h)
-            except (TypeError, ValueError, OverflowError):
-                raise InputError(f"radius{i} and length{i} must be finite numbers") from None
-            try:
-                if volume > 0:
-                    if "moment" + i in needed and mu is None and m is not None:
-                        out["moment" + i] = float(m) * volume
-                    if "magnetization" + i in needed and m is None and mu is not None:
-                        out["magnetization" + i] = float(mu) / volume
-                if "half_length" + i in needed and out.get("half_length" + i) is None:
-                    out["half_length" + i] = 0.5 * float(h)
-            except (TypeError, ValueError, OverflowError):
-                raise InputError(f"moment{i} / magnetization{i} must be finite numbers") from None
-        elif "half_length" + i in needed and out.get("half_length" + i) is None and h is not None:
-            try:
-                out["half_length" + i] = 0.5 * float(h)
-            except (TypeError, ValueError, OverflowError):
-                raise InputError(f"length{i} must be a finite number, got {h!r}") from None
-    # drop what the model does not take (sizes given only for the overlap check, moments given
-    # together with magnetisations)
-    return {k: v for k, v in out.items() if k in needed}
+def _expand(params: Mapping[str, Any], bases: set[str]) -> dict[str, Any]:
+    """Expand the shorthand ``x`` of two identical bodies into ``x1`` and ``x2``."""
+    out = dict(params)
+    for key in sorted(bases & set(params)):
+        value = out.pop(key)
+        for i in ("1", "2"):
+            if key + i in out:
+                raise InputError(f"give either {key!r} or {key + i!r}, not both")
+            out[key + i] = value
+    return out
+
+
+def _body(given: Mapping[str, Any], i: str) -> dict[str, Any]:
+    """The attributes of body ``i`` (``"1"`` or ``"2"``) among the suffixed parameters."""
+    return {k[:-1]: v for k, v in given.items() if k.endswith(i) and len(k) > 1}
 
 
 def _sizes(given: Mapping[str, Any]) -> tuple[float, float, float, float] | None:
+    """``(radius1, length1, radius2, length2)`` when all are given: the bodies are solid
+    cylinders (the core's body-shape convention, :mod:`poissonkit.scene.geometry`)."""
     keys = ("radius1", "length1", "radius2", "length2")
     if not all(k in given for k in keys):
         return None
@@ -180,21 +147,23 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
     ----------
     model
         A registered pair potential (``"dipole"``, ``"dumbbell"``, ``"dumbbell_octupole"``,
-        ``"cylinder"``, ``"dipole_cylinder_field"``, ``"loops"``, ... — see
-        ``poissonkit.plugin.names("potential")``), or ``"auto"``: the cheapest of dipole /
-        dumbbell / octupole-corrected dumbbell / exact cylinder whose estimated force error is
-        within ``tol`` (:func:`poissonkit_magnets.fidelity.cheapest_model`).
+        ``"cylinder"``, ``"dipole_cylinder_field"``, ``"loops"``, ``"gravity"``, ... — see
+        ``poissonkit.plugin.names("potential")``), or ``"auto"``: the cheapest model of the
+        registered model family that applies to the pair (``poissonkit.plugin.model_families()``;
+        the magnets plugin's: dipole / dumbbells / exact cylinder) whose estimated force error
+        is within ``tol``.
     r
         ``r2 - r1`` (m), body 1's centre to body 2's centre.
     nu1, nu2
         Unit axes (magnetisation directions) of the bodies.
     **params
-        The potential's parameters (docs/architecture.md), plus the shorthands ``moment``,
-        ``magnetization``, ``radius``, ``length`` (and ``half_length``, ``current``, ``flux``,
-        ``wire_radius``) for two identical bodies. Moments and magnetisations are converted
-        through the cylinder volume ``pi a^2 h`` where the model needs the other one; a
-        dumbbell given ``length`` gets ``half_length = length/2``. With ``"auto"`` give ``tol``.
-        When radii and lengths are known, overlapping cylinders are rejected.
+        The potential's parameters (docs/architecture.md). A per-body name without its suffix
+        (``moment``, ``radius``, ``mass``, ...) gives both bodies the same value. A potential
+        may accept further per-body quantities and derive its parameters from them (the
+        magnet potentials: ``moment`` and ``magnetization`` are converted through the cylinder
+        volume ``pi a^2 h``, a dumbbell given ``length`` gets ``half_length = length/2``). With
+        ``"auto"`` give ``tol``. When radii and lengths are known, overlapping cylinders are
+        rejected.
 
     Returns
     -------
@@ -208,6 +177,8 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
         The cylinders overlap or touch.
     UnknownNameError
         Unknown model or parameter name (the message lists the available ones).
+    NoModelFamilyError
+        ``"auto"`` but no registered model family applies to the pair.
 
     Examples
     --------
@@ -217,7 +188,7 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
     >>> round(float(out.force[2]), 6)  # coaxial, head to tail: attraction
     -0.000144
     """
-    from poissonkit.plugin import potential
+    from poissonkit.plugin import model_families, potential
 
     if not isinstance(model, str):
         raise InputError(f"model must be a potential name (str), got {model!r}")
@@ -227,42 +198,42 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
     dist = float(np.linalg.norm(rvec))
     if dist == 0.0:
         raise InputError("r = 0: the two bodies are at the same place")
-    given = _expand(params)
+    families = model_families()
+    if model == "auto":
+        candidates = [potential(m) for f in families for m in f.models]
+        own = list(families)
+    else:
+        candidates = [potential(model)]
+        own = [f for f in families if model in f.models]
+    # what the families read to choose or estimate: accepted, passed on only if taken
+    reads = {q for f in own for q in f.reads}
+    given = _expand(params, _bases(candidates) | reads)
     tol = given.pop("tol", None)
     sizes = _sizes(given)
     if sizes is not None and cylinder_gap(rvec, n1, n2, *sizes) <= 0.0:
         raise OverlapError(f"the cylinders overlap or touch (r = {dist:.6g} m, radii "
                            f"{sizes[0]:.6g}, {sizes[2]:.6g} m, lengths {sizes[1]:.6g}, "
                            f"{sizes[3]:.6g} m)")
-    estimate: float | None = None
+    body1, body2 = _body(given, "1"), _body(given, "2")
+    read = {q + i for q in reads for i in ("1", "2")}
     if model == "auto":
-        from poissonkit_magnets.fidelity import cheapest_model
-
         if tol is None:
             raise InputError("model='auto' needs tol (relative force tolerance)")
-        if sizes is None:
-            raise InputError("model='auto' needs radius and length (or radius1/2, length1/2)")
-        try:
-            model = cheapest_model(tol, dist, sizes[0], sizes[1], sizes[2], sizes[3])
-        except OverflowError:  # sizes absurd against r (1e308 m magnets)
-            raise InputError(f"radius/length out of range against r = {dist:.3g} m") from None
+        family = _family_for(families, body1, body2)
+        model = _cheapest(family, tol, dist, body1, body2)
+        read = {q + i for q in family.reads for i in ("1", "2")}
     elif tol is not None:
         raise InputError("tol is only used with model='auto'")
     entry = potential(model)
     needed = [p.name for p in entry.params]
-    known = set(needed) | {"magnetization1", "magnetization2", "moment1", "moment2",
-                           "radius1", "radius2", "length1", "length2"}
+    known = set(needed) | read | {q + i for q in entry.body_quantities for i in ("1", "2")}
     unknown = sorted(set(given) - known)
     if unknown:
         raise UnknownNameError(f"parameter of {model!r}", unknown[0], needed)
-    resolved = entry.resolve_params(_complete(needed, given))
-    if sizes is not None and model in ("dipole", "dumbbell", "dumbbell_octupole", "cylinder"):
-        from poissonkit_magnets.fidelity import estimated_error
-
-        try:
-            estimate = estimated_error(model, dist, sizes[0], sizes[1], sizes[2], sizes[3])
-        except OverflowError:  # sizes absurd against r: no estimate, the result stands
-            estimate = None
+    completed = given if entry.complete_params is None else entry.complete_params(given)
+    completed = {k: v for k, v in completed.items() if k in needed or k not in read}
+    resolved = entry.resolve_params(completed)
+    estimate = _estimate(families, model, dist, body1, body2)
     if "half_length1" in resolved and "half_length2" in resolved:
         l1, l2 = float(resolved["half_length1"]), float(resolved["half_length2"])
         gaps = [np.linalg.norm(rvec + s2 * l2 * n2 - s1 * l1 * n1)
@@ -272,7 +243,7 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
     e = rvec / dist
     c1, c2, c3 = float(e @ n1), float(e @ n2), float(n1 @ n2)
     try:
-        u, ur, u1, u2, u3 = _partials(model, entry, resolved, dist, c1, c2, c3)
+        u, ur, u1, u2, u3 = _partials(entry, resolved, dist, c1, c2, c3)
     except (ZeroDivisionError, np.linalg.LinAlgError) as exc:
         # compiled kernels raise these when two poles or charges coincide
         raise InputError(f"{model}: the potential is singular at this configuration "
@@ -290,13 +261,70 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
                            torque2=torque2, estimated_error=estimate)
 
 
-def _partials(model: str, entry: Any, resolved: Mapping[str, Any], r: float, c1: float,
-              c2: float, c3: float) -> tuple[float, float, float, float, float]:
-    from poissonkit_magnets.models import BY_NAME, evaluate
+def _family_for(families: Sequence[ModelFamily], body1: Mapping[str, Any],
+                body2: Mapping[str, Any]) -> ModelFamily:
+    """The first registered family that applies to the pair and has what it reads."""
+    if not families:
+        raise NoModelFamilyError("model='auto': no model family is registered (are the plugins "
+                                 "that provide them blocked? see `poissonkit plugins`); name a "
+                                 "potential instead")
+    for family in families:
+        if family.applies(body1, body2):
+            missing = [q for q in family.reads if q not in body1 or q not in body2]
+            if missing:
+                raise InputError(f"model='auto' ({family.name} family) needs "
+                                 f"{' and '.join(missing)} of both bodies (or "
+                                 f"{', '.join(q + '1/2' for q in missing)})")
+            return family
+    raise NoModelFamilyError(f"model='auto': no registered model family applies to this pair "
+                             f"(families: {', '.join(f.name for f in families)}); name a "
+                             f"potential instead")
 
-    if model in BY_NAME:
-        return evaluate(model, resolved, r, c1, c2, c3)
-    # any other registered potential: through the numerics' compiled kernel
+
+def _cheapest(family: ModelFamily, tol: float, r: float, body1: Mapping[str, Any],
+              body2: Mapping[str, Any]) -> str:
+    """The cheapest model of ``family`` within ``tol``; among equal costs the most accurate;
+    the most expensive model if none is within ``tol``."""
+    try:
+        tol = float(tol)
+    except (TypeError, ValueError):
+        raise InputError(f"tol must be a number, got {tol!r}") from None
+    if not (tol > 0 and math.isfinite(tol)):
+        raise InputError(f"tol must be positive and finite, got {tol!r}")
+    tiers: dict[float, list[str]] = {}
+    for m in family.models:
+        tiers.setdefault(family.cost(m), []).append(m)
+    try:
+        for cost in sorted(tiers):
+            errors = {m: float(family.estimate(m, r, body1, body2)) for m in tiers[cost]}
+            best = min(tiers[cost], key=errors.__getitem__)
+            if errors[best] <= tol:
+                return best
+    except OverflowError:  # sizes absurd against r (1e308 m magnets)
+        raise InputError(f"{family.name}: body sizes out of range against r = {r:.3g} m") from None
+    return max(family.models, key=family.cost)
+
+
+def _estimate(families: Sequence[ModelFamily], model: str, r: float, body1: Mapping[str, Any],
+              body2: Mapping[str, Any]) -> float | None:
+    """The error estimate of ``model`` by its family, when the family applies and has what
+    it reads; else ``None``."""
+    for family in families:
+        if model in family.models and family.applies(body1, body2) and all(
+                q in body1 and q in body2 for q in family.reads):
+            try:
+                return float(family.estimate(model, r, body1, body2))
+            except OverflowError:  # sizes absurd against r: no estimate, the result stands
+                return None
+    return None
+
+
+def _partials(entry: PairPotential, resolved: Mapping[str, Any], r: float, c1: float,
+              c2: float, c3: float) -> tuple[float, float, float, float, float]:
+    """``(U, U_r, U_c1, U_c2, U_c3)``: the entry's own evaluation if it has one, else its
+    compiled kernel."""
+    if entry.evaluate is not None:
+        return entry.evaluate(resolved)(r, c1, c2, c3)
     from poissonkit.numerics.potentials import compile_potential
 
     kern = compile_potential(entry, resolved)

@@ -93,6 +93,16 @@ def estimated_error(model: str, r: float, radius: float, length: float,
     h1 = _check_size("length", length)
     a2 = a1 if radius2 is None else _check_size("radius2", radius2)
     h2 = h1 if length2 is None else _check_size("length2", length2)
+    return pair_error(model, r, a1, h1, a2, h2)
+
+
+def pair_error(model: str, r: float, a1: float, h1: float, a2: float, h2: float) -> float:
+    """:func:`estimated_error` without argument checks; a size of 0 is allowed.
+
+    A body of zero radius and length is a point dipole (all its higher moments vanish), so
+    the dipole model of two point magnets is exact (0) and that of a point magnet and a
+    cylinder errs by the cylinder's moments alone.
+    """
     if model == "cylinder":
         return CYLINDER_ERROR
     s = math.hypot(0.5 * h1, a1) + math.hypot(0.5 * h2, a2)

@@ -12,6 +12,7 @@ import math
 import threading
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 from poissonkit.conventions import MU0
@@ -236,6 +237,13 @@ def evaluate(name: str, params: Mapping[str, Any], r: float, c1: float, c2: floa
     model = BY_NAME[name]
     out = model.core(float(r), float(c1), float(c2), float(c3), *model.args(params))
     return tuple(float(v) for v in out)  # type: ignore[return-value]
+
+
+def evaluator(name: str, params: Mapping[str, Any]
+              ) -> Callable[[float, float, float, float], tuple[float, float, float, float, float]]:
+    """``f(r, c1, c2, c3)`` evaluating model ``name`` directly (:func:`evaluate`), for the
+    registry entry's ``evaluate`` (``pair_interaction``)."""
+    return partial(evaluate, name, params)
 
 
 def moment_of_cylinder(magnetization: float, radius: float, length: float) -> float:

@@ -2,7 +2,8 @@
 
 Contributes the pair potentials of :mod:`poissonkit_magnets.models` (names and parameters as in
 docs/architecture.md, "Magnet potential names and parameters"; the extra models are documented in
-docs/magnets.md) and the built-in scene ``seed000`` (:mod:`poissonkit_magnets.seed000`), the
+docs/magnets.md), the magnet model family of the planner (:mod:`poissonkit_magnets.family`)
+and the built-in scene ``seed000`` (:mod:`poissonkit_magnets.seed000`), the
 default scene of ``poissonkit run``.
 """
 
@@ -10,16 +11,20 @@ from __future__ import annotations
 
 from functools import partial
 
-from poissonkit.plugin.contributions import PairPotential, Param, SceneEntry
+from poissonkit.plugin.contributions import ModelFamily, PairPotential, Param, SceneEntry
 from poissonkit.plugin.hookspecs import hookimpl
-from poissonkit_magnets.models import MODELS, kernel
-
+from poissonkit_magnets.family import MAGNET_FAMILY
+from poissonkit_magnets.models import MODELS, evaluator, kernel
+from poissonkit_magnets.pair_params import MAGNET_QUANTITIES, complete_params
 
 # Built once per process: compiled kernels are cached per entry, so handing out the same
 # entries after every plugin-manager rebuild avoids recompiling them.
 _ENTRIES: tuple[PairPotential, ...] = tuple(
     PairPotential(name=m.name, doc=m.doc, params=m.params, expr=m.expr,
-                  kernel=partial(kernel, m.name), orientation="both")
+                  kernel=partial(kernel, m.name), orientation="both",
+                  evaluate=partial(evaluator, m.name),
+                  complete_params=partial(complete_params, tuple(p.name for p in m.params)),
+                  body_quantities=MAGNET_QUANTITIES)
     for m in MODELS
 )
 
@@ -28,6 +33,12 @@ _ENTRIES: tuple[PairPotential, ...] = tuple(
 def poissonkit_potentials() -> list[PairPotential]:
     """The magnet pair potentials (SI units)."""
     return list(_ENTRIES)
+
+
+@hookimpl
+def poissonkit_model_families() -> list[ModelFamily]:
+    """The magnet family: dipole, dumbbells, exact cylinders, with their error estimate."""
+    return [MAGNET_FAMILY]
 
 
 def _seed_sweep(**options):

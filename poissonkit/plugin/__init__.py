@@ -5,6 +5,7 @@ from poissonkit.plugin.contributions import (
     Capabilities,
     Entry,
     IntegratorEntry,
+    ModelFamily,
     PairPotential,
     Param,
     SceneEntry,
@@ -18,6 +19,8 @@ from poissonkit.plugin.registry import (
     integrator,
     integrators,
     lookup,
+    model_families,
+    model_family,
     names,
     potential,
     scene,
@@ -25,8 +28,9 @@ from poissonkit.plugin.registry import (
 )
 
 __all__ = [
-    "Assembly", "Capabilities", "Entry", "IntegratorEntry", "PairPotential", "Param", "SceneEntry", "SystemEntry",
+    "Assembly", "Capabilities", "Entry", "IntegratorEntry", "ModelFamily", "PairPotential",
+    "Param", "SceneEntry", "SystemEntry",
     "assembly", "default_scene", "entries", "hookimpl", "integrator", "integrators", "lookup",
-    "names", "plugin_manager",
+    "model_families", "model_family", "names", "plugin_manager",
     "plugin_reports", "potential", "reset", "scene", "system",
 ]

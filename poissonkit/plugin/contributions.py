@@ -181,6 +181,18 @@ class PairPotential(Entry):
     kernel: Callable[[dict[str, Any]], Callable[..., Any]] | None = None
     orientation: str = "both"
     body_params: tuple[tuple[str, str, int], ...] = ()
+    # What pair_interaction uses (see "PairPotential: direct evaluation" in docs/plugins.md):
+    #: ``evaluate(params) -> f`` with ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)`` as
+    #: floats, for one-off evaluations without compiling a kernel per parameter set.
+    evaluate: Callable[[Mapping[str, Any]], PairFunction] | None = None
+    #: ``complete_params(given) -> params``: derive this potential's parameters from other
+    #: per-body quantities its plugin understands (magnets: moment from magnetisation through
+    #: the cylinder volume), dropping those quantities where the potential does not take them.
+    #: Unrecognised names must be left in place (they are reported as unknown).
+    complete_params: Callable[[Mapping[str, Any]], dict[str, Any]] | None = None
+    #: Per-body quantities (base names, without the ``1``/``2`` suffix) accepted besides the
+    #: parameters, for :attr:`complete_params` or the overlap check (``radius``, ``length``).
+    body_quantities: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -291,3 +303,54 @@ class SceneEntry(Entry):
     load: Callable[..., Any] = field(default=lambda **_: None)
     default: bool = False
     sweep: Callable[..., Any] | None = None
+
+
+@dataclass(frozen=True)
+class ModelFamily(Entry):
+    """Pair potentials that model the same physical pair at several fidelities.
+
+    The planner (:mod:`poissonkit.scene.model_planner`) and ``pair_interaction(\"auto\", ...)``
+    pick per pair the cheapest model of the family whose estimated error is within a tolerance.
+
+    Attributes
+    ----------
+    models
+        Registered pair-potential names, cheapest first.
+    costs
+        Relative cost of one evaluation of each model (same order, non-decreasing); models of
+        equal cost are ranked by accuracy. Empty: strictly increasing in the order given.
+    defaults
+        The models the planner uses when a scene does not list its own (empty: all).
+    estimate
+        ``estimate(model, r, body1, body2) -> float``: estimated worst-case relative force
+        error of ``model`` for two bodies (attribute mappings) at centre distance ``r``;
+        ``inf`` where the model is not trusted. It must not increase with ``r``.
+    applies
+        ``applies(body1, body2) -> bool``: the family models this pair.
+    reads
+        The body attributes ``estimate`` reads; two pairs that agree on them share cached
+        thresholds, and ``pair_interaction("auto")`` requires them of both bodies.
+    energy_bound
+        ``energy_bound(r, body1, body2) -> float``: a bound on ``|U|`` [J] of the pair at
+        distance ``r`` in any orientation, so that pairs beyond a cutoff can be dropped; ``None``
+        if the family has none (its pairs are then never dropped).
+    """
+
+    models: tuple[str, ...] = ()
+    costs: tuple[float, ...] = ()
+    defaults: tuple[str, ...] = ()
+    estimate: Callable[[str, float, Mapping[str, Any], Mapping[str, Any]], float] = field(
+        default=lambda model, r, body1, body2: math.inf)
+    applies: Callable[[Mapping[str, Any], Mapping[str, Any]], bool] = field(
+        default=lambda body1, body2: False)
+    reads: tuple[str, ...] = ()
+    energy_bound: Callable[[float, Mapping[str, Any], Mapping[str, Any]], float] | None = None
+
+    def cost(self, model: str) -> float:
+        """Relative cost of ``model`` (its index when no costs are given)."""
+        k = self.models.index(model)
+        return float(self.costs[k]) if self.costs else float(k)
+
+
+#: ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)``: a pair potential and its partials.
+PairFunction = Callable[[float, float, float, float], tuple[float, float, float, float, float]]

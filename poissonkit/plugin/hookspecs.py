@@ -17,6 +17,7 @@ import pluggy
 from poissonkit.plugin.contributions import (
     Assembly,
     IntegratorEntry,
+    ModelFamily,
     PairPotential,
     SceneEntry,
     SystemEntry,
@@ -80,4 +81,17 @@ def poissonkit_scenes() -> list[SceneEntry]:
     Returns
     -------
     list of SceneEntry
+    """
+
+
+@hookspec
+def poissonkit_model_families() -> list[ModelFamily]:
+    """Return model families: pair potentials of one physical pair at several fidelities.
+
+    Returns
+    -------
+    list of ModelFamily
+        Each names its models (registered potentials) cheapest first, with an error estimator
+        and the test of which pairs it models; the planner and ``pair_interaction("auto")``
+        choose per pair the cheapest model within a tolerance.
     """

@@ -31,6 +31,7 @@ from poissonkit.plugin.contributions import (
     Assembly,
     Entry,
     IntegratorEntry,
+    ModelFamily,
     PairPotential,
     SceneEntry,
     SystemEntry,
@@ -52,6 +53,7 @@ KINDS: dict[str, tuple[str, type]] = {
     "poissonkit_systems": ("system", SystemEntry),
     "poissonkit_integrators": ("integrator", IntegratorEntry),
     "poissonkit_scenes": ("scene", SceneEntry),
+    "poissonkit_model_families": ("model_family", ModelFamily),
 }
 
 ENV_DISABLE = "POISSONKIT_DISABLE_PLUGIN_AUTOLOAD"
@@ -177,7 +179,7 @@ def plugin_reports() -> list[PluginReport]:
 
 def entries(kind: str) -> dict[str, Entry]:
     """All entries of one kind (``"potential"``, ``"assembly"``, ``"system"``, ``"integrator"``,
-    ``"scene"``), by name."""
+    ``"scene"``, ``"model_family"``), by name."""
     state = _get()
     if kind not in state.entries:
         from poissonkit.errors import UnknownNameError

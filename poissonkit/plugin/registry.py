@@ -7,6 +7,7 @@ from poissonkit.plugin.contributions import (
     Assembly,
     Entry,
     IntegratorEntry,
+    ModelFamily,
     PairPotential,
     SceneEntry,
     SystemEntry,
@@ -88,3 +89,13 @@ def default_scene() -> SceneEntry:
 def names(kind: str) -> list[str]:
     """Sorted names in registry ``kind``."""
     return sorted(entries(kind))
+
+
+def model_family(name: str) -> ModelFamily:
+    """The model family registered as ``name``."""
+    return lookup("model_family", name)  # type: ignore[return-value]
+
+
+def model_families() -> list[ModelFamily]:
+    """Every registered model family, in registration order (built-in plugins first)."""
+    return list(entries("model_family").values())  # type: ignore[arg-type]

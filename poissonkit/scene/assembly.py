@@ -58,6 +58,8 @@ class EdgeSpec:
     j: int
     potential: str | None
     params: Mapping[str, Any]
+    #: True if the edge names its own potential (a listed pair), False if it is a default.
+    own_potential: bool = True
 
 
 def edges_of(G: nx.Graph, default_potential: str | None = None,
@@ -86,7 +88,8 @@ def edges_of(G: nx.Graph, default_potential: str | None = None,
             i, j = j, i
         if data.get("first") is not None and index[data["first"]] != i:
             own = {_swap_suffix(k): val for k, val in own.items()}
-        out.append(EdgeSpec(i, j, data.get("potential", base_potential), {**base_params, **own}))
+        out.append(EdgeSpec(i, j, data.get("potential", base_potential), {**base_params, **own},
+                            own_potential=data.get("potential") is not None))
     return out
 
 

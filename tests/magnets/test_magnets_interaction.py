@@ -124,3 +124,32 @@ def test_result_is_frozen():
     # coaxial head-to-tail dipoles attract: F_z = -3 mu0 m^2 / (2 pi r^4)
     assert out.force[2] == pytest.approx(-3 * 4e-7 * math.pi * 0.155 ** 2 / (2 * math.pi * 1e-4),
                                          rel=1e-12)
+
+
+def test_gap_solver_sees_a_shallow_overlap_where_projections_stall():
+    """Alternating projections alone stopped at a 2.3e-7 m 'gap' here; the point ``p`` lies
+    inside both cylinders (checked by hand below), so they overlap and the gap is 0."""
+    d = np.array([0.00286215272301578, -0.0002983514479855422, -0.007181162440633968])
+    n1 = np.array([0.4240197655771679, 0.08927763208823554, 0.901241778219697])
+    n2 = np.array([-0.5961312043223734, 0.4136988690366563, 0.6880994353950219])
+    p = np.array([-0.00086576, 0.00086079, -0.00305685])
+    for centre, axis in ((np.zeros(3), n1), (d, n2)):
+        q = p - centre
+        z = q @ axis
+        assert abs(z) < H / 2 and np.linalg.norm(q - z * axis) < A
+    assert cylinder_gap(d, n1 / np.linalg.norm(n1), n2 / np.linalg.norm(n2), A, H, A, H) == 0.0
+    with pytest.raises(OverlapError):
+        pair_interaction("dipole", d, n1 / np.linalg.norm(n1), n2 / np.linalg.norm(n2),
+                         moment=0.1, radius=A, length=H)
+
+
+def test_auto_asks_the_magnet_family_which_uses_the_one_fidelity_estimator():
+    from poissonkit_magnets.fidelity import cheapest_model, estimated_error
+
+    n2 = np.array([0.6, 0.0, 0.8])
+    for dist in (0.03, 0.05, 0.1, 0.3):
+        for tol in (1e-2, 1e-4):
+            r = dist * np.array([0.0, 0.6, 0.8])
+            out = pair_interaction("auto", r, Z, n2, magnetization=M, radius=A, length=H, tol=tol)
+            assert out.model == cheapest_model(tol, dist, A, H)
+            assert out.estimated_error == estimated_error(out.model, dist, A, H)

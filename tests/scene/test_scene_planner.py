@@ -22,7 +22,6 @@ from scene_magnet_truth import (
 
 from poissonkit.scene.planner import (
     Planner,
-    builtin_estimate,
     estimated_error,
     run_planned,
 )
@@ -32,7 +31,7 @@ Z, X = np.array([0, 0, 1.0]), np.array([1.0, 0, 0])
 
 
 def magnet(a, l):
-    return {"radius": a, "half_length": l, "moment": M * math.pi * a * a * 2 * l}
+    return {"radius": a, "half_length": l, "length": 2 * l, "moment": M * math.pi * a * a * 2 * l}
 
 
 def configurations(r, seed=0):
@@ -48,15 +47,10 @@ def configurations(r, seed=0):
         yield r * v[0], v[1], v[2]
 
 
-SOURCES = ["builtin", "magnets"]
-
-
-@pytest.mark.parametrize("source", SOURCES)
 @pytest.mark.parametrize("a, l", [(1.25e-3, 0.01), (4e-3, 4e-3)], ids=["seed-magnet", "squat"])
-def test_estimates_bound_the_true_force_and_torque_errors(source, a, l):
-    if source == "magnets":
-        # a bundled plugin: a broken one must fail here, not skip (plugin load errors are not fatal)
-        importlib.import_module("poissonkit_magnets.fidelity")
+def test_estimates_bound_the_true_force_errors(a, l):
+    # a bundled plugin: a broken one must fail here, not skip (plugin load errors are not fatal)
+    importlib.import_module("poissonkit_magnets.family")
     body = magnet(a, l)
     rho = 2 * math.hypot(a, l)
     worst_ratio = 0.0
@@ -64,9 +58,8 @@ def test_estimates_bound_the_true_force_and_torque_errors(source, a, l):
         r = factor * rho
         for k, (rv, n1, n2) in enumerate(configurations(r, seed=int(factor * 10))):
             for model in ("dipole", "dumbbell", "dumbbell_octupole"):
-                est = estimated_error(model, r, body, body, source)
-                ef, et = model_errors(model, rv, n1, n2, M, a, l)
-                true = max(ef, et) if source == "builtin" else ef  # magnets: force only
+                est = estimated_error(model, r, body, body)
+                true, _ = model_errors(model, rv, n1, n2, M, a, l)  # the estimate is of forces
                 assert true <= est, (model, factor, k, true, est)
                 if math.isfinite(est) and true > 0:
                     worst_ratio = max(worst_ratio, true / est)
@@ -118,7 +111,7 @@ def test_planner_is_not_wasteful_the_cheaper_model_fails_just_inside_its_thresho
 
 def test_hysteresis_keeps_the_current_model_near_a_threshold():
     body = magnet(1.25e-3, 0.01)
-    planner = Planner(tol=1e-2, hysteresis=0.5, estimate="builtin")
+    planner = Planner(tol=1e-2, hysteresis=0.5)
     r_switch = _threshold(planner, body, "dipole")
     inside_band = r_switch * 1.1  # dipole estimate between tol/2 and tol
     assert tol_band(planner, body, inside_band)
@@ -132,7 +125,7 @@ def test_hysteresis_keeps_the_current_model_near_a_threshold():
 
 
 def tol_band(planner, body, r):
-    est = builtin_estimate("dipole", r, 1.25e-3, 0.01, 1.25e-3, 0.01)
+    est = estimated_error("dipole", r, body, body)
     return planner.tol * (1 - planner.hysteresis) < est <= planner.tol
 
 
@@ -196,14 +189,14 @@ def test_planned_run_switches_models_as_magnets_approach_and_reports_energy_jump
         {**mag, "r": (0, 0, 0.35), "nu": (0, 0, -1), "p": (0, 0, -7.7e-4 * v)},
     ])
     edges = [EdgeSpec(0, 1, None, {"n_radial": 6, "n_angular": 12})]
-    planner = Planner(tol=3e-3, replan_every=5, estimate="builtin")
+    planner = Planner(tol=3e-3, replan_every=5)
     run = run_planned(bodies, edges, planner, duration=0.11, step=1e-3, method="splitting2")
     assert run.plans[0].pairs[0].model == "dipole"
     models = [s.new for s in run.switches]
     assert models[:2] == ["dumbbell", "cylinder"], models
     for s in run.switches:
         # threshold crossing: at the switch the old model's estimate exceeds the tolerance
-        assert builtin_estimate(s.old, s.distance, a, l, a, l) > planner.tol
+        assert estimated_error(s.old, s.distance, magnet(a, l), magnet(a, l)) > planner.tol
         # the pair's energy jump, against independent energies at the switch geometry
         d = np.array([0, 0, s.distance])
         U = {"dipole": dipole_energy(d, Z, -Z, bodies[0].magnet["moment"]),
@@ -228,13 +221,12 @@ def test_planned_run_switch_dipole_to_dumbbell_with_its_energy_jump():
         {**mag, "r": (0, 0, -0.35), "nu": (0, 0, 1), "p": (0, 0, 7.7e-4 * 3.0)},
         {**mag, "r": (0, 0, 0.35), "nu": (0, 0, -1), "p": (0, 0, -7.7e-4 * 3.0)},
     ])
-    planner = Planner(tol=3e-3, models=("dipole", "dumbbell"), replan_every=10,
-                      estimate="builtin")
+    planner = Planner(tol=3e-3, models=("dipole", "dumbbell"), replan_every=10)
     run = run_planned(bodies, [EdgeSpec(0, 1, None, {})], planner, duration=0.04, step=1e-3,
                       method="splitting2")
     assert [(s.old, s.new) for s in run.switches] == [("dipole", "dumbbell")]
     s = run.switches[0]
-    assert builtin_estimate("dipole", s.distance, a, l, a, l) > planner.tol
+    assert estimated_error("dipole", s.distance, magnet(a, l), magnet(a, l)) > planner.tol
     d = np.array([0, 0, s.distance])
     moment = bodies[0].magnet["moment"]
     truth = dumbbell_energy(d, Z, -Z, moment, l) - dipole_energy(d, Z, -Z, moment)
