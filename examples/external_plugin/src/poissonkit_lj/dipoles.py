@@ -1,6 +1,6 @@
 """Electric dipoles of finite length: an orientation-dependent potential in two fidelities.
 
-A body carries the attributes ``dipole_charge`` q [C] and ``dipole_separation`` d [m]: charges
+A body carries the attributes ``charge`` q [C] and ``dipole_length`` d [m]: charges
 +q and −q at ±(d/2) ν about its centre, ν its axis. Two such bodies interact by
 
 * ``finite_dipole`` — the exact Coulomb energy of the four charges (the reference model);
@@ -38,8 +38,8 @@ R, C1, C2, C3 = sp.symbols("r c1 c2 c3", real=True)
 
 
 def _sizes(params: Mapping[str, Any]) -> tuple[float, float, float, float]:
-    return (float(params["charge1"]), float(params["separation1"]),
-            float(params["charge2"]), float(params["separation2"]))
+    return (float(params["charge1"]), float(params["dipole_length1"]),
+            float(params["charge2"]), float(params["dipole_length2"]))
 
 
 def finite_dipole_expr(params: Mapping[str, Any]) -> sp.Expr:

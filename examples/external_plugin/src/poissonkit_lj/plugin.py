@@ -3,8 +3,8 @@
 It uses every extension point a built-in plugin uses, through public API only:
 
 * pair potentials — ``lennard_jones`` (central), ``finite_dipole`` and ``point_dipole``
-  (orientation-dependent, :mod:`poissonkit_lj.dipoles`), whose charges and separations are
-  body attributes (``dipole_charge``, ``dipole_separation``) read per body;
+  (orientation-dependent, :mod:`poissonkit_lj.dipoles`), whose charges and dipole lengths are
+  body attributes (``charge``, ``dipole_length``) read per body;
 * a model family — ``electric_dipoles``: ``point_dipole`` far, ``finite_dipole`` near, with the
   error estimate of :func:`poissonkit_lj.dipoles.point_dipole_error`, for the planner and
   ``pair_interaction("auto", ...)``;
@@ -63,16 +63,16 @@ LENNARD_JONES = PairPotential(
 _DIPOLE_PARAMS = (
     Param("charge1", "float", "charge of the first body's dipole [C]", unit="C", positive=True),
     Param("charge2", "float", "charge of the second body's dipole [C]", unit="C", positive=True),
-    Param("separation1", "float", "charge separation of the first body [m]", unit="m",
+    Param("dipole_length1", "float", "charge separation of the first body [m]", unit="m",
           positive=True),
-    Param("separation2", "float", "charge separation of the second body [m]", unit="m",
+    Param("dipole_length2", "float", "charge separation of the second body [m]", unit="m",
           positive=True),
     Param("k", "float", "Coulomb constant 1/(4 pi eps0) [N m^2/C^2]", default=COULOMB_K,
           unit="N m^2/C^2", positive=True),
 )
-_DIPOLE_BODY_PARAMS = (("charge1", "dipole_charge", 1), ("charge2", "dipole_charge", 2),
-                       ("separation1", "dipole_separation", 1),
-                       ("separation2", "dipole_separation", 2))
+_DIPOLE_BODY_PARAMS = (("charge1", "charge", 1), ("charge2", "charge", 2),
+                       ("dipole_length1", "dipole_length", 1),
+                       ("dipole_length2", "dipole_length", 2))
 
 FINITE_DIPOLE = PairPotential(
     name="finite_dipole",
@@ -94,17 +94,17 @@ POINT_DIPOLE = PairPotential(
 )
 
 
-def _separation(body: Mapping[str, Any]) -> float:
-    return float(body.get("dipole_separation", 0.0) or 0.0)
+def _dipole_length(body: Mapping[str, Any]) -> float:
+    return float(body.get("dipole_length", 0.0) or 0.0)
 
 
 def _charge(body: Mapping[str, Any]) -> float:
-    return float(body.get("dipole_charge", 0.0) or 0.0)
+    return float(body.get("charge", 0.0) or 0.0)
 
 
 def _applies(body1: Mapping[str, Any], body2: Mapping[str, Any]) -> bool:
-    """Both bodies carry a dipole (a charge and a separation)."""
-    return all(_charge(b) > 0 and _separation(b) > 0 for b in (body1, body2))
+    """Both bodies carry a dipole (a charge and a dipole length)."""
+    return all(_charge(b) > 0 and _dipole_length(b) > 0 for b in (body1, body2))
 
 
 def _estimate(model: str, r: float, body1: Mapping[str, Any], body2: Mapping[str, Any]) -> float:
@@ -112,15 +112,15 @@ def _estimate(model: str, r: float, body1: Mapping[str, Any], body2: Mapping[str
     if model == "finite_dipole":
         return 0.0
     if model == "point_dipole":
-        return point_dipole_error(r, _separation(body1), _separation(body2))
+        return point_dipole_error(r, _dipole_length(body1), _dipole_length(body2))
     raise ValueError(f"not a model of the electric_dipoles family: {model!r}")
 
 
 def _energy_bound(r: float, body1: Mapping[str, Any], body2: Mapping[str, Any]) -> float:
     """|U| ≤ 2 k p1 p2 / r³ (1 + ε_point(r)): the point-dipole bound widened by its error."""
-    p1 = _charge(body1) * _separation(body1)
-    p2 = _charge(body2) * _separation(body2)
-    err = point_dipole_error(r, _separation(body1), _separation(body2))
+    p1 = _charge(body1) * _dipole_length(body1)
+    p2 = _charge(body2) * _dipole_length(body2)
+    err = point_dipole_error(r, _dipole_length(body1), _dipole_length(body2))
     return 2.0 * COULOMB_K * p1 * p2 / r ** 3 * (1.0 + err)
 
 
@@ -132,7 +132,7 @@ ELECTRIC_DIPOLES = ModelFamily(
     costs=(1.0, 4.0),
     estimate=_estimate,
     applies=_applies,
-    reads=("dipole_separation",),
+    reads=("charge", "dipole_length"),
     energy_bound=_energy_bound,
 )
 
