@@ -16,7 +16,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import tomllib
 
 from poissonkit.cli import main as cli_main
 from poissonkit.plugin import plugin_reports, potential
@@ -26,26 +25,6 @@ ROOT = Path(__file__).resolve().parents[2]  # the project root
 EXAMPLE = ROOT / "examples" / "external_plugin"
 
 
-def _project() -> dict:
-    return tomllib.loads((EXAMPLE / "pyproject.toml").read_text())["project"]
-
-
-@pytest.fixture
-def example_discoverable(tmp_path, monkeypatch):
-    """Put the example's package and a dist-info with its real entry points on sys.path."""
-    project = _project()
-    eps = project["entry-points"]["poissonkit"]
-    info = tmp_path / f"{project['name'].replace('-', '_')}-{project['version']}.dist-info"
-    info.mkdir()
-    (info / "METADATA").write_text(
-        f"Metadata-Version: 2.1\nName: {project['name']}\nVersion: {project['version']}\n")
-    (info / "entry_points.txt").write_text(
-        "[poissonkit]\n" + "".join(f"{k} = {v}\n" for k, v in eps.items()))
-    monkeypatch.syspath_prepend(str(tmp_path))
-    monkeypatch.syspath_prepend(str(EXAMPLE / "src"))
-    monkeypatch.delenv("POISSONKIT_DISABLE_PLUGIN_AUTOLOAD", raising=False)
-    monkeypatch.delenv("POISSONKIT_BLOCK_PLUGINS", raising=False)
-    return project
 
 
 def lj_reference(r, eps, sigma):
@@ -57,10 +36,13 @@ def lj_reference(r, eps, sigma):
 def test_example_plugin_is_listed_by_the_cli(example_discoverable, capsys):
     assert cli_main(["plugins"]) == 0
     out = capsys.readouterr().out
-    assert "lennard_jones 0.1.0 (poissonkit-lj-example)" in out
+    assert "lennard_jones 0.2.0 (poissonkit-lj-example)" in out
     assert "    potential: lennard_jones" in out
     rep = next(r for r in plugin_reports() if r.name == "lennard_jones")
-    assert rep.status == "ok" and rep.contributions == {"potential": ["lennard_jones"]}
+    assert rep.status == "ok"
+    assert rep.contributions == {"potential": ["lennard_jones", "finite_dipole", "point_dipole"],
+                                 "model_family": ["electric_dipoles"], "scene": ["dipole_pair"],
+                                 "outcome": ["max_axis_tilt"]}
 
 
 def test_example_potential_is_usable_through_the_registry_and_the_numerics(example_discoverable):
@@ -142,5 +124,19 @@ def test_pip_install_into_a_fresh_venv_lists_and_uses_the_plugin(tmp_path):
     value = subprocess.run([str(python), "-c", code], check=True, capture_output=True, text=True,
                            env=env, cwd=tmp_path).stdout
     assert float(value) == pytest.approx(-2.0)  # the well depth -epsilon at r = 2^(1/6) sigma
+    # every path a built-in's contributions take, with the three built-in plugins blocked
+    blocked = dict(env, POISSONKIT_BLOCK_PLUGINS="magnets,nbody,nonholonomic",
+                   POISSONKIT_CACHE_DIR=str(tmp_path / "cache"))
+    run = subprocess.run([str(python), str(Path(__file__).with_name("external_plugin_paths.py"))],
+                         capture_output=True, text=True, env=blocked, cwd=tmp_path)
+    assert run.returncode == 0, run.stderr[-3000:]
+    got = json.loads(run.stdout.strip().splitlines()[-1])
+    assert got["blocked"] == ["magnets", "nbody", "nonholonomic"]
+    assert "dipole" not in got["potentials"] and "gravity" not in got["potentials"]
+    assert (got["auto_far"], got["auto_near"]) == ("point_dipole", "finite_dipole")
+    assert got["plan"]["finite_dipole"] == 1 and got["plan"]["point_dipole"] == 2
+    assert got["run_exit"] == 0 and got["run_energy_error"] < 1e-6
+    assert got["sweep_completed"] and all(0 <= t < 0.5 for t in got["sweep_tilt"])
+    assert got["solve_energy_error"] < 1e-6
     # the system interpreter is untouched
     assert "lennard_jones" not in [r.name for r in plugin_reports()]
