@@ -15,11 +15,25 @@ from poissonkit.plugin.hookspecs import hookimpl
 from poissonkit_magnets.models import MODELS, kernel
 
 
+def _dipole_energy_scale(bodies, length: float) -> float | None:
+    """Energy unit of a magnet scene: the dipole energy ``mu0 mu^2 / (4 pi L^3)`` of the
+    strongest magnets at the length unit (``None`` without a magnet)."""
+    import math
+
+    from poissonkit.conventions import MU0
+
+    strongest = max(b.attr("moment") or 0.0 for b in bodies)
+    if not strongest > 0:
+        return None
+    return MU0 * strongest ** 2 / (4 * math.pi * length ** 3)
+
+
 # Built once per process: compiled kernels are cached per entry, so handing out the same
 # entries after every plugin-manager rebuild avoids recompiling them.
 _ENTRIES: tuple[PairPotential, ...] = tuple(
     PairPotential(name=m.name, doc=m.doc, params=m.params, expr=m.expr,
-                  kernel=partial(kernel, m.name), orientation="both")
+                  kernel=partial(kernel, m.name), orientation="both",
+                  energy_scale=_dipole_energy_scale)
     for m in MODELS
 )
 

@@ -175,12 +175,18 @@ class PairPotential(Entry):
         ``((parameter, body attribute, 1 or 2), …)``: parameters that default to an attribute
         of the first or second body of each pair (e.g. gravity's ``("mass1", "mass", 1)``), so
         an all-pairs interaction needs no per-pair list. Needs ``expr``.
+    energy_scale
+        Optional ``energy_scale(bodies, length) -> float or None``: the energy unit [J] of a
+        scene of these bodies (:class:`poissonkit.scene.bodies.BodyModel`) whose length unit is
+        ``length`` [m], or ``None`` when it does not apply. Without it the automatic units use
+        the largest ``|U|`` at that length (:func:`poissonkit.scene.assembly.auto_scales`).
     """
 
     expr: Callable[[dict[str, Any]], Any] | None = None
     kernel: Callable[[dict[str, Any]], Callable[..., Any]] | None = None
     orientation: str = "both"
     body_params: tuple[tuple[str, str, int], ...] = ()
+    energy_scale: Callable[..., float | None] | None = None
 
 
 @dataclass(frozen=True)
@@ -240,3 +246,36 @@ class SceneEntry(Entry):
     load: Callable[..., Any] = field(default=lambda **_: None)
     default: bool = False
     sweep: Callable[..., Any] | None = None
+
+
+@dataclass(frozen=True)
+class OutcomeEntry(Entry):
+    """A sweep outcome: what one run of a sweep is reduced to (``poissonkit sweep --outcomes``).
+
+    Attributes
+    ----------
+    dtype
+        numpy dtype of the dataset variable (``"f8"``, ``"i1"``, ...).
+    unit
+        SI unit of the values (``"1"`` for dimensionless).
+    fill
+        Value of points not (yet) computed or failed.
+    compute
+        ``compute(record) -> value`` of one finished run, a
+        :class:`poissonkit.sweeps.scenes.RunRecord` (solution, fate, distances, units).
+    """
+
+    dtype: str = "f8"
+    unit: str = "1"
+    fill: Any = math.nan
+    compute: Callable[[Any], Any] = field(default=lambda record: math.nan)
+
+    @property
+    def description(self) -> str:
+        """The one-line doc string (the dataset variable's ``long_name``)."""
+        return self.doc
+
+    @property
+    def units(self) -> str:
+        """Same as :attr:`unit` (the dataset's attribute name)."""
+        return self.unit

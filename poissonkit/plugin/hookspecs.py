@@ -17,6 +17,7 @@ import pluggy
 from poissonkit.plugin.contributions import (
     Assembly,
     IntegratorEntry,
+    OutcomeEntry,
     PairPotential,
     SceneEntry,
     SystemEntry,
@@ -80,4 +81,18 @@ def poissonkit_scenes() -> list[SceneEntry]:
     Returns
     -------
     list of SceneEntry
+    """
+
+
+@hookspec
+def poissonkit_outcomes() -> list[OutcomeEntry]:
+    """Return sweep outcomes: quantities one run of a sweep is reduced to.
+
+    Returns
+    -------
+    list of OutcomeEntry
+        Each with a name, a doc string, a numpy dtype, an SI unit, a fill value for points not
+        computed, and ``compute(record)`` of the run's
+        :class:`~poissonkit.sweeps.scenes.RunRecord`; choose them with
+        ``sweep(..., outcomes=[...])`` or ``poissonkit sweep --outcomes``.
     """

@@ -31,6 +31,7 @@ from poissonkit.plugin.contributions import (
     Assembly,
     Entry,
     IntegratorEntry,
+    OutcomeEntry,
     PairPotential,
     SceneEntry,
     SystemEntry,
@@ -43,6 +44,7 @@ BUILTIN_PLUGINS: tuple[tuple[str, str], ...] = (
     ("magnets", "poissonkit_magnets.plugin"),
     ("nbody", "poissonkit_nbody.plugin"),
     ("nonholonomic", "poissonkit_nonholonomic.plugin"),
+    ("core-outcomes", "poissonkit.sweeps.builtin"),
 )
 
 #: hook name -> (registry kind, entry type)
@@ -52,6 +54,7 @@ KINDS: dict[str, tuple[str, type]] = {
     "poissonkit_systems": ("system", SystemEntry),
     "poissonkit_integrators": ("integrator", IntegratorEntry),
     "poissonkit_scenes": ("scene", SceneEntry),
+    "poissonkit_outcomes": ("outcome", OutcomeEntry),
 }
 
 ENV_DISABLE = "POISSONKIT_DISABLE_PLUGIN_AUTOLOAD"
@@ -177,7 +180,7 @@ def plugin_reports() -> list[PluginReport]:
 
 def entries(kind: str) -> dict[str, Entry]:
     """All entries of one kind (``"potential"``, ``"assembly"``, ``"system"``, ``"integrator"``,
-    ``"scene"``), by name."""
+    ``"scene"``, ``"outcome"``), by name."""
     state = _get()
     if kind not in state.entries:
         from poissonkit.errors import UnknownNameError

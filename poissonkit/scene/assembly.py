@@ -3,15 +3,21 @@
 from __future__ import annotations
 
 import itertools
-from collections.abc import Mapping
+import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import networkx as nx
 import numpy as np
 
 from poissonkit.errors import InputError
 from poissonkit.scene.bodies import BodyModel, pair_params
+
+if TYPE_CHECKING:
+    from poissonkit.numerics.nbody import NBodySystem
+    from poissonkit.numerics.units import Scales
+    from poissonkit.plugin.contributions import PairPotential
 
 
 @dataclass(frozen=True)
@@ -127,33 +133,134 @@ def _swap_suffix(key: str) -> str:
     return key
 
 
-def auto_scales(bodies: list[BodyModel]) -> Any:
+def auto_scales(bodies: list[BodyModel], pairs: Sequence[PairSpec] | None = None) -> Scales:
     """Internal units for a scene of these bodies (see :mod:`poissonkit.numerics.units`).
 
     Length: the smallest centre distance (or the largest body size for a single body); mass: the
-    mean mass; energy: the dipole energy ``mu0 mu² / (4 pi L³)`` of the strongest magnets if any
-    body has a moment, otherwise ``G M² / L``; time follows as ``L sqrt(M / E)``.
-    """
-    import math
+    mean mass; energy: :func:`energy_scale`; time follows as ``L sqrt(M / E)``.
 
-    from poissonkit.conventions import MU0, NEWTON_G
+    Parameters
+    ----------
+    bodies
+        The scene's bodies.
+    pairs
+        Its resolved pairs; ``None`` when they are not known yet (then only the scales that
+        registered potentials declare are used, see :func:`energy_scale`).
+    """
     from poissonkit.numerics.units import Scales
 
     pos = np.array([b.r for b in bodies], float)
     length = 0.0
     if len(bodies) > 1:
-        d = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=2)
-        d[np.diag_indices(len(bodies))] = np.inf
-        length = float(d.min())
+        length = _smallest_distance(pos)
     if not length > 0 or not math.isfinite(length):
         length = max((b.bounding_radius for b in bodies), default=0.0) or 1.0
     mass = float(np.mean([b.mass for b in bodies]))
-    moments = [b.magnet.get("moment", 0.0) for b in bodies]
-    if max(moments) > 0:
-        energy = MU0 * max(moments) ** 2 / (4 * math.pi * length ** 3)
+    return Scales.from_energy(length, mass, energy_scale(bodies, pairs, length))
+
+
+def _smallest_distance(pos: np.ndarray) -> float:
+    """Smallest distance between two of the points (a k-d tree beyond a few hundred)."""
+    if len(pos) <= 512:  # the dense form, as it always was (same numbers)
+        d = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=2)
+        d[np.diag_indices(len(pos))] = np.inf
+        return float(d.min())
+    from scipy.spatial import cKDTree
+
+    dist, _nearest = cKDTree(pos).query(pos, k=2)
+    return float(dist[:, 1].min())
+
+
+#: Relative orientations ``(c1, c2, c3)`` at which a potential is evaluated for the energy
+#: unit: axes along the line of centres (aligned, opposed) and across it (parallel, opposed).
+_ORIENTATIONS = ((1.0, 1.0, 1.0), (1.0, -1.0, -1.0), (0.0, 0.0, 1.0), (0.0, 0.0, -1.0))
+
+
+def energy_scale(bodies: Sequence[BodyModel], pairs: Sequence[PairSpec] | None,
+                 length: float) -> float:
+    """The energy unit [J] of a scene, from the interactions it has.
+
+    1. Potentials that declare ``energy_scale`` (``PairPotential.energy_scale``, e.g. the
+       dipole energy of the strongest magnets, or ``G M^2 / L`` of gravity): the largest value
+       they give for these bodies at ``length``. With ``pairs`` the potentials present in them
+       are asked, otherwise every registered potential.
+    2. Otherwise the largest ``|U(length)|`` of the potentials present, each evaluated with the
+       parameters of its pairs (a parameter read from the bodies at the largest magnitude any
+       body has) at four orientations (axes along and across the line of centres, aligned and
+       opposed).
+    3. Where all of those are zero: the kinetic energy of the initial state, or 1 J.
+    """
+    from poissonkit.plugin.contributions import PairPotential
+    from poissonkit.plugin.manager import entries
+
+    registered = entries("potential")
+    if pairs is None:
+        present = [e for e in registered.values() if isinstance(e, PairPotential)]
     else:
-        energy = NEWTON_G * mass * mass / length
-    return Scales.from_energy(length, mass, energy)
+        present = [registered[name] for name in dict.fromkeys(p.potential for p in pairs)
+                   if isinstance(registered.get(name), PairPotential)]
+    declared = [e.energy_scale(list(bodies), length) for e in present
+                if e.energy_scale is not None]
+    values = [float(v) for v in declared if v is not None and math.isfinite(v) and v > 0]
+    if values:
+        return max(values)
+    if pairs:
+        largest = _largest_pair_energy(bodies, pairs, length)
+        if largest > 0:
+            return largest
+    kinetic = sum(float(np.dot(b.p, b.p)) / (2 * b.mass) for b in bodies)
+    kinetic += sum(0.5 * b.alpha * float(np.dot(b.m, b.m)) for b in bodies
+                   if b.alpha is not None and b.m is not None)
+    return kinetic if kinetic > 0 and math.isfinite(kinetic) else 1.0
+
+
+def _largest_pair_energy(bodies: Sequence[BodyModel], pairs: Sequence[PairSpec],
+                         length: float) -> float:
+    """Largest ``|U(length)|`` over the distinct (potential, parameters) of ``pairs``."""
+    from poissonkit.plugin import potential as lookup
+
+    strongest: dict[str, float] = {}  # attribute -> value of largest magnitude over bodies
+    seen: set[tuple[str, tuple[tuple[str, str], ...]]] = set()
+    largest = 0.0
+    for p in pairs:
+        entry = lookup(p.potential)
+        params = dict(p.params)
+        for name, attr, _which in entry.body_params:
+            if attr not in strongest:
+                vals = [v for v in (b.attr(attr) for b in bodies) if isinstance(v, float)]
+                strongest[attr] = max(vals, key=abs) if vals else math.nan
+            if name in params and math.isfinite(strongest[attr]):
+                params[name] = strongest[attr]
+        key = (p.potential, tuple(sorted((k, repr(v)) for k, v in params.items())))
+        if key in seen:
+            continue
+        seen.add(key)
+        largest = max(largest, _pair_energy(entry, params, length))
+    return largest
+
+
+def _pair_energy(entry: PairPotential, params: Mapping[str, object], length: float) -> float:
+    """Largest finite ``|U(length, c1, c2, c3)|`` over :data:`_ORIENTATIONS` (0 if none)."""
+    orientations = _ORIENTATIONS[2:3] if entry.orientation == "none" else _ORIENTATIONS
+    out = 0.0
+    if entry.expr is not None:
+        expr = entry.expr(dict(params))
+        symbols = {s.name: s for s in expr.free_symbols}
+        for c in orientations:
+            values = dict(zip(("r", "c1", "c2", "c3"), (length, *c)))
+            try:
+                u = float(expr.subs({symbols[k]: v for k, v in values.items() if k in symbols}))
+            except (TypeError, ValueError):  # a symbol left over: no number to take
+                continue
+            if math.isfinite(u):
+                out = max(out, abs(u))
+    elif entry.kernel is not None:
+        f = entry.kernel(dict(params))
+        for c in orientations:
+            u = float(f(length, *c)[0])
+            if math.isfinite(u):
+                out = max(out, abs(u))
+    return out
 
 
 def from_graph(G: nx.Graph, cutoff: float | None = None, default_potential: str | None = None,
@@ -197,7 +304,7 @@ def system_of(bodies: list[BodyModel], pairs: list[PairSpec], cutoff: float | No
     from poissonkit.plugin import potential as lookup
 
     if isinstance(scales, str) and scales == "auto":
-        scales = auto_scales(bodies)
+        scales = auto_scales(bodies, pairs)
     attrs: dict[int, dict[str, float]] = {k: {} for k in range(len(bodies))}
     groups: dict[tuple, list[tuple[int, int]]] = {}
     order: list[tuple] = []
@@ -207,10 +314,12 @@ def system_of(bodies: list[BodyModel], pairs: list[PairSpec], cutoff: float | No
         for name, attr, which in entry.body_params:
             k = p.i if which == 1 else p.j
             value = bodies[k].attr(attr)
-            if name in params and value is not None and params[name] == value:
-                del params[name]  # read from the body by the numerics
+            # a number the pair takes from its body is read per body by the numerics (any
+            # attribute name); a vector stays a pair parameter
+            if name in params and isinstance(value, float) and params[name] == value:
+                del params[name]
                 if attr not in ("mass", "alpha"):
-                    attrs[k][attr] = float(value)
+                    attrs[k][attr] = value
         key = (p.potential, tuple(sorted(params.items())))
         if key not in groups:
             groups[key] = []
