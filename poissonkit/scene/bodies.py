@@ -241,9 +241,17 @@ def pair_params(entry: PairPotential, first: BodyModel, second: BodyModel,
     values: dict[str, Any] = dict(given or {})
     for name, attr, which in entry.body_params:
         if name not in values:
-            value = (first if which == 1 else second).attr(attr)
-            if value is not None:
-                values[name] = value
+            body = first if which == 1 else second
+            value = body.attr(attr)
+            declared = next((p for p in entry.params if p.name == name), None)
+            if value is None and declared is not None and (declared.default is not None
+                                                           or declared.optional):
+                continue  # the potential's default applies
+            if value is None:
+                raise InputError(f"{where}body {body.name!r} has no {attr!r}, which "
+                                 f"{entry.name} reads from each body (parameter {name!r}); "
+                                 f"give the body a {attr!r} or the pair a {name!r}")
+            values[name] = value
     for param in entry.params:
         if param.name in values or param.name[-1:] not in ("1", "2"):
             continue
