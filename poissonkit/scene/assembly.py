@@ -344,6 +344,62 @@ def system_of(bodies: list[BodyModel], pairs: list[PairSpec], cutoff: float | No
     return NBodySystem(nb, inter, cutoff=cutoff, scales=scales)
 
 
+def uniform_all_pairs(bodies: list[BodyModel], potential: str,
+                      given: Mapping[str, Any] | None = None) -> PairSpec | None:
+    """The pair (0, 1) with its resolved parameters, when every pair of ``bodies`` interacting
+    through ``potential`` differs from it only in parameters read from the bodies
+    (``body_params``, numbers on every body); ``None`` otherwise (fixed bodies, fewer than three
+    bodies, a parameter filled per pair by the ``<base>1``/``<base>2`` convention).
+
+    Then :func:`all_pairs_system` builds the same system as :func:`system_of` of every pair,
+    without listing the pairs.
+    """
+    from poissonkit.plugin import potential as lookup
+
+    if len(bodies) < 3 or any(b.fixed for b in bodies):
+        return None
+    entry = lookup(potential)
+    given = dict(given or {})
+    bound = {name for name, _attr, _which in entry.body_params if name not in given}
+    for name, attr, _which in entry.body_params:
+        if name in bound and not all(isinstance(b.attr(attr), float) for b in bodies):
+            return None
+    for param in entry.params:
+        if (param.name not in given and param.name not in bound and param.name[-1:] in "12"
+                and any(b.attr(param.name[:-1]) is not None for b in bodies)):
+            return None
+    where = f"pair ({bodies[0].name}, {bodies[1].name}): "
+    return PairSpec(0, 1, potential, pair_params(entry, bodies[0], bodies[1], given,
+                                                 where=where))
+
+
+def all_pairs_system(bodies: list[BodyModel], pair: PairSpec, cutoff: float | None = None,
+                     scales: Scales | str | None = "auto") -> NBodySystem:
+    """The system in which every pair of ``bodies`` interacts like ``pair`` (from
+    :func:`uniform_all_pairs`): one ``AllPairs`` whose body-read parameters come from each
+    body, built in O(N) (the same system :func:`system_of` builds from the full pair list)."""
+    from poissonkit.numerics.nbody import AllPairs, Body, NBodySystem
+    from poissonkit.plugin import potential as lookup
+
+    if isinstance(scales, str) and scales == "auto":
+        scales = auto_scales(bodies, [pair])
+    entry = lookup(pair.potential)
+    shared = dict(pair.params)
+    attrs: dict[int, dict[str, float]] = {k: {} for k in range(len(bodies))}
+    for name, attr, which in entry.body_params:
+        first = bodies[pair.i if which == 1 else pair.j]
+        if name in shared and shared[name] == first.attr(attr):
+            del shared[name]
+            if attr not in ("mass", "alpha"):
+                for k, b in enumerate(bodies):
+                    attrs[k][attr] = float(b.attr(attr))  # type: ignore[arg-type]
+    nb = [Body(b.name, b.mass, alpha=b.alpha, fixed=False, attributes=attrs[k])
+          for k, b in enumerate(bodies)]
+    inter = AllPairs(pair.potential, dict(sorted(shared.items())),
+                     members=list(range(len(bodies))))
+    return NBodySystem(nb, [inter], cutoff=cutoff, scales=scales)
+
+
 def state_arrays(bodies: list[BodyModel]) -> dict[str, np.ndarray]:
     """SI initial state of every body as (N, 3) arrays ``r``, ``p``, ``nu``, ``m`` (zero rows
     for the axis and angular momentum of point masses)."""

@@ -126,6 +126,9 @@ def build_scene(scene: Scene, scales: Scales | str | None = "auto") -> BuiltScen
     """
     from poissonkit.scene.assembly import bodies_of, edges_of, pairs_of, state_of, system_of
 
+    direct = _all_pairs_direct(scene, scales)
+    if direct is not None:
+        return direct
     G = scene_graph(scene)
     plan = None
     try:
@@ -147,6 +150,31 @@ def build_scene(scene: Scene, scales: Scales | str | None = "auto") -> BuiltScen
     unit = system.scales.time if system.scales is not None else 1.0
     step = None if scene.run.step is None else scene.run.step / unit
     return BuiltScene(system, y0, bodies, scene.run.duration / unit, step, plan)
+
+
+def _all_pairs_direct(scene: Scene, scales: Scales | str | None) -> BuiltScene | None:
+    """A scene of bodies that all interact through one potential whose per-pair parameters
+    come from the bodies, built without listing its pairs (``None`` if it is not one)."""
+    from poissonkit.scene.assembly import all_pairs_system, state_of, uniform_all_pairs
+
+    if (scene.assembly is not None or scene.planner is not None or scene.pairs_mode != "all"
+            or scene.pairs or scene.potential is None):
+        return None
+    try:
+        bodies = [BodyModel.from_attrs(b, str(b.get("name", k)))
+                  for k, b in enumerate(scene.bodies)]
+        pair = uniform_all_pairs(bodies, scene.potential, scene.potential_params)
+        if pair is None:
+            return None
+        system = all_pairs_system(bodies, pair, cutoff=scene.cutoff, scales=scales)
+        y0 = state_of(bodies, system)
+    except SceneError:
+        raise
+    except PoissonkitError as exc:
+        raise SceneError(f"scene {scene.name!r}: {exc}") from None
+    unit = system.scales.time if system.scales is not None else 1.0
+    step = None if scene.run.step is None else scene.run.step / unit
+    return BuiltScene(system, y0, bodies, scene.run.duration / unit, step)
 
 
 def build_run(scene: Scene) -> RunSpec:

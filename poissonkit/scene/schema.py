@@ -415,13 +415,31 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
 
 
 def _pair_count(n: int, data: Mapping[str, Any]) -> int:
-    """Pairs a scene of ``n`` bodies holds while it is built: every pair when
-    ``interactions.pairs = "all"`` (the default), else the listed ones."""
+    """Pairs a scene of ``n`` bodies holds while it is built: the listed ones with
+    ``interactions.pairs = "listed"``; none when every pair interacts through one potential
+    that reads its per-pair parameters from the bodies (``body_params``, e.g. gravity: built
+    as one all-pairs interaction, see :func:`poissonkit.scene.build.build_scene`); else every
+    pair."""
     inter = data.get("interactions", {})
-    if isinstance(inter, Mapping) and inter.get("pairs", "all") == "listed":
-        listed = inter.get("pair", [])
+    if not isinstance(inter, Mapping):
+        return n * (n - 1) // 2
+    listed = inter.get("pair", [])
+    if inter.get("pairs", "all") == "listed":
         return len(listed) if isinstance(listed, list) else 0
+    potential = inter.get("potential")
+    if (not listed and "planner" not in data and isinstance(potential, str)
+            and _reads_bodies(potential)):
+        return 0
     return n * (n - 1) // 2
+
+
+def _reads_bodies(potential: str) -> bool:
+    """True if the registered potential takes per-pair parameters from the bodies."""
+    from poissonkit.plugin.contributions import PairPotential
+    from poissonkit.plugin.manager import entries
+
+    entry = entries("potential").get(potential)
+    return isinstance(entry, PairPotential) and bool(entry.body_params)
 
 
 def check_size(bodies: int, pairs: int, where: str) -> None:

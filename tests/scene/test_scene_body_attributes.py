@@ -112,3 +112,26 @@ def test_bench_runs_on_a_plugin_potential_scene(yukawa_plugin, tmp_path, capsys)
     assert code == 0
     rows = (tmp_path / "bench" / "workprecision.csv").read_text().splitlines()
     assert len(rows) > 1 and "splitting4" in rows[1]
+
+
+@pytest.mark.parametrize("potential", ["test_yukawa", "gravity"])
+def test_direct_all_pairs_build_equals_the_pair_list_build(yukawa_plugin, potential):
+    """A scene whose pairs all read their parameters from the bodies is built without listing
+    its pairs; the system is the one built from the full pair list, to the last bit."""
+    from poissonkit.scene.assembly import bodies_of, pairs_of, state_of, system_of
+    from poissonkit.scene.build import build_scene, scene_graph
+
+    text = _scene_text(potential=potential)
+    if potential == "gravity":
+        text = text.replace("\ncharge = ", "\n# charge = ")  # gravity declares no charge
+    scene = loads_scene(text)
+    direct = build_scene(scene)
+    G = scene_graph(scene)
+    bodies = bodies_of(G)
+    listed = system_of(bodies, pairs_of(G, bodies), cutoff=scene.cutoff)
+    assert direct.system.scales == listed.scales
+    assert [type(i) for i in direct.system.interactions] == [AllPairs]
+    assert direct.system.interactions == listed.interactions
+    y0 = state_of(bodies, listed)
+    np.testing.assert_array_equal(direct.y0, y0)
+    assert float(direct.system.energy(y0)) == float(listed.energy(y0))

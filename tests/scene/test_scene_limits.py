@@ -88,3 +88,15 @@ step = 0.1
 """
     with pytest.raises(SceneTooLargeError, match=r"^assembly\.params: a scene of 1000000 bodies"):
         loads_scene(text)
+
+
+def test_two_thousand_bodies_build_as_one_all_pairs_interaction():
+    from poissonkit.numerics.nbody import AllPairs
+    from poissonkit.scene import build_run
+
+    start = time.perf_counter()
+    run = build_run(loads_scene(_text(_points(2000))))
+    assert time.perf_counter() - start < 60
+    (inter,) = run.system.interactions
+    assert isinstance(inter, AllPairs) and len(inter.members) == 2000
+    assert run.y0.shape == (6 * 2000,)
