@@ -6,13 +6,13 @@ import itertools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import networkx as nx
 import numpy as np
 
 from poissonkit.errors import InputError
-from poissonkit.scene.bodies import BodyModel, pair_params
+from poissonkit.scene.bodies import BodyModel, ParamValue, pair_params
 
 if TYPE_CHECKING:
     from poissonkit.numerics.nbody import NBodySystem
@@ -27,7 +27,7 @@ class PairSpec:
     i: int
     j: int
     potential: str
-    params: Mapping[str, Any]
+    params: Mapping[str, ParamValue]
 
 
 def complete(G: nx.Graph) -> nx.Graph:
@@ -39,7 +39,7 @@ def complete(G: nx.Graph) -> nx.Graph:
     return H
 
 
-def require_graph(G: Any) -> nx.Graph:
+def require_graph(G: object) -> nx.Graph:
     """``G`` itself if it is a networkx graph; else an :class:`InputError` naming its type."""
     if not isinstance(G, nx.Graph):  # DiGraph and MultiGraph are Graph subclasses too
         raise InputError(f"expected a networkx graph of bodies, got {type(G).__name__} {G!r:.60}")
@@ -63,11 +63,11 @@ class EdgeSpec:
     i: int
     j: int
     potential: str | None
-    params: Mapping[str, Any]
+    params: Mapping[str, ParamValue]
 
 
 def edges_of(G: nx.Graph, default_potential: str | None = None,
-             default_params: Mapping[str, Any] | None = None) -> list[EdgeSpec]:
+             default_params: Mapping[str, ParamValue] | None = None) -> list[EdgeSpec]:
     """The interacting pairs of ``G`` (every pair if it has no edges), unresolved.
 
     An edge's ``potential``/``params`` attributes override the graph defaults
@@ -119,7 +119,7 @@ def resolve(edge: EdgeSpec, bodies: list[BodyModel], potential: str | None = Non
 
 def pairs_of(G: nx.Graph, bodies: list[BodyModel] | None = None,
              default_potential: str | None = None,
-             default_params: Mapping[str, Any] | None = None) -> list[PairSpec]:
+             default_params: Mapping[str, ParamValue] | None = None) -> list[PairSpec]:
     """Resolve every edge of ``G`` into a :class:`PairSpec` (see :func:`edges_of`)."""
     bodies = bodies if bodies is not None else bodies_of(G)
     return [resolve(e, bodies) for e in edges_of(G, default_potential, default_params)]
@@ -264,7 +264,8 @@ def _pair_energy(entry: PairPotential, params: Mapping[str, object], length: flo
 
 
 def from_graph(G: nx.Graph, cutoff: float | None = None, default_potential: str | None = None,
-               default_params: Mapping[str, Any] | None = None, scales: Any = "auto") -> Any:
+               default_params: Mapping[str, ParamValue] | None = None,
+               scales: Scales | str | None = "auto") -> NBodySystem:
     """Build a numerics ``NBodySystem`` from a graph of bodies.
 
     Parameters
@@ -290,8 +291,8 @@ def from_graph(G: nx.Graph, cutoff: float | None = None, default_potential: str 
     return system_of(bodies, pairs, cutoff=cutoff, scales=scales)
 
 
-def system_of(bodies: list[BodyModel], pairs: list[PairSpec], cutoff: float | None = None,
-              scales: Any = "auto") -> Any:
+def system_of(bodies: list[BodyModel], pairs: Sequence[PairSpec], cutoff: float | None = None,
+              scales: Scales | str | None = "auto") -> NBodySystem:
     """The ``NBodySystem`` of resolved bodies and pairs (see :func:`from_graph`).
 
     Parameters that a potential takes from each body (``PairPotential.body_params``, e.g.
@@ -325,7 +326,7 @@ def system_of(bodies: list[BodyModel], pairs: list[PairSpec], cutoff: float | No
             groups[key] = []
             order.append(key)
         groups[key].append((p.i, p.j))
-    inter: list[Any] = []
+    inter: list[AllPairs | Interaction] = []
     for key in order:
         name, items = key
         edges = groups[key]
@@ -345,7 +346,7 @@ def system_of(bodies: list[BodyModel], pairs: list[PairSpec], cutoff: float | No
 
 
 def uniform_all_pairs(bodies: list[BodyModel], potential: str,
-                      given: Mapping[str, Any] | None = None) -> PairSpec | None:
+                      given: Mapping[str, ParamValue] | None = None) -> PairSpec | None:
     """The pair (0, 1) with its resolved parameters, when every pair of ``bodies`` interacting
     through ``potential`` differs from it only in parameters read from the bodies
     (``body_params``, numbers on every body); ``None`` otherwise (fixed bodies, fewer than three
@@ -412,14 +413,14 @@ def state_arrays(bodies: list[BodyModel]) -> dict[str, np.ndarray]:
     }
 
 
-def initial_state(G: nx.Graph, system: Any) -> np.ndarray:
+def initial_state(G: nx.Graph, system: NBodySystem) -> np.ndarray:
     """The state vector of ``system`` (built by :func:`from_graph` from ``G``) at t = 0."""
     return state_of(bodies_of(G), system)
 
 
-def state_of(bodies: list[BodyModel], system: Any) -> np.ndarray:
+def state_of(bodies: list[BodyModel], system: NBodySystem) -> np.ndarray:
     """The state vector of ``system`` for the initial state of ``bodies`` (SI → internal)."""
     a = state_arrays(bodies)
-    si = getattr(system, "scales", None) is not None
+    si = system.scales is not None
     return np.asarray(system.pack(a["r"], a["p"], a["nu"], a["m"], si=si, normalize=True),
                       dtype=float)

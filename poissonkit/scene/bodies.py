@@ -40,7 +40,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -51,6 +51,8 @@ if TYPE_CHECKING:
 
 #: A per-body attribute value a potential may read: a number or a vector of numbers.
 AttrValue = float | tuple[float, ...]
+#: A potential parameter's value (``Param`` types: float, int, str, bool, vector).
+ParamValue = float | int | str | bool | tuple[float, ...]
 
 #: Node attributes a body understands itself; others must be declared by a potential.
 BODY_KEYS = ("name", "mass", "alpha", "inertia", "r", "p", "nu", "m", "fixed", "moment",
@@ -58,7 +60,7 @@ BODY_KEYS = ("name", "mass", "alpha", "inertia", "r", "p", "nu", "m", "fixed", "
 MAGNET_KEYS = ("moment", "magnetization", "radius", "length", "half_length")
 
 
-def _vector(value: Any, what: str) -> np.ndarray:
+def _vector(value: object, what: str) -> np.ndarray:
     try:
         v = np.asarray(value, dtype=float).reshape(-1)
     except (TypeError, ValueError):
@@ -68,7 +70,7 @@ def _vector(value: Any, what: str) -> np.ndarray:
     return v
 
 
-def _positive(value: Any, what: str) -> float:
+def _positive(value: object, what: str) -> float:
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -120,7 +122,7 @@ class BodyModel:
         return self.extra.get(name)
 
     @classmethod
-    def from_attrs(cls, attrs: Mapping[str, Any], default_name: str = "") -> BodyModel:
+    def from_attrs(cls, attrs: Mapping[str, object], default_name: str = "") -> BodyModel:
         """Validate node attributes; errors name the body and the attribute."""
         name = str(attrs.get("name", default_name))
         where = f"body {name!r}"
@@ -229,7 +231,8 @@ def _complete_magnet(mag: dict[str, float]) -> dict[str, float]:
 
 
 def pair_params(entry: PairPotential, first: BodyModel, second: BodyModel,
-                given: Mapping[str, Any] | None = None, *, where: str = "") -> dict[str, Any]:
+                given: Mapping[str, ParamValue] | None = None, *, where: str = ""
+                ) -> dict[str, ParamValue]:
     """Parameters of potential ``entry`` for the pair (first, second).
 
     Explicit values in ``given`` win; a parameter the entry declares in ``body_params`` is
@@ -238,7 +241,7 @@ def pair_params(entry: PairPotential, first: BodyModel, second: BodyModel,
     the entry's defaults (``entry.resolve_params`` validates everything and raises naming the
     parameter).
     """
-    values: dict[str, Any] = dict(given or {})
+    values: dict[str, ParamValue] = dict(given or {})
     for name, attr, which in entry.body_params:
         if name not in values:
             body = first if which == 1 else second
