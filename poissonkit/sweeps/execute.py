@@ -48,7 +48,7 @@ def _prepared(scene: SweepScene) -> Mapping[str, object]:
 
 def run_batch(scene: SweepScene, points: Sequence[tuple[int, Mapping[str, float]]],
               outcomes: Sequence[str | OutcomeEntry]
-              ) -> list[tuple[int, dict[str, Any] | None, str]]:
+              ) -> list[tuple[int, dict[str, object] | None, str]]:
     """Run a batch of points on a worker: ``[(flat index, outcomes or None, error message)]``.
 
     ``outcomes`` are registry names or the entries themselves (the client sends entries, so
@@ -58,7 +58,7 @@ def run_batch(scene: SweepScene, points: Sequence[tuple[int, Mapping[str, float]
     from poissonkit.sweeps.outcomes import reduce_run
 
     prep = _prepared(scene)
-    out: list[tuple[int, dict[str, Any] | None, str]] = []
+    out: list[tuple[int, dict[str, object] | None, str]] = []
     for idx, values in points:
         try:
             rec = scene.run(prep, values)

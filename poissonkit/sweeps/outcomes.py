@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Iterator, Mapping
-from typing import Any
 
 import numpy as np
 
@@ -139,7 +138,7 @@ def outcome_entries(names: Iterable[str]) -> tuple[OutcomeEntry, ...]:
     return tuple(found[n] for n in names)
 
 
-def reduce_run(rec: RunRecord, names: Iterable[str | OutcomeEntry]) -> dict[str, Any]:
+def reduce_run(rec: RunRecord, names: Iterable[str | OutcomeEntry]) -> dict[str, object]:
     """Every chosen outcome of one run (by name or entry)."""
     chosen = [n if isinstance(n, OutcomeEntry) else OUTCOMES[n] for n in names]
     return {o.name: o.compute(rec) for o in chosen}

@@ -247,7 +247,7 @@ class TomlScene:
         fixed = repr(sorted((str(k), float(v)) for k, v in self.fixed.items()))
         return "toml:" + hashlib.sha256((self.text + fixed).encode()).hexdigest()[:16]
 
-    def settings(self) -> dict[str, Any]:
+    def settings(self) -> dict[str, object]:
         """Attributes recorded in the dataset."""
         run = self.raw.get("run", {})
         return {"scene": self.name, "scene_source": self.source, "scene_toml": self.text,

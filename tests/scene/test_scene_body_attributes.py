@@ -135,3 +135,20 @@ def test_direct_all_pairs_build_equals_the_pair_list_build(yukawa_plugin, potent
     y0 = state_of(bodies, listed)
     np.testing.assert_array_equal(direct.y0, y0)
     assert float(direct.system.energy(y0)) == float(listed.energy(y0))
+
+
+def test_graph_nodes_carry_declared_attributes(yukawa_plugin):
+    import networkx as nx
+
+    from poissonkit.scene.assembly import from_graph, initial_state
+
+    G = nx.Graph(potential="test_yukawa")
+    for k, (r, q, m) in enumerate(zip(POS, CHARGE, MASS)):
+        G.add_node(f"q{k}", mass=float(m), r=tuple(r), charge=float(q))
+    system = from_graph(G)
+    assert [type(i) for i in system.interactions] == [AllPairs]
+    _F, _T, U = system.forces(initial_state(G, system))
+    assert U * system.scales.energy == pytest.approx(_direct(POS, CHARGE)[0], rel=1e-12)
+    G.nodes["q0"]["colour"] = 3.0
+    with pytest.raises(Exception, match=r"unknown body attribute 'colour'.*charge"):
+        from_graph(G)
