@@ -18,6 +18,7 @@ if TYPE_CHECKING:  # only for annotations: the numerics import this module
     from poissonkit.numerics.integrators.base import RawResult
     from poissonkit.numerics.integrators.driver import Control
     from poissonkit.plugin.contributions import Capabilities
+    from poissonkit.sweeps.scenes import RunRecord
 
 # --------------------------------------------------------------------------- numerics systems
 #: A compiled (numba) function; its signature is fixed by the slot it fills in
@@ -275,3 +276,38 @@ class ErrorEstimator(Protocol):
 
 
 # --------------------------------------------------------------------------- sweep scenes
+
+
+@runtime_checkable
+class SweepScene(Protocol):
+    """What a sweep runs: a small picklable description of a scene, sent to every worker.
+
+    :func:`poissonkit.sweeps.sweep` accepts any object with these members (a TOML scene,
+    :class:`poissonkit.sweeps.scenes.TomlScene`, or a plugin's, e.g. the ``sweep`` factory of a
+    :class:`~poissonkit.plugin.SceneEntry`).
+    """
+
+    @property
+    def key(self) -> str:
+        """Identifies what :meth:`prepare` builds: workers cache it under this key."""
+        ...
+
+    def settings(self) -> dict[str, object]:
+        """Attributes recorded in the dataset (scene name, method, step, ...)."""
+        ...
+
+    def check(self, path: str) -> str:
+        """Validate a swept parameter path (raise a typed error naming it); return it."""
+        ...
+
+    def units(self, path: str) -> str:
+        """SI units of the values of a parameter path."""
+        ...
+
+    def prepare(self) -> Mapping[str, object]:
+        """Build what every run shares (system, compiled kernels, units), once per worker."""
+        ...
+
+    def run(self, prep: Mapping[str, object], values: Mapping[str, float]) -> RunRecord:
+        """Integrate one point (``values`` by path) and classify its fate."""
+        ...

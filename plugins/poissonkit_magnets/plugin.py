@@ -17,6 +17,19 @@ from poissonkit_magnets.family import MAGNET_FAMILY
 from poissonkit_magnets.models import MODELS, evaluator, kernel
 from poissonkit_magnets.pair_params import MAGNET_QUANTITIES, complete_params
 
+def _dipole_energy_scale(bodies, length: float) -> float | None:
+    """Energy unit of a magnet scene: the dipole energy ``mu0 mu^2 / (4 pi L^3)`` of the
+    strongest magnets at the length unit (``None`` without a magnet)."""
+    import math
+
+    from poissonkit.conventions import MU0
+
+    strongest = max(b.attr("moment") or 0.0 for b in bodies)
+    if not strongest > 0:
+        return None
+    return MU0 * strongest ** 2 / (4 * math.pi * length ** 3)
+
+
 # Built once per process: compiled kernels are cached per entry, so handing out the same
 # entries after every plugin-manager rebuild avoids recompiling them.
 _ENTRIES: tuple[PairPotential, ...] = tuple(
@@ -24,7 +37,8 @@ _ENTRIES: tuple[PairPotential, ...] = tuple(
                   kernel=partial(kernel, m.name), orientation="both",
                   evaluate=partial(evaluator, m.name),
                   complete_params=partial(complete_params, tuple(p.name for p in m.params)),
-                  body_quantities=MAGNET_QUANTITIES)
+                  body_quantities=MAGNET_QUANTITIES,
+                  energy_scale=_dipole_energy_scale)
     for m in MODELS
 )
 

@@ -2,18 +2,25 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
+import numpy as np
 import sympy as sp
 
 from poissonkit.conventions import NEWTON_G
 from poissonkit.plugin.contributions import PairPotential, Param
 
 
-
 def _gravity_expr(params: dict[str, Any]) -> sp.Expr:
     r = sp.Symbol("r", real=True)
     return -params["G"] * params["mass1"] * params["mass2"] / r
+
+
+def _gravity_energy_scale(bodies: Sequence[Any], length: float) -> float:
+    """Energy unit of a gravitating scene: ``G M^2 / L`` with ``M`` the mean body mass."""
+    mass = float(np.mean([b.mass for b in bodies]))
+    return NEWTON_G * mass * mass / length
 
 
 GRAVITY = PairPotential(
@@ -29,4 +36,5 @@ GRAVITY = PairPotential(
     orientation="none",
     # an all-pairs gravity interaction takes each pair's masses from its two bodies
     body_params=(("mass1", "mass", 1), ("mass2", "mass", 2)),
+    energy_scale=_gravity_energy_scale,
 )

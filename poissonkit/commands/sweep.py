@@ -35,7 +35,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="N random points (uniform in the low:high ranges)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the random points")
     parser.add_argument("--outcomes", default=None, metavar="A,B,...",
-                        help="outcomes to record (default: all but megno); see docs/sweeps.md")
+                        help="outcomes to record, built-in or a plugin's (default: the built-in "
+                             "ones but megno); see docs/sweeps.md")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
                        help="run on an existing Dask cluster")
@@ -88,8 +89,10 @@ def main(args: argparse.Namespace) -> int:
         print(f"\npoissonkit sweep: interrupted; finished points are in {store}; run the same "
               "command with --resume to compute the rest", file=sys.stderr)
         return 130
+    from poissonkit.sweeps.scenes import FATES
+
     counts = {name: int(((ds["fate"] == k) & ~ds["failed"]).sum())
-              for k, name in enumerate(("bounded", "collision", "escape"))}
+              for k, name in enumerate(FATES)}
     failed = int(ds["failed"].sum())
     dims = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items())
     print(f"sweep of {ds.attrs.get('scene')} ({dims}): "

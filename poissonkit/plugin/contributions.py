@@ -175,6 +175,11 @@ class PairPotential(Entry):
         ``((parameter, body attribute, 1 or 2), …)``: parameters that default to an attribute
         of the first or second body of each pair (e.g. gravity's ``("mass1", "mass", 1)``), so
         an all-pairs interaction needs no per-pair list. Needs ``expr``.
+    energy_scale
+        Optional ``energy_scale(bodies, length) -> float or None``: the energy unit [J] of a
+        scene of these bodies (:class:`poissonkit.scene.bodies.BodyModel`) whose length unit is
+        ``length`` [m], or ``None`` when it does not apply. Without it the automatic units use
+        the largest ``|U|`` at that length (:func:`poissonkit.scene.assembly.auto_scales`).
     """
 
     expr: Callable[[dict[str, Any]], Any] | None = None
@@ -193,6 +198,7 @@ class PairPotential(Entry):
     #: Per-body quantities (base names, without the ``1``/``2`` suffix) accepted besides the
     #: parameters, for :attr:`complete_params` or the overlap check (``radius``, ``length``).
     body_quantities: tuple[str, ...] = ()
+    energy_scale: Callable[..., float | None] | None = None
 
 
 @dataclass(frozen=True)
@@ -354,3 +360,36 @@ class ModelFamily(Entry):
 
 #: ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)``: a pair potential and its partials.
 PairFunction = Callable[[float, float, float, float], tuple[float, float, float, float, float]]
+
+
+@dataclass(frozen=True)
+class OutcomeEntry(Entry):
+    """A sweep outcome: what one run of a sweep is reduced to (``poissonkit sweep --outcomes``).
+
+    Attributes
+    ----------
+    dtype
+        numpy dtype of the dataset variable (``"f8"``, ``"i1"``, ...).
+    unit
+        SI unit of the values (``"1"`` for dimensionless).
+    fill
+        Value of points not (yet) computed or failed.
+    compute
+        ``compute(record) -> value`` of one finished run, a
+        :class:`poissonkit.sweeps.scenes.RunRecord` (solution, fate, distances, units).
+    """
+
+    dtype: str = "f8"
+    unit: str = "1"
+    fill: Any = math.nan
+    compute: Callable[[Any], Any] = field(default=lambda record: math.nan)
+
+    @property
+    def description(self) -> str:
+        """The one-line doc string (the dataset variable's ``long_name``)."""
+        return self.doc
+
+    @property
+    def units(self) -> str:
+        """Same as :attr:`unit` (the dataset's attribute name)."""
+        return self.unit

@@ -18,6 +18,7 @@ from poissonkit.plugin.contributions import (
     Assembly,
     IntegratorEntry,
     ModelFamily,
+    OutcomeEntry,
     PairPotential,
     SceneEntry,
     SystemEntry,
@@ -94,4 +95,18 @@ def poissonkit_model_families() -> list[ModelFamily]:
         Each names its models (registered potentials) cheapest first, with an error estimator
         and the test of which pairs it models; the planner and ``pair_interaction("auto")``
         choose per pair the cheapest model within a tolerance.
+    """
+
+
+@hookspec
+def poissonkit_outcomes() -> list[OutcomeEntry]:
+    """Return sweep outcomes: quantities one run of a sweep is reduced to.
+
+    Returns
+    -------
+    list of OutcomeEntry
+        Each with a name, a doc string, a numpy dtype, an SI unit, a fill value for points not
+        computed, and ``compute(record)`` of the run's
+        :class:`~poissonkit.sweeps.scenes.RunRecord`; choose them with
+        ``sweep(..., outcomes=[...])`` or ``poissonkit sweep --outcomes``.
     """

@@ -32,6 +32,7 @@ from poissonkit.plugin.contributions import (
     Entry,
     IntegratorEntry,
     ModelFamily,
+    OutcomeEntry,
     PairPotential,
     SceneEntry,
     SystemEntry,
@@ -44,6 +45,7 @@ BUILTIN_PLUGINS: tuple[tuple[str, str], ...] = (
     ("magnets", "poissonkit_magnets.plugin"),
     ("nbody", "poissonkit_nbody.plugin"),
     ("nonholonomic", "poissonkit_nonholonomic.plugin"),
+    ("core-outcomes", "poissonkit.sweeps.builtin"),
 )
 
 #: hook name -> (registry kind, entry type)
@@ -54,6 +56,7 @@ KINDS: dict[str, tuple[str, type]] = {
     "poissonkit_integrators": ("integrator", IntegratorEntry),
     "poissonkit_scenes": ("scene", SceneEntry),
     "poissonkit_model_families": ("model_family", ModelFamily),
+    "poissonkit_outcomes": ("outcome", OutcomeEntry),
 }
 
 ENV_DISABLE = "POISSONKIT_DISABLE_PLUGIN_AUTOLOAD"
@@ -179,7 +182,7 @@ def plugin_reports() -> list[PluginReport]:
 
 def entries(kind: str) -> dict[str, Entry]:
     """All entries of one kind (``"potential"``, ``"assembly"``, ``"system"``, ``"integrator"``,
-    ``"scene"``, ``"model_family"``), by name."""
+    ``"scene"``, ``"model_family"``, ``"outcome"``), by name."""
     state = _get()
     if kind not in state.entries:
         from poissonkit.errors import UnknownNameError

@@ -3,15 +3,21 @@
 from __future__ import annotations
 
 import itertools
-from collections.abc import Mapping
+import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import networkx as nx
 import numpy as np
 
 from poissonkit.errors import InputError
-from poissonkit.scene.bodies import BodyModel, pair_params
+from poissonkit.scene.bodies import BodyModel, ParamValue, pair_params
+
+if TYPE_CHECKING:
+    from poissonkit.numerics.nbody import NBodySystem
+    from poissonkit.numerics.units import Scales
+    from poissonkit.plugin.contributions import PairPotential
 
 
 @dataclass(frozen=True)
@@ -21,7 +27,7 @@ class PairSpec:
     i: int
     j: int
     potential: str
-    params: Mapping[str, Any]
+    params: Mapping[str, ParamValue]
 
 
 def complete(G: nx.Graph) -> nx.Graph:
@@ -33,7 +39,7 @@ def complete(G: nx.Graph) -> nx.Graph:
     return H
 
 
-def require_graph(G: Any) -> nx.Graph:
+def require_graph(G: object) -> nx.Graph:
     """``G`` itself if it is a networkx graph; else an :class:`InputError` naming its type."""
     if not isinstance(G, nx.Graph):  # DiGraph and MultiGraph are Graph subclasses too
         raise InputError(f"expected a networkx graph of bodies, got {type(G).__name__} {G!r:.60}")
@@ -57,13 +63,13 @@ class EdgeSpec:
     i: int
     j: int
     potential: str | None
-    params: Mapping[str, Any]
+    params: Mapping[str, ParamValue]
     #: True if the edge names its own potential (a listed pair), False if it is a default.
     own_potential: bool = True
 
 
 def edges_of(G: nx.Graph, default_potential: str | None = None,
-             default_params: Mapping[str, Any] | None = None) -> list[EdgeSpec]:
+             default_params: Mapping[str, ParamValue] | None = None) -> list[EdgeSpec]:
     """The interacting pairs of ``G`` (every pair if it has no edges), unresolved.
 
     An edge's ``potential``/``params`` attributes override the graph defaults
@@ -116,7 +122,7 @@ def resolve(edge: EdgeSpec, bodies: list[BodyModel], potential: str | None = Non
 
 def pairs_of(G: nx.Graph, bodies: list[BodyModel] | None = None,
              default_potential: str | None = None,
-             default_params: Mapping[str, Any] | None = None) -> list[PairSpec]:
+             default_params: Mapping[str, ParamValue] | None = None) -> list[PairSpec]:
     """Resolve every edge of ``G`` into a :class:`PairSpec` (see :func:`edges_of`)."""
     bodies = bodies if bodies is not None else bodies_of(G)
     return [resolve(e, bodies) for e in edges_of(G, default_potential, default_params)]
@@ -130,37 +136,139 @@ def _swap_suffix(key: str) -> str:
     return key
 
 
-def auto_scales(bodies: list[BodyModel]) -> Any:
+def auto_scales(bodies: list[BodyModel], pairs: Sequence[PairSpec] | None = None) -> Scales:
     """Internal units for a scene of these bodies (see :mod:`poissonkit.numerics.units`).
 
     Length: the smallest centre distance (or the largest body size for a single body); mass: the
-    mean mass; energy: the dipole energy ``mu0 mu² / (4 pi L³)`` of the strongest magnets if any
-    body has a moment, otherwise ``G M² / L``; time follows as ``L sqrt(M / E)``.
-    """
-    import math
+    mean mass; energy: :func:`energy_scale`; time follows as ``L sqrt(M / E)``.
 
-    from poissonkit.conventions import MU0, NEWTON_G
+    Parameters
+    ----------
+    bodies
+        The scene's bodies.
+    pairs
+        Its resolved pairs; ``None`` when they are not known yet (then only the scales that
+        registered potentials declare are used, see :func:`energy_scale`).
+    """
     from poissonkit.numerics.units import Scales
 
     pos = np.array([b.r for b in bodies], float)
     length = 0.0
     if len(bodies) > 1:
-        d = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=2)
-        d[np.diag_indices(len(bodies))] = np.inf
-        length = float(d.min())
+        length = _smallest_distance(pos)
     if not length > 0 or not math.isfinite(length):
         length = max((b.bounding_radius for b in bodies), default=0.0) or 1.0
     mass = float(np.mean([b.mass for b in bodies]))
-    moments = [b.magnet.get("moment", 0.0) for b in bodies]
-    if max(moments) > 0:
-        energy = MU0 * max(moments) ** 2 / (4 * math.pi * length ** 3)
+    return Scales.from_energy(length, mass, energy_scale(bodies, pairs, length))
+
+
+def _smallest_distance(pos: np.ndarray) -> float:
+    """Smallest distance between two of the points (a k-d tree beyond a few hundred)."""
+    if len(pos) <= 512:  # the dense form, as it always was (same numbers)
+        d = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=2)
+        d[np.diag_indices(len(pos))] = np.inf
+        return float(d.min())
+    from scipy.spatial import cKDTree
+
+    dist, _nearest = cKDTree(pos).query(pos, k=2)
+    return float(dist[:, 1].min())
+
+
+#: Relative orientations ``(c1, c2, c3)`` at which a potential is evaluated for the energy
+#: unit: axes along the line of centres (aligned, opposed) and across it (parallel, opposed).
+_ORIENTATIONS = ((1.0, 1.0, 1.0), (1.0, -1.0, -1.0), (0.0, 0.0, 1.0), (0.0, 0.0, -1.0))
+
+
+def energy_scale(bodies: Sequence[BodyModel], pairs: Sequence[PairSpec] | None,
+                 length: float) -> float:
+    """The energy unit [J] of a scene, from the interactions it has.
+
+    1. Potentials that declare ``energy_scale`` (``PairPotential.energy_scale``, e.g. the
+       dipole energy of the strongest magnets, or ``G M^2 / L`` of gravity): the largest value
+       they give for these bodies at ``length``. With ``pairs`` the potentials present in them
+       are asked, otherwise every registered potential.
+    2. Otherwise the largest ``|U(length)|`` of the potentials present, each evaluated with the
+       parameters of its pairs (a parameter read from the bodies at the largest magnitude any
+       body has) at four orientations (axes along and across the line of centres, aligned and
+       opposed).
+    3. Where all of those are zero: the kinetic energy of the initial state, or 1 J.
+    """
+    from poissonkit.plugin.contributions import PairPotential
+    from poissonkit.plugin.manager import entries
+
+    registered = entries("potential")
+    if pairs is None:
+        present = [e for e in registered.values() if isinstance(e, PairPotential)]
     else:
-        energy = NEWTON_G * mass * mass / length
-    return Scales.from_energy(length, mass, energy)
+        present = [registered[name] for name in dict.fromkeys(p.potential for p in pairs)
+                   if isinstance(registered.get(name), PairPotential)]
+    declared = [e.energy_scale(list(bodies), length) for e in present
+                if e.energy_scale is not None]
+    values = [float(v) for v in declared if v is not None and math.isfinite(v) and v > 0]
+    if values:
+        return max(values)
+    if pairs:
+        largest = _largest_pair_energy(bodies, pairs, length)
+        if largest > 0:
+            return largest
+    kinetic = sum(float(np.dot(b.p, b.p)) / (2 * b.mass) for b in bodies)
+    kinetic += sum(0.5 * b.alpha * float(np.dot(b.m, b.m)) for b in bodies
+                   if b.alpha is not None and b.m is not None)
+    return kinetic if kinetic > 0 and math.isfinite(kinetic) else 1.0
+
+
+def _largest_pair_energy(bodies: Sequence[BodyModel], pairs: Sequence[PairSpec],
+                         length: float) -> float:
+    """Largest ``|U(length)|`` over the distinct (potential, parameters) of ``pairs``."""
+    from poissonkit.plugin import potential as lookup
+
+    strongest: dict[str, float] = {}  # attribute -> value of largest magnitude over bodies
+    seen: set[tuple[str, tuple[tuple[str, str], ...]]] = set()
+    largest = 0.0
+    for p in pairs:
+        entry = lookup(p.potential)
+        params = dict(p.params)
+        for name, attr, _which in entry.body_params:
+            if attr not in strongest:
+                vals = [v for v in (b.attr(attr) for b in bodies) if isinstance(v, float)]
+                strongest[attr] = max(vals, key=abs) if vals else math.nan
+            if name in params and math.isfinite(strongest[attr]):
+                params[name] = strongest[attr]
+        key = (p.potential, tuple(sorted((k, repr(v)) for k, v in params.items())))
+        if key in seen:
+            continue
+        seen.add(key)
+        largest = max(largest, _pair_energy(entry, params, length))
+    return largest
+
+
+def _pair_energy(entry: PairPotential, params: Mapping[str, object], length: float) -> float:
+    """Largest finite ``|U(length, c1, c2, c3)|`` over :data:`_ORIENTATIONS` (0 if none)."""
+    orientations = _ORIENTATIONS[2:3] if entry.orientation == "none" else _ORIENTATIONS
+    out = 0.0
+    if entry.expr is not None:
+        expr = entry.expr(dict(params))
+        symbols = {s.name: s for s in expr.free_symbols}
+        for c in orientations:
+            values = dict(zip(("r", "c1", "c2", "c3"), (length, *c)))
+            try:
+                u = float(expr.subs({symbols[k]: v for k, v in values.items() if k in symbols}))
+            except (TypeError, ValueError):  # a symbol left over: no number to take
+                continue
+            if math.isfinite(u):
+                out = max(out, abs(u))
+    elif entry.kernel is not None:
+        f = entry.kernel(dict(params))
+        for c in orientations:
+            u = float(f(length, *c)[0])
+            if math.isfinite(u):
+                out = max(out, abs(u))
+    return out
 
 
 def from_graph(G: nx.Graph, cutoff: float | None = None, default_potential: str | None = None,
-               default_params: Mapping[str, Any] | None = None, scales: Any = "auto") -> Any:
+               default_params: Mapping[str, ParamValue] | None = None,
+               scales: Scales | str | None = "auto") -> NBodySystem:
     """Build a numerics ``NBodySystem`` from a graph of bodies.
 
     Parameters
@@ -186,8 +294,8 @@ def from_graph(G: nx.Graph, cutoff: float | None = None, default_potential: str 
     return system_of(bodies, pairs, cutoff=cutoff, scales=scales)
 
 
-def system_of(bodies: list[BodyModel], pairs: list[PairSpec], cutoff: float | None = None,
-              scales: Any = "auto") -> Any:
+def system_of(bodies: list[BodyModel], pairs: Sequence[PairSpec], cutoff: float | None = None,
+              scales: Scales | str | None = "auto") -> NBodySystem:
     """The ``NBodySystem`` of resolved bodies and pairs (see :func:`from_graph`).
 
     Parameters that a potential takes from each body (``PairPotential.body_params``, e.g.
@@ -200,7 +308,7 @@ def system_of(bodies: list[BodyModel], pairs: list[PairSpec], cutoff: float | No
     from poissonkit.plugin import potential as lookup
 
     if isinstance(scales, str) and scales == "auto":
-        scales = auto_scales(bodies)
+        scales = auto_scales(bodies, pairs)
     attrs: dict[int, dict[str, float]] = {k: {} for k in range(len(bodies))}
     groups: dict[tuple, list[tuple[int, int]]] = {}
     order: list[tuple] = []
@@ -210,16 +318,18 @@ def system_of(bodies: list[BodyModel], pairs: list[PairSpec], cutoff: float | No
         for name, attr, which in entry.body_params:
             k = p.i if which == 1 else p.j
             value = bodies[k].attr(attr)
-            if name in params and value is not None and params[name] == value:
-                del params[name]  # read from the body by the numerics
+            # a number the pair takes from its body is read per body by the numerics (any
+            # attribute name); a vector stays a pair parameter
+            if name in params and isinstance(value, float) and params[name] == value:
+                del params[name]
                 if attr not in ("mass", "alpha"):
-                    attrs[k][attr] = float(value)
+                    attrs[k][attr] = value
         key = (p.potential, tuple(sorted(params.items())))
         if key not in groups:
             groups[key] = []
             order.append(key)
         groups[key].append((p.i, p.j))
-    inter: list[Any] = []
+    inter: list[AllPairs | Interaction] = []
     for key in order:
         name, items = key
         edges = groups[key]
@@ -238,6 +348,62 @@ def system_of(bodies: list[BodyModel], pairs: list[PairSpec], cutoff: float | No
     return NBodySystem(nb, inter, cutoff=cutoff, scales=scales)
 
 
+def uniform_all_pairs(bodies: list[BodyModel], potential: str,
+                      given: Mapping[str, ParamValue] | None = None) -> PairSpec | None:
+    """The pair (0, 1) with its resolved parameters, when every pair of ``bodies`` interacting
+    through ``potential`` differs from it only in parameters read from the bodies
+    (``body_params``, numbers on every body); ``None`` otherwise (fixed bodies, fewer than three
+    bodies, a parameter filled per pair by the ``<base>1``/``<base>2`` convention).
+
+    Then :func:`all_pairs_system` builds the same system as :func:`system_of` of every pair,
+    without listing the pairs.
+    """
+    from poissonkit.plugin import potential as lookup
+
+    if len(bodies) < 3 or any(b.fixed for b in bodies):
+        return None
+    entry = lookup(potential)
+    given = dict(given or {})
+    bound = {name for name, _attr, _which in entry.body_params if name not in given}
+    for name, attr, _which in entry.body_params:
+        if name in bound and not all(isinstance(b.attr(attr), float) for b in bodies):
+            return None
+    for param in entry.params:
+        if (param.name not in given and param.name not in bound and param.name[-1:] in "12"
+                and any(b.attr(param.name[:-1]) is not None for b in bodies)):
+            return None
+    where = f"pair ({bodies[0].name}, {bodies[1].name}): "
+    return PairSpec(0, 1, potential, pair_params(entry, bodies[0], bodies[1], given,
+                                                 where=where))
+
+
+def all_pairs_system(bodies: list[BodyModel], pair: PairSpec, cutoff: float | None = None,
+                     scales: Scales | str | None = "auto") -> NBodySystem:
+    """The system in which every pair of ``bodies`` interacts like ``pair`` (from
+    :func:`uniform_all_pairs`): one ``AllPairs`` whose body-read parameters come from each
+    body, built in O(N) (the same system :func:`system_of` builds from the full pair list)."""
+    from poissonkit.numerics.nbody import AllPairs, Body, NBodySystem
+    from poissonkit.plugin import potential as lookup
+
+    if isinstance(scales, str) and scales == "auto":
+        scales = auto_scales(bodies, [pair])
+    entry = lookup(pair.potential)
+    shared = dict(pair.params)
+    attrs: dict[int, dict[str, float]] = {k: {} for k in range(len(bodies))}
+    for name, attr, which in entry.body_params:
+        first = bodies[pair.i if which == 1 else pair.j]
+        if name in shared and shared[name] == first.attr(attr):
+            del shared[name]
+            if attr not in ("mass", "alpha"):
+                for k, b in enumerate(bodies):
+                    attrs[k][attr] = float(b.attr(attr))  # type: ignore[arg-type]
+    nb = [Body(b.name, b.mass, alpha=b.alpha, fixed=False, attributes=attrs[k])
+          for k, b in enumerate(bodies)]
+    inter = AllPairs(pair.potential, dict(sorted(shared.items())),
+                     members=list(range(len(bodies))))
+    return NBodySystem(nb, [inter], cutoff=cutoff, scales=scales)
+
+
 def state_arrays(bodies: list[BodyModel]) -> dict[str, np.ndarray]:
     """SI initial state of every body as (N, 3) arrays ``r``, ``p``, ``nu``, ``m`` (zero rows
     for the axis and angular momentum of point masses)."""
@@ -250,14 +416,14 @@ def state_arrays(bodies: list[BodyModel]) -> dict[str, np.ndarray]:
     }
 
 
-def initial_state(G: nx.Graph, system: Any) -> np.ndarray:
+def initial_state(G: nx.Graph, system: NBodySystem) -> np.ndarray:
     """The state vector of ``system`` (built by :func:`from_graph` from ``G``) at t = 0."""
     return state_of(bodies_of(G), system)
 
 
-def state_of(bodies: list[BodyModel], system: Any) -> np.ndarray:
+def state_of(bodies: list[BodyModel], system: NBodySystem) -> np.ndarray:
     """The state vector of ``system`` for the initial state of ``bodies`` (SI → internal)."""
     a = state_arrays(bodies)
-    si = getattr(system, "scales", None) is not None
+    si = system.scales is not None
     return np.asarray(system.pack(a["r"], a["p"], a["nu"], a["m"], si=si, normalize=True),
                       dtype=float)

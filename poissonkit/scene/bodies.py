@@ -22,9 +22,17 @@ Magnet parameters (optional)
     each other through the cylinder volume ``pi radius² length`` when only one is given;
     ``moment = 0`` (or ``magnetization = 0``) marks a body that is not a magnet.
 
-Pair parameters of a potential are filled from these attributes: a potential parameter named
-``<base>1`` / ``<base>2`` (e.g. ``moment1``, ``half_length2``, ``mass1``) takes the node
-attribute ``<base>`` of the first / second body of the pair.
+Attributes declared by potentials (optional)
+    Any other attribute (a number or a vector of numbers) is kept in :attr:`BodyModel.extra`
+    when a registered pair potential declares it as a body attribute
+    (``PairPotential.body_params``, e.g. ``("charge1", "charge", 1)``); an attribute no
+    registered potential declares is an error naming it and listing the declared ones
+    (:func:`check_attribute`).
+
+Pair parameters of a potential are filled from these attributes: a parameter listed in the
+potential's ``body_params`` takes the named attribute of the first / second body, and a
+parameter named ``<base>1`` / ``<base>2`` (e.g. ``moment1``, ``half_length2``, ``mass1``) takes
+the attribute ``<base>`` of the first / second body of the pair.
 """
 
 from __future__ import annotations
@@ -32,19 +40,27 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from poissonkit.errors import InputError
 
-#: Node attributes a body understands; anything else is passed through untouched.
+if TYPE_CHECKING:
+    from poissonkit.plugin.contributions import PairPotential
+
+#: A per-body attribute value a potential may read: a number or a vector of numbers.
+AttrValue = float | tuple[float, ...]
+#: A potential parameter's value (``Param`` types: float, int, str, bool, vector).
+ParamValue = float | int | str | bool | tuple[float, ...]
+
+#: Node attributes a body understands itself; others must be declared by a potential.
 BODY_KEYS = ("name", "mass", "alpha", "inertia", "r", "p", "nu", "m", "fixed", "moment",
              "magnetization", "radius", "length", "half_length")
 MAGNET_KEYS = ("moment", "magnetization", "radius", "length", "half_length")
 
 
-def _vector(value: Any, what: str) -> np.ndarray:
+def _vector(value: object, what: str) -> np.ndarray:
     try:
         v = np.asarray(value, dtype=float).reshape(-1)
     except (TypeError, ValueError):
@@ -54,7 +70,7 @@ def _vector(value: Any, what: str) -> np.ndarray:
     return v
 
 
-def _positive(value: Any, what: str) -> float:
+def _positive(value: object, what: str) -> float:
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -80,6 +96,7 @@ class BodyModel:
     m: tuple[float, float, float] | None = None
     fixed: bool = False
     magnet: Mapping[str, float] = field(default_factory=dict)
+    extra: Mapping[str, AttrValue] = field(default_factory=dict)
 
     @property
     def is_top(self) -> bool:
@@ -93,16 +110,19 @@ class BodyModel:
         h = self.magnet.get("half_length", 0.0)
         return math.hypot(a, h)
 
-    def attr(self, base: str) -> Any:
-        """The value a pair parameter ``<base>1``/``<base>2`` takes from this body, or None."""
-        if base == "mass":
+    def attr(self, name: str) -> AttrValue | None:
+        """This body's attribute ``name`` (``mass``, ``alpha``, a magnet parameter or an
+        :attr:`extra` attribute), or ``None`` if it has none."""
+        if name == "mass":
             return self.mass
-        if base == "alpha":
+        if name == "alpha":
             return self.alpha
-        return self.magnet.get(base)
+        if name in self.magnet:
+            return self.magnet[name]
+        return self.extra.get(name)
 
     @classmethod
-    def from_attrs(cls, attrs: Mapping[str, Any], default_name: str = "") -> BodyModel:
+    def from_attrs(cls, attrs: Mapping[str, object], default_name: str = "") -> BodyModel:
         """Validate node attributes; errors name the body and the attribute."""
         name = str(attrs.get("name", default_name))
         where = f"body {name!r}"
@@ -138,8 +158,61 @@ class BodyModel:
         fixed = attrs.get("fixed", False)
         if not isinstance(fixed, (bool, np.bool_)):
             raise InputError(f"{where}: fixed must be true or false, got {fixed!r}")
+        extra = {k: attribute_value(v, f"{where}: {k}") for k, v in attrs.items()
+                 if k not in BODY_KEYS and check_attribute(k, where) and v is not None}
         return cls(name=name, mass=mass, alpha=alpha, r=tuple(r), p=tuple(p), nu=nu, m=m,
-                   fixed=bool(fixed), magnet=magnet)
+                   fixed=bool(fixed), magnet=magnet, extra=extra)
+
+
+def declared_attributes() -> dict[str, list[str]]:
+    """Body attributes the registered pair potentials declare (``body_params``), each with
+    the names of the potentials that read it (``mass`` and ``alpha`` included when declared)."""
+    from poissonkit.plugin.contributions import PairPotential
+    from poissonkit.plugin.manager import entries
+
+    out: dict[str, list[str]] = {}
+    for entry in entries("potential").values():
+        if isinstance(entry, PairPotential):
+            for _param, attr, _which in entry.body_params:
+                out.setdefault(attr, []).append(entry.name)
+    return out
+
+
+def check_attribute(key: str, where: str = "") -> bool:
+    """True if ``key`` is a body attribute: one a body understands (:data:`BODY_KEYS`) or one
+    a registered potential declares; otherwise an :class:`InputError` naming the key and listing
+    the declared attributes."""
+    if key in BODY_KEYS:
+        return True
+    if key in declared_attributes():
+        return True
+    prefix = f"{where}: " if where else ""
+    raise InputError(f"{prefix}unknown body attribute {key!r}; {allowed_attributes()}")
+
+
+def allowed_attributes() -> str:
+    """What a body may carry, for error messages: its own fields and the declared attributes."""
+    extra = sorted(set(declared_attributes()) - set(BODY_KEYS))
+    return (f"allowed: {', '.join(BODY_KEYS)}; and attributes the registered potentials "
+            f"declare (body_params): {', '.join(extra) if extra else 'none'}")
+
+
+def attribute_value(value: object, where: str) -> AttrValue:
+    """A declared attribute's value: a finite number, or a non-empty vector of finite numbers."""
+    if isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{where} must be a number or a list of numbers, got {value!r}")
+    if isinstance(value, (int, float, np.integer, np.floating)):
+        x = float(value)
+        if not math.isfinite(x):
+            raise InputError(f"{where} must be finite, got {value!r}")
+        return x
+    try:
+        v = np.asarray(value, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise InputError(f"{where} must be a number or a list of numbers, got {value!r}") from None
+    if v.size == 0 or not np.all(np.isfinite(v)):
+        raise InputError(f"{where} must be a non-empty list of finite numbers, got {value!r}")
+    return tuple(float(x) for x in v)
 
 
 def _complete_magnet(mag: dict[str, float]) -> dict[str, float]:
@@ -157,15 +230,31 @@ def _complete_magnet(mag: dict[str, float]) -> dict[str, float]:
     return mag
 
 
-def pair_params(entry: Any, first: BodyModel, second: BodyModel,
-                given: Mapping[str, Any] | None = None, *, where: str = "") -> dict[str, Any]:
+def pair_params(entry: PairPotential, first: BodyModel, second: BodyModel,
+                given: Mapping[str, ParamValue] | None = None, *, where: str = ""
+                ) -> dict[str, ParamValue]:
     """Parameters of potential ``entry`` for the pair (first, second).
 
-    Explicit values in ``given`` win; a parameter ``<base>1``/``<base>2`` not given is taken from
-    the first/second body's attribute ``<base>``; the rest fall back to the entry's defaults
-    (``entry.resolve_params`` validates everything and raises naming the parameter).
+    Explicit values in ``given`` win; a parameter the entry declares in ``body_params`` is
+    taken from the named attribute of the first/second body; a parameter ``<base>1``/``<base>2``
+    not given is taken from the first/second body's attribute ``<base>``; the rest fall back to
+    the entry's defaults (``entry.resolve_params`` validates everything and raises naming the
+    parameter).
     """
-    values: dict[str, Any] = dict(given or {})
+    values: dict[str, ParamValue] = dict(given or {})
+    for name, attr, which in entry.body_params:
+        if name not in values:
+            body = first if which == 1 else second
+            value = body.attr(attr)
+            declared = next((p for p in entry.params if p.name == name), None)
+            if value is None and declared is not None and (declared.default is not None
+                                                           or declared.optional):
+                continue  # the potential's default applies
+            if value is None:
+                raise InputError(f"{where}body {body.name!r} has no {attr!r}, which "
+                                 f"{entry.name} reads from each body (parameter {name!r}); "
+                                 f"give the body a {attr!r} or the pair a {name!r}")
+            values[name] = value
     for param in entry.params:
         if param.name in values or param.name[-1:] not in ("1", "2"):
             continue

@@ -2,13 +2,22 @@
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import networkx as nx
+import numpy as np
 
 from poissonkit.errors import PoissonkitError, SceneError
 from poissonkit.numerics.runspec import RunSpec
+from poissonkit.scene.bodies import BodyModel
 from poissonkit.scene.schema import Scene
+
+if TYPE_CHECKING:
+    from poissonkit.numerics.events import Contact
+    from poissonkit.numerics.nbody import NBodySystem
+    from poissonkit.numerics.units import Scales
 
 
 def scene_graph(scene: Scene) -> nx.Graph:
@@ -52,51 +61,151 @@ def scene_graph(scene: Scene) -> nx.Graph:
     return G
 
 
-def build_run(scene: Scene) -> RunSpec:
-    """Everything ``poissonkit run`` needs to integrate the scene.
+@dataclass(frozen=True)
+class BuiltScene:
+    """A scene turned into numbers: what runs and sweeps integrate.
 
-    The bodies and pairs are built by :mod:`poissonkit.scene.assembly` (the same path as any assembly); if the
-    scene has a ``[planner]`` the magnet pairs get the cheapest model within its force tolerance
-    at t = 0 (the plan is in ``metadata["plan"]``; re-planning during the run is
-    :func:`poissonkit.scene.planner.run_planned`). Durations and steps are converted to the
-    system's internal time unit; ``metadata`` keeps the SI values.
+    Attributes
+    ----------
+    system
+        The numerics system (:class:`~poissonkit.numerics.nbody.NBodySystem`).
+    y0
+        Initial state vector (internal units).
+    bodies
+        The validated body models, in node order (after the planner's changes, if any).
+    t_end, step
+        Duration and fixed step (``None``: adaptive) in internal time units.
+    plan
+        The planner's report at t = 0 (``None`` without a ``[planner]``).
+    """
+
+    system: NBodySystem
+    y0: np.ndarray
+    bodies: list[BodyModel]
+    t_end: float
+    step: float | None
+    plan: Mapping[str, object] | None = None
+
+    @property
+    def scales(self) -> Scales | None:
+        """The system's internal units (``None``: SI numbers as given)."""
+        return self.system.scales
+
+    @property
+    def time_unit(self) -> float:
+        """SI value of the internal time unit [s]."""
+        return self.scales.time if self.scales is not None else 1.0
+
+    @property
+    def length_unit(self) -> float:
+        """SI value of the internal length unit [m]."""
+        return self.scales.length if self.scales is not None else 1.0
+
+
+def build_scene(scene: Scene, scales: Scales | str | None = "auto") -> BuiltScene:
+    """Build a scene's system, initial state and internal units: the one path runs
+    (:func:`build_run`) and sweeps (:class:`poissonkit.sweeps.scenes.TomlScene`) share.
+
+    Parameters
+    ----------
+    scene
+        A validated scene.
+    scales
+        ``"auto"`` (units from the scene, :func:`poissonkit.scene.assembly.auto_scales`), given
+        :class:`~poissonkit.numerics.units.Scales` (e.g. those of a sweep's first point, so
+        every point shares compiled kernels) or ``None`` (SI numbers as given).
+
+    Returns
+    -------
+    BuiltScene
+
+    Raises
+    ------
+    SceneError
+        Naming the scene, for anything that fails while building (a missing parameter, ...).
     """
     from poissonkit.scene.assembly import bodies_of, edges_of, pairs_of, state_of, system_of
 
+    direct = _all_pairs_direct(scene, scales)
+    if direct is not None:
+        return direct
     G = scene_graph(scene)
-    metadata: dict[str, Any] = {"scene": scene.name, "source": scene.source,
-                                "description": scene.description,
-                                "duration_s": scene.run.duration, "step_s": scene.run.step}
+    plan = None
     try:
         bodies = bodies_of(G)
         if scene.planner is not None:
             from poissonkit.scene.planner import Planner
 
             planner = Planner.from_spec(scene.planner)
-            bodies, pairs, plan = planner.prepare(bodies, edges_of(G))
-            metadata["plan"] = plan.report()
+            bodies, pairs, chosen = planner.prepare(bodies, edges_of(G))
+            plan = chosen.report()
         else:
             pairs = pairs_of(G, bodies)
-        system = system_of(bodies, pairs, cutoff=scene.cutoff, scales="auto")
+        system = system_of(bodies, pairs, cutoff=scene.cutoff, scales=scales)
         y0 = state_of(bodies, system)
     except SceneError:
         raise
     except PoissonkitError as exc:
         raise SceneError(f"scene {scene.name!r}: {exc}") from None
-    time_unit = system.scales.time if system.scales is not None else 1.0
-    length_unit = system.scales.length if system.scales is not None else 1.0
-    events = () if scene.run.contact == "ignore" else contact_events(bodies, length_unit)
-    metadata["time_unit_s"] = time_unit
+    unit = system.scales.time if system.scales is not None else 1.0
+    step = None if scene.run.step is None else scene.run.step / unit
+    return BuiltScene(system, y0, bodies, scene.run.duration / unit, step, plan)
+
+
+def _all_pairs_direct(scene: Scene, scales: Scales | str | None) -> BuiltScene | None:
+    """A scene of bodies that all interact through one potential whose per-pair parameters
+    come from the bodies, built without listing its pairs (``None`` if it is not one)."""
+    from poissonkit.scene.assembly import all_pairs_system, state_of, uniform_all_pairs
+
+    if (scene.assembly is not None or scene.planner is not None or scene.pairs_mode != "all"
+            or scene.pairs or scene.potential is None):
+        return None
+    try:
+        bodies = [BodyModel.from_attrs(b, str(b.get("name", k)))
+                  for k, b in enumerate(scene.bodies)]
+        pair = uniform_all_pairs(bodies, scene.potential, scene.potential_params)
+        if pair is None:
+            return None
+        system = all_pairs_system(bodies, pair, cutoff=scene.cutoff, scales=scales)
+        y0 = state_of(bodies, system)
+    except SceneError:
+        raise
+    except PoissonkitError as exc:
+        raise SceneError(f"scene {scene.name!r}: {exc}") from None
+    unit = system.scales.time if system.scales is not None else 1.0
+    step = None if scene.run.step is None else scene.run.step / unit
+    return BuiltScene(system, y0, bodies, scene.run.duration / unit, step)
+
+
+def build_run(scene: Scene) -> RunSpec:
+    """Everything ``poissonkit run`` needs to integrate the scene.
+
+    The system is built by :func:`build_scene` (the same path as sweeps); if the scene has a
+    ``[planner]`` the magnet pairs get the cheapest model within its force tolerance at t = 0
+    (the plan is in ``metadata["plan"]``; re-planning during the run is
+    :func:`poissonkit.scene.planner.run_planned`). Durations and steps are converted to the
+    system's internal time unit; ``metadata`` keeps the SI values.
+    """
+    metadata: dict[str, Any] = {"scene": scene.name, "source": scene.source,
+                                "description": scene.description,
+                                "duration_s": scene.run.duration, "step_s": scene.run.step}
+    built = build_scene(scene)
+    if built.plan is not None:
+        metadata["plan"] = built.plan
+    system = built.system
+    events = () if scene.run.contact == "ignore" else contact_events(built.bodies,
+                                                                     built.length_unit)
+    metadata["time_unit_s"] = built.time_unit
     metadata["scales"] = None if system.scales is None else {
         "length": system.scales.length, "mass": system.scales.mass, "time": system.scales.time}
     return RunSpec(
-        name=scene.name, system=system, y0=y0, t_end=scene.run.duration / time_unit,
-        method=scene.run.method,
-        step=None if scene.run.step is None else scene.run.step / time_unit,
+        name=scene.name, system=system, y0=built.y0, t_end=built.t_end,
+        method=scene.run.method, step=built.step,
         tol=scene.run.tol, metadata=metadata, events=events, energy_tol=scene.run.energy_tol)
 
 
-def contact_events(bodies: Any, length_unit: float = 1.0) -> tuple[Any, ...]:
+def contact_events(bodies: Sequence[BodyModel], length_unit: float = 1.0
+                   ) -> tuple[Contact, ...]:
     """The default event of a scene: :class:`~poissonkit.numerics.events.Contact` of its
     finite-size bodies (magnets with ``radius`` and ``length``: cylinders; ``radius`` only:
     balls), in the system's internal length unit; ``()`` with fewer than two such bodies."""
@@ -104,7 +213,7 @@ def contact_events(bodies: Any, length_unit: float = 1.0) -> tuple[Any, ...]:
 
     shapes = []
     for b in bodies:
-        mag = getattr(b, "magnet", None) or {}
+        mag = b.magnet
         radius = float(mag.get("radius", 0.0))
         if radius > 0:
             shapes.append(BodyShape(b.name, radius / length_unit,

@@ -23,9 +23,6 @@ PAIR_KEYS = ("bodies", "potential", "params")
 ASSEMBLY_KEYS = ("name", "params", "overrides")
 RUN_KEYS = ("method", "step", "tol", "duration", "save_every", "energy_tol", "contact")
 PLANNER_KEYS = ("tol", "models", "replan_every", "hysteresis", "cutoff")
-#: Most bodies a scene file may declare or assemble: setting a scene up checks every pair
-#: (overlaps, all-pairs interaction graphs), so ``n = 1000000`` must be refused, not built.
-MAX_BODIES = 1000
 #: Integer assembly parameters that count bodies (their product is the assembly's size).
 _COUNT_PARAMS = ("n", "nx", "ny", "nz")
 
@@ -165,6 +162,26 @@ def _vector(value: Any, where: str) -> tuple[float, float, float]:
     return tuple(_number(v, f"{where}[{k}]") for k, v in enumerate(value))  # type: ignore[return-value]
 
 
+def _body_keys(table: Mapping[str, Any], where: str) -> None:
+    """Every key of a body table is a body field or an attribute a registered potential
+    declares (``PairPotential.body_params``); the error names the key and lists those."""
+    from poissonkit.scene.bodies import allowed_attributes, declared_attributes
+
+    for key in table:
+        if key not in BODY_KEYS and key not in declared_attributes():
+            prefix = f"{where}.{key}" if where else key
+            raise SceneError(f"{prefix}: unknown key; {allowed_attributes()}")
+
+
+def _attribute(value: Any, where: str) -> float | tuple[float, ...]:
+    """A declared body attribute: a number or a non-empty list of numbers."""
+    if isinstance(value, list) and value:
+        return tuple(_number(v, f"{where}[{k}]") for k, v in enumerate(value))
+    if isinstance(value, list):
+        raise SceneError(f"{where}: must be a number or a non-empty list of numbers, got []")
+    return _number(value, where)
+
+
 def _params(value: Any, where: str) -> dict[str, Any]:
     table = _table(value, where)
     out: dict[str, Any] = {}
@@ -192,7 +209,7 @@ def _lookup(kind: str, name: str, where: str):
 
 def _body(raw: Any, defaults: Mapping[str, Any], where: str) -> dict[str, Any]:
     table = _table(raw, where)
-    _keys(table, BODY_KEYS, where)
+    _body_keys(table, where)
     merged = {**defaults, **table}
     out: dict[str, Any] = {}
     if "name" in merged:
@@ -227,6 +244,9 @@ def _body(raw: Any, defaults: Mapping[str, Any], where: str) -> dict[str, Any]:
         if not isinstance(merged["fixed"], bool):
             raise SceneError(f"{where}.fixed: must be true or false, got {merged['fixed']!r}")
         out["fixed"] = merged["fixed"]
+    for key in merged:
+        if key not in BODY_KEYS:  # declared by a potential (checked by _body_keys)
+            out[key] = _attribute(merged[key], f"{where}.{key}")
     return out
 
 
@@ -285,7 +305,7 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
     if not isinstance(description, str):
         raise SceneError(f"description: must be a string, got {description!r}")
     defaults = _table(data.get("defaults", {}), "defaults")
-    _keys(defaults, BODY_KEYS, "defaults")
+    _body_keys(defaults, "defaults")
     if "bodies" in data and "assembly" in data:
         raise SceneError("bodies, assembly: give one of them, not both")
     if "bodies" not in data and "assembly" not in data:
@@ -298,8 +318,7 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
         raw = data["bodies"]
         if not isinstance(raw, list) or not raw:
             raise SceneError("bodies: must be a non-empty array of tables ([[bodies]])")
-        if len(raw) > MAX_BODIES:
-            raise SceneError(f"bodies: {len(raw)} bodies, at most {MAX_BODIES} in a scene file")
+        check_size(len(raw), _pair_count(len(raw), data), "bodies")
         bodies = tuple(_body(b, defaults, f"bodies[{k}]") for k, b in enumerate(raw))
         seen: dict[str, int] = {}
         for k, b in enumerate(bodies):
@@ -323,12 +342,14 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
             value = resolved.get(key)
             if isinstance(value, int) and not isinstance(value, bool) and value > 0:
                 size *= value
-                if size > MAX_BODIES:
-                    raise SceneError(f"assembly.params.{key}: the assembly would have more than "
-                                     f"{MAX_BODIES} bodies (got {key} = {value})")
+        # an assembly may join every pair: count them all (the graph holds each edge)
+        check_size(size, size * (size - 1) // 2, "assembly.params")
         assembly = (aname, aparams)
         overrides = dict(_table(table.get("overrides", {}), "assembly.overrides"))
-        _keys(overrides, BODY_KEYS, "assembly.overrides")
+        _body_keys(overrides, "assembly.overrides")
+        for key in list(overrides):
+            if key not in BODY_KEYS:
+                overrides[key] = _attribute(overrides[key], f"assembly.overrides.{key}")
 
     inter = _table(data.get("interactions", {}), "interactions")
     _keys(inter, INTERACTION_KEYS, "interactions")
@@ -393,12 +414,57 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
     return scene
 
 
+def _pair_count(n: int, data: Mapping[str, Any]) -> int:
+    """Pairs a scene of ``n`` bodies holds while it is built: the listed ones with
+    ``interactions.pairs = "listed"``; none when every pair interacts through one potential
+    that reads its per-pair parameters from the bodies (``body_params``, e.g. gravity: built
+    as one all-pairs interaction, see :func:`poissonkit.scene.build.build_scene`); else every
+    pair."""
+    inter = data.get("interactions", {})
+    if not isinstance(inter, Mapping):
+        return n * (n - 1) // 2
+    listed = inter.get("pair", [])
+    if inter.get("pairs", "all") == "listed":
+        return len(listed) if isinstance(listed, list) else 0
+    potential = inter.get("potential")
+    if (not listed and "planner" not in data and isinstance(potential, str)
+            and _reads_bodies(potential)):
+        return 0
+    return n * (n - 1) // 2
+
+
+def _reads_bodies(potential: str) -> bool:
+    """True if the registered potential takes per-pair parameters from the bodies."""
+    from poissonkit.plugin.contributions import PairPotential
+    from poissonkit.plugin.manager import entries
+
+    entry = entries("potential").get(potential)
+    return isinstance(entry, PairPotential) and bool(entry.body_params)
+
+
+def check_size(bodies: int, pairs: int, where: str) -> None:
+    """Refuse a scene whose set-up would not fit in memory (:mod:`poissonkit.scene.limits`).
+
+    Raises
+    ------
+    SceneTooLargeError
+        Naming the estimate and the memory it was compared with.
+    """
+    from poissonkit.scene.limits import check_memory
+
+    check_memory(bodies, pairs, where)
+
+
 def check_overlaps(bodies, where: str = "bodies") -> None:
     """Raise :class:`SceneError` naming the first two bodies that overlap at t = 0.
 
     ``bodies`` are attribute mappings (``r``, optional ``nu``, ``radius``, ``length`` /
-    ``half_length``, ``name``).
+    ``half_length``, ``name``). Only pairs whose bounding spheres meet (or whose centres
+    coincide) get the exact shape test, found with a k-d tree, so large scenes check fast.
     """
+    import numpy as np
+    from scipy.spatial import cKDTree
+
     from poissonkit.scene.geometry import overlapping, shape_of
 
     bodies = list(bodies)
@@ -406,12 +472,20 @@ def check_overlaps(bodies, where: str = "bodies") -> None:
     for b in bodies:
         half = b.get("half_length", b.get("length", 0.0) / 2)
         shapes.append(shape_of(b["r"], b.get("nu"), b.get("radius", 0.0), half))
-    for i in range(len(shapes)):
-        for j in range(i + 1, len(shapes)):
-            a, c = shapes[i], shapes[j]
-            coincident = all(x == y for x, y in zip(a.center, c.center))
-            if coincident or ((a.kind != "point" or c.kind != "point") and overlapping(a, c)):
-                raise SceneError(
-                    f"{where}[{j}].r: body {bodies[j].get('name', j)!r} overlaps body "
-                    f"{bodies[i].get('name', i)!r} ({where}[{i}]) at t = 0 (their r, radius "
-                    "and length decide)")
+    if len(shapes) < 2:
+        return
+    centers = np.array([s.center for s in shapes], dtype=float)
+    bound = np.array([s.bounding_radius for s in shapes], dtype=float)
+    reach = 2 * float(bound.max())
+    # the tree finds every pair within reach (coincident centres at distance 0 included);
+    # a small relative pad keeps round-off from hiding a touching pair
+    reach += 1e-9 * (reach + float(np.abs(centers).max()))
+    near = cKDTree(centers).query_pairs(reach, output_type="ndarray")
+    for i, j in sorted((int(a), int(b)) for a, b in near):  # (i, j) order: first pair named
+        a, c = shapes[i], shapes[j]
+        coincident = bool(np.all(a.center == c.center))
+        if coincident or ((a.kind != "point" or c.kind != "point") and overlapping(a, c)):
+            raise SceneError(
+                f"{where}[{j}].r: body {bodies[j].get('name', j)!r} overlaps body "
+                f"{bodies[i].get('name', i)!r} ({where}[{i}]) at t = 0 (their r, radius "
+                "and length decide)")

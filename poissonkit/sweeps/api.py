@@ -11,7 +11,8 @@ import numpy as np
 
 from poissonkit.errors import InputError
 from poissonkit.sweeps.execute import execute, make_client, resolve_units
-from poissonkit.sweeps.outcomes import OUTCOMES, resolve_outcomes
+from poissonkit.contracts import SweepScene
+from poissonkit.sweeps.outcomes import outcome_entries, resolve_outcomes
 from poissonkit.sweeps.params import Axis, Range, design_from
 from poissonkit.sweeps.scenes import sweep_scene
 from poissonkit.sweeps.store import (
@@ -23,7 +24,7 @@ from poissonkit.sweeps.store import (
 )
 
 
-def sweep(scene: Any, params: Sequence[Axis | Range | str] | Mapping[str, Any],
+def sweep(scene: SweepScene | str | Path, params: Sequence[Axis | Range | str] | Mapping[str, Any],
           outcomes: Sequence[str] | str | None = None, client: Any = None,
           store: str | Path | None = None, *, scheduler: str | None = None,
           workers: int | None = None, samples: int | None = None, seed: int = 0,
@@ -36,8 +37,9 @@ def sweep(scene: Any, params: Sequence[Axis | Range | str] | Mapping[str, Any],
     ----------
     scene
         A registered scene name (e.g. ``"seed000"``, swept through its entry's ``sweep``
-        factory), the path of a TOML scene file, or a ready sweep scene
-        (:class:`~poissonkit.sweeps.scenes.TomlScene` or a plugin's, e.g.
+        factory), the path of a TOML scene file, or a ready
+        :class:`~poissonkit.contracts.SweepScene` (a
+        :class:`~poissonkit.sweeps.scenes.TomlScene` or a plugin's, e.g.
         ``poissonkit_magnets.seed000_sweep.SeedScene``).
     params
         Swept parameters by path (``docs/sweeps.md``): :func:`~poissonkit.sweeps.params.grid`
@@ -45,7 +47,8 @@ def sweep(scene: Any, params: Sequence[Axis | Range | str] | Mapping[str, Any],
         (``"tilt=0:0.2:5"``), or a mapping ``{path: values}``; with ``samples``, ranges
         ``{path: (low, high)}`` for a seeded random design.
     outcomes
-        Names from :data:`~poissonkit.sweeps.outcomes.OUTCOMES` (default: all but ``megno``).
+        Names from :data:`~poissonkit.sweeps.outcomes.OUTCOMES`, built-in or registered by a
+        plugin's ``poissonkit_outcomes`` hook (default: the built-in ones but ``megno``).
     client
         A :class:`distributed.Client` of any cluster; otherwise ``scheduler`` (an address) or a
         new local cluster of ``workers`` processes on the loopback interface.
@@ -86,6 +89,7 @@ def sweep(scene: Any, params: Sequence[Axis | Range | str] | Mapping[str, Any],
     sc = sweep_scene(scene, **scene_options)
     design = design_from(params, samples=samples, seed=seed)
     names = resolve_outcomes(outcomes)
+    chosen = outcome_entries(names)
     units = resolve_units(sc, design.paths)
     attrs = {**sc.settings(), "scene_key": sc.key, "design": json.dumps(design.describe()),
              "outcomes": ",".join(names), "poissonkit_version": __version__,
@@ -123,8 +127,8 @@ def sweep(scene: Any, params: Sequence[Axis | Range | str] | Mapping[str, Any],
         flat = np.array([r[0] for r in results], dtype=np.int64)
         index = np.unravel_index(flat, shape)
         values: dict[str, np.ndarray] = {}
-        for n in names:
-            o = OUTCOMES[n]
+        for o in chosen:
+            n = o.name
             col = [o.fill if r[1] is None else r[1][n] for r in results]
             values[n] = np.asarray(col, dtype=o.dtype)
         values["failed"] = np.array([r[1] is None for r in results])
@@ -140,7 +144,7 @@ def sweep(scene: Any, params: Sequence[Axis | Range | str] | Mapping[str, Any],
 
     c, close = make_client(client, scheduler, workers)
     try:
-        execute(sc, todo, names, c, on_results=on_results, batch_size=batch_size,
+        execute(sc, todo, chosen, c, on_results=on_results, batch_size=batch_size,
                 retries=retries, progress=progress, total=total, done=done, failures=failures)
     finally:
         close()

@@ -23,7 +23,9 @@ from typing import Any
 
 import numpy as np
 
+from poissonkit.contracts import SweepScene
 from poissonkit.errors import InputError, MissingDependencyError
+from poissonkit.plugin.contributions import OutcomeEntry
 
 #: What each worker process has built, by scene key (see :func:`run_batch`).
 _PREPARED: dict[str, Any] = {}
@@ -36,7 +38,7 @@ def builds() -> dict[str, int]:
     return dict(_BUILDS)
 
 
-def _prepared(scene: Any) -> Any:
+def _prepared(scene: SweepScene) -> Mapping[str, object]:
     key = scene.key
     if key not in _PREPARED:
         _PREPARED[key] = scene.prepare()
@@ -44,17 +46,19 @@ def _prepared(scene: Any) -> Any:
     return _PREPARED[key]
 
 
-def run_batch(scene: Any, points: Sequence[tuple[int, Mapping[str, float]]],
-              outcomes: Sequence[str]) -> list[tuple[int, dict[str, Any] | None, str]]:
+def run_batch(scene: SweepScene, points: Sequence[tuple[int, Mapping[str, float]]],
+              outcomes: Sequence[str | OutcomeEntry]
+              ) -> list[tuple[int, dict[str, object] | None, str]]:
     """Run a batch of points on a worker: ``[(flat index, outcomes or None, error message)]``.
 
-    An exception inside one run is that point's failure (message kept); it does not stop the
-    batch.
+    ``outcomes`` are registry names or the entries themselves (the client sends entries, so
+    a plugin's outcome needs no plugin on the workers). An exception inside one run is that
+    point's failure (message kept); it does not stop the batch.
     """
     from poissonkit.sweeps.outcomes import reduce_run
 
     prep = _prepared(scene)
-    out: list[tuple[int, dict[str, Any] | None, str]] = []
+    out: list[tuple[int, dict[str, object] | None, str]] = []
     for idx, values in points:
         try:
             rec = scene.run(prep, values)
@@ -144,7 +148,8 @@ def batches(todo: Sequence[tuple[int, dict[str, float]]], n_workers: int,
     return [list(todo[k:k + batch_size]) for k in range(0, len(todo), batch_size)]
 
 
-def execute(scene: Any, todo: Sequence[tuple[int, dict[str, float]]], outcomes: Sequence[str],
+def execute(scene: SweepScene, todo: Sequence[tuple[int, dict[str, float]]],
+            outcomes: Sequence[str | OutcomeEntry],
             client: Any, *, on_results: Callable[[list[tuple[int, Any, str]]], None],
             batch_size: int | None = None, retries: int = 2,
             progress: bool = True, total: int | None = None, done: int = 0,
@@ -186,7 +191,7 @@ def execute(scene: Any, todo: Sequence[tuple[int, dict[str, float]]], outcomes: 
         bar.close()
 
 
-def resolve_units(scene: Any, paths: Iterable[str]) -> dict[str, str]:
+def resolve_units(scene: SweepScene, paths: Iterable[str]) -> dict[str, str]:
     """Units of each swept parameter (validates the paths first)."""
     out = {}
     for p in paths:

@@ -1,7 +1,10 @@
 """The outcome registry: what one run is reduced to in a sweep.
 
-Every entry has a name, a numpy dtype, SI units, a fill value for points not computed, a
-description, and a function of the :class:`~poissonkit.sweeps.scenes.RunRecord`. Choose them with
+Every entry (:class:`~poissonkit.plugin.contributions.OutcomeEntry`) has a name, a numpy dtype,
+SI units, a fill value for points not computed, a description, and a function of the
+:class:`~poissonkit.sweeps.scenes.RunRecord`. Entries come from the plugin hook
+``poissonkit_outcomes``: the built-in ones below are registered through it
+(:mod:`poissonkit.sweeps.builtin`) like any plugin's. Choose them with
 ``sweep(..., outcomes=[...])`` or ``poissonkit sweep --outcomes a,b``; unknown names fail with the
 list of available ones. Drifts are the maxima over the run of the relative diagnostics of
 :mod:`poissonkit.numerics.diagnostics`, under the same names as in ``summary.json``.
@@ -10,42 +13,23 @@ list of available ones. Drifts are the maxima over the run of the relative diagn
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass
-from typing import Any
+from collections.abc import Callable, Iterable, Iterator, Mapping
 
 import numpy as np
 
 from poissonkit.errors import UnknownNameError
+from poissonkit.plugin.contributions import OutcomeEntry
 from poissonkit.sweeps.scenes import FATES, RunRecord
 
 
-@dataclass(frozen=True)
-class Outcome:
-    """A registered outcome.
+#: A registered outcome (the registry entry type; ``description`` and ``units`` read its
+#: ``doc`` and ``unit``).
+Outcome = OutcomeEntry
 
-    Attributes
-    ----------
-    name
-        Variable name in the dataset.
-    dtype
-        numpy dtype of the variable.
-    units
-        SI units (``"1"`` for dimensionless).
-    fill
-        Value of points not (yet) computed or failed.
-    description
-        One line, stored as the variable's ``long_name``.
-    compute
-        ``RunRecord -> value``.
-    """
 
-    name: str
-    dtype: str
-    units: str
-    fill: Any
-    description: str
-    compute: Callable[[RunRecord], Any]
+def _outcome(name: str, dtype: str, unit: str, fill: object, doc: str,
+             compute: Callable[[RunRecord], object]) -> OutcomeEntry:
+    return OutcomeEntry(name=name, doc=doc, dtype=dtype, unit=unit, fill=fill, compute=compute)
 
 
 def _max(a: np.ndarray) -> float:
@@ -70,41 +54,62 @@ def _megno(rec: RunRecord) -> float:
     return megno(system, y0, t_end, method=method, step=step)
 
 
-_ENTRIES = (
-    Outcome("fate", "i1", "1", -1,
-            "fate of the run: 0 bounded, 1 collision, 2 escape (-1 not computed)",
-            lambda r: FATES.index(r.fate)),
-    Outcome("fate_time", "f8", "s", math.nan,
-            "time of the collision or escape (nan if bounded)", lambda r: r.fate_time),
-    Outcome("end_time", "f8", "s", math.nan, "time the run reached (the event time if one fired)",
-            lambda r: float(np.asarray(r.solution.t)[-1]) * r.time_unit),
-    Outcome("min_distance", "f8", "m", math.nan,
-            "smallest centre distance between two bodies during the run",
-            lambda r: float(np.min(r.distance)) if len(r.distance) else math.nan),
-    Outcome("max_rel_energy_error", "f8", "1", math.nan,
-            "largest relative energy error |H(t) - H(0)| / |H(0)|",
-            lambda r: _max(r.solution.energy_error())),
-    Outcome("max_rel_casimir_drift", "f8", "1", math.nan,
-            "largest relative Casimir drift max_k |C_k(t) - C_k(0)| / s_k (|nu|^2 -> 1, "
-            "nu.m -> |m| of every top)",
-            lambda r: _max(r.solution.casimir_drift())),
-    Outcome("max_rel_angular_momentum_drift", "f8", "1", math.nan,
-            "largest drift of the total angular momentum |j(t) - j(0)| / "
-            "(sum |r_i x p_i| + sum |m_k| at t = 0)",
-            lambda r: _max(r.solution.angular_momentum_drift())),
-    Outcome("final_energy", "f8", "J", math.nan, "total energy at the end of the run",
-            lambda r: float(np.asarray(r.solution.energy())[-1]) * r.energy_unit),
-    Outcome("final_angular_momentum", "f8", "kg m^2/s", math.nan,
-            "|total angular momentum| at the end of the run", _final_angular_momentum),
-    Outcome("megno", "f8", "1", math.nan,
-            "mean MEGNO <Y> from two nearby runs (about 2 regular, grows when chaotic)", _megno),
+#: The built-in outcomes (registered by :mod:`poissonkit.sweeps.builtin`).
+BUILTIN_OUTCOMES: tuple[OutcomeEntry, ...] = (
+    _outcome("fate", "i1", "1", -1,
+             "fate of the run: 0 bounded, 1 collision, 2 escape (-1 not computed)",
+             lambda r: FATES.index(r.fate)),
+    _outcome("fate_time", "f8", "s", math.nan,
+             "time of the collision or escape (nan if bounded)", lambda r: r.fate_time),
+    _outcome("end_time", "f8", "s", math.nan, "time the run reached (the event time if one fired)",
+             lambda r: float(np.asarray(r.solution.t)[-1]) * r.time_unit),
+    _outcome("min_distance", "f8", "m", math.nan,
+             "smallest centre distance between two bodies during the run",
+             lambda r: float(np.min(r.distance)) if len(r.distance) else math.nan),
+    _outcome("max_rel_energy_error", "f8", "1", math.nan,
+             "largest relative energy error |H(t) - H(0)| / |H(0)|",
+             lambda r: _max(r.solution.energy_error())),
+    _outcome("max_rel_casimir_drift", "f8", "1", math.nan,
+             "largest relative Casimir drift max_k |C_k(t) - C_k(0)| / s_k (|nu|^2 -> 1, "
+             "nu.m -> |m| of every top)",
+             lambda r: _max(r.solution.casimir_drift())),
+    _outcome("max_rel_angular_momentum_drift", "f8", "1", math.nan,
+             "largest drift of the total angular momentum |j(t) - j(0)| / "
+             "(sum |r_i x p_i| + sum |m_k| at t = 0)",
+             lambda r: _max(r.solution.angular_momentum_drift())),
+    _outcome("final_energy", "f8", "J", math.nan, "total energy at the end of the run",
+             lambda r: float(np.asarray(r.solution.energy())[-1]) * r.energy_unit),
+    _outcome("final_angular_momentum", "f8", "kg m^2/s", math.nan,
+             "|total angular momentum| at the end of the run", _final_angular_momentum),
+    _outcome("megno", "f8", "1", math.nan,
+             "mean MEGNO <Y> from two nearby runs (about 2 regular, grows when chaotic)", _megno),
 )
 
-#: Every outcome by name.
-OUTCOMES: Mapping[str, Outcome] = {o.name: o for o in _ENTRIES}
 
-#: Outcomes computed when none are chosen (MEGNO doubles the cost; ask for it).
-DEFAULT_OUTCOMES: tuple[str, ...] = tuple(n for n in OUTCOMES if n != "megno")
+
+class _Registry(Mapping[str, OutcomeEntry]):
+    """Every registered outcome by name (read from the plugin registry at each use)."""
+
+    def _entries(self) -> dict[str, OutcomeEntry]:
+        from poissonkit.plugin.manager import entries
+
+        return {k: v for k, v in entries("outcome").items() if isinstance(v, OutcomeEntry)}
+
+    def __getitem__(self, name: str) -> OutcomeEntry:
+        return self._entries()[name]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._entries())
+
+    def __len__(self) -> int:
+        return len(self._entries())
+
+
+#: Every registered outcome by name (built-in and from plugins).
+OUTCOMES: Mapping[str, OutcomeEntry] = _Registry()
+
+#: Outcomes computed when none are chosen: the built-in ones but MEGNO (it doubles the cost).
+DEFAULT_OUTCOMES: tuple[str, ...] = tuple(o.name for o in BUILTIN_OUTCOMES if o.name != "megno")
 
 
 def resolve_outcomes(names: Iterable[str] | str | None) -> tuple[str, ...]:
@@ -128,6 +133,14 @@ def resolve_outcomes(names: Iterable[str] | str | None) -> tuple[str, ...]:
     return tuple(out)
 
 
-def reduce_run(rec: RunRecord, names: Iterable[str]) -> dict[str, Any]:
-    """Every chosen outcome of one run."""
-    return {n: OUTCOMES[n].compute(rec) for n in names}
+def outcome_entries(names: Iterable[str]) -> tuple[OutcomeEntry, ...]:
+    """The registry entries of validated names (sent to the workers with each batch, so a
+    plugin's outcome works on workers where that plugin is not installed as an entry point)."""
+    found = dict(OUTCOMES)
+    return tuple(found[n] for n in names)
+
+
+def reduce_run(rec: RunRecord, names: Iterable[str | OutcomeEntry]) -> dict[str, object]:
+    """Every chosen outcome of one run (by name or entry)."""
+    chosen = [n if isinstance(n, OutcomeEntry) else OUTCOMES[n] for n in names]
+    return {o.name: o.compute(rec) for o in chosen}

@@ -23,11 +23,19 @@ import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from poissonkit.contracts import SweepScene
 from poissonkit.errors import InputError, SceneError, UnknownNameError
+
+if TYPE_CHECKING:
+    from poissonkit.numerics.nbody import NBodySystem
+    from poissonkit.numerics.solution import Solution
+    from poissonkit.numerics.units import Scales
+    from poissonkit.scene.bodies import BodyModel
+    from poissonkit.scene.schema import Scene
 
 #: Codes of the ``fate`` outcome (stored as integers; ``-1`` marks a point not computed).
 FATES: tuple[str, ...] = ("bounded", "collision", "escape")
@@ -55,24 +63,27 @@ class RunRecord:
         ``(system, y0, t_end, method, step)`` for the chaos indicator's nearby run.
     """
 
-    solution: Any
+    solution: Solution
     fate: str
     fate_time: float
     distance: np.ndarray
     time_unit: float
     energy_unit: float
     angular_momentum_unit: float
-    megno_inputs: tuple[Any, ...] = ()
+    megno_inputs: tuple[object, ...] = ()
 
 
-def _units(scales: Any) -> tuple[float, float, float]:
+def record_units(scales: Scales | None) -> tuple[float, float, float]:
+    """SI values ``(time, energy, angular momentum)`` of the internal units of ``scales``
+    (``1, 1, 1`` for a system integrated in SI numbers): the units a :class:`RunRecord`
+    carries."""
     if scales is None:
         return 1.0, 1.0, 1.0
     return scales.time, scales.energy, scales.unit("angular_momentum")
 
 
-def _cut(sol: Any, k: int) -> Any:
-    """The solution up to (excluding) saved state ``k``: the part before contact."""
+def cut_solution(sol: Solution, k: int) -> Solution:
+    """The solution up to (excluding) saved state ``k``: the part before a contact."""
     from dataclasses import replace
 
     return replace(sol, t=np.asarray(sol.t)[:k], y=np.asarray(sol.y)[:k])
@@ -161,6 +172,30 @@ FIELD_UNITS: Mapping[str, str] = {
 }
 
 
+def declared_attributes() -> dict[str, list[str]]:
+    """Body attributes registered potentials declare (see
+    :func:`poissonkit.scene.bodies.declared_attributes`)."""
+    from poissonkit.scene.bodies import declared_attributes as declared
+
+    return declared()
+
+
+def attribute_unit(attr: str) -> str:
+    """SI unit of a declared body attribute: the unit of the first potential parameter that
+    reads it (``"1"`` if none says)."""
+    from poissonkit.plugin.contributions import PairPotential
+    from poissonkit.plugin.manager import entries
+
+    for entry in entries("potential").values():
+        if not isinstance(entry, PairPotential):
+            continue
+        for name, read, _which in entry.body_params:
+            unit = next((p.unit for p in entry.params if p.name == name), "")
+            if read == attr and unit:
+                return unit
+    return "1"
+
+
 @dataclass(frozen=True)
 class TomlScene:
     """A scene file (``docs/scenes.md``) whose numbers are addressed by path.
@@ -212,7 +247,7 @@ class TomlScene:
         fixed = repr(sorted((str(k), float(v)) for k, v in self.fixed.items()))
         return "toml:" + hashlib.sha256((self.text + fixed).encode()).hexdigest()[:16]
 
-    def settings(self) -> dict[str, Any]:
+    def settings(self) -> dict[str, object]:
         """Attributes recorded in the dataset."""
         run = self.raw.get("run", {})
         return {"scene": self.name, "scene_source": self.source, "scene_toml": self.text,
@@ -238,18 +273,22 @@ class TomlScene:
             present = False
         segs = [x for x in path.split(".") if not x.lstrip("-").isdigit()]
         if not present and not (segs[-1] in FIELD_UNITS or (len(segs) > 1 and segs[-2] ==
-                                                              "params")):
+                                                              "params")
+                                or segs[-1] in declared_attributes()):
             raise SceneError(f"{path}: not in scene {self.name!r} (give the path of a number, "
                              "e.g. bodies.<name>.mass, bodies.<name>.r.0, run.step)")
         set_path(copy.deepcopy(data), path, 1.0)
         return path
 
     def units(self, path: str) -> str:
-        """SI units of the values of ``path`` (from its field name)."""
+        """SI units of the values of ``path`` (from its field name, or for a body attribute a
+        potential declares, from that potential's parameter)."""
         segs = [s for s in path.split(".") if not s.lstrip("-").isdigit()]
-        return FIELD_UNITS.get(segs[-1], "1") if segs else "1"
+        if not segs:
+            return "1"
+        return FIELD_UNITS.get(segs[-1]) or attribute_unit(segs[-1])
 
-    def scene_with(self, values: Mapping[str, float]) -> Any:
+    def scene_with(self, values: Mapping[str, float]) -> Scene:
         """The validated :class:`~poissonkit.scene.Scene` with ``values`` set."""
         from poissonkit.scene import scene_from_mapping
 
@@ -258,7 +297,7 @@ class TomlScene:
             set_path(data, k, float(v))
         return scene_from_mapping(data, source=self.source)
 
-    def prepare(self) -> dict[str, Any]:
+    def prepare(self) -> dict[str, object]:
         """Build the scene once: its internal units, and its kernels compiled by a short run.
 
         Every point is then built in these same units, so points that differ only in geometry,
@@ -268,7 +307,7 @@ class TomlScene:
         moment compiles once per distinct value.
         """
         from poissonkit.numerics.solver import solve
-        from poissonkit.scene import build_run
+        from poissonkit.scene.build import build_run
 
         spec = build_run(self.scene_with({}))
         h = spec.step if spec.step is not None else spec.t_end / 1000
@@ -280,9 +319,13 @@ class TomlScene:
         """Integrate one point and classify its fate (shape contact, escape)."""
         from poissonkit.numerics.events import Escape
         from poissonkit.numerics.solver import solve
+        from poissonkit.scene.build import build_scene
 
         scene = self.scene_with(values)
-        system, y0, t_end, step, models = _build(scene, prep["scales"])
+        # the units of the first point, so every point shares its compiled kernels
+        built = build_scene(scene, prep["scales"])
+        system, y0, t_end, step, models = (built.system, built.y0, built.t_end, built.step,
+                                           built.bodies)
         L = system.scales.length if system.scales is not None else 1.0
         moving = [b for b in models if not b.fixed]
         r0 = np.array([b.r for b in moving], dtype=float) / L
@@ -301,45 +344,18 @@ class TomlScene:
         if touch is not None:
             fate, fate_t = "collision", float(sol.t[touch])
             keep = max(touch + 1 if np.all(np.isfinite(pos[touch])) else touch, 1)
-            sol = _cut(sol, keep)
+            sol = cut_solution(sol, keep)
             pos = pos[:keep]
         r = pos[:, :, :3]
         d = np.linalg.norm(r[:, :, None, :] - r[:, None, :, :], axis=-1)
         iu = np.triu_indices(len(models), 1)
         dist = d[:, iu[0], iu[1]].min(axis=1) if iu[0].size else np.full(len(pos), np.nan)
-        tu, eu, ju = _units(system.scales)
+        tu, eu, ju = record_units(system.scales)
         return RunRecord(sol, fate, fate_t * tu if math.isfinite(fate_t) else math.nan, dist,
                          tu, eu, ju, (system, y0, float(sol.t[-1]), scene.run.method, step))
 
 
-def _build(scene: Any, scales: Any) -> tuple[Any, np.ndarray, float, float | None, list[Any]]:
-    """System, initial state, duration and step (internal units) and body models of a scene,
-    in the given internal units (as :func:`poissonkit.scene.build_run`, which picks its own)."""
-    from poissonkit.errors import PoissonkitError
-    from poissonkit.scene import scene_graph
-    from poissonkit.scene.assembly import bodies_of, edges_of, pairs_of, state_of, system_of
-
-    G = scene_graph(scene)
-    try:
-        bodies = bodies_of(G)
-        if scene.planner is not None:
-            from poissonkit.scene.planner import Planner
-
-            bodies, pairs, _plan = Planner.from_spec(scene.planner).prepare(bodies, edges_of(G))
-        else:
-            pairs = pairs_of(G, bodies)
-        system = system_of(bodies, pairs, cutoff=scene.cutoff, scales=scales)
-        y0 = state_of(bodies, system)
-    except SceneError:
-        raise
-    except PoissonkitError as exc:
-        raise SceneError(f"scene {scene.name!r}: {exc}") from None
-    tu = scales.time if scales is not None else 1.0
-    step = None if scene.run.step is None else scene.run.step / tu
-    return system, y0, scene.run.duration / tu, step, bodies
-
-
-def _all_positions(system: Any, models: list[Any], y: np.ndarray) -> np.ndarray:
+def _all_positions(system: NBodySystem, models: list[BodyModel], y: np.ndarray) -> np.ndarray:
     """Positions [m] of every body (fixed ones included) and axes, per saved state:
     shape ``(n, bodies, 6)`` = ``(r, nu)``."""
     parts = system.unpack(y, si=True)
@@ -360,7 +376,7 @@ def _all_positions(system: Any, models: list[Any], y: np.ndarray) -> np.ndarray:
     return out
 
 
-def _contact_index(models: list[Any], pos: np.ndarray) -> int | None:
+def _contact_index(models: list[BodyModel], pos: np.ndarray) -> int | None:
     """First saved state where two bodies' shapes touch (cylinders, balls), or ``None``."""
     from poissonkit.scene.geometry import overlapping, shape_of
 
@@ -387,12 +403,12 @@ def _contact_index(models: list[Any], pos: np.ndarray) -> int | None:
     return None
 
 
-def sweep_scene(scene: Any, **kw: Any) -> Any:
+def sweep_scene(scene: SweepScene | str | Path, **kw: object) -> SweepScene:
     """A sweep scene from a registered scene name, a TOML path or a ready sweep scene.
 
     A registered scene (by name, e.g. ``"seed000"`` of the magnets
     plugin) is swept through its entry's ``sweep`` factory, which receives ``kw``; a file is
-    wrapped in a :class:`TomlScene`. An object with ``prepare``/``run``/``check`` (a
+    wrapped in a :class:`TomlScene`. A :class:`~poissonkit.contracts.SweepScene` (a
     :class:`TomlScene` or a plugin's sweep scene) is returned as it is.
 
     Raises
@@ -403,7 +419,7 @@ def sweep_scene(scene: Any, **kw: Any) -> Any:
     UnknownNameError
         If ``scene`` is neither a file nor a registered scene name.
     """
-    if all(hasattr(scene, a) for a in ("prepare", "run", "check", "settings")):
+    if isinstance(scene, SweepScene):
         return scene
     if isinstance(scene, Path) or (isinstance(scene, str)
                                    and (scene.endswith(".toml") or Path(scene).exists())):
@@ -413,9 +429,13 @@ def sweep_scene(scene: Any, **kw: Any) -> Any:
         from poissonkit.plugin import registry
 
         entry = registry.scene(scene)
-        factory = getattr(entry, "sweep", None)
-        if factory is None:
+        if entry.sweep is None:
             raise SceneError(f"scene {scene!r} has no sweep support; sweep its TOML file instead")
-        return factory(**kw)
+        made = entry.sweep(**kw)
+        if not isinstance(made, SweepScene):
+            raise SceneError(f"scene {scene!r}: its sweep factory returned "
+                             f"{type(made).__name__}, not a sweep scene (key, settings, check, "
+                             "units, prepare, run)")
+        return made
     raise InputError(f"scene must be a registered scene name, a scene file path or a sweep "
                      f"scene, got {scene!r}")
