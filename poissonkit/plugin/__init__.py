@@ -6,6 +6,7 @@ from poissonkit.plugin.contributions import (
     Entry,
     IntegratorEntry,
     ModelFamily,
+    OutcomeEntry,
     PairPotential,
     Param,
     SceneEntry,
@@ -28,8 +29,8 @@ from poissonkit.plugin.registry import (
 )
 
 __all__ = [
-    "Assembly", "Capabilities", "Entry", "IntegratorEntry", "ModelFamily", "PairPotential",
-    "Param", "SceneEntry", "SystemEntry",
+    "Assembly", "Capabilities", "Entry", "IntegratorEntry", "ModelFamily", "OutcomeEntry",
+    "PairPotential", "Param", "SceneEntry", "SystemEntry",
     "assembly", "default_scene", "entries", "hookimpl", "integrator", "integrators", "lookup",
     "model_families", "model_family", "names", "plugin_manager",
     "plugin_reports", "potential", "reset", "scene", "system",

@@ -100,9 +100,14 @@ def estimated_error(model: str, r: float, body1: Mapping[str, Any],
     return float(family_of(model).estimate(model, r, body1, body2))
 
 
+#: Distances [m] beyond which (and below whose inverse) no threshold is searched: a model not
+#: within the tolerance at 1e30 m is never good enough, one good at 1e-30 m is always.
+BRACKET_LIMIT = 1e30
+
 def body_attributes(body: BodyModel) -> Mapping[str, Any]:
-    """The attributes of a body that model families read (its size and magnet data)."""
-    return body.magnet
+    """The attributes of a body that model families read: its magnet data (size, moment) and
+    every attribute the registered potentials declare (:attr:`BodyModel.extra`)."""
+    return {**body.extra, **body.magnet} if body.extra else body.magnet
 
 
 @dataclass(frozen=True)
@@ -165,7 +170,8 @@ class Planner:
     @classmethod
     def from_spec(cls, spec: PlannerSpec) -> Planner:
         """From a scene's :class:`~poissonkit.scene.schema.PlannerSpec`."""
-        return cls(tol=spec.tol, models=tuple(spec.models), hysteresis=spec.hysteresis,
+        models = None if spec.models is None else tuple(spec.models)
+        return cls(tol=spec.tol, models=models, hysteresis=spec.hysteresis,
                    cutoff=spec.cutoff, replan_every=spec.replan_every)
 
     # -- families
@@ -219,6 +225,12 @@ class Planner:
             return self._estimate(model, r, body1, body2) <= limit
 
         lo, hi = size * 1e-3, size * 1e7
+        # the bracket comes from the magnet size where there is one; for bodies whose size the
+        # planner cannot know (any other family) it widens by factors of 1e3 until it holds
+        while not ok(hi) and hi < BRACKET_LIMIT:
+            lo, hi = hi, hi * 1e3
+        while ok(lo) and lo > 1.0 / BRACKET_LIMIT:
+            lo, hi = lo * 1e-3, lo
         if ok(lo):
             out = 0.0
         elif not ok(hi):

@@ -45,7 +45,8 @@ class PlannerSpec:
     """The ``[planner]`` table: force tolerance, candidate models, re-planning cadence."""
 
     tol: float
-    models: tuple[str, ...] = ("dipole", "dumbbell", "cylinder")
+    #: Candidate potentials; ``None``: the default models of every registered model family.
+    models: tuple[str, ...] | None = None
     replan_every: int = 100
     hysteresis: float = 0.5
     cutoff: float | None = None
@@ -276,17 +277,17 @@ def _planner(raw: Any) -> PlannerSpec:
     if "tol" not in table:
         raise SceneError("planner.tol: missing (relative force tolerance)")
     tol = _number(table["tol"], "planner.tol", positive=True)
-    models = table.get("models", ["dipole", "dumbbell", "cylinder"])
-    if not isinstance(models, list) or not models:
+    models = table.get("models")  # absent: each registered model family's defaults
+    if models is not None and (not isinstance(models, list) or not models):
         raise SceneError(f"planner.models: must be a non-empty list of potential names, got {models!r}")
-    for k, name in enumerate(models):
+    for k, name in enumerate(models or ()):
         _lookup("potential", _string(name, f"planner.models[{k}]"), f"planner.models[{k}]")
     replan = _integer(table.get("replan_every", 100), "planner.replan_every")
     hyst = _number(table.get("hysteresis", 0.5), "planner.hysteresis", nonnegative=True)
     if hyst >= 1:
         raise SceneError(f"planner.hysteresis: must be in [0, 1), got {hyst!r}")
     cutoff = _number(table["cutoff"], "planner.cutoff", positive=True) if "cutoff" in table else None
-    return PlannerSpec(tol, tuple(models), replan, hyst, cutoff)
+    return PlannerSpec(tol, None if models is None else tuple(models), replan, hyst, cutoff)
 
 
 def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:

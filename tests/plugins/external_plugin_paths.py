@@ -41,8 +41,9 @@ with tempfile.TemporaryDirectory() as tmp:
     with open(os.path.join(folder, "summary.json")) as f:
         out["run_energy_error"] = json.load(f)["max_rel_energy_error"]
 ds = pk.sweep("dipole_pair", {"bodies.b.p.1": [6.0e-5, 6.25e-5]},
-              outcomes=["fate", "max_axis_tilt"], workers=1, progress=False, duration=0.5)
+              outcomes=["fate", "max_axis_tilt"], workers=1, progress=False, fixed={"run.duration": 0.5})
 out["sweep_completed"] = bool(ds["completed"].all())
+out["sweep_fate"] = [int(v) for v in ds["fate"].values]
 out["sweep_tilt"] = [float(v) for v in ds["max_axis_tilt"].values]
 params = {"charge1": Q, "charge2": Q, "dipole_length1": D, "dipole_length2": D}
 system = NBodySystem([Body("a", 1e-3, alpha=4.8e8), Body("b", 1e-3, alpha=4.8e8)],

@@ -147,12 +147,18 @@ def test_a_sweep_of_the_plugin_scene_reports_the_plugin_outcome(example_discover
 
     ds = pk.sweep("dipole_pair", {"bodies.b.p.1": [6.0e-5, 6.25e-5]},
                   outcomes=["fate", "max_axis_tilt", "max_rel_energy_error"], workers=1,
-                  progress=False, duration=0.5)
+                  progress=False, fixed={"run.duration": 0.5})
     assert bool(ds["completed"].all()) and not bool(ds["failed"].any())
+    # the slower start falls inwards until the dipoles' cylinders touch; the circular one stays
+    assert list(ds["fate"].values) == [1, 0]
     tilt = ds["max_axis_tilt"].values
     assert ds["max_axis_tilt"].attrs["units"] == "rad"
-    assert np.all(np.isfinite(tilt)) and np.all(tilt >= 0) and np.all(tilt < 0.5)
-    assert np.all(ds["max_rel_energy_error"].values < 1e-6)
+    assert np.all(np.isfinite(tilt)) and np.all((tilt >= 0) & (tilt <= np.pi))
+    # the circular orbit keeps its axes (the far dipole only nudges them)
+    assert tilt[1] < 0.05
+    # the bounded run keeps its energy; the infall up to the contact is recorded as it is
+    energy = ds["max_rel_energy_error"].values
+    assert energy[1] < 1e-8 and np.isfinite(energy[0])
 
 
 def test_solve_on_a_system_built_from_the_plugin_potentials(example_discoverable):

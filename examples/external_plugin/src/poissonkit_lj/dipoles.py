@@ -37,15 +37,16 @@ POINT_DIPOLE_C = 2.0
 R, C1, C2, C3 = sp.symbols("r c1 c2 c3", real=True)
 
 
-def _sizes(params: Mapping[str, Any]) -> tuple[float, float, float, float]:
-    return (float(params["charge1"]), float(params["dipole_length1"]),
-            float(params["charge2"]), float(params["dipole_length2"]))
+def _sizes(params: Mapping[str, Any]) -> tuple[Any, Any, Any, Any]:
+    """``(q1, d1, q2, d2)``: numbers, or sympy symbols where the numerics read them per body."""
+    return (params["charge1"], params["dipole_length1"], params["charge2"],
+            params["dipole_length2"])
 
 
 def finite_dipole_expr(params: Mapping[str, Any]) -> sp.Expr:
     """Exact Coulomb energy of two finite dipoles, in the symbols ``r, c1, c2, c3``."""
     q1, d1, q2, d2 = _sizes(params)
-    k = float(params.get("k", COULOMB_K))
+    k = params.get("k", COULOMB_K)
     total = sp.Integer(0)
     for s1 in (1, -1):
         for s2 in (1, -1):
@@ -58,7 +59,7 @@ def finite_dipole_expr(params: Mapping[str, Any]) -> sp.Expr:
 def point_dipole_expr(params: Mapping[str, Any]) -> sp.Expr:
     """Point-dipole energy ``k p_1 p_2 (c3 − 3 c1 c2)/r³`` with ``p_i = q_i d_i``."""
     q1, d1, q2, d2 = _sizes(params)
-    k = float(params.get("k", COULOMB_K))
+    k = params.get("k", COULOMB_K)
     return k * q1 * d1 * q2 * d2 * (C3 - 3 * C1 * C2) / R ** 3
 
 

@@ -150,7 +150,7 @@ def _dipole_scene(**_: Any):
 def _dipole_sweep(**options: Any):
     from poissonkit.sweeps.scenes import TomlScene
 
-    return TomlScene(_scene_path(), **options)
+    return TomlScene.from_file(_scene_path(), **options)
 
 
 DIPOLE_SCENE = SceneEntry(
