@@ -8,9 +8,17 @@ from typing import Any
 import numpy as np
 
 from poissonkit._display import html_table, latex_table, text_block
+from poissonkit.contracts import (
+    CompiledFrom,
+    HasBodyMomenta,
+    HasCasimirs,
+    HasEnergy,
+    HasLayout,
+    HasName,
+)
 from poissonkit.errors import InputError, MissingDependencyError
 from poissonkit.numerics import diagnostics
-from poissonkit.numerics.diagnostics import Drift, HasEnergy
+from poissonkit.numerics.diagnostics import Drift
 from poissonkit.numerics.events import EventRecord
 
 #: Invariants :meth:`Solution.plot` can draw: name -> (method, legend label).
@@ -86,13 +94,13 @@ class Solution:
         """Relative Casimir drift ``max_k |ΔC_k| / s_k`` over time
         (:func:`~poissonkit.numerics.diagnostics.casimir_drift`); zeros if the system has none."""
         found = (diagnostics.casimir_drift(self.system, self.y)
-                 if isinstance(self.system, diagnostics.HasCasimirs) else None)
+                 if isinstance(self.system, HasCasimirs) else None)
         return np.zeros(len(self.t)) if found is None else found.relative
 
     def linear_momentum_drift(self) -> np.ndarray:
         """``|P(t) − P(0)| / max_i |p_i(0)|`` of the total linear momentum; zeros for a system
         that is not made of bodies."""
-        if not isinstance(self.system, diagnostics.HasBodyMomenta):
+        if not isinstance(self.system, HasBodyMomenta):
             return np.zeros(len(self.t))
         return diagnostics.linear_momentum_drift(self.system, self.y).relative
 
@@ -103,7 +111,7 @@ class Solution:
     def angular_momentum_drift(self) -> np.ndarray:
         """``|j(t) − j(0)| / (Σ|r_i × p_i| + Σ|m_k|)`` of the total angular momentum (seed 000
         eq. 21) at ``t = 0``; zeros for a system that is not made of bodies."""
-        if not isinstance(self.system, diagnostics.HasBodyMomenta):
+        if not isinstance(self.system, HasBodyMomenta):
             return np.zeros(len(self.t))
         return diagnostics.angular_momentum_drift(self.system, self.y).relative
 
@@ -159,8 +167,11 @@ class Solution:
         return text_block(f"Solution ({self._system_name()})", self._rows())
 
     def _system_name(self) -> str:
-        named = getattr(self.system, "hamiltonian_system", self.system)  # compiled: its source
-        return str(getattr(named, "name", "") or type(self.system).__name__)
+        # a compiled system is named by the symbolic system it was compiled from
+        named = (self.system.hamiltonian_system if isinstance(self.system, CompiledFrom)
+                 else self.system)
+        return str((named.name if isinstance(named, HasName) else "")
+                   or type(self.system).__name__)
 
     def _repr_pretty_(self, p, cycle: bool) -> None:
         p.text("Solution(...)" if cycle else str(self))
@@ -177,7 +188,8 @@ class Solution:
     def layout(self) -> tuple[str, ...]:
         """Names of the state components (the system's ``layout``, else ``y0 .. y{n-1}``)."""
         dim = self.y.shape[-1]
-        names = tuple(str(n) for n in (getattr(self.system, "layout", None) or ()))
+        layout = self.system.layout if isinstance(self.system, HasLayout) else None
+        names = tuple(str(n) for n in (layout or ()))
         return names if len(names) == dim else tuple(f"y{i}" for i in range(dim))
 
     def to_xarray(self):
