@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from poissonkit._display import html_table, latex_table, text_block
+from poissonkit._display import PrettyPrinter, html_table, latex_table, text_block
 from poissonkit.contracts import (
     CompiledFrom,
     HasBodyMomenta,
@@ -173,7 +173,7 @@ class Solution:
         return str((named.name if isinstance(named, HasName) else "")
                    or type(self.system).__name__)
 
-    def _repr_pretty_(self, p, cycle: bool) -> None:
+    def _repr_pretty_(self, p: PrettyPrinter, cycle: bool) -> None:
         p.text("Solution(...)" if cycle else str(self))
 
     def _repr_html_(self) -> str:
