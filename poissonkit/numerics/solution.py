@@ -115,6 +115,14 @@ class Solution:
             return np.zeros(len(self.t))
         return diagnostics.angular_momentum_drift(self.system, self.y).relative
 
+    def _relative_drift(self, quantity: str) -> np.ndarray:
+        """The relative drift named ``quantity`` (one of
+        :data:`~poissonkit.numerics.diagnostics.QUANTITIES`) over time."""
+        methods = {"energy_error": self.energy_error, "casimir_drift": self.casimir_drift,
+                   "linear_momentum_drift": self.linear_momentum_drift,
+                   "angular_momentum_drift": self.angular_momentum_drift}
+        return methods[quantity]()
+
     def summary(self) -> dict[str, Any]:
         """Plain-data summary: method, steps, wall time, events, and for each diagnostic the
         system defines ``max_abs_*``, ``max_rel_*`` and ``*_scale``
@@ -217,9 +225,8 @@ class Solution:
                 "Solution.to_xarray needs xarray: pip install xarray") from None
         data = {"y": (("t", "component"), np.asarray(self.y, dtype=float))}
         if self.system is not None:
-            for name in ("energy_error", "casimir_drift", "linear_momentum_drift",
-                         "angular_momentum_drift"):
-                data[name] = (("t",), np.asarray(getattr(self, name)(), dtype=float))
+            for name in diagnostics.QUANTITIES:
+                data[name] = (("t",), np.asarray(self._relative_drift(name), dtype=float))
         attrs = {"method": self.method, "steps": int(self.steps), "nfev": int(self.nfev),
                  "wall_time": float(self.wall_time), "step": self.step, "tol": self.tol,
                  "message": self.message, "system": self._system_name() if self.system else None}
@@ -263,7 +270,7 @@ class Solution:
         t = np.asarray(self.t, dtype=float)
         for name in invariants:
             method, label = DRIFTS[name]
-            values = np.asarray(getattr(self, method)(), dtype=float)
+            values = np.asarray(self._relative_drift(method), dtype=float)
             if not np.any(values > 0):
                 continue
             # zeros (e.g. at t = 0) cannot be drawn on a log axis
