@@ -335,7 +335,7 @@ def _evaluate(exprs: list[sp.Expr], point: dict[sp.Symbol, sp.Expr]) -> list[sp.
     return [memo[e] for e in exprs]
 
 
-_compiled: dict[tuple, CompiledSystem] = {}
+_compiled: dict[tuple[object, ...], CompiledSystem] = {}
 
 
 def compile_system(hsys: HamiltonianSystem, params: Mapping[str, object] | None = None,
@@ -368,18 +368,20 @@ def compile_system(hsys: HamiltonianSystem, params: Mapping[str, object] | None 
     are compiled without sympy's CSE pre-optimisation and get their Jacobian by differentiating
     the generated program, so the Routh sphere compiles in seconds (docs/numerics.md).
     """
-    try:
-        # sympy objects compare structurally (assumptions included) and cache their hashes;
-        # srepr strings of a large field took seconds to print
-        key = (sp.ImmutableMatrix(hsys.structure.matrix), sp.sympify(hsys.hamiltonian),
-               sp.sympify(hsys.multiplier), tuple(hsys.coords), tuple(map(str, hsys.coords)),
-               tuple(sorted(hsys.casimirs.items())),
-               tuple(sorted(hsys.integrals.items())),
-               tuple(sorted((str(k), repr(v)) for k, v in {**hsys.params, **(params or {})}.items())))
-        if field == "original" and hsys.original:
-            key += (tuple(hsys.original.items()),)
-    except AttributeError:
-        return CompiledSystem(hsys, params, field)
+    from poissonkit.structure import HamiltonianSystem
+
+    if not isinstance(hsys, HamiltonianSystem):
+        return CompiledSystem(hsys, params, field)  # raises the typed error
+    # sympy objects compare structurally (assumptions included) and cache their hashes;
+    # srepr strings of a large field took seconds to print
+    key: tuple[object, ...] = (
+        sp.ImmutableMatrix(hsys.structure.matrix), sp.sympify(hsys.hamiltonian),
+        sp.sympify(hsys.multiplier), tuple(hsys.coords), tuple(map(str, hsys.coords)),
+        tuple(sorted(hsys.casimirs.items())),
+        tuple(sorted(hsys.integrals.items())),
+        tuple(sorted((str(k), repr(v)) for k, v in {**hsys.params, **(params or {})}.items())))
+    if field == "original" and hsys.original:
+        key += (tuple(hsys.original.items()),)
     key += (field,)
     hit = _compiled.get(key)
     if hit is None or hit.hamiltonian_system.name != hsys.name:

@@ -105,3 +105,15 @@ def test_solution_names_a_compiled_system_by_its_source_and_uses_its_layout():
     sol = Solution(t=np.arange(2.0), y=y, method="toy", steps=1, wall_time=0.0,
                    system=Anonymous())
     assert sol._system_name() == "Anonymous" and sol.layout() == ("y0", "y1")
+
+
+def test_compile_system_refuses_what_is_not_a_hamiltonian_system():
+    from poissonkit.numerics.system import compile_system
+
+    class LooksLikeOne:  # has the attributes, is not the type
+        structure = hsys = hamiltonian = multiplier = None
+        coords = casimirs = integrals = params = original = {}
+
+    for bad in (object(), LooksLikeOne()):
+        with pytest.raises(InputError, match="needs a HamiltonianSystem, got"):
+            compile_system(bad)
