@@ -10,13 +10,21 @@ from __future__ import annotations
 
 import html
 from collections.abc import Iterable, Sequence
-from typing import Any
+from typing import Protocol, TypeVar
 
 #: Rows shown before a listing is cut (brackets of an 18-dimensional structure: 81 rows).
 MAX_ROWS = 40
 
+Row = TypeVar("Row")
 
-def cut(rows: Sequence[Any], limit: int = MAX_ROWS) -> tuple[list[Any], int]:
+
+class PrettyPrinter(Protocol):
+    """What ``_repr_pretty_`` uses of IPython's ``PrettyPrinter``."""
+
+    def text(self, obj: str) -> None: ...
+
+
+def cut(rows: Sequence[Row], limit: int = MAX_ROWS) -> tuple[list[Row], int]:
     """The first ``limit`` rows and how many were left out."""
     rows = list(rows)
     return rows[:limit], max(0, len(rows) - limit)
@@ -75,5 +83,5 @@ def latex_table(rows: Iterable[tuple[str, str]]) -> str:
 class Displayable:
     """Mixin: ``_repr_pretty_`` (IPython's plain text) prints ``str(self)``."""
 
-    def _repr_pretty_(self, p: Any, cycle: bool) -> None:
+    def _repr_pretty_(self, p: PrettyPrinter, cycle: bool) -> None:
         p.text(type(self).__name__ + "(...)" if cycle else str(self))

@@ -156,6 +156,61 @@ class HasMomenta(Protocol):
 
 
 @runtime_checkable
+class HasEnergy(Protocol):
+    """A Hamiltonian: ``energy(rows)`` gives one value per row (a float for one state).
+
+    The least a system needs for the run diagnostics (:mod:`poissonkit.numerics.diagnostics`).
+    """
+
+    def energy(self, y: np.ndarray) -> float | np.ndarray: ...
+
+
+@runtime_checkable
+class HasBodyMomenta(HasMomenta, Protocol):
+    """A system of bodies: total momenta of rows (:class:`HasMomenta`) and the per-body parts
+    of a state, ``unpack(y)`` with at least ``r`` and ``p`` (one row per body, or one vector)
+    and the spin angular momenta under keys ``m``, ``m1``, ``m2``, … (the momentum drift
+    scales of :mod:`poissonkit.numerics.diagnostics` are made of them)."""
+
+    def unpack(self, y: np.ndarray, *, si: bool = False) -> dict[str, np.ndarray]: ...
+
+
+@runtime_checkable
+class DeclaresNotConserved(Protocol):
+    """A system that states which of the usual invariants it does *not* conserve, with why
+    (``{"angular_momentum": "a rotor drives the ball"}``); ``None`` leaves it to the run
+    summary's own rule (fixed bodies, external fields)."""
+
+    @property
+    def not_conserved(self) -> Mapping[str, str] | None: ...
+
+
+@runtime_checkable
+class HasExternalFields(Protocol):
+    """A system acted on by external fields (truthy when it is): its total linear and angular
+    momentum are not conserved."""
+
+    @property
+    def external_fields(self) -> object: ...
+
+
+@runtime_checkable
+class HasName(Protocol):
+    """A name to show (a symbolic system's ``name``; may be empty)."""
+
+    @property
+    def name(self) -> str: ...
+
+
+@runtime_checkable
+class CompiledFrom(Protocol):
+    """A compiled system that keeps the symbolic system it was compiled from."""
+
+    @property
+    def hamiltonian_system(self) -> object: ...
+
+
+@runtime_checkable
 class HasJacobian(Protocol):
     """``jacobian(t, y)``: the matrix ``∂ẏ/∂y`` (implicit scipy methods use it)."""
 
@@ -257,6 +312,35 @@ class Integrator(Protocol):
                   tol: float | None, events: Sequence[Event] = (), progress: bool = False,
                   save_every: int = 1, t0: float = 0.0, control: Control | None = None
                   ) -> RawResult: ...
+
+
+@runtime_checkable
+class Trajectory(Protocol):
+    """Saved times and states of a run: a :class:`~poissonkit.numerics.Solution` (rows of
+    states) or another solver's result such as scipy's ``solve_ivp`` (columns)."""
+
+    @property
+    def t(self) -> np.ndarray: ...
+
+    @property
+    def y(self) -> np.ndarray: ...
+
+
+@runtime_checkable
+class HasRunCost(Protocol):
+    """What a run cost: steps taken and seconds spent integrating (a
+    :class:`~poissonkit.numerics.Solution` has both; scipy's results have neither)."""
+
+    @property
+    def steps(self) -> int: ...
+
+    @property
+    def wall_time(self) -> float: ...
+
+
+#: A solver as the work-precision sweeps call it: ``solver(system, y0, t_end, method=...,
+#: step=... or tol=..., progress=False, save_every=...)`` (:func:`~poissonkit.numerics.solve`).
+Solver = Callable[..., Trajectory]
 
 # --------------------------------------------------------------------------- model families
 

@@ -15,7 +15,6 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -59,7 +58,7 @@ class PairInteraction:
     estimated_error: float | None = None
 
 
-def _vector(name: str, value: Any) -> np.ndarray:
+def _vector(name: str, value: object) -> np.ndarray:
     try:
         v = np.asarray(value, dtype=float).reshape(-1)
     except (TypeError, ValueError):
@@ -71,7 +70,7 @@ def _vector(name: str, value: Any) -> np.ndarray:
     return v
 
 
-def _axis(name: str, value: Any) -> np.ndarray:
+def _axis(name: str, value: object) -> np.ndarray:
     v = _vector(name, value)
     n = float(np.linalg.norm(v))
     if n == 0.0:
@@ -104,7 +103,7 @@ def _bases(entries: Sequence[PairPotential]) -> set[str]:
     return out
 
 
-def _expand(params: Mapping[str, Any], bases: set[str]) -> dict[str, Any]:
+def _expand(params: Mapping[str, object], bases: set[str]) -> dict[str, object]:
     """Expand the shorthand ``x`` of two identical bodies into ``x1`` and ``x2``."""
     out = dict(params)
     for key in sorted(bases & set(params)):
@@ -116,12 +115,12 @@ def _expand(params: Mapping[str, Any], bases: set[str]) -> dict[str, Any]:
     return out
 
 
-def _body(given: Mapping[str, Any], i: str) -> dict[str, Any]:
+def _body(given: Mapping[str, object], i: str) -> dict[str, object]:
     """The attributes of body ``i`` (``"1"`` or ``"2"``) among the suffixed parameters."""
     return {k[:-1]: v for k, v in given.items() if k.endswith(i) and len(k) > 1}
 
 
-def _sizes(given: Mapping[str, Any]) -> tuple[float, float, float, float] | None:
+def _sizes(given: Mapping[str, object]) -> tuple[float, float, float, float] | None:
     """``(radius1, length1, radius2, length2)`` when all are given: the bodies are solid
     cylinders (the core's body-shape convention, :mod:`poissonkit.scene.geometry`)."""
     keys = ("radius1", "length1", "radius2", "length2")
@@ -140,7 +139,7 @@ def _sizes(given: Mapping[str, Any]) -> tuple[float, float, float, float] | None
 
 
 def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
-                     nu2: Sequence[float], **params: Any) -> PairInteraction:
+                     nu2: Sequence[float], **params: object) -> PairInteraction:
     """Energy, force on body 2 and torques on both bodies of one pair, in SI units.
 
     Parameters
@@ -261,8 +260,8 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
                            torque2=torque2, estimated_error=estimate)
 
 
-def _family_for(families: Sequence[ModelFamily], body1: Mapping[str, Any],
-                body2: Mapping[str, Any]) -> ModelFamily:
+def _family_for(families: Sequence[ModelFamily], body1: Mapping[str, object],
+                body2: Mapping[str, object]) -> ModelFamily:
     """The first registered family that applies to the pair and has what it reads."""
     if not families:
         raise NoModelFamilyError("model='auto': no model family is registered (are the plugins "
@@ -281,8 +280,8 @@ def _family_for(families: Sequence[ModelFamily], body1: Mapping[str, Any],
                              f"potential instead")
 
 
-def _cheapest(family: ModelFamily, tol: float, r: float, body1: Mapping[str, Any],
-              body2: Mapping[str, Any]) -> str:
+def _cheapest(family: ModelFamily, tol: float, r: float, body1: Mapping[str, object],
+              body2: Mapping[str, object]) -> str:
     """The cheapest model of ``family`` within ``tol``; among equal costs the most accurate;
     the most expensive model if none is within ``tol``."""
     try:
@@ -305,8 +304,8 @@ def _cheapest(family: ModelFamily, tol: float, r: float, body1: Mapping[str, Any
     return max(family.models, key=family.cost)
 
 
-def _estimate(families: Sequence[ModelFamily], model: str, r: float, body1: Mapping[str, Any],
-              body2: Mapping[str, Any]) -> float | None:
+def _estimate(families: Sequence[ModelFamily], model: str, r: float, body1: Mapping[str, object],
+              body2: Mapping[str, object]) -> float | None:
     """The error estimate of ``model`` by its family, when the family applies and has what
     it reads; else ``None``."""
     for family in families:
@@ -319,7 +318,7 @@ def _estimate(families: Sequence[ModelFamily], model: str, r: float, body1: Mapp
     return None
 
 
-def _partials(entry: PairPotential, resolved: Mapping[str, Any], r: float, c1: float,
+def _partials(entry: PairPotential, resolved: Mapping[str, object], r: float, c1: float,
               c2: float, c3: float) -> tuple[float, float, float, float, float]:
     """``(U, U_r, U_c1, U_c2, U_c3)``: the entry's own evaluation if it has one, else its
     compiled kernel."""

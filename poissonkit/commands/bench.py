@@ -22,6 +22,7 @@ import math
 from pathlib import Path
 
 from poissonkit.errors import InputError, MissingDependencyError
+from poissonkit.numerics.runspec import RunSpec
 from poissonkit.report import atomic
 
 DEFAULT_METHODS = ("splitting2", "splitting4", "splitting6", "splitting8", "midpoint", "rk45",
@@ -48,7 +49,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--repeats", type=int, default=1, help="best of N timings per point")
 
 
-def _spec(args: argparse.Namespace):
+def _spec(args: argparse.Namespace) -> RunSpec:
     path = Path(args.scene) if args.scene is not None else None
     if path is None or not path.exists():
         from poissonkit.plugin import names

@@ -24,18 +24,24 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING, Union
 
 import numpy as np
 import sympy as sp
+from numpy.typing import ArrayLike
 
 from poissonkit.errors import InputError, IntegrationError
+
+if TYPE_CHECKING:
+    from poissonkit.numerics.solution import Solution
+    from poissonkit.numerics.system import CompiledSystem
+    from poissonkit.structure import HamiltonianSystem
 
 __all__ = ["ConformalIntegrator", "ConformalSolution", "LambdifiedSystem", "invariant_drift",
            "midpoint_python", "solve_conformal", "solve_direct", "time_change"]
 
 
-def _values(hsys: Any) -> dict[sp.Symbol, sp.Expr]:
+def _values(hsys: HamiltonianSystem) -> dict[sp.Symbol, sp.Expr]:
     """Substitution of the system's numeric parameters (by symbol name)."""
     out: dict[sp.Symbol, sp.Expr] = {}
     exprs = [hsys.hamiltonian, hsys.multiplier, *hsys.structure.matrix]
@@ -46,7 +52,7 @@ def _values(hsys: Any) -> dict[sp.Symbol, sp.Expr]:
     return out
 
 
-def time_change(hsys: Any, y0: Any) -> tuple[int, sp.Expr]:
+def time_change(hsys: HamiltonianSystem, y0: ArrayLike) -> tuple[int, sp.Expr]:
     """Split ``N = sigma c`` with ``c > 0`` at ``y0``; return ``(sigma, 1/c)`` (``dt/dtau``).
 
     Raises
@@ -90,9 +96,9 @@ class ConformalSolution:
     sigma: int
     steps: int
     wall_time: float
-    compiled: Any
+    compiled: InvariantSystem
     method: str = "midpoint"
-    extra: dict[str, Any] = field(default_factory=dict)
+    extra: dict[str, object] = field(default_factory=dict)
 
     @property
     def y_final(self) -> np.ndarray:
@@ -106,7 +112,7 @@ class ConformalSolution:
         return invariant_drift(self.compiled, self.y[:-1])
 
 
-def invariant_drift(compiled: Any, y: np.ndarray) -> dict[str, float]:
+def invariant_drift(compiled: InvariantSystem, y: np.ndarray) -> dict[str, float]:
     """``max_t |F(y(t)) - F(y(0))|`` for ``H`` and every Casimir and integral of ``compiled``."""
     out = {"H": float(np.max(np.abs(compiled.energy(y) - compiled.energy(y[0]))))}
     if compiled.casimir_names:
@@ -128,7 +134,7 @@ class LambdifiedSystem:
     (tests, quick looks); the compiled path is faster for long runs.
     """
 
-    def __init__(self, hsys: Any) -> None:
+    def __init__(self, hsys: HamiltonianSystem) -> None:
         vals = _values(hsys)
         coords = hsys.coords
         P = hsys.structure.matrix.xreplace(vals)
@@ -149,7 +155,7 @@ class LambdifiedSystem:
         self._C = [sp.lambdify([coords], e, modules="numpy", cse=True) for e in cas]
         self._I = [sp.lambdify([coords], e, modules="numpy", cse=True) for e in ints]
 
-    def rhs(self, t: float, y: Any) -> np.ndarray:
+    def rhs(self, t: float, y: ArrayLike) -> np.ndarray:
         """The field at ``y``.
 
         Raises
@@ -170,17 +176,21 @@ class LambdifiedSystem:
         y = np.atleast_2d(np.asarray(y, dtype=float))
         return np.broadcast_to(np.asarray(fun(y.T), dtype=float), (y.shape[0],)).copy()
 
-    def energy(self, y: Any) -> np.ndarray:
+    def energy(self, y: ArrayLike) -> np.ndarray:
         """``H`` at each row of ``y``."""
         return self._rows(self._H, y)
 
-    def casimirs(self, y: Any) -> np.ndarray:
+    def casimirs(self, y: ArrayLike) -> np.ndarray:
         """Casimirs at each row, shape ``(rows, k)``."""
         return np.stack([self._rows(f, y) for f in self._C], axis=1)
 
-    def integrals(self, y: Any) -> np.ndarray:
+    def integrals(self, y: ArrayLike) -> np.ndarray:
         """Integrals at each row, shape ``(rows, k)``."""
         return np.stack([self._rows(f, y) for f in self._I], axis=1)
+
+
+#: A system whose invariants :func:`invariant_drift` measures: compiled (numba) or lambdified.
+InvariantSystem = Union["CompiledSystem", LambdifiedSystem]
 
 
 @dataclass
@@ -248,7 +258,7 @@ class ConformalIntegrator:
     >>> sol = ci.solve([0, 0.6, 0.8, 1, -0.5, 0.2], t_end=10.0, step=0.01)  # doctest: +SKIP
     """
 
-    def __init__(self, hsys: Any, y_ref: Any, method: str = "midpoint",
+    def __init__(self, hsys: HamiltonianSystem, y_ref: ArrayLike, method: str = "midpoint",
                  backend: str = "compiled", field: str = "bivector") -> None:
         if backend not in ("compiled", "python"):
             raise InputError(f"backend must be 'compiled' or 'python', got {backend!r}")
@@ -282,14 +292,15 @@ class ConformalIntegrator:
         val = self._clock(y.T)
         return np.broadcast_to(np.asarray(val, dtype=float), (y.shape[0],)).copy()
 
-    def _run(self, y0: np.ndarray, tau_span: float, step: float, tol: float | None):
+    def _run(self, y0: np.ndarray, tau_span: float, step: float, tol: float | None
+             ) -> _Run | Solution:
         if self.backend == "python":
             return midpoint_python(self.compiled, y0, tau_span, step, tol or 1e-14)
         from poissonkit.numerics.solver import solve
 
         return solve(self.compiled, y0, tau_span, method=self.method, step=step, tol=tol)
 
-    def solve(self, y0: Any, t_end: float, step: float, tol: float | None = None,
+    def solve(self, y0: ArrayLike, t_end: float, step: float, tol: float | None = None,
               max_chunks: int = 50) -> ConformalSolution:
         """Integrate from ``t = 0`` to ``t_end`` (physical time) with ``tau``-step ``step``.
 
@@ -357,16 +368,17 @@ class ConformalIntegrator:
             compiled=self.compiled, method=self.method)
 
 
-def solve_conformal(hsys: Any, y0: Any, t_end: float, step: float, method: str = "midpoint",
+def solve_conformal(hsys: HamiltonianSystem, y0: ArrayLike, t_end: float, step: float, method: str = "midpoint",
                     tol: float | None = None, backend: str = "compiled",
                     field: str = "bivector") -> ConformalSolution:
     """One-shot :class:`ConformalIntegrator` run (compiles every call; reuse the class in loops)."""
     return ConformalIntegrator(hsys, y0, method, backend, field).solve(y0, t_end, step, tol)
 
 
-def solve_direct(hsys: Any, y0: Any, t_end: float, method: str = "dop853",
-                 step: float | None = None, tol: float | None = 1e-10, compiled: Any = None,
-                 backend: str = "compiled", field: str = "bivector"):
+def solve_direct(hsys: HamiltonianSystem, y0: ArrayLike, t_end: float, method: str = "dop853",
+                 step: float | None = None, tol: float | None = 1e-10,
+                 compiled: InvariantSystem | None = None, backend: str = "compiled",
+                 field: str = "bivector") -> Solution | tuple[_Run, float]:
     """Integrate ``X = N P dH`` in physical time with a registered integrator.
 
     Returns the :class:`~poissonkit.numerics.solution.Solution` of

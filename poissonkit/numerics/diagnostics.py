@@ -35,11 +35,12 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+# what a system offers: declared once in the contracts, re-exported here
+from poissonkit.contracts import HasBodyMomenta, HasCasimirs, HasCasimirScales, HasEnergy
 from poissonkit.errors import DimensionError, InputError
 
 #: The diagnosed quantities, in report order.
@@ -53,42 +54,11 @@ SCALE_FLOOR = 1.0
 #: the two-body form).
 _SPIN_KEY = re.compile(r"^m\d*$")
 
-
-# --------------------------------------------------------------------------- what a system offers
-@runtime_checkable
-class HasEnergy(Protocol):
-    """A system with a Hamiltonian: ``energy(rows)`` gives one value per row."""
-
-    def energy(self, y: ArrayLike) -> float | np.ndarray: ...
-
-
-@runtime_checkable
-class HasCasimirs(Protocol):
-    """A system with claimed Casimirs: ``casimirs(rows)`` has shape ``(rows, k)``."""
-
-    def casimirs(self, y: ArrayLike) -> np.ndarray: ...
-
-
-@runtime_checkable
-class HasCasimirScales(Protocol):
-    """A system that states the natural size of each Casimir at a state (shape ``(k,)``)."""
-
-    def casimir_scales(self, y: ArrayLike) -> np.ndarray: ...
-
-
-@runtime_checkable
-class HasBodyMomenta(Protocol):
-    """A system of bodies: total momenta of rows and the per-body parts of a state.
-
-    ``unpack(y)`` returns at least ``r`` and ``p`` (one row per body, or one vector) and the
-    spin angular momenta under keys ``m``, ``m1``, ``m2``, … .
-    """
-
-    def linear_momentum(self, y: ArrayLike) -> np.ndarray: ...
-
-    def angular_momentum(self, y: ArrayLike) -> np.ndarray: ...
-
-    def unpack(self, y: ArrayLike) -> dict[str, np.ndarray]: ...
+__all__ = [
+    "QUANTITIES", "SCALE_FLOOR", "Drift", "HasBodyMomenta", "HasCasimirScales", "HasCasimirs",
+    "HasEnergy", "angular_momentum_drift", "angular_momentum_scale", "casimir_drift", "drifts",
+    "energy_error", "energy_error_of", "linear_momentum_drift", "linear_momentum_scale", "report",
+]
 
 
 # --------------------------------------------------------------------------- one drift

@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from poissonkit.contracts import HasCompiledKernels, System
+from poissonkit.contracts import HasBodies, HasCompiledKernels, HasUnpack, System
 from poissonkit.errors import CollisionError, EscapeError, InputError
 
 if TYPE_CHECKING:
@@ -315,10 +315,9 @@ TWO_BODY_NAMES = ("body1", "body2")
 
 def body_names(system: System) -> tuple[str, ...]:
     """Names of a system's bodies (``body1``, ``body2`` for the two-body form)."""
-    bodies = getattr(system, "bodies", None)
-    if bodies is None:
-        return TWO_BODY_NAMES
-    return tuple(b.name for b in bodies)
+    if isinstance(system, HasBodies):
+        return tuple(b.name for b in system.bodies)
+    return TWO_BODY_NAMES
 
 
 def body_frames(system: HasCompiledKernels, y: np.ndarray
@@ -330,7 +329,10 @@ def body_frames(system: HasCompiledKernels, y: np.ndarray
     which leaves every distance unchanged.
     """
     y = np.asarray(y, dtype=float)
-    if getattr(system, "bodies", None) is None:
+    if not isinstance(system, HasBodies):
+        if not isinstance(system, HasUnpack):
+            raise InputError(f"{type(system).__name__} has neither bodies nor the two-body "
+                             "unpack(y): no body positions for shape events")
         u = system.unpack(y)
         return (np.array([np.zeros(3), u["r"]]), np.array([u["nu1"], u["nu2"]]),
                 np.zeros(2, dtype=bool))

@@ -28,26 +28,29 @@ All kernels are numba ``njit`` functions with these signatures:
 from __future__ import annotations
 
 import math
-from typing import Any, NamedTuple
+from typing import NamedTuple
 
 import numba
 import numpy as np
 
+from poissonkit.contracts import CompiledFunction
+
 
 class Kernels(NamedTuple):
-    """The compiled functions of one system (see the module docstring)."""
+    """The compiled functions of one system (see the module docstring); the built-in
+    implementation of :class:`poissonkit.contracts.CompiledKernels`."""
 
-    rhs: Any
-    drift: Any
-    kick: Any
-    energy: Any
-    min_distance: Any
-    max_radius: Any
-    jac: Any = None
+    rhs: CompiledFunction
+    drift: CompiledFunction
+    kick: CompiledFunction
+    energy: CompiledFunction
+    min_distance: CompiledFunction
+    max_radius: CompiledFunction
+    jac: CompiledFunction | None = None
     splittable: bool = True
-    forces: Any = None
-    drift_compensated: Any = None
-    kick_compensated: Any = None
+    forces: CompiledFunction | None = None
+    drift_compensated: CompiledFunction | None = None
+    kick_compensated: CompiledFunction | None = None
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")

@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable, Mapping
-from typing import Any
+from typing import Union
 
 import numba
 import sympy as sp
 
+from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import InputError
 from poissonkit.numerics.codegen import (
     check_free_symbols,
@@ -27,11 +28,14 @@ from poissonkit.plugin.contributions import PairPotential
 #: The four invariants as the real sympy symbols potentials must use.
 R, C1, C2, C3 = sp.symbols("r c1 c2 c3", real=True)
 
-_cache: dict[tuple, Callable[..., Any]] = {}
+#: compiled kernels by (entry, parameters) and wrappers by (kind, id of the kernel wrapped), the
+#: latter with the wrapped kernel kept alive so its id stays unique
+_cache: dict[tuple[object, ...],
+             Union[CompiledFunction, tuple[CompiledFunction, CompiledFunction]]] = {}
 _lock = threading.Lock()
 
 
-def _freeze(value: Any) -> Any:
+def _freeze(value: object) -> object:
     if isinstance(value, Mapping):
         return tuple(sorted((k, _freeze(v)) for k, v in value.items()))
     if isinstance(value, (list, tuple)):
@@ -46,7 +50,7 @@ def _invariant_symbols(expr: sp.Expr) -> dict[sp.Symbol, sp.Symbol]:
 
 
 def kernel_from_expr(expr: sp.Expr, name: str = "pair",
-                     extra: tuple[sp.Symbol, ...] = ()) -> Callable[..., Any]:
+                     extra: tuple[sp.Symbol, ...] = ()) -> CompiledFunction:
     """Differentiate ``U(r, c1, c2, c3)`` once and compile ``(U, U_r, U_c1, U_c2, U_c3)``.
 
     Parameters
@@ -91,11 +95,11 @@ def kernel_from_expr(expr: sp.Expr, name: str = "pair",
 
 
 #: expression behind each kernel compiled from one (kept with the kernel, so ids stay unique)
-_sources: dict[int, tuple[sp.Expr, str, tuple[sp.Symbol, ...], Any]] = {}
+_sources: dict[int, tuple[sp.Expr, str, tuple[sp.Symbol, ...], CompiledFunction]] = {}
 Q = sp.Symbol("q", positive=True)
 
 
-def radial_kernel(kern: Callable[..., Any]) -> Callable[..., Any]:
+def radial_kernel(kern: CompiledFunction) -> CompiledFunction:
     """Fast form of an orientation-free kernel: ``g(q, *extra) -> (U, U_r / r)`` with ``q = 1/r``.
 
     Written in ``q`` the usual central potentials (``1/r``, ``1/r^6``, …) need no division, and
@@ -145,14 +149,14 @@ def _stored_source(generate: Callable[[], str], *key: str) -> str:
     return src
 
 
-def _arity(kern: Callable[..., Any]) -> int:
+def _arity(kern: CompiledFunction) -> int:
     import inspect
 
     return len(inspect.signature(kern.py_func).parameters)
 
 
-def compile_potential(entry: PairPotential, params: Mapping[str, Any] | None = None
-                      ) -> Callable[..., Any]:
+def compile_potential(entry: PairPotential, params: Mapping[str, object] | None = None
+                      ) -> CompiledFunction:
     """Compiled scalar kernel of a pair potential, cached per ``(entry, params)``.
 
     Parameters
@@ -196,9 +200,9 @@ def compile_potential(entry: PairPotential, params: Mapping[str, Any] | None = N
     return kern
 
 
-def compile_bound_potential(entry: PairPotential, params: Mapping[str, Any] | None,
+def compile_bound_potential(entry: PairPotential, params: Mapping[str, object] | None,
                             bound: Mapping[str, tuple[str, int]]
-                            ) -> tuple[Callable[..., Any], tuple[tuple[str, int], ...]]:
+                            ) -> tuple[CompiledFunction, tuple[tuple[str, int], ...]]:
     """Compiled kernel of a potential some of whose parameters come from the two bodies.
 
     Parameters
@@ -241,7 +245,7 @@ def compile_bound_potential(entry: PairPotential, params: Mapping[str, Any] | No
     return kern, slots
 
 
-def scaled_kernel(kern: Callable[..., Any], length: float, energy: float) -> Callable[..., Any]:
+def scaled_kernel(kern: CompiledFunction, length: float, energy: float) -> CompiledFunction:
     """Nondimensional version of an SI kernel: ``U/E`` as a function of ``r/L``.
 
     ``U_r`` picks up a factor ``L/E``; the angular partials ``1/E``.

@@ -7,10 +7,18 @@ from typing import Any
 
 import numpy as np
 
-from poissonkit._display import html_table, latex_table, text_block
+from poissonkit._display import PrettyPrinter, html_table, latex_table, text_block
+from poissonkit.contracts import (
+    CompiledFrom,
+    HasBodyMomenta,
+    HasCasimirs,
+    HasEnergy,
+    HasLayout,
+    HasName,
+)
 from poissonkit.errors import InputError, MissingDependencyError
 from poissonkit.numerics import diagnostics
-from poissonkit.numerics.diagnostics import Drift, HasEnergy
+from poissonkit.numerics.diagnostics import Drift
 from poissonkit.numerics.events import EventRecord
 
 #: Invariants :meth:`Solution.plot` can draw: name -> (method, legend label).
@@ -86,13 +94,13 @@ class Solution:
         """Relative Casimir drift ``max_k |ΔC_k| / s_k`` over time
         (:func:`~poissonkit.numerics.diagnostics.casimir_drift`); zeros if the system has none."""
         found = (diagnostics.casimir_drift(self.system, self.y)
-                 if isinstance(self.system, diagnostics.HasCasimirs) else None)
+                 if isinstance(self.system, HasCasimirs) else None)
         return np.zeros(len(self.t)) if found is None else found.relative
 
     def linear_momentum_drift(self) -> np.ndarray:
         """``|P(t) − P(0)| / max_i |p_i(0)|`` of the total linear momentum; zeros for a system
         that is not made of bodies."""
-        if not isinstance(self.system, diagnostics.HasBodyMomenta):
+        if not isinstance(self.system, HasBodyMomenta):
             return np.zeros(len(self.t))
         return diagnostics.linear_momentum_drift(self.system, self.y).relative
 
@@ -103,9 +111,17 @@ class Solution:
     def angular_momentum_drift(self) -> np.ndarray:
         """``|j(t) − j(0)| / (Σ|r_i × p_i| + Σ|m_k|)`` of the total angular momentum (seed 000
         eq. 21) at ``t = 0``; zeros for a system that is not made of bodies."""
-        if not isinstance(self.system, diagnostics.HasBodyMomenta):
+        if not isinstance(self.system, HasBodyMomenta):
             return np.zeros(len(self.t))
         return diagnostics.angular_momentum_drift(self.system, self.y).relative
+
+    def _relative_drift(self, quantity: str) -> np.ndarray:
+        """The relative drift named ``quantity`` (one of
+        :data:`~poissonkit.numerics.diagnostics.QUANTITIES`) over time."""
+        methods = {"energy_error": self.energy_error, "casimir_drift": self.casimir_drift,
+                   "linear_momentum_drift": self.linear_momentum_drift,
+                   "angular_momentum_drift": self.angular_momentum_drift}
+        return methods[quantity]()
 
     def summary(self) -> dict[str, Any]:
         """Plain-data summary: method, steps, wall time, events, and for each diagnostic the
@@ -159,10 +175,13 @@ class Solution:
         return text_block(f"Solution ({self._system_name()})", self._rows())
 
     def _system_name(self) -> str:
-        named = getattr(self.system, "hamiltonian_system", self.system)  # compiled: its source
-        return str(getattr(named, "name", "") or type(self.system).__name__)
+        # a compiled system is named by the symbolic system it was compiled from
+        named = (self.system.hamiltonian_system if isinstance(self.system, CompiledFrom)
+                 else self.system)
+        return str((named.name if isinstance(named, HasName) else "")
+                   or type(self.system).__name__)
 
-    def _repr_pretty_(self, p, cycle: bool) -> None:
+    def _repr_pretty_(self, p: PrettyPrinter, cycle: bool) -> None:
         p.text("Solution(...)" if cycle else str(self))
 
     def _repr_html_(self) -> str:
@@ -177,7 +196,8 @@ class Solution:
     def layout(self) -> tuple[str, ...]:
         """Names of the state components (the system's ``layout``, else ``y0 .. y{n-1}``)."""
         dim = self.y.shape[-1]
-        names = tuple(str(n) for n in (getattr(self.system, "layout", None) or ()))
+        layout = self.system.layout if isinstance(self.system, HasLayout) else None
+        names = tuple(str(n) for n in (layout or ()))
         return names if len(names) == dim else tuple(f"y{i}" for i in range(dim))
 
     def to_xarray(self):
@@ -205,9 +225,8 @@ class Solution:
                 "Solution.to_xarray needs xarray: pip install xarray") from None
         data = {"y": (("t", "component"), np.asarray(self.y, dtype=float))}
         if self.system is not None:
-            for name in ("energy_error", "casimir_drift", "linear_momentum_drift",
-                         "angular_momentum_drift"):
-                data[name] = (("t",), np.asarray(getattr(self, name)(), dtype=float))
+            for name in diagnostics.QUANTITIES:
+                data[name] = (("t",), np.asarray(self._relative_drift(name), dtype=float))
         attrs = {"method": self.method, "steps": int(self.steps), "nfev": int(self.nfev),
                  "wall_time": float(self.wall_time), "step": self.step, "tol": self.tol,
                  "message": self.message, "system": self._system_name() if self.system else None}
@@ -251,7 +270,7 @@ class Solution:
         t = np.asarray(self.t, dtype=float)
         for name in invariants:
             method, label = DRIFTS[name]
-            values = np.asarray(getattr(self, method)(), dtype=float)
+            values = np.asarray(self._relative_drift(method), dtype=float)
             if not np.any(values > 0):
                 continue
             # zeros (e.g. at t = 0) cannot be drawn on a log axis

@@ -15,10 +15,12 @@ instead of ``N P dH``, after a numerical check that both agree.
 from __future__ import annotations
 
 import math
-from typing import Any
+from collections.abc import Callable, Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
+from numpy.typing import ArrayLike
 
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.codegen import (
@@ -30,6 +32,9 @@ from poissonkit.numerics.codegen import (
 )
 from poissonkit.numerics.jit import jit, load_sources, source_key, store_sources
 from poissonkit.numerics.kernels import Kernels, no_drift
+
+if TYPE_CHECKING:
+    from poissonkit.structure import HamiltonianSystem
 
 
 @jit
@@ -47,7 +52,7 @@ def _no_radius(y, data):
     return 0.0
 
 
-def _parameter_value(name: str, value: Any) -> float:
+def _parameter_value(name: str, value: object) -> float:
     """``float(value)`` of parameter ``name``; :class:`InputError` unless a finite number.
 
     Checked before substitution because sympy turns ``Float(nan) * x**2`` into ``nan``, whose
@@ -76,7 +81,7 @@ class CompiledSystem:
         :func:`compile_system`.
     """
 
-    def __init__(self, hsys: Any, params: dict[str, Any] | None = None,
+    def __init__(self, hsys: HamiltonianSystem, params: Mapping[str, object] | None = None,
                  field: str = "bivector") -> None:
         from poissonkit.structure import HamiltonianSystem
 
@@ -98,7 +103,7 @@ class CompiledSystem:
                 if s not in coords and s.name in values:
                     subs[s] = sp.Float(_parameter_value(s.name, values[s.name]), 30)
 
-        def prep(e: Any) -> sp.Expr:
+        def prep(e: object) -> sp.Expr:
             return sp.sympify(e).xreplace(subs)
 
         self._prep = prep
@@ -203,32 +208,32 @@ class CompiledSystem:
         """Scratch arrays for the kernels."""
         return (np.zeros(1),)
 
-    def _state(self, y: Any) -> np.ndarray:
+    def _state(self, y: ArrayLike) -> np.ndarray:
         y = np.asarray(y, dtype=float)
         if y.shape != (self.dim,):
             raise DimensionError(f"state has shape {y.shape}, expected ({self.dim},)")
         return np.ascontiguousarray(y)
 
-    def rhs(self, t: float, y: Any) -> np.ndarray:
+    def rhs(self, t: float, y: ArrayLike) -> np.ndarray:
         """``ẏ = N P dH`` at ``y``."""
         out = np.empty(self.dim)
         self._rhs(self._state(y), self.data, self.work(), out)
         return out
 
-    def jacobian(self, t: float, y: Any) -> np.ndarray:
+    def jacobian(self, t: float, y: ArrayLike) -> np.ndarray:
         """``∂ẏ/∂y`` at ``y``, shape ``(dim, dim)``."""
         out = np.empty((self.dim, self.dim))
         self.kernels.jac(self._state(y), self.data, self.work(), out)
         return out
 
-    def energy(self, y: Any) -> float | np.ndarray:
+    def energy(self, y: ArrayLike) -> float | np.ndarray:
         """``H(y)`` (rows of a 2-D array give one value each)."""
         y = np.asarray(y, dtype=float)
         if y.ndim == 2:
             return np.array([self.energy(row) for row in y])
         return float(self._energy(self._state(y), self.data, self.work()))
 
-    def casimirs(self, y: Any) -> np.ndarray:
+    def casimirs(self, y: ArrayLike) -> np.ndarray:
         """Values of the system's claimed Casimirs (in ``casimir_names`` order)."""
         y = np.asarray(y, dtype=float)
         if y.ndim == 2:
@@ -237,7 +242,7 @@ class CompiledSystem:
         self._cas(self._state(y), out)
         return out[:len(self.casimir_names)]
 
-    def integrals(self, y: Any) -> np.ndarray:
+    def integrals(self, y: ArrayLike) -> np.ndarray:
         """Values of the claimed first integrals (in ``integral_names`` order)."""
         y = np.asarray(y, dtype=float)
         if y.ndim == 2:
@@ -250,7 +255,8 @@ class CompiledSystem:
         return f"CompiledSystem({self.hamiltonian_system.name or 'unnamed'}, dim={self.dim})"
 
 
-def _original_field(hsys: Any, coords: tuple, prep: Any, what: str) -> list[sp.Expr]:
+def _original_field(hsys: HamiltonianSystem, coords: tuple[sp.Symbol, ...],
+                    prep: Callable[[object], sp.Expr], what: str) -> list[sp.Expr]:
     """``hsys.original`` in coordinate order, parameters substituted."""
     missing = [str(c) for c in coords if c not in hsys.original]
     if missing:
@@ -329,10 +335,10 @@ def _evaluate(exprs: list[sp.Expr], point: dict[sp.Symbol, sp.Expr]) -> list[sp.
     return [memo[e] for e in exprs]
 
 
-_compiled: dict[tuple, CompiledSystem] = {}
+_compiled: dict[tuple[object, ...], CompiledSystem] = {}
 
 
-def compile_system(hsys: Any, params: dict[str, Any] | None = None,
+def compile_system(hsys: HamiltonianSystem, params: Mapping[str, object] | None = None,
                    field: str = "bivector") -> CompiledSystem:
     """Compile a :class:`~poissonkit.structure.HamiltonianSystem` (see :class:`CompiledSystem`).
 
@@ -362,18 +368,20 @@ def compile_system(hsys: Any, params: dict[str, Any] | None = None,
     are compiled without sympy's CSE pre-optimisation and get their Jacobian by differentiating
     the generated program, so the Routh sphere compiles in seconds (docs/numerics.md).
     """
-    try:
-        # sympy objects compare structurally (assumptions included) and cache their hashes;
-        # srepr strings of a large field took seconds to print
-        key = (sp.ImmutableMatrix(hsys.structure.matrix), sp.sympify(hsys.hamiltonian),
-               sp.sympify(hsys.multiplier), tuple(hsys.coords), tuple(map(str, hsys.coords)),
-               tuple(sorted(hsys.casimirs.items())),
-               tuple(sorted(hsys.integrals.items())),
-               tuple(sorted((str(k), repr(v)) for k, v in {**hsys.params, **(params or {})}.items())))
-        if field == "original" and hsys.original:
-            key += (tuple(hsys.original.items()),)
-    except AttributeError:
-        return CompiledSystem(hsys, params, field)
+    from poissonkit.structure import HamiltonianSystem
+
+    if not isinstance(hsys, HamiltonianSystem):
+        return CompiledSystem(hsys, params, field)  # raises the typed error
+    # sympy objects compare structurally (assumptions included) and cache their hashes;
+    # srepr strings of a large field took seconds to print
+    key: tuple[object, ...] = (
+        sp.ImmutableMatrix(hsys.structure.matrix), sp.sympify(hsys.hamiltonian),
+        sp.sympify(hsys.multiplier), tuple(hsys.coords), tuple(map(str, hsys.coords)),
+        tuple(sorted(hsys.casimirs.items())),
+        tuple(sorted(hsys.integrals.items())),
+        tuple(sorted((str(k), repr(v)) for k, v in {**hsys.params, **(params or {})}.items())))
+    if field == "original" and hsys.original:
+        key += (tuple(hsys.original.items()),)
     key += (field,)
     hit = _compiled.get(key)
     if hit is None or hit.hamiltonian_system.name != hsys.name:

@@ -16,30 +16,32 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import Any
-
 import numpy as np
+from numpy.typing import ArrayLike
 
+from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import Kernels, kahan_add, rotate_slot, rotate_slot_compensated
 from poissonkit.numerics.nbody import (
     NonUnitAxisError,
     OverlapError,
-    _resolve_kernel,
     evaluate_energy,
     evaluate_rhs,
+    resolve_kernel,
 )
+from poissonkit.numerics.nbody.bodies import PotentialLike
 from poissonkit.numerics.potentials import scaled_kernel
 from poissonkit.numerics.units import Scales
 
 LAYOUT: tuple[str, ...] = tuple(
     f"{v}_{a}" for v in ("r", "p", "nu1", "m1", "nu2", "m2") for a in "xyz")
 
-_cache: dict[int, tuple[Kernels, Any]] = {}
+#: id of a potential kernel -> (its kernels, the kernel, kept alive so its id stays unique)
+_cache: dict[int, tuple[Kernels, CompiledFunction]] = {}
 
 
-def _build(kern) -> Kernels:
+def _build(kern: CompiledFunction) -> Kernels:
     hit = _cache.get(id(kern))
     if hit is not None:
         return hit[0]
@@ -155,7 +157,7 @@ def _build(kern) -> Kernels:
     return out
 
 
-def _positive(value: Any, name: str) -> float:
+def _positive(value: object, name: str) -> float:
     """``float(value)`` if it is a positive finite number, else :class:`InputError` naming it."""
     try:
         v = float(value)
@@ -189,7 +191,7 @@ class TwoBodySystem:
     """
 
     def __init__(self, mass1: float | None, mass2: float | None, alpha1: float, alpha2: float,
-                 potential: Any, params: Mapping[str, Any] | None = None,
+                 potential: PotentialLike, params: Mapping[str, object] | None = None,
                  scales: Scales | None = None, reduced_mass: float | None = None) -> None:
         if reduced_mass is not None:
             mu = _positive(reduced_mass, "reduced_mass")
@@ -204,7 +206,7 @@ class TwoBodySystem:
         L = scales.length if scales else 1.0
         M = scales.mass if scales else 1.0
         self.reduced_mass = mu
-        kern, _ = _resolve_kernel(potential, params or {})
+        kern, _ = resolve_kernel(potential, params or {})
         self._kern = scaled_kernel(kern, L, scales.energy) if scales else kern
         # data: mu, alpha', alpha'', max(m1, m2)/(m1+m2) (escape radius factor)
         self.data = (mu / M, float(alpha1) * M * L * L, float(alpha2) * M * L * L,
@@ -225,49 +227,50 @@ class TwoBodySystem:
         """Scratch arrays for the kernels."""
         return (np.zeros(9),)
 
-    def _state(self, y: Any) -> np.ndarray:
+    def _state(self, y: ArrayLike) -> np.ndarray:
         y = np.asarray(y, dtype=float)
         if y.shape != (18,):
             raise DimensionError(f"two-body state must have shape (18,), got {y.shape}")
         return np.ascontiguousarray(y)
 
-    def rhs(self, t: float, y: Any) -> np.ndarray:
+    def rhs(self, t: float, y: ArrayLike) -> np.ndarray:
         """``ẋ = J∇H`` at ``y`` (eq. (20)); :class:`OverlapError` if ``r = 0``."""
         return evaluate_rhs(self, y)
 
-    def energy(self, y: Any) -> float | np.ndarray:
+    def energy(self, y: ArrayLike) -> float | np.ndarray:
         """``H(y)``; rows of a 2-D array give one value each; :class:`OverlapError` if ``r = 0``."""
         return evaluate_energy(self, y)
 
-    def casimirs(self, y: Any) -> np.ndarray:
+    def casimirs(self, y: ArrayLike) -> np.ndarray:
         """``[|ν'|², (ν', m'), |ν''|², (ν'', m'')]`` (rows if 2-D)."""
         y = np.asarray(y, dtype=float)
         n1, m1, n2, m2 = y[..., 6:9], y[..., 9:12], y[..., 12:15], y[..., 15:18]
         return np.stack([np.sum(n1 * n1, -1), np.sum(n1 * m1, -1), np.sum(n2 * n2, -1),
                          np.sum(n2 * m2, -1)], axis=-1)
 
-    def casimir_scales(self, y: Any) -> np.ndarray:
+    def casimir_scales(self, y: ArrayLike) -> np.ndarray:
         """Natural sizes of the Casimirs: ``1, |m'|, 1, |m''|``."""
         y = np.asarray(y, dtype=float)
         one = np.ones(y.shape[:-1])
         return np.stack([one, np.linalg.norm(y[..., 9:12], axis=-1), one,
                          np.linalg.norm(y[..., 15:18], axis=-1)], axis=-1)
 
-    def linear_momentum(self, y: Any) -> np.ndarray:
+    def linear_momentum(self, y: ArrayLike) -> np.ndarray:
         """Total linear momentum in the centre-of-mass frame: zero by construction."""
         y = np.asarray(y, dtype=float)
         return np.zeros(y.shape[:-1] + (3,))
 
-    def angular_momentum(self, y: Any) -> np.ndarray:
+    def angular_momentum(self, y: ArrayLike) -> np.ndarray:
         """``j = r × p + m' + m''`` (eq. 21)."""
         y = np.asarray(y, dtype=float)
         return np.cross(y[..., 0:3], y[..., 3:6]) + y[..., 9:12] + y[..., 15:18]
 
-    def min_distance(self, y: Any) -> float:
+    def min_distance(self, y: ArrayLike) -> float:
         """``|r|``."""
         return float(np.linalg.norm(self._state(y)[:3]))
 
-    def pack(self, r: Any, p: Any, nu1: Any, m1: Any, nu2: Any, m2: Any, *, si: bool = False,
+    def pack(self, r: ArrayLike, p: ArrayLike, nu1: ArrayLike, m1: ArrayLike, nu2: ArrayLike,
+             m2: ArrayLike, *, si: bool = False,
              normalize: bool = False) -> np.ndarray:
         """State vector from its six 3-vectors (SI if ``si``); axes must be unit vectors unless
         ``normalize`` (else :class:`~poissonkit.numerics.nbody.NonUnitAxisError`)."""
@@ -301,7 +304,7 @@ class TwoBodySystem:
                                        f"(off by {n - 1:.1e}); pass normalize=True")
         return np.concatenate(vecs)
 
-    def unpack(self, y: Any, *, si: bool = False) -> dict[str, np.ndarray]:
+    def unpack(self, y: ArrayLike, *, si: bool = False) -> dict[str, np.ndarray]:
         """Split a state (or rows) into ``r, p, nu1, m1, nu2, m2`` (SI if ``si``)."""
         y = np.asarray(y, dtype=float)
         out = {k: y[..., 3 * i:3 * i + 3] for i, k in enumerate(("r", "p", "nu1", "m1", "nu2", "m2"))}
@@ -313,12 +316,12 @@ class TwoBodySystem:
             out["m2"] = out["m2"] * s.unit("angular_momentum")
         return out
 
-    def check_overlap(self, y: Any) -> None:
+    def check_overlap(self, y: ArrayLike) -> None:
         """Raise :class:`~poissonkit.numerics.nbody.OverlapError` if ``r = 0`` in state ``y``."""
         if not np.any(self._state(y)[:3]):
             raise OverlapError("r = r2 - r1 is zero: the two bodies are at the same position")
 
-    def check_state(self, y: Any, tol: float = 1e-10) -> None:
+    def check_state(self, y: ArrayLike, tol: float = 1e-10) -> None:
         """Raise :class:`NonUnitAxisError` if an axis of ``y`` is not a unit vector and
         :class:`~poissonkit.numerics.nbody.OverlapError` if the bodies coincide."""
         self.check_overlap(y)

@@ -57,8 +57,7 @@ class Scales:
     time: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("length", "mass", "time"):
-            v = getattr(self, name)
+        for name, v in (("length", self.length), ("mass", self.mass), ("time", self.time)):
             try:
                 v = float(v)
             except (TypeError, ValueError):

@@ -26,7 +26,6 @@ import shutil
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
 
 from poissonkit.errors import InputError
 
@@ -98,7 +97,7 @@ def write_text(path: str | Path, text: str) -> Path:
     return write_bytes(path, text.encode("utf-8"))
 
 
-def write_json(path: str | Path, obj: Any, indent: int = 2) -> Path:
+def write_json(path: str | Path, obj: object, indent: int = 2) -> Path:
     """Write ``obj`` as JSON (with a final newline) to ``path`` atomically; return ``path``."""
     return write_text(path, json.dumps(obj, indent=indent) + "\n")
 

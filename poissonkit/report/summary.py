@@ -6,18 +6,18 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
-from poissonkit.errors import DimensionError, InputError
-from poissonkit.numerics.diagnostics import (
-    QUANTITIES,
-    Drift,
+from poissonkit.contracts import (
+    DeclaresNotConserved,
+    HasBodies,
     HasBodyMomenta,
     HasEnergy,
-    drifts,
+    HasExternalFields,
 )
+from poissonkit.errors import DimensionError, InputError
+from poissonkit.numerics.diagnostics import QUANTITIES, Drift, drifts
 from poissonkit.numerics.diagnostics import report as report_drifts
 
 
@@ -114,16 +114,18 @@ def conserved_quantities(system: HasEnergy) -> dict[str, str]:
 
     Energy and the Casimirs are invariants of every autonomous Hamiltonian system here. Total
     linear and angular momentum are conserved only by a closed system: fixed bodies (or external
-    fields, declared by a system attribute ``external_fields``) exert outside forces and torques.
-    A system may declare ``not_conserved`` (a mapping name → reason) itself.
+    fields, declared by a system attribute ``external_fields``:
+    :class:`~poissonkit.contracts.HasExternalFields`) exert outside forces and torques. A system
+    may declare ``not_conserved`` (a mapping name → reason) itself
+    (:class:`~poissonkit.contracts.DeclaresNotConserved`).
     """
-    declared = getattr(system, "not_conserved", None)
+    declared = system.not_conserved if isinstance(system, DeclaresNotConserved) else None
     if declared is not None:
         return dict(declared)
     out: dict[str, str] = {}
-    bodies = getattr(system, "bodies", None) or ()
-    fixed = [getattr(b, "name", "?") for b in bodies if getattr(b, "fixed", False)]
-    external = getattr(system, "external_fields", None)
+    bodies = system.bodies if isinstance(system, HasBodies) else ()
+    fixed = [b.name for b in bodies or () if b.fixed]
+    external = system.external_fields if isinstance(system, HasExternalFields) else None
     reason = (f"fixed bodies ({', '.join(fixed)}) exert outside forces and torques" if fixed
               else "external fields act on the bodies" if external else None)
     if reason:
@@ -142,14 +144,14 @@ SCALES_NOTE = ("max_rel_* = max_abs_* / *_scale, scales taken at t = 0: energy |
                "Σ|r_i × p_i| + Σ|m_k|; a scale exactly 0 is replaced by 1")
 
 
-def invariant_report(system: HasEnergy, diag: Diagnostics) -> dict[str, Any]:
+def invariant_report(system: HasEnergy, diag: Diagnostics) -> dict[str, object]:
     """The summary's invariant figures: ``energy_reference`` ``H(0)``, then for each invariant
     the system really has ``max_abs_*``, ``max_rel_*`` and ``*_scale``
     (:mod:`poissonkit.numerics.diagnostics`), a note on the scales, and the list of quantities
     left out, with why."""
     m = diag.maxima()
     skipped = conserved_quantities(system)
-    out: dict[str, Any] = {"energy_reference": diag.energy_reference}
+    out: dict[str, object] = {"energy_reference": diag.energy_reference}
     for name in QUANTITIES:
         if name.removesuffix("_drift") in skipped:
             continue
@@ -161,7 +163,8 @@ def invariant_report(system: HasEnergy, diag: Diagnostics) -> dict[str, Any]:
     return out
 
 
-def _combine(overall: dict[str, Any], part: Mapping[str, Any]) -> None:
+def _combine(overall: dict[str, float | list[float]], part: Mapping[str, float | list[float]]
+             ) -> None:
     """Fold one part's report entries into ``overall``: maxima grow, scales (all taken at the
     same first state) stay."""
     for k, v in part.items():
@@ -188,7 +191,7 @@ def streamed_diagnostics(system: HasEnergy, folder: str | Path, plot_rows: int =
             total += len(z["t"])
     every = max(1, math.ceil(total / plot_rows))
     first: np.ndarray | None = None
-    overall: dict[str, Any] = {}
+    overall: dict[str, float | list[float]] = {}
     keep_t: list[np.ndarray] = []
     keep_y: list[np.ndarray] = []
     offset = 0
@@ -213,7 +216,7 @@ def streamed_diagnostics(system: HasEnergy, folder: str | Path, plot_rows: int =
     return replace(d, overall=overall), t_all, y_all
 
 
-def _jsonable(x: Any) -> Any:
+def _jsonable(x: object) -> object:
     if isinstance(x, Mapping):
         return {str(k): _jsonable(v) for k, v in x.items()}
     if isinstance(x, (list, tuple)):
@@ -228,7 +231,7 @@ def _jsonable(x: Any) -> Any:
     return str(x)
 
 
-def write_summary(path: str | Path, summary: Mapping[str, Any]) -> Path:
+def write_summary(path: str | Path, summary: Mapping[str, object]) -> Path:
     """Write ``summary`` as pretty JSON (numpy values converted, non-finite floats as strings),
     atomically."""
     from poissonkit.report.atomic import write_json

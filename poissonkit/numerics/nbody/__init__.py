@@ -48,7 +48,8 @@ from poissonkit.numerics.nbody.evaluate import (
     evaluate_energy,
     evaluate_rhs,
 )
-from poissonkit.numerics.nbody.pairkernels import _resolve_kernel  # noqa: F401 (twobody uses it)
+from poissonkit.numerics.nbody.pairkernels import _resolve_kernel  # noqa: F401 (former name)
+from poissonkit.numerics.nbody.pairkernels import resolve_kernel
 from poissonkit.numerics.nbody.state import apply_forces
 from poissonkit.numerics.nbody.system import PARALLEL_MIN_BODIES, NBodySystem
 
@@ -59,5 +60,5 @@ OverlapError.__module__ = __name__
 __all__ = [
     "PARALLEL_MIN_BODIES", "AllPairs", "Body", "Interaction", "NBodySystem", "NonUnitAxisError",
     "OverlapError", "apply_forces", "cell_list", "coincident_pair", "evaluate_energy",
-    "evaluate_rhs", "forward_cells",
+    "evaluate_rhs", "forward_cells", "resolve_kernel",
 ]

@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 
 #: What a pair potential may be given as: a registry entry, its registry name, a sympy
 #: expression in ``r, c1, c2, c3`` or a compiled kernel ``f(r, c1, c2, c3) -> (U, U_r, U_c1,
-#: U_c2, U_c3)`` (see :func:`poissonkit.numerics.nbody.pairkernels._resolve_kernel`).
+#: U_c2, U_c3)`` (see :func:`poissonkit.numerics.nbody.pairkernels.resolve_kernel`).
 PotentialLike = Union["PairPotential", str, "sp.Basic", "Dispatcher"]
 
 #: Per-body quantities as given: a mapping or pairs ``name -> number``.

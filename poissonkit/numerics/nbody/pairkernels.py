@@ -31,9 +31,29 @@ from poissonkit.plugin.contributions import PairPotential
 SlotSpec = tuple[tuple[int, int], ...]
 
 
-def _resolve_kernel(potential: PotentialLike, params: Mapping[str, object]
-                    ) -> tuple[Dispatcher, str]:
-    """(SI kernel, orientation) of one interaction's potential."""
+def resolve_kernel(potential: PotentialLike, params: Mapping[str, object]
+                   ) -> tuple[Dispatcher, str]:
+    """The SI kernel of a pair potential as given, and its orientation.
+
+    Parameters
+    ----------
+    potential
+        A :class:`~poissonkit.plugin.PairPotential`, its registry name, a sympy expression in
+        ``r, c1, c2, c3`` or a numba kernel ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)``.
+    params
+        Values of the potential's parameters (SI).
+
+    Returns
+    -------
+    tuple
+        ``(kernel, orientation)``: the compiled kernel ``f(r, c1, c2, c3)`` in SI and which
+        axes it reads (``"both"``, ``"first"``, ``"second"`` or ``"none"``).
+
+    Raises
+    ------
+    InputError
+        If ``potential`` is none of these.
+    """
     if isinstance(potential, str):
         from poissonkit.plugin import potential as lookup
 
@@ -69,8 +89,12 @@ def _resolve_bound(potential: PotentialLike, params: Mapping[str, object]
         if bound:
             kern, slots = compile_bound_potential(potential, params, bound)
             return kern, slots, potential.orientation
-    kern, orient = _resolve_kernel(potential, params)
+    kern, orient = resolve_kernel(potential, params)
     return kern, (), orient
+
+
+#: The former private name of :func:`resolve_kernel`.
+_resolve_kernel = resolve_kernel
 
 
 def _registry_entry(potential: PotentialLike) -> PairPotential | None:
