@@ -47,7 +47,8 @@ def _env() -> dict[str, str]:
 
 def build_site(dest: Path) -> subprocess.CompletedProcess:
     """``mkdocs build --strict`` of the project into ``dest``."""
-    return subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-q",
+    # no -q: it raises mkdocs' log level, so strict mode no longer sees the warnings it counts
+    return subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict",
                            "-f", str(ROOT / "mkdocs.yml"), "-d", str(dest)],
                           cwd=ROOT, env=_env(), capture_output=True, text=True, timeout=300)
 
