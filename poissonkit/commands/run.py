@@ -28,6 +28,7 @@ import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
+from types import FrameType
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -221,18 +222,23 @@ def relative_position(spec: RunSpec, y: np.ndarray) -> np.ndarray | None:
     return None
 
 
+#: A SIGINT disposition as :func:`signal.signal` returns it (a function, SIG_DFL/SIG_IGN, or
+#: ``None`` when it was not set from Python).
+_Handler = Callable[[int, FrameType | None], object] | int | None
+
+
 class _StopOnSigint:
     """SIGINT handler for the duration of a run: the first Ctrl-C asks the integration to stop
     at the end of the current chunk of steps (files stay consistent); a second one aborts."""
 
     def __init__(self) -> None:
         self.requested = False
-        self._old: Any = None
+        self._old: _Handler = None
 
     def __enter__(self) -> _StopOnSigint:
         import signal
 
-        def handler(signum, frame):  # noqa: ARG001 - signal API
+        def handler(signum: int, frame: FrameType | None) -> None:  # noqa: ARG001
             if self.requested:
                 raise KeyboardInterrupt
             self.requested = True
