@@ -26,12 +26,22 @@ import argparse
 import math
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from types import FrameType
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from poissonkit.contracts import HasBodies, HasLayout, HasScales, HasUnpack, Trajectory
 from poissonkit.errors import InputError, MissingDependencyError, SceneError
+from poissonkit.numerics.units import Scales
+
+if TYPE_CHECKING:
+    from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
+    from poissonkit.numerics.events import EventRecord
+    from poissonkit.numerics.runspec import RunSpec
+    from poissonkit.numerics.solution import Solution
 
 DEFAULT_OUT = "poissonkit-output"
 
@@ -101,7 +111,7 @@ def _positive(name: str, value: float | None) -> None:
         raise InputError(f"--{name} must be a positive number, got {value!r}")
 
 
-def build_spec(args: argparse.Namespace):
+def build_spec(args: argparse.Namespace) -> RunSpec:
     """The :class:`~poissonkit.numerics.runspec.RunSpec` the options describe.
 
     No scene: the registered default scene (:func:`poissonkit.plugin.default_scene`); an
@@ -128,7 +138,7 @@ def build_spec(args: argparse.Namespace):
                 "scene files need poissonkit.scene.load_scene/build_run, which this build lacks"
             ) from None
         spec = build_run(load_scene(path))
-    changes: dict[str, Any] = {}
+    changes: dict[str, float | str | None] = {}
     if args.method and "method" not in consumed:
         changes["method"] = args.method
     tunit = _time_unit(spec)
@@ -153,15 +163,30 @@ def _is_registered_scene(name: str) -> bool:
     return name in names("scene")
 
 
-def _time_unit(spec) -> float:
+def _scales(system: object) -> Scales | None:
+    """The internal units of ``system`` (:class:`~poissonkit.contracts.HasScales`), ``None``
+    for a system in SI units."""
+    s = system.scales if isinstance(system, HasScales) else None
+    return s if isinstance(s, Scales) else None
+
+
+def _layout(system: object) -> tuple[str, ...]:
+    """Names of the state's components (:class:`~poissonkit.contracts.HasLayout`), or ()."""
+    return tuple(system.layout) if isinstance(system, HasLayout) else ()
+
+
+def _time_unit(spec: RunSpec) -> float:
     sc = spec.metadata.get("scales") if spec.metadata else None
     if isinstance(sc, dict) and "time" in sc:
         return float(sc["time"])
-    s = getattr(spec.system, "scales", None)
+    s = _scales(spec.system)
     return float(s.time) if s is not None else 1.0
 
 
-def _solve(spec, progress: bool, save_every: int, **control: Any):
+def _solve(spec: RunSpec, progress: bool, save_every: int, *,
+           checkpoint: Checkpoint | None = None, resume: bool = False,
+           stream: TrajectoryStream | None = None,
+           stop: Callable[[], bool] | None = None) -> Solution:
     try:
         from poissonkit.numerics.solver import solve
     except ImportError:
@@ -169,10 +194,11 @@ def _solve(spec, progress: bool, save_every: int, **control: Any):
             "poissonkit.numerics.solver is not available in this build") from None
     return solve(spec.system, spec.y0, spec.t_end, method=spec.method, step=spec.step,
                  tol=spec.tol, progress=progress, save_every=save_every,
-                 events=getattr(spec, "events", ()), **control)
+                 events=spec.events, checkpoint=checkpoint, resume=resume, stream=stream,
+                 stop=stop)
 
 
-def trajectory_rows(sol) -> tuple[np.ndarray, np.ndarray]:
+def trajectory_rows(sol: Trajectory) -> tuple[np.ndarray, np.ndarray]:
     """``(t, y)`` of a solution with ``y`` as rows (one state per saved time)."""
     t = np.asarray(sol.t, dtype=float)
     y = np.asarray(sol.y, dtype=float)
@@ -181,18 +207,24 @@ def trajectory_rows(sol) -> tuple[np.ndarray, np.ndarray]:
     return t, y
 
 
-def relative_position(spec, y: np.ndarray) -> np.ndarray | None:
+def relative_position(spec: RunSpec, y: np.ndarray) -> np.ndarray | None:
     """Relative position ``r_2 - r_1`` of a two-body run (internal units), or ``None``."""
     system = spec.system
-    layout = tuple(getattr(system, "layout", ()))
-    if hasattr(system, "unpack") and getattr(system, "n_moving", 0) == 2:
+    # bodies in the state (N-body form): the first two moving ones, or the first one
+    n_moving = system.n_moving if isinstance(system, HasBodies) else 0
+    if isinstance(system, HasUnpack) and n_moving == 2:
         r = system.unpack(y)["r"]
         return r[:, 1] - r[:, 0]
-    if layout[:3] and y.shape[1] == 18:  # the seed's centre-of-mass form
+    if _layout(system)[:3] and y.shape[1] == 18:  # the seed's centre-of-mass form
         return y[:, 0:3]
-    if hasattr(system, "unpack") and getattr(system, "n_moving", 0) >= 1:
+    if isinstance(system, HasUnpack) and n_moving >= 1:
         return system.unpack(y)["r"][:, 0]
     return None
+
+
+#: A SIGINT disposition as :func:`signal.signal` returns it (a function, SIG_DFL/SIG_IGN, or
+#: ``None`` when it was not set from Python).
+_Handler = Callable[[int, FrameType | None], object] | int | None
 
 
 class _StopOnSigint:
@@ -201,12 +233,12 @@ class _StopOnSigint:
 
     def __init__(self) -> None:
         self.requested = False
-        self._old: Any = None
+        self._old: _Handler = None
 
     def __enter__(self) -> _StopOnSigint:
         import signal
 
-        def handler(signum, frame):  # noqa: ARG001 - signal API
+        def handler(signum: int, frame: FrameType | None) -> None:  # noqa: ARG001
             if self.requested:
                 raise KeyboardInterrupt
             self.requested = True
@@ -219,7 +251,7 @@ class _StopOnSigint:
             self._old = None
         return self
 
-    def __exit__(self, *exc: Any) -> None:
+    def __exit__(self, *exc: object) -> None:
         import signal
 
         if self._old is not None:
@@ -277,29 +309,28 @@ def main(args: argparse.Namespace) -> int:
     _solve(warm, progress=False, save_every=1)
     compile_time = time.perf_counter() - tc
     parts = out / "trajectory.parts"
-    control: dict[str, Any] = {"stream": TrajectoryStream(parts)}
-    if every is not None:
-        control.update(checkpoint=Checkpoint(out / "checkpoints", every), resume=resume)
+    checkpoint = Checkpoint(out / "checkpoints", every) if every is not None else None
     t0 = time.perf_counter()
     with _StopOnSigint() as stop:
         sol = _solve(spec, progress=not args.no_progress, save_every=args.save_every,
-                     stop=stop, **control)
-    wall = getattr(sol, "wall_time", None) or (time.perf_counter() - t0)
+                     stop=stop, stream=TrajectoryStream(parts), checkpoint=checkpoint,
+                     resume=resume and checkpoint is not None)
+    wall = sol.wall_time or (time.perf_counter() - t0)
     return _report(args, spec, sol, out, parts, wall, compile_time, energy_tol)
 
 
-def _with_contact(spec: Any) -> Any:
+def _with_contact(spec: RunSpec) -> RunSpec:
     """The seed scene (two-body form) gets the same geometric contact event as scene files:
     its cylinders' radius ``a`` and height ``h`` are in ``metadata["parameters_SI"]``."""
     from dataclasses import replace
 
     si = (spec.metadata or {}).get("parameters_SI") or {}
-    if getattr(spec, "events", ()) or not {"a", "h"} <= set(si) \
-            or getattr(spec.system, "bodies", None) is not None:
+    if spec.events or not {"a", "h"} <= set(si) or isinstance(spec.system, HasBodies):
         return spec
     from poissonkit.numerics.events import TWO_BODY_NAMES, BodyShape, Contact
 
-    length = float(getattr(getattr(spec.system, "scales", None), "length", 1.0))
+    sc = _scales(spec.system)
+    length = float(sc.length) if sc is not None else 1.0
     shapes = tuple(BodyShape(n, float(si["a"]) / length, float(si["h"]) / 2 / length)
                    for n in TWO_BODY_NAMES)
     return replace(spec, events=(Contact(shapes),))
@@ -312,8 +343,8 @@ def _checkpoint_every_of(out: Path) -> int:
     return int(newest_checkpoint(out / "checkpoints")[2]["every"])
 
 
-def _report(args: argparse.Namespace, spec: Any, sol: Any, out: Path, parts: Path, wall: float,
-            compile_time: float, energy_tol: float | None) -> int:
+def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, parts: Path,
+            wall: float, compile_time: float, energy_tol: float | None) -> int:
     """Diagnostics, files and the printed summary of a finished (or stopped) run."""
     from poissonkit.numerics.checkpoint import read_trajectory
     from poissonkit.report import invariant_report, streamed_diagnostics, write_summary
@@ -322,22 +353,21 @@ def _report(args: argparse.Namespace, spec: Any, sol: Any, out: Path, parts: Pat
     nrows = int(sol.extra.get("streamed_rows", len(sol.t)))
     diag, t, y = streamed_diagnostics(spec.system, parts, plot_rows=PLOT_ROWS)
     tunit = _time_unit(spec)
-    sc = getattr(spec.system, "scales", None)
+    sc = _scales(spec.system)
     lunit = float(sc.length) if sc is not None else 1.0
     jscale = float(sc.unit("angular_momentum")) if sc is not None else 1.0
     rel = relative_position(spec, y)
     meta = dict(spec.metadata or {})
-    tol = energy_tol if energy_tol is not None else (getattr(spec, "energy_tol", None)
-                                                     or DEFAULT_ENERGY_TOL)
+    tol = energy_tol if energy_tol is not None else (spec.energy_tol or DEFAULT_ENERGY_TOL)
     invariants = invariant_report(spec.system, diag)
     interrupted = bool(sol.extra.get("interrupted"))
     touching = [e for e in sol.events if e.kind in ("contact", "collision")]
-    summary: dict[str, Any] = {
+    summary: dict[str, Any] = {  # the JSON document; values read back below are floats
         "scene": spec.name,
-        "method": getattr(sol, "method", spec.method),
+        "method": sol.method,
         "step": spec.step,
         "tol": spec.tol,
-        "steps": int(getattr(sol, "steps", len(t) - 1)),
+        "steps": int(sol.steps),
         "wall_time_s": float(wall),
         "compile_time_s": float(compile_time),
         "wall_time_note": "integration only; compile_time_s is the one-time kernel compilation "
@@ -354,7 +384,7 @@ def _report(args: argparse.Namespace, spec: Any, sol: Any, out: Path, parts: Pat
         "energy_tol": tol,
         **invariants,
     }
-    if sc is not None and getattr(sc, "energy", None):
+    if sc is not None:
         summary.update(energy_reference_J=summary["energy_reference"] * float(sc.energy),
                        max_abs_energy_error_J=summary["max_abs_energy_error"] * float(sc.energy))
     summary["units_note"] = ("absolute figures and references are in internal units (the "
@@ -370,7 +400,7 @@ def _report(args: argparse.Namespace, spec: Any, sol: Any, out: Path, parts: Pat
         if key in meta:
             summary[key] = meta[key]
     summary["parameters"] = meta
-    layout = tuple(getattr(spec.system, "layout", ()))
+    layout = _layout(spec.system)
     if nrows <= MAX_NPZ_ROWS:
         tf, yf = read_trajectory(parts)
         relf = relative_position(spec, yf)
@@ -383,7 +413,8 @@ def _report(args: argparse.Namespace, spec: Any, sol: Any, out: Path, parts: Pat
         summary["trajectory"] = ("trajectory.parts/ (read with "
                                  "poissonkit.numerics.checkpoint.read_trajectory)")
         files = ["summary.json", "trajectory.parts/"]
-    problems = _problems(summary, tol, interrupted, touching, tunit)
+    energy_error = float(summary["max_rel_energy_error"])
+    problems = _problems(energy_error, sol.message, tol, interrupted, touching, tunit)
     summary["warnings"] = problems
     write_summary(out / "summary.json", summary)
     figures: list[str] = []
@@ -409,23 +440,23 @@ def _report(args: argparse.Namespace, spec: Any, sol: Any, out: Path, parts: Pat
         return EXIT_INTERRUPTED
     if touching:
         return EXIT_CONTACT
-    if summary["max_rel_energy_error"] > tol:
+    if energy_error > tol:
         return EXIT_ENERGY
     return EXIT_OK
 
 
-def _problems(summary: dict[str, Any], tol: float, interrupted: bool, touching: list,
-              tunit: float) -> list[str]:
+def _problems(energy_error: float, message: str, tol: float, interrupted: bool,
+              touching: list[EventRecord], tunit: float) -> list[str]:
     out = []
     if interrupted:
-        out.append(f"run interrupted: {summary['message']}; partial results written "
+        out.append(f"run interrupted: {message}; partial results written "
                    "(resume with --resume if --checkpoint-every was given)")
     for e in touching:
         out.append(f"bodies touched ({e.kind}) at t = {e.time * tunit:.9g} s "
                    f"(located to {e.time_error * tunit:.2g} s, step {e.step}); the run stopped "
                    "there — the scene's bodies interpenetrate beyond this time")
-    if summary["max_rel_energy_error"] > tol:
-        out.append(f"energy error max |ΔH|/|H(0)| = {summary['max_rel_energy_error']:.3g} "
+    if energy_error > tol:
+        out.append(f"energy error max |ΔH|/|H(0)| = {energy_error:.3g} "
                    f"exceeds the scene's tolerance {tol:g}")
     return out
 

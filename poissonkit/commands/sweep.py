@@ -71,7 +71,7 @@ def main(args: argparse.Namespace) -> int:
         from poissonkit.plugin.registry import default_scene
 
         args.scene = default_scene().name
-    options: dict = {}
+    options: dict[str, float | None] = {}
     if args.escape is not None:
         options["escape"] = args.escape
     if Path(args.scene).suffix != ".toml" and not Path(args.scene).exists():

@@ -78,8 +78,8 @@ def default_scene() -> SceneEntry:
         If no registered scene is flagged as the default (e.g. its plugin was blocked).
     """
     for entry in entries("scene").values():
-        if getattr(entry, "default", False):
-            return entry  # type: ignore[return-value]
+        if isinstance(entry, SceneEntry) and entry.default:
+            return entry
     from poissonkit.errors import SceneError
 
     raise SceneError("no default scene is registered (is the magnets plugin blocked or "

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import networkx as nx
 import numpy as np
@@ -186,9 +186,9 @@ def build_run(scene: Scene) -> RunSpec:
     :func:`poissonkit.scene.planner.run_planned`). Durations and steps are converted to the
     system's internal time unit; ``metadata`` keeps the SI values.
     """
-    metadata: dict[str, Any] = {"scene": scene.name, "source": scene.source,
-                                "description": scene.description,
-                                "duration_s": scene.run.duration, "step_s": scene.run.step}
+    metadata: dict[str, object] = {"scene": scene.name, "source": scene.source,
+                                   "description": scene.description,
+                                   "duration_s": scene.run.duration, "step_s": scene.run.step}
     built = build_scene(scene)
     if built.plan is not None:
         metadata["plan"] = built.plan

@@ -8,12 +8,16 @@ it into a :class:`~poissonkit.numerics.runspec.RunSpec` here.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any
+from typing import TYPE_CHECKING
 
 from poissonkit.errors import SceneError
 
+if TYPE_CHECKING:
+    from poissonkit.numerics.runspec import RunSpec
 
-def registered_run(name: str | None, options: Mapping[str, Any] | None = None):
+
+def registered_run(name: str | None, options: Mapping[str, object] | None = None
+                   ) -> tuple[RunSpec, set[str]]:
     """The run of a registered scene, and which options the scene consumed.
 
     Parameters

@@ -13,7 +13,9 @@ is), :mod:`~poissonkit.sweeps.outcomes` (registry), :mod:`~poissonkit.sweeps.cha
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 from poissonkit.sweeps.api import sweep
 from poissonkit.sweeps.chaos import megno
@@ -21,13 +23,19 @@ from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, OUTCOMES, Outcome
 from poissonkit.sweeps.params import Axis, Design, Range, grid, parse_param
 from poissonkit.sweeps.scenes import FATES, TomlScene, sweep_scene
 
+if TYPE_CHECKING:
+    import xarray as xr
 
-def stability_map(*args: Any, **kwargs: Any) -> Any:
-    """Draw a stability map to PNG (see :func:`poissonkit.sweeps.plot.stability_map`)."""
+
+def stability_map(ds: xr.Dataset, path: str | Path, *, x: str | None = None,
+                  y: str | None = None, mark: Mapping[str, float] | None = None,
+                  chaos: str | None = "megno", title: str | None = None,
+                  labels: Mapping[str, str] | None = None, dpi: int = 110) -> Path:
+    """Draw a stability map to PNG (see :func:`poissonkit.sweeps.plot.stability_map`); matplotlib
+    is imported only here."""
     from poissonkit.sweeps.plot import stability_map as draw
 
-    return draw(*args, **kwargs)
-
+    return draw(ds, path, x=x, y=y, mark=mark, chaos=chaos, title=title, labels=labels, dpi=dpi)
 
 
 __all__ = [

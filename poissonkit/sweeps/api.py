@@ -5,13 +5,13 @@ from __future__ import annotations
 import json
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from poissonkit.errors import InputError
-from poissonkit.sweeps.execute import execute, make_client, resolve_units
 from poissonkit.contracts import SweepScene
+from poissonkit.errors import InputError
+from poissonkit.sweeps.execute import PointResult, execute, make_client, resolve_units
 from poissonkit.sweeps.outcomes import outcome_entries, resolve_outcomes
 from poissonkit.sweeps.params import Axis, Range, design_from
 from poissonkit.sweeps.scenes import sweep_scene
@@ -23,14 +23,20 @@ from poissonkit.sweeps.store import (
     open_store,
 )
 
+if TYPE_CHECKING:  # dask and xarray are imported where used
+    import xarray as xr
+    from distributed import Client
 
-def sweep(scene: SweepScene | str | Path, params: Sequence[Axis | Range | str] | Mapping[str, Any],
-          outcomes: Sequence[str] | str | None = None, client: Any = None,
+
+def sweep(scene: SweepScene | str | Path,
+          params: Sequence[Axis | Range | str] | Mapping[str, object],
+          outcomes: Sequence[str] | str | None = None, client: Client | None = None,
           store: str | Path | None = None, *, scheduler: str | None = None,
           workers: int | None = None, samples: int | None = None, seed: int = 0,
           resume: bool = False, overwrite: bool = False, batch_size: int | None = None,
           retries: int = 2, progress: bool = True,
-          on_batch: Callable[[int, int], None] | None = None, **scene_options: Any):
+          on_batch: Callable[[int, int], None] | None = None, **scene_options: object
+          ) -> xr.Dataset:
     """Run ``scene`` at every point of a parameter design; return the results as a Dataset.
 
     Parameters
@@ -123,7 +129,7 @@ def sweep(scene: SweepScene | str | Path, params: Sequence[Axis | Range | str] |
     arrays = {n: np.array(ds[n].values) for n in [*names, "completed", "failed", "error"]}
     count = [done]
 
-    def on_results(results: list[tuple[int, Any, str]]) -> None:
+    def on_results(results: list[PointResult]) -> None:
         flat = np.array([r[0] for r in results], dtype=np.int64)
         index = np.unravel_index(flat, shape)
         values: dict[str, np.ndarray] = {}

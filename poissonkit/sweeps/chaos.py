@@ -17,16 +17,15 @@ from __future__ import annotations
 
 import math
 import re
-from typing import Any
-
 import numpy as np
 
+from poissonkit.contracts import HasLayout, System
 from poissonkit.errors import InputError
 
 
-def _axis_slices(system: Any, dim: int) -> list[slice]:
+def _axis_slices(system: System, dim: int) -> list[slice]:
     """Where the unit axes ``nu`` of tops sit in the state (from the system's layout)."""
-    layout = list(getattr(system, "layout", ()))
+    layout = list(system.layout) if isinstance(system, HasLayout) else []
     if len(layout) != dim:
         return []
     return [slice(k, k + 3) for k, name in enumerate(layout)
@@ -41,7 +40,7 @@ def _on_leaf(y: np.ndarray, axes: list[slice]) -> np.ndarray:
     return y
 
 
-def megno(system: Any, y0: np.ndarray, t_end: float, method: str = "splitting6",
+def megno(system: System, y0: np.ndarray, t_end: float, method: str = "splitting6",
           step: float | None = None, *, delta0: float = 1e-8, chunks: int = 50,
           seed: int = 12345) -> float:
     """Mean MEGNO ``<Y>(t_end)`` of the orbit of ``y0`` (two nearby runs).

@@ -19,7 +19,7 @@ import os
 import uuid
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -27,8 +27,15 @@ from poissonkit.contracts import SweepScene
 from poissonkit.errors import InputError, MissingDependencyError
 from poissonkit.plugin.contributions import OutcomeEntry
 
+if TYPE_CHECKING:  # dask is imported where used
+    from distributed import Client
+
+#: One point's result: ``(flat index, outcome values by name or None if it failed, error
+#: message)``.
+PointResult = tuple[int, dict[str, object] | None, str]
+
 #: What each worker process has built, by scene key (see :func:`run_batch`).
-_PREPARED: dict[str, Any] = {}
+_PREPARED: dict[str, Mapping[str, object]] = {}
 #: How many times this process built a scene (read by tests through ``Client.run``).
 _BUILDS: dict[str, int] = {}
 
@@ -48,7 +55,7 @@ def _prepared(scene: SweepScene) -> Mapping[str, object]:
 
 def run_batch(scene: SweepScene, points: Sequence[tuple[int, Mapping[str, float]]],
               outcomes: Sequence[str | OutcomeEntry]
-              ) -> list[tuple[int, dict[str, object] | None, str]]:
+              ) -> list[PointResult]:
     """Run a batch of points on a worker: ``[(flat index, outcomes or None, error message)]``.
 
     ``outcomes`` are registry names or the entries themselves (the client sends entries, so
@@ -58,7 +65,7 @@ def run_batch(scene: SweepScene, points: Sequence[tuple[int, Mapping[str, float]
     from poissonkit.sweeps.outcomes import reduce_run
 
     prep = _prepared(scene)
-    out: list[tuple[int, dict[str, object] | None, str]] = []
+    out: list[PointResult] = []
     for idx, values in points:
         try:
             rec = scene.run(prep, values)
@@ -79,8 +86,8 @@ def _require_dask() -> None:
             "install them with: pip install 'dask[distributed]' xarray zarr") from None
 
 
-def make_client(client: Any = None, scheduler: str | None = None,
-                workers: int | None = None) -> tuple[Any, Callable[[], None]]:
+def make_client(client: Client | None = None, scheduler: str | None = None,
+                workers: int | None = None) -> tuple[Client, Callable[[], None]]:
     """The client to use and a function closing whatever was started here.
 
     Parameters
@@ -150,7 +157,7 @@ def batches(todo: Sequence[tuple[int, dict[str, float]]], n_workers: int,
 
 def execute(scene: SweepScene, todo: Sequence[tuple[int, dict[str, float]]],
             outcomes: Sequence[str | OutcomeEntry],
-            client: Any, *, on_results: Callable[[list[tuple[int, Any, str]]], None],
+            client: Client, *, on_results: Callable[[list[PointResult]], None],
             batch_size: int | None = None, retries: int = 2,
             progress: bool = True, total: int | None = None, done: int = 0,
             failures: int = 0) -> None:

@@ -17,6 +17,7 @@ from collections.abc import Callable, Iterable, Iterator, Mapping
 
 import numpy as np
 
+from poissonkit.contracts import HasMomenta
 from poissonkit.errors import UnknownNameError
 from poissonkit.plugin.contributions import OutcomeEntry
 from poissonkit.sweeps.scenes import FATES, RunRecord
@@ -39,7 +40,7 @@ def _max(a: np.ndarray) -> float:
 
 def _final_angular_momentum(rec: RunRecord) -> float:
     sys = rec.solution.system
-    if not hasattr(sys, "angular_momentum"):
+    if not isinstance(sys, HasMomenta):
         return math.nan
     j = np.asarray(sys.angular_momentum(np.asarray(rec.solution.y)[-1:]), dtype=float)
     return float(np.linalg.norm(j)) * rec.angular_momentum_unit

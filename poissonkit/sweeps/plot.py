@@ -4,19 +4,24 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from poissonkit.errors import InputError
 from poissonkit.sweeps.scenes import FATES
 
+if TYPE_CHECKING:  # matplotlib and xarray are imported where used
+    import xarray as xr
+    from matplotlib.axes import Axes
+    from matplotlib.collections import QuadMesh
+
 #: Colours of the fates (bounded, collision, escape) and of failed / missing points.
 FATE_COLOURS = ("#2c7fb8", "#d7301f", "#fdae61")
 FAILED_COLOUR = "#bdbdbd"
 
 
-def _axes_of(ds: Any, x: str | None, y: str | None) -> tuple[str, str]:
+def _axes_of(ds: xr.Dataset, x: str | None, y: str | None) -> tuple[str, str]:
     dims = [d for d in ds["fate"].dims]
     if len(dims) != 2:
         raise InputError(f"a stability map needs a sweep over two parameters; this one has "
@@ -30,9 +35,10 @@ def _axes_of(ds: Any, x: str | None, y: str | None) -> tuple[str, str]:
     return x, y
 
 
-def draw_map(ax_fate: Any, ax_chaos: Any | None, ds: Any, x: str | None = None,
+def draw_map(ax_fate: Axes, ax_chaos: Axes | None, ds: xr.Dataset, x: str | None = None,
              y: str | None = None, mark: Mapping[str, float] | None = None,
-             chaos: str = "megno", labels: Mapping[str, str] | None = None) -> Any:
+             chaos: str = "megno", labels: Mapping[str, str] | None = None
+             ) -> QuadMesh | None:
     """Draw the fate map (and the chaos map) of a two-parameter sweep on given axes.
 
     Returns the chaos panel's image (for a colour bar), or ``None``.
@@ -79,7 +85,7 @@ def draw_map(ax_fate: Any, ax_chaos: Any | None, ds: Any, x: str | None = None,
     return image
 
 
-def stability_map(ds: Any, path: str | Path, *, x: str | None = None, y: str | None = None,
+def stability_map(ds: xr.Dataset, path: str | Path, *, x: str | None = None, y: str | None = None,
                   mark: Mapping[str, float] | None = None, chaos: str | None = "megno",
                   title: str | None = None, labels: Mapping[str, str] | None = None,
                   dpi: int = 110) -> Path:
@@ -128,7 +134,7 @@ def stability_map(ds: Any, path: str | Path, *, x: str | None = None, y: str | N
     return out
 
 
-def boundary(ds: Any, along: str) -> Any:
+def boundary(ds: xr.Dataset, along: str) -> xr.DataArray:
     """For each value of the other dimension, the smallest ``along`` value from which every
     larger value is bounded (``nan`` if none): the stability boundary of a 2-D map."""
     import xarray as xr

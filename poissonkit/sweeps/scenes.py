@@ -23,7 +23,7 @@ import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -94,7 +94,8 @@ def cut_solution(sol: Solution, k: int) -> Solution:
 _SPIN = "spin"
 
 
-def _descend(node: Any, seg: str, where: str) -> Any:
+def _descend(node: object, seg: str, where: str) -> int | str:
+    """The key or index of segment ``seg`` in the TOML table or array ``node``."""
     if isinstance(node, list):
         if seg.lstrip("-").isdigit():
             k = int(seg)
@@ -217,12 +218,14 @@ class TomlScene:
     fixed: Mapping[str, float] = field(default_factory=dict)
 
     @classmethod
-    def from_file(cls, path: str | Path, **kw: Any) -> TomlScene:
+    def from_file(cls, path: str | Path, *, escape: float = 10.0,
+                  fixed: Mapping[str, float] | None = None) -> TomlScene:
         """Read a scene file (errors as :func:`poissonkit.scene.load_scene`)."""
         from poissonkit.scene import load_scene
 
         load_scene(path)  # validates the file, typed errors naming the field
-        return cls(Path(path).read_text(encoding="utf-8"), source=str(path), **kw)
+        return cls(Path(path).read_text(encoding="utf-8"), source=str(path), escape=escape,
+                   fixed={} if fixed is None else fixed)
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.escape) and self.escape > 1):
@@ -315,7 +318,7 @@ class TomlScene:
               tol=spec.tol)  # compile now
         return {"scene": spec.name, "scales": spec.system.scales}
 
-    def run(self, prep: Mapping[str, Any], values: Mapping[str, float]) -> RunRecord:
+    def run(self, prep: Mapping[str, object], values: Mapping[str, float]) -> RunRecord:
         """Integrate one point and classify its fate (shape contact, escape)."""
         from poissonkit.numerics.events import Escape
         from poissonkit.numerics.solver import solve
@@ -323,7 +326,7 @@ class TomlScene:
 
         scene = self.scene_with(values)
         # the units of the first point, so every point shares its compiled kernels
-        built = build_scene(scene, prep["scales"])
+        built = build_scene(scene, cast("Scales | None", prep["scales"]))  # from prepare()
         system, y0, t_end, step, models = (built.system, built.y0, built.t_end, built.step,
                                            built.bodies)
         L = system.scales.length if system.scales is not None else 1.0

@@ -17,7 +17,7 @@ import math
 import warnings
 from collections.abc import Iterable, Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -25,12 +25,15 @@ from poissonkit.errors import InputError
 from poissonkit.sweeps.outcomes import OUTCOMES
 from poissonkit.sweeps.params import Design
 
+if TYPE_CHECKING:  # xarray is imported where used
+    import xarray as xr
+
 _STATUS = ("completed", "failed", "error")
 
 
-def _clean_attrs(attrs: Mapping[str, Any]) -> dict[str, Any]:
+def _clean_attrs(attrs: Mapping[str, object]) -> dict[str, str | int | float | bool]:
     """JSON-safe attributes (no NaN/None)."""
-    out: dict[str, Any] = {}
+    out: dict[str, str | int | float | bool] = {}
     for k, v in attrs.items():
         if v is None or (isinstance(v, float) and not math.isfinite(v)):
             continue
@@ -38,14 +41,14 @@ def _clean_attrs(attrs: Mapping[str, Any]) -> dict[str, Any]:
     return out
 
 
-def empty_dataset(design: Design, outcomes: Iterable[str], attrs: Mapping[str, Any],
-                  units: Mapping[str, str]):
+def empty_dataset(design: Design, outcomes: Iterable[str], attrs: Mapping[str, object],
+                  units: Mapping[str, str]) -> xr.Dataset:
     """The dataset of a sweep with nothing computed yet."""
     import xarray as xr
 
     dims = design.dims
     shape = design.shape
-    coords: dict[str, Any] = {}
+    coords: dict[str, tuple[object, ...]] = {}
     if design.axes:
         for a in design.axes:
             coords[a.path] = (a.path, np.array(a.values), {"units": units[a.path],
@@ -54,7 +57,7 @@ def empty_dataset(design: Design, outcomes: Iterable[str], attrs: Mapping[str, A
         coords["sample"] = ("sample", np.arange(design.samples))
         for p, vals in design.sample_values().items():
             coords[p] = ("sample", vals, {"units": units[p], "long_name": p})
-    data: dict[str, Any] = {}
+    data: dict[str, tuple[object, ...]] = {}
     for name in outcomes:
         o = OUTCOMES[name]
         var_attrs = {"units": o.units, "long_name": o.description}
@@ -77,7 +80,7 @@ def _quiet():
     return ctx
 
 
-def create_store(path: str | Path, ds: Any) -> None:
+def create_store(path: str | Path, ds: xr.Dataset) -> None:
     """Write the (empty) dataset as a new Zarr store, replacing any store at ``path``."""
     ctx = _quiet()
     try:
@@ -86,7 +89,7 @@ def create_store(path: str | Path, ds: Any) -> None:
         ctx.__exit__(None, None, None)
 
 
-def open_store(path: str | Path):
+def open_store(path: str | Path) -> xr.Dataset:
     """The dataset of an existing store, loaded into memory."""
     import xarray as xr
 
@@ -98,7 +101,7 @@ def open_store(path: str | Path):
         ctx.__exit__(None, None, None)
 
 
-def check_resumable(old: Any, new: Any) -> None:
+def check_resumable(old: xr.Dataset, new: xr.Dataset) -> None:
     """Raise :class:`InputError` unless ``old`` (on disk) is the same sweep as ``new``."""
     for key in ("scene_key", "design", "outcomes", "method", "step", "tol"):
         a, b = old.attrs.get(key), new.attrs.get(key)
