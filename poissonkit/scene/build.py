@@ -147,9 +147,7 @@ def build_scene(scene: Scene, scales: Scales | str | None = "auto") -> BuiltScen
         raise
     except PoissonkitError as exc:
         raise SceneError(f"scene {scene.name!r}: {exc}") from None
-    unit = system.scales.time if system.scales is not None else 1.0
-    step = None if scene.run.step is None else scene.run.step / unit
-    return BuiltScene(system, y0, bodies, scene.run.duration / unit, step, plan)
+    return _built(scene, system, y0, bodies, plan)
 
 
 def _all_pairs_direct(scene: Scene, scales: Scales | str | None) -> BuiltScene | None:
@@ -172,9 +170,15 @@ def _all_pairs_direct(scene: Scene, scales: Scales | str | None) -> BuiltScene |
         raise
     except PoissonkitError as exc:
         raise SceneError(f"scene {scene.name!r}: {exc}") from None
+    return _built(scene, system, y0, bodies)
+
+
+def _built(scene: Scene, system: NBodySystem, y0: np.ndarray, bodies: list[BodyModel],
+           plan: Mapping[str, object] | None = None) -> BuiltScene:
+    """The built scene, its duration and step converted to the system's time unit."""
     unit = system.scales.time if system.scales is not None else 1.0
     step = None if scene.run.step is None else scene.run.step / unit
-    return BuiltScene(system, y0, bodies, scene.run.duration / unit, step)
+    return BuiltScene(system, y0, bodies, scene.run.duration / unit, step, plan)
 
 
 def build_run(scene: Scene) -> RunSpec:
