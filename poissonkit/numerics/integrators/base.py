@@ -160,6 +160,9 @@ class _ScaledBar:
     def close(self) -> None:
         self._bar.close()
 
+    def __str__(self) -> str:  # the bar's current line
+        return str(self._bar)
+
 
 def bar_decimals(total: float) -> int:
     """Decimals that show ``total`` to three significant digits (``0.741``, ``1.00``, ``126``;
