@@ -16,7 +16,7 @@ from poissonkit.errors import SceneError, UnknownEntryError, UnknownNameError
 from poissonkit.plugin import assembly, lookup, plugin_reports, potential
 from poissonkit.plugin.manager import plugin_manager
 from poissonkit.scene import loads_scene
-from tests.plugins.test_plugins_host import BROKEN_IMPORT, GOOD, install_fake, site  # noqa: F401
+from tests.plugins.test_plugins_host import BROKEN_IMPORT, GOOD, install_fake
 
 MISSPELT = '''
 from poissonkit.plugin import Assembly, PairPotential, hookimpl
@@ -48,11 +48,22 @@ step = 0.01
 '''
 
 
+@pytest.fixture
+def site(tmp_path, monkeypatch):
+    """A folder on ``sys.path`` for fake distributions; entry-point plugins load."""
+    path = tmp_path / "site"
+    path.mkdir()
+    monkeypatch.syspath_prepend(str(path))
+    monkeypatch.delenv("POISSONKIT_DISABLE_PLUGIN_AUTOLOAD", raising=False)
+    monkeypatch.delenv("POISSONKIT_BLOCK_PLUGINS", raising=False)
+    return path
+
+
 def _report(name: str):
     return next(r for r in plugin_reports() if r.name == name)
 
 
-def test_unknown_entry_names_the_failed_plugin(site):  # noqa: F811
+def test_unknown_entry_names_the_failed_plugin(site):
     install_fake(site, "pk-broken", "0.1", {"pk_broken": "pk_broken_mod"},
                  {"pk_broken_mod": BROKEN_IMPORT})
     assert _report("pk_broken").status == "failed"
@@ -71,7 +82,7 @@ def test_unknown_entry_names_the_failed_plugin(site):  # noqa: F811
         loads_scene(SCENE, source="test")
 
 
-def test_run_of_an_unknown_name_names_the_failed_plugin(site, capsys):  # noqa: F811
+def test_run_of_an_unknown_name_names_the_failed_plugin(site, capsys):
     install_fake(site, "pk-broken", "0.1", {"pk_broken": "pk_broken_mod"},
                  {"pk_broken_mod": BROKEN_IMPORT})
     assert cli_main(["run", "pk_lj_scene", "--no-progress"]) == 1
@@ -79,14 +90,14 @@ def test_run_of_an_unknown_name_names_the_failed_plugin(site, capsys):  # noqa: 
     assert "shipped scene files:" in err and "plugin 'pk_broken' failed to load" in err
 
 
-def test_without_failed_plugins_the_message_is_unchanged(site):  # noqa: F811
+def test_without_failed_plugins_the_message_is_unchanged(site):
     install_fake(site, "pk-good", "1.0", {"pk_good": "pk_good_mod"}, {"pk_good_mod": GOOD})
     with pytest.raises(UnknownEntryError) as exc:
         lookup("potential", "pk_nothing")
     assert "failed to load" not in str(exc.value) and exc.value.failed == []
 
 
-def test_misspelt_hooks_are_warnings_never_fatal(site, capsys):  # noqa: F811
+def test_misspelt_hooks_are_warnings_never_fatal(site, capsys):
     install_fake(site, "pk-typo", "1.0", {"pk_typo": "pk_typo_mod"}, {"pk_typo_mod": MISSPELT})
     typo = _report("pk_typo")
     assert typo.status == "ok"

@@ -11,6 +11,9 @@ from __future__ import annotations
 import argparse
 import fnmatch
 import json
+import os
+import subprocess
+import sys
 import tomllib
 from pathlib import Path
 
@@ -103,7 +106,8 @@ def test_a_shipped_scene_by_name_is_its_file(tmp_path, monkeypatch):
     assert np.array_equal(by_name.y0, by_path.y0)
 
 
-def test_run_two_magnets_by_name_through_the_cli(tmp_path, capsys):
+def test_run_two_magnets_by_name_through_the_cli(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # found in the package, not relative to the working directory
     out = tmp_path / "out"
     code = cli.main(["run", "two_magnets", "--duration", "0.002", "--out", str(out),
                      "--no-progress", "--no-plot"])
@@ -123,3 +127,13 @@ def test_a_name_that_is_neither_fails_listing_both_kinds(capsys):
     assert cli.main(["run", "two_magnet", "--no-progress"]) == 1
     err = capsys.readouterr().err
     assert "seed000" in err and "two_magnets" in err and "Traceback" not in err
+
+
+def test_the_installed_command_lists_the_scenes_from_any_folder(tmp_path):
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        [str(ROOT), str(ROOT / "plugins"), os.environ.get("PYTHONPATH", "")]))
+    done = subprocess.run([sys.executable, "-m", "poissonkit", "scenes"], cwd=tmp_path,
+                          env=env, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    for name in ["seed000", *SHIPPED]:
+        assert f"  {name} " in done.stdout
