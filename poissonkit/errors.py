@@ -125,3 +125,40 @@ class CapabilityError(InputError):
         if detail:
             msg += f": {detail}"
         super().__init__(msg)
+
+
+class UnknownEntryError(UnknownNameError):
+    """A registry entry was asked for by a name no loaded plugin provides.
+
+    When plugins failed to load, the entry may be one of theirs: the message names them and
+    their errors, and points to ``poissonkit plugins``.
+
+    Parameters
+    ----------
+    kind, name, available
+        As for :class:`UnknownNameError`.
+    failed
+        ``(plugin name, error)`` of every plugin that failed to load.
+    """
+
+    def __init__(self, kind: str, name: str, available: Iterable[str] = (),
+                 failed: Iterable[tuple[str, str]] = ()) -> None:
+        super().__init__(kind, name, available)
+        self.failed = list(failed)
+        if self.failed:
+            notes = "; ".join(f"plugin {p!r} failed to load: {e}" for p, e in self.failed)
+            self.args = (f"{self.args[0]} ({notes}; see `poissonkit plugins`)",)
+
+
+class MissingStepError(InputError):
+    """A fixed-step method was called without a step.
+
+    Attributes
+    ----------
+    method
+        The integrator's name.
+    """
+
+    def __init__(self, method: str, message: str) -> None:
+        self.method = method
+        super().__init__(message)

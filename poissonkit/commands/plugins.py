@@ -3,7 +3,8 @@
 Under each kind the contributed names are listed on one line; integrators and model families
 then get one line each with what their registry entry declares: an integrator's order, family
 and capabilities (:class:`~poissonkit.plugin.contributions.Capabilities`), a model family's
-models (cheapest first) and the body quantities its error estimate reads.
+models (cheapest first) and the body quantities its error estimate reads. A plugin with hook
+implementations no hook specification knows (a misspelt hook name) is listed with a warning.
 """
 
 from __future__ import annotations
@@ -50,7 +51,8 @@ def _line(name: str, entry: Entry) -> str | None:
 
 
 def main(args: argparse.Namespace) -> int:
-    """List plugins; failed and blocked ones are shown with the reason, never fatal."""
+    """List plugins; failed and blocked ones are shown with the reason, warnings (unknown hook
+    implementations) under their plugin; never fatal."""
     from poissonkit.plugin import entries, plugin_reports
 
     reports = plugin_reports()
@@ -77,7 +79,10 @@ def main(args: argparse.Namespace) -> int:
         if r.status != "ok":
             print(f"{head}  [{r.status.upper()}] {r.error}")
             continue
-        print(head)
+        print(head + (f"  [{len(r.warnings)} WARNING{'S' if len(r.warnings) > 1 else ''}]"
+                      if r.warnings else ""))
+        for w in r.warnings:
+            print(f"    warning: {w}")
         for kind, names in sorted(r.contributions.items()):
             print(f"    {kind}: {', '.join(names)}")
             for name, entry in registered(kind, names):

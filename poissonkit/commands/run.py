@@ -34,7 +34,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from poissonkit.contracts import HasBodies, HasLayout, HasScales, HasUnpack, Trajectory
-from poissonkit.errors import InputError, MissingDependencyError, SceneError
+from poissonkit.cli import CommandParser
+from poissonkit.errors import InputError, MissingDependencyError, MissingStepError, SceneError
 from poissonkit.numerics.units import Scales
 
 if TYPE_CHECKING:
@@ -62,8 +63,11 @@ PLOT_ROWS = 20000
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of ``poissonkit run``."""
     parser.add_argument("scene", nargs="?", default=None,
-                        help="scene file (TOML) or built-in scene name; "
-                        "default: the seed 000 orbit")
+                        help="scene file (TOML), or the name of a registered scene or a shipped "
+                        "scene file (listed below and by `poissonkit scenes`); default: the "
+                        "seed 000 orbit")
+    if isinstance(parser, CommandParser):  # the list needs the plugins: built only for --help
+        parser.epilog_factory = scenes_epilog
     parser.add_argument("--method", default=None,
                         help="integrator registry name "
                         "(default: the scene's, splitting6 for seed 000)")
@@ -85,7 +89,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"output folder (default ./{DEFAULT_OUT})")
     parser.add_argument("--save-every", type=int, default=1, help="keep every k-th step")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
-    parser.add_argument("--no-plots", action="store_true", help="do not write PNG figures")
+    parser.add_argument("--no-plot", "--no-plots", dest="no_plots", action="store_true",
+                        help="do not write PNG figures (as for `sweep`)")
     parser.add_argument("--overwrite", action="store_true",
                         help="replace the files of an earlier run in --out (default: refuse a "
                         "non-empty folder)")
@@ -122,14 +127,14 @@ def build_spec(args: argparse.Namespace) -> RunSpec:
 
     for name in ("step", "tol", "periods", "duration"):
         _positive(name, getattr(args, name, None))
-    path = Path(args.scene) if args.scene is not None else None
-    consumed: set[str] = set()
-    if path is None or (not path.exists() and _is_registered_scene(args.scene)):
-        from poissonkit.scene.registered import registered_run
+    from poissonkit.scene.registered import registered_run, resolve_scene
 
+    target = resolve_scene(args.scene) if args.scene is not None else None
+    consumed: set[str] = set()
+    if not isinstance(target, Path):
         options = {k: getattr(args, k, None) for k in
                    ("method", "step", "tol", "periods", "duration", "tilt", "spin_ratio")}
-        spec, consumed = registered_run(args.scene, options)
+        spec, consumed = registered_run(target, options)
     else:
         try:
             from poissonkit.scene import build_run, load_scene
@@ -137,7 +142,7 @@ def build_spec(args: argparse.Namespace) -> RunSpec:
             raise MissingDependencyError(
                 "scene files need poissonkit.scene.load_scene/build_run, which this build lacks"
             ) from None
-        spec = build_run(load_scene(path))
+        spec = build_run(load_scene(target))
     changes: dict[str, float | str | None] = {}
     if args.method and "method" not in consumed:
         changes["method"] = args.method
@@ -157,10 +162,18 @@ def build_spec(args: argparse.Namespace) -> RunSpec:
     return replace(spec, **changes) if changes else spec
 
 
-def _is_registered_scene(name: str) -> bool:
-    from poissonkit.plugin import names
+def scenes_epilog() -> str:
+    """The scenes ``run`` takes by name, one per line (the epilog of ``run --help``)."""
+    from poissonkit.scene.registered import scene_catalog
 
-    return name in names("scene")
+    rows = scene_catalog()
+    width = max((len(r.name) for r in rows), default=0)
+    lines = ["scenes by name (`poissonkit scenes` describes them):"]
+    for r in rows:
+        tag = "registered" + (", default" if r.default else "") if r.kind == "registered" \
+            else "shipped file"
+        lines.append(f"  {r.name:<{width}}  [{tag}] {r.description}")
+    return "\n".join(lines)
 
 
 def _scales(system: object) -> Scales | None:
@@ -192,10 +205,17 @@ def _solve(spec: RunSpec, progress: bool, save_every: int, *,
     except ImportError:
         raise MissingDependencyError(
             "poissonkit.numerics.solver is not available in this build") from None
-    return solve(spec.system, spec.y0, spec.t_end, method=spec.method, step=spec.step,
-                 tol=spec.tol, progress=progress, save_every=save_every,
-                 events=spec.events, checkpoint=checkpoint, resume=resume, stream=stream,
-                 stop=stop)
+    from poissonkit.numerics.integrators.base import progress_in_seconds
+
+    try:
+        with progress_in_seconds(_time_unit(spec)):  # the bar counts seconds, as the options do
+            return solve(spec.system, spec.y0, spec.t_end, method=spec.method, step=spec.step,
+                         tol=spec.tol, progress=progress, save_every=save_every,
+                         events=spec.events, checkpoint=checkpoint, resume=resume,
+                         stream=stream, stop=stop)
+    except MissingStepError as exc:  # the API's message speaks of step=... in internal units
+        raise InputError(f"{exc.method} is a fixed-step method: pass --step SECONDS, or choose "
+                         "an adaptive method with --method (e.g. dop853) for --tol") from None
 
 
 def trajectory_rows(sol: Trajectory) -> tuple[np.ndarray, np.ndarray]:

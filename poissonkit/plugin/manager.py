@@ -12,7 +12,9 @@ Environment switches
     Never register the plugins with these names (built-in or external).
 
 A plugin that fails to import, or whose hook raises or returns malformed entries, is recorded in
-:func:`plugin_reports` and skipped; it never breaks the host.
+:func:`plugin_reports` and skipped; it never breaks the host. Hook implementations whose name no
+hook specification has (a misspelt ``poissonkit_assembly``) are reported as warnings on their
+plugin (:func:`unknown_hooks`); the rest of the plugin is used.
 """
 
 from __future__ import annotations
@@ -73,6 +75,7 @@ class PluginReport:
     status: str = "ok"  # "ok", "failed", "blocked"
     error: str = ""
     contributions: dict[str, list[str]] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
 
 
 @dataclass
@@ -122,6 +125,35 @@ def _collect(plugin: Any, entries: dict[str, dict[str, Entry]]) -> dict[str, lis
     return found
 
 
+def unknown_hooks(pm: pluggy.PluginManager, plugin: object) -> list[str]:
+    """Warnings for the hook implementations of ``plugin`` that match no hook specification.
+
+    Decorated implementations are checked the way :meth:`pluggy.PluginManager.check_pending`
+    does (a registered hook without a spec, not marked ``optionalhook``); undecorated functions
+    named like a hook (``poissonkit_*``) are reported too, since pluggy never sees them.
+    """
+    import difflib
+    import inspect
+
+    known = sorted(KINDS)
+    seen: set[str] = set()
+    for caller in pm.get_hookcallers(plugin) or []:
+        if not caller.has_spec() and any(i.plugin is plugin and not i.optionalhook
+                                         for i in caller.get_hookimpls()):
+            seen.add(caller.name)
+    prefix = f"{hookspecs.PROJECT}_"
+    for attr in dir(plugin):
+        if attr.startswith(prefix) and attr not in known:
+            if inspect.isfunction(getattr(plugin, attr)):
+                seen.add(attr)
+    out = []
+    for name in sorted(seen):
+        close = difflib.get_close_matches(name, known, n=1)
+        hint = f"; did you mean {close[0]!r}?" if close else f"; hooks: {', '.join(known)}"
+        out.append(f"unknown hook {name!r} is ignored{hint}")
+    return out
+
+
 def _register(pm: pluggy.PluginManager, name: str, loader, source: str, version: str,
               reports: list[PluginReport], entries: dict[str, dict[str, Entry]]) -> None:
     report = PluginReport(name=name, source=source, version=version)
@@ -137,6 +169,7 @@ def _register(pm: pluggy.PluginManager, name: str, loader, source: str, version:
         report.status = "failed"
         report.error = f"{type(exc).__name__}: {exc}"
         return
+    report.warnings = unknown_hooks(pm, plugin)
     # only a plugin that registered cleanly contributes entries
     for kind, items in found.items():
         for item in items:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from poissonkit.errors import UnknownNameError
+from poissonkit.errors import UnknownEntryError
 from poissonkit.plugin.contributions import (
     Assembly,
     Entry,
@@ -12,14 +12,26 @@ from poissonkit.plugin.contributions import (
     SceneEntry,
     SystemEntry,
 )
-from poissonkit.plugin.manager import entries
+from poissonkit.plugin.manager import entries, plugin_reports
+
+
+def failed_plugins() -> list[tuple[str, str]]:
+    """``(name, error)`` of every plugin that failed to load (its entries are missing)."""
+    return [(r.name, r.error) for r in plugin_reports() if r.status == "failed"]
 
 
 def lookup(kind: str, name: str) -> Entry:
-    """Return the entry ``name`` of registry ``kind``; unknown names list the available ones."""
+    """Return the entry ``name`` of registry ``kind``.
+
+    Raises
+    ------
+    UnknownEntryError
+        If no loaded plugin provides it; the message lists the available names and any plugin
+        that failed to load (the entry may be one of its).
+    """
     found = entries(kind)
     if name not in found:
-        raise UnknownNameError(kind, name, found)
+        raise UnknownEntryError(kind, name, found, failed_plugins())
     return found[name]
 
 

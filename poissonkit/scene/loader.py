@@ -1,12 +1,14 @@
-"""Reading scene files (TOML) into validated :class:`~poissonkit.scene.schema.Scene` objects."""
+"""Reading scene files (TOML) into validated :class:`~poissonkit.scene.schema.Scene` objects,
+and the scene files shipped with the package (``poissonkit/scenes/*.toml``, runnable by name)."""
 
 from __future__ import annotations
 
+from importlib import resources
 from pathlib import Path
 
 import tomllib
 
-from poissonkit.errors import SceneError
+from poissonkit.errors import SceneError, UnknownNameError
 from poissonkit.scene.schema import Scene, scene_from_mapping
 
 
@@ -47,3 +49,46 @@ def loads_scene(text: str, source: str = "") -> Scene:
         where = f" in {source!r}" if source else ""
         raise SceneError(f"invalid TOML{where}: {exc}") from None
     return scene_from_mapping(data, source=source)
+
+
+def shipped_scenes() -> dict[str, Path]:
+    """The scene files installed with poissonkit (package data), by name (the file's stem).
+
+    Returns
+    -------
+    dict of str to Path
+        E.g. ``{"two_magnets": .../poissonkit/scenes/two_magnets.toml, ...}``, sorted by name.
+    """
+    folder = resources.files("poissonkit") / "scenes"
+    if not folder.is_dir():
+        return {}
+    found = {Path(str(f)).stem: Path(str(f)) for f in folder.iterdir()
+             if f.name.endswith(".toml") and f.is_file()}
+    return dict(sorted(found.items()))
+
+
+def shipped_scene(name: str) -> Path:
+    """The path of the shipped scene file ``name`` (e.g. ``"two_magnets"``).
+
+    Raises
+    ------
+    UnknownNameError
+        If no shipped scene file has that name (the message lists the shipped ones).
+    """
+    found = shipped_scenes()
+    if name not in found:
+        raise UnknownNameError("shipped scene", name, found)
+    return found[name]
+
+
+def scene_description(path: str | Path) -> str:
+    """The one-line ``description`` of a scene file (``""`` if it has none or cannot be read).
+
+    Only the TOML is parsed (no validation), so listing scenes stays cheap.
+    """
+    try:
+        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return ""
+    text = data.get("description", "")
+    return text.strip().splitlines()[0] if isinstance(text, str) and text.strip() else ""

@@ -1,14 +1,19 @@
-"""Runs of scenes registered by plugins (``poissonkit run NAME``, ``poissonkit run``).
+"""Scenes runnable by name: registered by plugins, or scene files shipped with the package.
 
 The core knows no scene by name: a plugin registers a :class:`~poissonkit.plugin.SceneEntry`
 (the magnets plugin registers ``seed000`` and flags it as the default), and the commands turn
-it into a :class:`~poissonkit.numerics.runspec.RunSpec` here.
+it into a :class:`~poissonkit.numerics.runspec.RunSpec` here. The scene files under
+``poissonkit/scenes/`` (package data) run by their stem (``poissonkit run two_magnets``).
+:func:`scene_catalog` lists both kinds (``poissonkit scenes``); :func:`resolve_scene` turns a
+command-line ``SCENE`` into a file or a registered name.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Literal
 
 from poissonkit.errors import SceneError
 
@@ -57,3 +62,98 @@ def registered_run(name: str | None, options: Mapping[str, object] | None = None
         raise SceneError(f"scene {entry.name!r}: load() returned {type(made).__name__}, "
                          "expected a Scene or a RunSpec")
     return made, set(given)
+
+
+@dataclass(frozen=True)
+class SceneListing:
+    """One scene runnable by name.
+
+    Attributes
+    ----------
+    name
+        What ``poissonkit run NAME`` takes.
+    kind
+        ``"registered"`` (a plugin's :class:`~poissonkit.plugin.SceneEntry`) or ``"file"`` (a
+        scene file shipped with the package).
+    description
+        One line: the entry's doc string, or the file's ``description``.
+    source
+        The plugin that registered it, or the file's path.
+    default
+        The scene ``poissonkit run`` uses without an argument.
+    """
+
+    name: str
+    kind: Literal["registered", "file"]
+    description: str
+    source: str
+    default: bool = False
+
+
+def _first_line(text: str) -> str:
+    lines = text.strip().splitlines()
+    return lines[0].strip() if lines else ""
+
+
+def scene_catalog() -> list[SceneListing]:
+    """Every scene runnable by name: registered scenes first, then shipped scene files.
+
+    Returns
+    -------
+    list of SceneListing
+        Sorted by name within each kind.
+    """
+    from poissonkit.plugin import entries, plugin_reports
+    from poissonkit.plugin.contributions import SceneEntry
+    from poissonkit.scene.loader import scene_description, shipped_scenes
+
+    owner = {n: r.name for r in plugin_reports() for n in r.contributions.get("scene", [])}
+    out = [SceneListing(name, "registered", _first_line(e.doc), owner.get(name, ""),
+                        isinstance(e, SceneEntry) and e.default)
+           for name, e in sorted(entries("scene").items())]
+    out += [SceneListing(name, "file", scene_description(path), str(path))
+            for name, path in shipped_scenes().items()]
+    return out
+
+
+def resolve_scene(arg: str) -> Path | str:
+    """What a command-line ``SCENE`` names.
+
+    Parameters
+    ----------
+    arg
+        A path to a scene file, a registered scene's name, or a shipped scene file's name
+        (with or without ``.toml``), tried in this order.
+
+    Returns
+    -------
+    Path or str
+        The scene file (a ``Path``), or the registered scene's name (a ``str``).
+
+    Raises
+    ------
+    SceneError
+        If ``arg`` is none of these; the message lists the registered scenes and the shipped
+        scene files.
+    """
+    from poissonkit.plugin import names
+    from poissonkit.scene.loader import shipped_scenes
+
+    path = Path(arg)
+    if path.is_file():
+        return path
+    registered = names("scene")
+    if arg in registered:
+        return arg
+    shipped = shipped_scenes()
+    stem = arg.removesuffix(".toml")
+    if stem in shipped and path.parent == Path("."):
+        return shipped[stem]
+    if path.exists():
+        raise SceneError(f"scene {arg!r} is not a file")
+    from poissonkit.plugin.registry import failed_plugins
+
+    failed = "".join(f"; plugin {n!r} failed to load: {e}" for n, e in failed_plugins())
+    raise SceneError(f"no scene file or scene named {arg!r}; registered scenes: "
+                     f"{', '.join(registered) or '(none)'}; shipped scene files: "
+                     f"{', '.join(shipped) or '(none)'}{failed} (see `poissonkit scenes`)")

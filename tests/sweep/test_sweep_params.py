@@ -14,7 +14,7 @@ from poissonkit_magnets.seed000_sweep import SeedScene
 
 from poissonkit.sweeps.scenes import TomlScene, set_path
 
-TWO_MAGNETS = Path(__file__).resolve().parents[2] / "examples" / "scenes" / "two_magnets.toml"
+TWO_MAGNETS = Path(__file__).resolve().parents[2] / "poissonkit" / "scenes" / "two_magnets.toml"
 
 
 def test_grid_list_and_range_parse():

@@ -32,7 +32,7 @@ def outcome_plugin(monkeypatch):
 
 
 def test_sweep_scenes_follow_the_protocol():
-    toml = TomlScene.from_file(ROOT / "examples" / "scenes" / "two_magnets.toml")
+    toml = TomlScene.from_file(ROOT / "poissonkit" / "scenes" / "two_magnets.toml")
     for scene in (toml, SeedScene(), EchoScene()):
         assert isinstance(scene, SweepScene)
         assert sweep_scene(scene) is scene

@@ -3,14 +3,21 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
 from poissonkit.contracts import CompiledFunction, CompiledKernels
-from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
+from poissonkit.errors import (
+    InputError,
+    IntegrationError,
+    MissingStepError,
+    NonFiniteStateError,
+)
 from poissonkit.numerics.events import EventRecord
 
 # status codes returned by the compiled loops
@@ -119,8 +126,58 @@ class SaveBuffer:
         return np.concatenate(self.ts), np.concatenate(self.ys)
 
 
+#: Seconds per internal time unit for the progress bars of runs in this context (``None``:
+#: the bar counts internal time, ``t``); set with :func:`progress_in_seconds`.
+_BAR_SECONDS: ContextVar[float | None] = ContextVar("poissonkit_bar_seconds", default=None)
+
+
+@contextmanager
+def progress_in_seconds(time_unit: float) -> Iterator[None]:
+    """Progress bars opened inside this block count physical time in seconds.
+
+    Parameters
+    ----------
+    time_unit
+        Seconds per internal time unit of the runs made inside the block.
+    """
+    token = _BAR_SECONDS.set(float(time_unit))
+    try:
+        yield
+    finally:
+        _BAR_SECONDS.reset(token)
+
+
+class _ScaledBar:
+    """A tqdm bar fed in internal time that counts in another unit (``scale`` per unit)."""
+
+    def __init__(self, bar: ProgressBar, scale: float) -> None:
+        self._bar = bar
+        self._scale = scale
+
+    def update(self, n: float) -> object:
+        return self._bar.update(n * self._scale)
+
+    def close(self) -> None:
+        self._bar.close()
+
+    def __str__(self) -> str:  # the bar's current line
+        return str(self._bar)
+
+
+def bar_decimals(total: float) -> int:
+    """Decimals that show ``total`` to three significant digits (``0.741``, ``1.00``, ``126``;
+    none from 100 on)."""
+    if not (math.isfinite(total) and total > 0):
+        return 0
+    return max(0, 2 - math.floor(math.log10(total)))
+
+
 def progress_bar(enabled: bool, total: float, desc: str) -> ProgressBar | None:
-    """A tqdm bar (or a no-op) measuring progress in ``total`` units."""
+    """A tqdm bar (or a no-op) measuring progress over a run of ``total`` internal time units.
+
+    Inside :func:`progress_in_seconds` it shows seconds (``0.120/0.741 s``), else internal time
+    (``3.14/126 t``), with about three significant digits of the total.
+    """
     if not enabled:
         return None
     try:
@@ -129,7 +186,14 @@ def progress_bar(enabled: bool, total: float, desc: str) -> ProgressBar | None:
         from poissonkit.errors import MissingDependencyError
 
         raise MissingDependencyError("progress bars need tqdm: pip install tqdm") from None
-    return tqdm(total=total, desc=desc, unit="t", leave=False)
+    seconds = _BAR_SECONDS.get()
+    scale = 1.0 if seconds is None else seconds
+    unit = "t" if seconds is None else "s"
+    d = bar_decimals(total * scale)
+    fmt = ("{desc}: {percentage:3.0f}%|{bar}| "
+           f"{{n:.{d}f}}/{{total:.{d}f}} {unit} [{{elapsed}}<{{remaining}}]")
+    bar = tqdm(total=total * scale, desc=desc, unit=unit, leave=False, bar_format=fmt)
+    return bar if seconds is None else _ScaledBar(bar, scale)
 
 
 def locate_division(name: str, one_step: StepFn, y: np.ndarray, t: float,
@@ -166,7 +230,8 @@ def state_digest(y: np.ndarray) -> str:
 def check_step(step: float | None, t_end: float, name: str) -> float:
     """Validate a fixed step size."""
     if step is None:
-        raise InputError(f"{name} is a fixed-step method: give step=... (internal time unit)")
+        raise MissingStepError(name, f"{name} is a fixed-step method: give step=... "
+                               "(internal time unit)")
     try:
         step = float(step)
     except (TypeError, ValueError):
