@@ -79,7 +79,9 @@ def _field(path: str, key: str, allowed: Sequence[str], where: str) -> None:
 def _pair_potential(data: Mapping[str, Any], index: str) -> object:
     """The potential of ``[[interactions.pair]]`` entry ``index`` (its own, or the scene's)."""
     inter = data.get("interactions", {})
-    pairs = inter.get("pair", []) if isinstance(inter, Mapping) else []
+    if not isinstance(inter, Mapping):
+        return None
+    pairs = inter.get("pair", [])
     own = None
     if isinstance(pairs, list) and -len(pairs) <= int(index) < len(pairs):
         entry = pairs[int(index)]
@@ -136,8 +138,10 @@ def check_path(data: Mapping[str, Any], path: str) -> list[str]:
         _field(path, key, [k for k in INTERACTION_KEYS if k not in ("potential", "pairs")],
                "[interactions]")
         if key == "params":
+            inter = data.get("interactions", {})
             _check_param(path, segs[2:], "potential",
-                         data.get("interactions", {}).get("potential"), "interactions")
+                         inter.get("potential") if isinstance(inter, Mapping) else None,
+                         "interactions")
         elif key == "pair":
             if len(segs) < 5 or not _is_index(segs[2]) or segs[3] != "params":
                 raise SweepPathError(path, "give interactions.pair.<k>.params.<parameter>")
