@@ -9,7 +9,6 @@ stops a sweep before any run starts instead of failing at every point.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from typing import Any
 
 from poissonkit.errors import SceneError
 
@@ -76,7 +75,7 @@ def _field(path: str, key: str, allowed: Sequence[str], where: str) -> None:
         raise SweepPathError(path, f"{where} has no field {key!r}", allowed)
 
 
-def _pair_potential(data: Mapping[str, Any], index: str) -> object:
+def _pair_potential(data: Mapping[str, object], index: str) -> object:
     """The potential of ``[[interactions.pair]]`` entry ``index`` (its own, or the scene's)."""
     inter = data.get("interactions", {})
     if not isinstance(inter, Mapping):
@@ -89,7 +88,7 @@ def _pair_potential(data: Mapping[str, Any], index: str) -> object:
     return own if own is not None else inter.get("potential")
 
 
-def check_path(data: Mapping[str, Any], path: str) -> list[str]:
+def check_path(data: Mapping[str, object], path: str) -> list[str]:
     """Check that ``path`` names a numeric field of the parsed scene ``data``.
 
     Allowed: ``bodies.<name or index>.<field>[.<component>]`` (a body field, a body attribute a

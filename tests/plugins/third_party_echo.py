@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from poissonkit.plugin.contributions import SceneEntry
 from poissonkit.plugin.hookspecs import hookimpl
 
 
@@ -17,7 +18,7 @@ def _first(entries, prefix="echo_"):
     """A renamed copy of the first entry (not the default scene: one default is enough)."""
     entry = entries[0]
     changes = {"name": prefix + entry.name}
-    if hasattr(entry, "default"):
+    if isinstance(entry, SceneEntry):
         changes["default"] = False
     return [replace(entry, **changes)]
 
