@@ -8,7 +8,7 @@ Two problems in nondimensional units (both two-body centre-of-mass systems, comp
 
 * ``orbit``: two dipolar tops with a short-range repulsion (``U = (c3 − 3 c1 c2)/r³ + 1/(2 r⁶)``,
   μ = 2, α = 3, 5) on a bounded near-circular orbit with co-rotating axes, 20 periods;
-* ``encounter``: two dumbbell magnets (FORMULAS.md §1 eq. (16), half-lengths l = 0.5, charges 1)
+* ``encounter``: two dumbbell magnets (Zub's seed eq. (16), half-lengths l = 0.5, charges 1)
   on a fly-by whose closest approach is below 1.5 l (printed), spinning (α|m| ≈ 5).
 
 The reference is DOP853 at rtol = atol = 1e-14, checked against the order-8 splitting at a small

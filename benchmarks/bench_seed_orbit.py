@@ -83,7 +83,7 @@ def heyoka_system(params: dict[str, float]):
 
     ``H = p²/2μ + α(|m'|² + |m''|²)/2 + K Σ ε'ε''/|r + ε'' l ν'' − ε' l ν'|`` (the dumbbell energy
     (16) in pole-distance form) and the space-frame equations ``ṙ = ∂H/∂p``, ``ṗ = −∂H/∂r``,
-    ``ν̇ = ∂H/∂m × ν``, ``ṁ = ∂H/∂m × m + ∂H/∂ν × ν`` (FORMULAS.md §0, §1).
+    ``ν̇ = ∂H/∂m × ν``, ``ṁ = ∂H/∂m × m + ∂H/∂ν × ν`` (docs/conventions.md, Zub's seed).
     """
     import heyoka as hy
 

@@ -1,7 +1,7 @@
 """Closed-form magnet models: point dipoles and dumbbells (seed 000 eq. (16)).
 
 Each model has a sympy expression ``U(r, c1, c2, c3)`` and a compiled kernel returning
-``(U, U_r, U_c1, U_c2, U_c3)`` (SI). Formulas: ``shared/reference/MAGNETS.md`` §2.
+``(U, U_r, U_c1, U_c2, U_c3)`` (SI). Formulas: docs/magnets.md.
 """
 
 from __future__ import annotations

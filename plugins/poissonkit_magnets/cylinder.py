@@ -1,7 +1,7 @@
 """Exact interaction of two uniformly, axially magnetised cylinders.
 
 A cylinder of radius ``a``, height ``2 l`` and magnetisation ``M`` along ``nu`` is exactly two
-uniformly charged end disks, ``sigma = +M`` at ``+l nu`` and ``-M`` at ``-l nu`` (MAGNETS.md §3).
+uniformly charged end disks, ``sigma = +M`` at ``+l nu`` and ``-M`` at ``-l nu`` (docs/magnets.md).
 The energy of the four disk pairs is ``U = mu0 sum int_disk1 sigma1 psi2 dA``, where the scalar
 potential of a disk of body 2 is reduced to a 1-D integral over rings,
 

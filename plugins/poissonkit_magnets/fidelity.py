@@ -3,7 +3,7 @@
 The estimates are worst cases over orientations of the relative force error
 ``|F_model - F_exact| / |F_exact|`` for two uniformly, axially magnetised cylinders (radius ``a``,
 full height ``h = 2 l``), against the exact disk model. They follow the multipole analysis of
-MAGNETS.md §4: a model that reproduces the axial moments ``q_n = mu * t_n`` of the cylinder up to
+docs/magnets.md: a model that reproduces the axial moments ``q_n = mu * t_n`` of the cylinder up to
 some order errs first by the next moments,
 
     err ~ C2 D3 / r^2 + C4 D5 / r^4,

@@ -3,11 +3,11 @@
 ``H = -grad psi`` (so ``B = -mu0 grad psi`` outside magnets). A body of revolution with axis
 ``nu1`` at the origin has ``psi(rho, z)`` in cylindrical coordinates about its axis.
 
-* Uniformly magnetised cylinder (MAGNETS.md §7): two charged end disks decomposed into rings,
+* Uniformly magnetised cylinder (docs/magnets.md): two charged end disks decomposed into rings,
   ``psi_disk = (sigma/pi) int_0^a s K(m)/sqrt((rho+s)^2+(z-z0)^2) ds`` (Gauss–Legendre), or the
   odd axial multipole series ``psi = (1/4pi) sum q_n P_n(cos theta)/r^(n+1)`` far away
   (``r > 3 sqrt(l^2+a^2)``), with ``q_n`` the cylinder's exact axial moments.
-* Circular current loop: ``H`` in closed form (elliptic integrals, MAGNETS.md §6); the loop's
+* Circular current loop: ``H`` in closed form (elliptic integrals, docs/magnets.md); the loop's
   ``psi`` is the solid angle ``I Omega/(4 pi)`` (multivalued), so only ``grad psi`` is provided.
 
 Pair models built on these (body 1 = the field source, body 2 = the probe):
@@ -44,7 +44,7 @@ def cylinder_axial_moments(m: float, a: float, l: float, nmax: int) -> np.ndarra
     ``z0 = +-l``), with the solid harmonic
     ``r^n P_n = sum_k (-1)^k n! / (4^k k!^2 (n-2k)!) z^(n-2k) s^(2k)`` integrated over the disk
     radius ``s`` in closed form. Checked: ``q1 = mu``, ``q3 = mu (l^2 - 3a^2/4)``,
-    ``q5 = mu (l^4 - 5/2 l^2 a^2 + 5/8 a^4)`` (MAGNETS.md §2).
+    ``q5 = mu (l^4 - 5/2 l^2 a^2 + 5/8 a^4)`` (docs/magnets.md).
     """
     q = np.zeros(nmax + 1)
     for n in range(1, nmax + 1, 2):
@@ -167,7 +167,7 @@ def multipole_psi_local(rho: float, z: float, q: np.ndarray
 def loop_psi_local(rho: float, z: float, current: float, a: float
                    ) -> tuple[float, float]:
     """``(psi_rho, psi_z) = -(H_rho, H_z)`` of a loop of radius ``a`` (current right-handed
-    about +z) at the origin; closed form of MAGNETS.md §6 divided by mu0."""
+    about +z) at the origin; closed form of docs/magnets.md divided by mu0."""
     p = (a + rho) ** 2 + z * z
     qd = (a - rho) ** 2 + z * z
     m = 4.0 * a * rho / p

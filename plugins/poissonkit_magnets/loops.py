@@ -1,4 +1,4 @@
-"""Circular current loops and superconducting rings (MAGNETS.md §6).
+"""Circular current loops and superconducting rings (docs/magnets.md).
 
 * Mutual inductance of two coaxial loops (Maxwell), evaluated in the hypergeometric form
   ``M = (pi/16) mu0 sqrt(ab) k^3 2F1(3/2, 3/2; 3; k^2)``, which has no cancellation at small ``k``

@@ -1,5 +1,5 @@
 """The Chaplygin ball: on a plane (survey (34)–(40)), its gyrostat (49), and on a sphere in the
-Borisov–Mamaev–Fedorov case ``kappa = -1`` ((50)–(56)). Formulas: FORMULAS.md §7, §8.
+Borisov–Mamaev–Fedorov case ``kappa = -1`` ((50)–(56)). Formulas: survey (34)–(56).
 
 Variables ``x = (gamma, M)``: the unit normal and the angular momentum about the contact point,
 both in the body frame. ``I = diag(I1, I2, I3)`` are the principal moments about the centre,
@@ -72,7 +72,7 @@ def chaplygin_ball(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar = 1
         measure=1 / g,
         params={"I1": I[0], "I2": I[1], "I3": I[2], "d": d},
         name="nh.chaplygin_ball",
-        doc="Chaplygin ball on a plane, survey (34)-(40): X = -g^{-1} P_g dH (FORMULAS.md §7).",
+        doc="Chaplygin ball on a plane, survey (34)-(40): X = -g^{-1} P_g dH.",
         original=original,
         constraints=(dot(gam, gam) - 1,),
     )
@@ -108,7 +108,7 @@ def chaplygin_gyrostat(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar
         measure=1 / g,
         params={"I1": I[0], "I2": I[1], "I3": I[2], "d": d, "S": tuple(S)},
         name="nh.chaplygin_gyrostat",
-        doc="Chaplygin ball with a rotor, survey (49): X = -g^{-1} P_sg dH (FORMULAS.md §7).",
+        doc="Chaplygin ball with a rotor, survey (49): X = -g^{-1} P_sg dH.",
         original=original,
         constraints=(dot(gam, gam) - 1,),
     )
@@ -176,7 +176,7 @@ def chaplygin_ball_sphere_bmf(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3,
         params={"I1": p["I"][0], "I2": p["I"][1], "I3": p["I"][2], "d": p["d"]},
         name="nh.chaplygin_ball_sphere_bmf",
         doc="Chaplygin ball on a sphere, BMF case kappa = -1, survey (50)-(56): "
-            "X = d/(g s) P_b dH (FORMULAS.md §8).",
+            "X = d/(g s) P_b dH (survey (50)–(56)).",
         original=original,
         constraints=(dot(gam, gam) - 1,),
     )

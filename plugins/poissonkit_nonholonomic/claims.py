@@ -127,7 +127,7 @@ def veselova_pushforward(system) -> tuple[bool, str, str]:
 
 
 def chaplygin_remark6(system) -> tuple[bool, str, str]:
-    """Remark 6: on (gamma,M) = 0 the map L = M/g takes P_g to e(3) (not verified in FORMULAS.md §13)"""
+    """Remark 6: on (gamma,M) = 0 the map L = M/g takes P_g to e(3) (stated, not checked, in the survey)"""
     gam, M = system.coords[:3], system.coords[3:]
     P = system.structure.matrix
     d_, A = system.params["d"], [1 / (system.params[k] + system.params["d"]) for k in ("I1", "I2", "I3")]

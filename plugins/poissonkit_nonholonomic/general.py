@@ -1,5 +1,5 @@
-"""The survey's general classes: generalised Chaplygin systems (Theorem 1, FORMULAS.md §3) and
-the family ``P_{g,f}`` with Theorem 2 (FORMULAS.md §4, §5). Everything here is symbolic: the
+"""The survey's general classes: generalised Chaplygin systems (Theorem 1, survey (14)–(18)) and
+the family ``P_{g,f}`` with Theorem 2 (survey (19)–(23)). Everything here is symbolic: the
 free functions are sympy undefined functions, so the checks are proofs for all of them.
 """
 
@@ -47,7 +47,7 @@ def generalized_chaplygin() -> HamiltonianSystem:
         measure=1 / N,
         name="nh.generalized_chaplygin",
         doc="Generalised Chaplygin system, survey Theorem 1 (14)-(18): X = N {x, H~} with "
-            "{p1,p2} = N B (FORMULAS.md §3); N, B, a_ij, V arbitrary functions.",
+            "{p1,p2} = N B (survey (14)–(18)); N, B, a_ij, V arbitrary functions.",
         original=dict(zip(coords, field)),
     )
 
@@ -67,7 +67,7 @@ def p_gf_system(with_phi: bool = False, g=None, f=None, phi=None) -> Hamiltonian
     ``g(gamma) > 0``, ``f(gamma)``, ``U(gamma)`` arbitrary; ``H = (M, A M)/2 + U`` with symbolic
     ``A = diag(a1, a2, a3)``. The original system is (19) in the ``[v]_eps`` sign
     (``Mdot = (M - S gamma) x dH/dM + gamma x dH/dgamma``) with ``S = (K, M)``,
-    ``K = f gamma + grad(rho)/rho`` and ``rho = 1/g`` (Theorem 2; FORMULAS.md §4, §5).
+    ``K = f gamma + grad(rho)/rho`` and ``rho = 1/g`` (Theorem 2; survey (19)–(23)).
 
     Parameters
     ----------
@@ -108,6 +108,6 @@ def p_gf_system(with_phi: bool = False, g=None, f=None, phi=None) -> Hamiltonian
         measure=1 / g,
         name="nh.p_gf_phi" if with_phi else "nh.p_gf",
         doc="The family P_{g,f}" + (" + phi (Remark 5)" if with_phi else "")
-            + ", survey (22)/(23) and Theorem 2 (FORMULAS.md §4, §5); g, f, U arbitrary.",
+            + ", survey (22)/(23) and Theorem 2; g, f, U arbitrary.",
         original=original,
     )

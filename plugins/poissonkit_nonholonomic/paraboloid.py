@@ -1,6 +1,6 @@
 """A dynamically symmetric ball rolling in a paraboloid of revolution (survey §6, (102)–(121)).
 
-FORMULAS.md §13 lists this part of the survey as not checked; everything here was re-derived
+This part of the survey was not checked independently of its OCR; everything here was re-derived
 from the physics and judged by poissonkit's own checks (see docs/nonholonomic/ball_on_paraboloid.md
 for what was reconstructed from the OCR and what does not verify).
 
@@ -214,8 +214,8 @@ def ball_on_paraboloid(mu: Scalar = _QUARTER, m: Scalar = 3, R: Scalar = _HALF,
         measure=p["rho"],
         params=p["params"],
         name="nh.ball_on_paraboloid",
-        doc="Ball in a paraboloid of revolution, survey (104)-(121) (reconstructed, FORMULAS.md "
-            "§13); rank-2 Euler-field bivector (Poisson only for G = 0).",
+        doc="Ball in a paraboloid of revolution, survey (104)-(121) (reconstructed); "
+            "rank-2 Euler-field bivector (Poisson only for G = 0).",
         original=dict(zip(coords, p["field"])),
         # no constraints: every claim holds identically on R^6 (see paraboloid_parts), and the
         # physical states are those with (gamma, gamma) = 1, gamma3 > 0

@@ -3,9 +3,9 @@
 Conventions: :mod:`poissonkit.conventions`; e(3) is :func:`poissonkit.structure.blocks.e3` in the
 variables ``(gamma, L)``: ``{L_i, L_j} = eps_ijk L_k``, ``{L_i, gamma_j} = eps_ijk gamma_k``.
 
-The maps (reconstructed from the OCR of the survey, FORMULAS.md §13 lists them as missing)
+The maps (reconstructed from the OCR of the survey, which garbles them)
 -----------------------------------------------------------------------------------------
-Both brackets are ``P_{g,f}``-type deformations of e(3) (FORMULAS.md §5, §7, §9). With the
+Both brackets are ``P_{g,f}``-type deformations of e(3) (survey (22)–(23), (34)–(40), (57)–(69)). With the
 momentum-like vector ``M`` (Chaplygin) or ``K`` (Veselova), ``b = (gamma, M)``,
 ``rho^2 = gamma_1^2 + gamma_2^2`` and ``c = (gamma, L)``::
 
@@ -95,7 +95,7 @@ class ReductionMap:
         The source coordinates as expressions in ``(gamma, L)`` (survey (46)).
     hamiltonian
         ``H o inverse``: the Hamiltonian on e(3); the reduced flow is
-        ``xdot = -g^{-1} P_e3 dH`` in physical time (body-frame sign, FORMULAS.md §0),
+        ``xdot = -g^{-1} P_e3 dH`` in physical time (body-frame sign, docs/conventions.md),
         i.e. the Euler–Poisson equations ``dx/dtau = -P_e3 dH`` in ``dtau = g^{-1} dt``.
     leaf_hamiltonian
         ``H`` in ``(gamma, L)`` with the source Casimir kept as the symbol ``b`` (and ``c`` as

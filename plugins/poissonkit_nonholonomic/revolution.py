@@ -4,7 +4,7 @@ Survey §5.2–§5.3 ((85)–(94)): a body of revolution rolling on a plane (and
 surface of revolution) has two integrals linear in the momenta, ``J_k = (v^(k)(gamma), M)``, and
 the symmetry field ``X_S`` (74) of rotations about the symmetry axis. The survey builds rank-4
 bivectors ``P^(k)`` with the Casimirs ``(gamma, gamma)`` and ``J_k`` and maps them to e(3) by the
-Poisson maps ``phi_k`` of (91). The OCR of (85)–(92) is too garbled to copy (FORMULAS.md §13), so
+Poisson maps ``phi_k`` of (91). The OCR of (85)–(92) is too garbled to copy, so
 here the construction runs the other way round, which needs no unknown function:
 
 * choose the map first. ``L = A(gamma) M`` is fixed by three linear conditions

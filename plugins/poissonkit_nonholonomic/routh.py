@@ -1,5 +1,5 @@
 """The Routh sphere: a dynamically symmetric, unbalanced ball rolling on a plane (survey §5.5,
-(30)–(33), (77), (97)–(98)). Formulas: FORMULAS.md §11.
+(30)–(33), (77), (97)–(98)).
 
 ``I = diag(I1, I1, I3)``, ``r(gamma) = (R gamma1, R gamma2, R gamma3 + a)`` (centre of mass to the
 contact point), ``U = u gamma3`` (gravity). Integrals: energy, Jellett ``J1 = (M, r)``, Routh
@@ -15,7 +15,7 @@ Two registered systems:
   pulled back from e(3) through the Poisson map ``phi_k`` (91)
   (:mod:`poissonkit_nonholonomic.revolution`), with Proposition 5 ``X = -P dH + mu X_S`` and the
   e(3) form (93)–(94) of the integrals as claims. The OCR of (85)–(92) itself is not copied
-  (FORMULAS.md §13); this is a reconstruction judged by the core's checks.
+  (its OCR is garbled); this is a reconstruction judged by the core's checks.
 """
 
 from __future__ import annotations
@@ -99,7 +99,7 @@ def routh_sphere(R: Scalar = 2, a: Scalar = sp.Rational(1, 2), m: Scalar = 3, I1
         measure=1 / p["g"],
         params=p["params"],
         name="nh.routh_sphere",
-        doc="Routh sphere on a plane, survey (97)-(98) (FORMULAS.md §11); rank-2 Euler-field "
+        doc="Routh sphere on a plane, survey (97)-(98); rank-2 Euler-field "
             "bivector with X = P dH exactly (Poisson only for u = 0; the rank-4 Poisson "
             "bivector of §5.2 is nh.routh_sphere_rank4).",
         original=dict(zip(coords, p["field"])),
@@ -267,7 +267,7 @@ RANK4_CLAIMS = (routh_prop5, routh_field_integrals, routh_poisson_map, routh_e3_
 def routh_gyrostat_parts(R: Scalar = 2, a: Scalar = sp.Rational(1, 2), m: Scalar = 3, I1: Scalar = 5,
                          I3: Scalar = 7, u: Scalar = 10, s: Scalar = sp.Rational(3, 2)) -> dict[str, Any]:
     """The Routh sphere with a rotor ``S = (0, 0, s)`` on the axis (survey (95)–(96)) and its
-    shifted linear integrals (not in FORMULAS.md: derived here, checked by the tests).
+    shifted linear integrals (not in the survey: derived here, checked by the tests).
 
     The field is (32) with ``M x omega`` replaced by ``(M + S) x omega`` (as in (49)); ``H`` and
     the measure ``g^{-1}`` are unchanged. The linear integrals shift by functions of ``gamma3``::

@@ -1,10 +1,10 @@
-"""The Suslov problem (survey §7, (122)–(127)). Formulas: FORMULAS.md §12.
+"""The Suslov problem (survey §7, (122)–(127)). Formulas: survey (122)–(127).
 
 A rigid body with the constraint ``omega3 = 0`` (``a = e3``); inertia tensor
 ``I = [[I11, 0, I13], [0, I22, I23], [I13, I23, I33]]``. Coordinates ``(gamma, omega)``;
 ``omega3`` is kept and is a trivial integral.
 
-The rank-4 bivector (126) and Proposition 9 (FORMULAS.md §13: not in the verified reference)
+The rank-4 bivector (126) and Proposition 9 (garbled in the survey's OCR)
 are reconstructed from the survey's OCR in :func:`suslov_rank4_parts` and checked by the
 claims :func:`suslov_rank4_jacobi`, :func:`suslov_rank4_casimirs` and :func:`suslov_prop9`
 (docs/nonholonomic/suslov.md says which parts are read from the OCR).
@@ -40,7 +40,7 @@ def _gamma_dot(gam, w) -> list[sp.Expr]:
     return [-gam[2] * w[1], gam[2] * w[0], gam[0] * w[1] - gam[1] * w[0]]
 
 
-_HALF, _THIRD = sp.Rational(1, 2), sp.Rational(1, 3)  # defaults of suslov (FORMULAS §12 oracle)
+_HALF, _THIRD = sp.Rational(1, 2), sp.Rational(1, 3)  # defaults of suslov (survey (127))
 
 
 def suslov(I11: Scalar = 2, I22: Scalar = 1, I13: Scalar = _HALF,
@@ -51,7 +51,7 @@ def suslov(I11: Scalar = 2, I22: Scalar = 1, I13: Scalar = _HALF,
     omega2)``, ``gamma' = gamma x omega``; energy ``H1``, ``(gamma, gamma)``, ``omega3``; invariant
     measure ``1/(I13 omega1 + I23 omega2)``.
 
-    The rank-4 bivector (126) is not reconstructed (FORMULAS.md §13); the system is registered with
+    The rank-4 bivector (126) is not reconstructed (garbled OCR); the system is registered with
     the rank-2 bivector ``X ^ Z / (2 H1)`` (``Z`` the Euler field in ``omega``), which is Poisson
     because the field is homogeneous (``[Z, X] = X``) and reproduces ``X`` with ``N = 1``.
     """
@@ -77,7 +77,7 @@ def suslov(I11: Scalar = 2, I22: Scalar = 1, I13: Scalar = _HALF,
         measure=1 / s,
         params={"I11": I11, "I22": I22, "I13": I13, "I23": I23},
         name="nh.suslov",
-        doc="Suslov problem, inertial case (123)-(125) (FORMULAS.md §12); rank-2 Euler-field "
+        doc="Suslov problem, inertial case (123)-(125) (survey (122)–(127)); rank-2 Euler-field "
             "bivector.",
         original=dict(zip(coords, field)),
         constraints=(),
@@ -110,7 +110,7 @@ def suslov_rank2_bivector(I11: Scalar = 2, I22: Scalar = 1, c: Triple = (0, 0, 1
         params={"I11": I11, "I22": I22, "c": tuple(cv)},
         name="nh.suslov_rank2",
         doc="Suslov §7.1 rank-2 bivector W_ij = g_i(gamma) (-I22 w2, I11 w1, 0)_j with "
-            "g = gamma x c (FORMULAS.md §12).",
+            "g = gamma x c (survey (122)–(127)).",
     )
 
 
@@ -157,7 +157,7 @@ def suslov_potential(I11: Scalar = 2, I22: Scalar = 1, U: str | sp.Expr = "3*gam
         params={"I11": I11, "I22": I22, "U": Uexpr},
         name="nh.suslov_potential",
         doc="Suslov problem in a potential field, survey §7.2 (127): X = P d((gamma,gamma)/2); "
-            "Poisson iff U = mu gamma3 + V(gamma1, gamma2) (FORMULAS.md §12).",
+            "Poisson iff U = mu gamma3 + V(gamma1, gamma2) (survey (122)–(127)).",
         original=dict(zip(gam + w, field)),
     )
 

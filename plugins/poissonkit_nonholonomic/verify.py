@@ -3,7 +3,7 @@
 :func:`verify_system` checks every claim a system carries, through the symbolic core
 (:mod:`poissonkit.structure`):
 
-* the Jacobi identity ``[P, P] = 0`` (components ``Jac^{ijk}``, FORMULAS.md §0):
+* the Jacobi identity ``[P, P] = 0`` (components ``Jac^{ijk}``, docs/conventions.md):
   :func:`poissonkit.structure.verification.jacobi_verdict`;
 * each Casimir ``C``: ``P dC = 0`` (:func:`poissonkit.structure.casimirs.is_casimir`);
 * each first integral ``F``: ``X(F) = 0`` with ``X = N P dH``
@@ -403,7 +403,7 @@ def format_report(report: Mapping[str, Any]) -> str:
 
 def jacobiator(matrix: sp.Matrix, coords: Sequence[sp.Symbol]) -> dict[tuple[int, int, int], sp.Expr]:
     """``Jac^{ijk} = sum_m (P^{im} d_m P^{jk} + P^{jm} d_m P^{ki} + P^{km} d_m P^{ij})``
-    for every ``i < j < k`` (FORMULAS.md §0; ``[P, P] = 2 Jac``), expanded, from the core's
+    for every ``i < j < k`` (docs/conventions.md; ``[P, P] = 2 Jac``), expanded, from the core's
     :func:`poissonkit.structure.jacobi.jacobiator_terms` (triples it skips are zero)."""
     terms = jacobiator_terms(Bivector.from_matrix(sp.Matrix(matrix), tuple(coords)))
     return {key: sp.expand(terms.get(key, sp.Integer(0)))

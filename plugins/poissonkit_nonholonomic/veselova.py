@@ -1,4 +1,4 @@
-"""The Veselova system (survey (57)–(69)) and its gyrostat (70). Formulas: FORMULAS.md §9, §10.
+"""The Veselova system (survey (57)–(69)) and its gyrostat (70).
 
 A rigid body with ``A = I^{-1} = diag(a1, a2, a3)`` subject to the constraint ``(omega, gamma) = 0``
 (Veselova). In the variables ``K`` of (61) the equations are ``Kdot = K x omega``,
@@ -78,7 +78,7 @@ def veselova(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3) -> HamiltonianSyste
         params={"a1": a[0], "a2": a[1], "a3": a[2]},
         name="nh.veselova",
         doc="Veselova system in K variables, survey (61)-(66): X = -g^{-1} P_v dH "
-            "(FORMULAS.md §9).",
+            " (survey (57)–(69)).",
         original=original,
         constraints=(dot(gam, gam) - 1,),
     )
@@ -88,7 +88,7 @@ def veselova_original_field(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3) -> d
     """The original equations (58) in ``(gamma, M)`` with the multiplier ``lambda``.
 
     Returns a dict with ``coords``, ``field`` (list), ``lam`` (the multiplier) and ``K`` (the map
-    (61) ``K(gamma, M)``), for the push-forward check (62) and the oracle of FORMULAS.md §9.
+    (61) ``K(gamma, M)``), for the push-forward check (62) and the oracle of survey (57)–(69).
     """
     a, gam, M, Ag, Q, g = _parts(a1, a2, a3, second="M")
     omega = [a[i] * M[i] for i in range(3)]
@@ -102,7 +102,7 @@ def veselova_original_field(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3) -> d
 
 
 def veselova_gyrostat(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3, k: Triple = (1, 1, 0)) -> HamiltonianSystem:
-    """Veselova gyrostat, survey (70), FORMULAS.md §10.
+    """Veselova gyrostat, survey (70).
 
     ``Kdot = (K + k) x omega``, ``omega = A (K - S gamma)``,
     ``S = (A K - K - k, gamma) / (A gamma, gamma)``; ``H = [(A K, K) - (A K - K - k, gamma)^2 /
@@ -127,7 +127,7 @@ def veselova_gyrostat(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3, k: Triple 
         measure=1 / g,
         params={"a1": a[0], "a2": a[1], "a3": a[2], "k": tuple(k)},
         name="nh.veselova_gyrostat",
-        doc="Veselova gyrostat, survey (70): X = -g^{-1} P_k dH (FORMULAS.md §10).",
+        doc="Veselova gyrostat, survey (70): X = -g^{-1} P_k dH.",
         original=original,
         constraints=(dot(gam, gam) - 1,),
     )

@@ -17,8 +17,12 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from poissonkit.errors import InputError
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -105,4 +109,21 @@ def main(args: argparse.Namespace) -> int:
                             chaos="megno" if "megno" in ds else None,
                             title=f"{ds.attrs.get('scene')}: stability map")
         print(f"wrote {png}")
-    return 0
+    return _exit_code(ds)
+
+
+def _exit_code(ds: xr.Dataset) -> int:
+    """1 (with a line on stderr naming the first error) when every point of the sweep failed:
+    nothing was computed, which a script must not mistake for success; else 0."""
+    import sys
+
+    import numpy as np
+
+    failed = np.asarray(ds["failed"].values, dtype=bool).reshape(-1)
+    if failed.size == 0 or not failed.all():
+        return 0
+    errors = [str(e) for e in np.asarray(ds["error"].values, dtype=object).reshape(-1) if e]
+    first = errors[0] if errors else "no message"
+    print(f"poissonkit sweep: every point failed ({failed.size} of {failed.size}); first "
+          f"error: {first}", file=sys.stderr)
+    return 1

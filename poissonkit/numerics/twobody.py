@@ -1,4 +1,4 @@
-"""Seed 000's two-body system in centre-of-mass form (FORMULAS.md §1, eq. (20)).
+"""Seed 000's two-body system in centre-of-mass form (Zub's seed, eq. (20)).
 
 State ``x = (r, p, ν', m', ν'', m'') ∈ R^18`` with ``r = r_2 − r_1``, reduced mass
 ``μ = m_1 m_2/(m_1 + m_2)``; bracket ``canonical(3) ⊕ e3 ⊕ e3``;

@@ -78,7 +78,7 @@ def poissonkit_systems() -> list[SystemEntry]:
                     "Seed 000 (19)/(20): two tops, generic U(r,c',c'',c'''), Casimirs and j claimed.",
                     build=two_tops_hamiltonian, tags=("seed000", "system")),
         SystemEntry("p_gf_bracket",
-                    "Survey (22)/(23): P_{g,f} with undefined g(gamma), f(gamma) (FORMULAS §5).",
+                    "Survey (22)/(23): P_{g,f} with undefined g(gamma), f(gamma).",
                     build=lambda: _deformed("p_gf")(g=None, f=None), tags=("seed001", "deformed")),
         SystemEntry("p_gf_phi_bracket",
                     "P_{g,f} plus Remark 5's phi(gamma) term, all three functions undefined.",

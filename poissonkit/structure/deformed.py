@@ -1,6 +1,6 @@
 """Deformed e(3) brackets of the non-holonomic survey (seed 001), in ``[v]_eps`` form.
 
-Exact formulas: ``shared/reference/FORMULAS.md`` §5–§10. Every matrix here is written with
+Exact formulas: the survey's equations cited on each function. Every matrix here is written with
 ``[v]_eps`` (``[v]_eps[i, j] = eps_ijk v_k``, :func:`~poissonkit.structure.blocks.eps_matrix`);
 the survey prints some of them with the standard hat ``v^ = -[v]_eps``, i.e. as the overall
 negative. Variables are ``(gamma, M)`` (or ``(gamma, K)``), coordinates named like
@@ -107,7 +107,7 @@ def _assemble(gamma, M, upper: sp.Matrix, lower: sp.Matrix) -> Bivector:
 # ---------------------------------------------------------------------- families
 def p_gf(g: FunctionSpec = None, f: FunctionSpec = None, phi: FunctionSpec = 0,
          names: tuple[str, str] = ("gamma", "M")) -> Bivector:
-    """The family ``P_{g,f}`` of survey (22)/(23) with Remark 5's term (FORMULAS.md §5).
+    """The family ``P_{g,f}`` of survey (22)/(23) with Remark 5's term.
 
     ``{gamma_i, gamma_j} = 0``, ``{M_i, gamma_j} = g eps_ijk gamma_k``,
     ``{M_i, M_j} = eps_ijk [g M_k + ((grad g, M) - g f (gamma, M) + phi) gamma_k]``.
@@ -133,7 +133,7 @@ def p_gf(g: FunctionSpec = None, f: FunctionSpec = None, phi: FunctionSpec = 0,
 
 
 def chaplygin_g(gamma: Sequence[sp.Expr], a: Sequence[sp.Expr], d: sp.Expr) -> sp.Expr:
-    """``g = sqrt(1 - d (gamma, A gamma))`` of the Chaplygin ball (FORMULAS.md §7)."""
+    """``g = sqrt(1 - d (gamma, A gamma))`` of the Chaplygin ball (survey (34)–(40))."""
     return sp.sqrt(1 - d * sum((ai * gi**2 for ai, gi in zip(a, gamma)), sp.Integer(0)))
 
 
@@ -148,7 +148,7 @@ def _ball_parameters(I, d, a) -> tuple[tuple[sp.Expr, ...], sp.Expr]:
 
 
 def chaplygin_ball(I=None, d=None, a=None, names: tuple[str, str] = ("gamma", "M")) -> Bivector:
-    """Chaplygin-ball bracket ``P_g``, survey (38)/(39) (FORMULAS.md §7).
+    """Chaplygin-ball bracket ``P_g``, survey (38)/(39).
 
     ``P_g = [[0, g Gamma], [g Gamma, g [M]_eps - (d (M, A gamma)/g) Gamma]]`` with
     ``A = diag(a_i)``, ``a_i = 1/(I_i + d)``, ``g = sqrt(1 - d (gamma, A gamma))``. Equal to
@@ -175,7 +175,7 @@ def chaplygin_ball(I=None, d=None, a=None, names: tuple[str, str] = ("gamma", "M
 
 def chaplygin_gyrostat(S=None, I=None, d=None, a=None,
                        names: tuple[str, str] = ("gamma", "M")) -> Bivector:
-    """Chaplygin-ball gyrostat bracket ``P_sg``, survey (49) (FORMULAS.md §7).
+    """Chaplygin-ball gyrostat bracket ``P_sg``, survey (49).
 
     ``P_sg = [[0, g Gamma], [g Gamma, g [M + S]_eps - (d (M, A gamma)/g) Gamma]]`` (the
     correction uses ``(M, A gamma)``, not ``(M + S, A gamma)``). Casimirs ``(gamma, gamma)``
@@ -192,7 +192,7 @@ def chaplygin_gyrostat(S=None, I=None, d=None, a=None,
 
 
 def veselova(a=None, b=None, names: tuple[str, str] = ("gamma", "K")) -> Bivector:
-    """Veselova bracket ``P_v``, survey (65) (FORMULAS.md §9), in ``(gamma, K)``.
+    """Veselova bracket ``P_v``, survey (65), in ``(gamma, K)``.
 
     ``{K_i, K_j} = eps_ijk (g K_k + gamma_k ((K, grad g) - b/g))``, ``{K_i, gamma_j} =
     g eps_ijk gamma_k`` with ``g = (gamma, A gamma)^{1/2}``, ``grad g = A gamma / g``.
@@ -220,7 +220,7 @@ def veselova(a=None, b=None, names: tuple[str, str] = ("gamma", "K")) -> Bivecto
 
 
 def veselova_gyrostat(a=None, k=None, names: tuple[str, str] = ("gamma", "K")) -> Bivector:
-    """Veselova gyrostat bracket ``P_k``, survey (70) (FORMULAS.md §10), in ``(gamma, K)``.
+    """Veselova gyrostat bracket ``P_k``, survey (70), in ``(gamma, K)``.
 
     ``P_k = g [[0, Gamma], [Gamma, [K + k]_eps + S Gamma]]``,
     ``S = (A K - K - k, gamma)/(A gamma, gamma)``, ``g = (A gamma, gamma)^{1/2}``.
@@ -246,7 +246,7 @@ def veselova_gyrostat(a=None, k=None, names: tuple[str, str] = ("gamma", "K")) -
 
 
 def canonical_deformation(g: FunctionSpec = None, names: tuple[str, str] = ("q", "p")) -> Bivector:
-    """Deformed canonical bracket, survey (42) (FORMULAS.md §6).
+    """Deformed canonical bracket, survey (42).
 
     ``{q_i, q_j} = 0``, ``{q_i, p_j} = g(q) delta_ij``, ``{p_i, p_j} = p_i d_j g - p_j d_i g``
     on ``(q_x, q_y, q_z, p_x, p_y, p_z)``: the push-forward of the canonical bracket under
@@ -301,7 +301,7 @@ def deform(P: Bivector, Q: Bivector | sp.Matrix, check: bool = True, **jacobi_op
 def chaplygin_ball_system(I=None, d=None, a=None, S=None):
     """The Chaplygin ball (or its gyrostat, ``S`` given) as a conformally Hamiltonian system.
 
-    ``X = -g^{-1} P_g dH`` with ``H = (M, omega)/2`` (survey (40), FORMULAS.md §7): structure
+    ``X = -g^{-1} P_g dH`` with ``H = (M, omega)/2`` (survey (40)): structure
     ``P_g`` (``P_sg``), multiplier ``N = -1/g``. Claimed Casimirs ``(gamma, gamma)``,
     ``(gamma, M + S)``, integrals ``H1 = (M, omega)``, ``H2 = (M + S, M + S)``, measure
     ``1/g``, original equations (34)/(49): ``Mdot = (M + S) x omega``, ``gammadot = gamma x

@@ -121,7 +121,7 @@ def push_forward(P: Bivector, phi: Sequence, new_coords: Sequence, *,
     Examples
     --------
     Survey (42) is the push-forward of the canonical bracket under ``(q, p) -> (q, g(q) p)``
-    (FORMULAS.md §6); see ``tests/symbolic/test_symbolic_poisson_maps.py``.
+    (survey (41)–(44)); see ``tests/symbolic/test_symbolic_poisson_maps.py``.
     """
     if not isinstance(P, Bivector):
         raise InputError(f"push_forward needs a Bivector, got {type(P).__name__}")

@@ -14,7 +14,7 @@ derivatives in ``xi``::
     [A, B] = sum_m (A <d/dxi_m) (d_m B) - (-1)^{(a-1)(b-1)} (B <d/dxi_m) (d_m A)
 
 This is the standard graded (super) Schouten bracket; the tests pin it against the survey's
-formula, the oracle of FORMULAS.md §0 and the Lie derivative.
+formula, the oracle of docs/conventions.md and the Lie derivative.
 """
 
 from __future__ import annotations

@@ -5,8 +5,9 @@ Dask cluster (a local one by default), reduces each run to outcomes from a typed
 (:data:`OUTCOMES`), and returns an :class:`xarray.Dataset` that is also written to Zarr batch by
 batch, so an interrupted sweep resumes where it stopped. Guide: ``docs/sweeps.md``.
 
-Modules: :mod:`~poissonkit.sweeps.params` (design), :mod:`~poissonkit.sweeps.scenes` (what one run
-is), :mod:`~poissonkit.sweeps.outcomes` (registry), :mod:`~poissonkit.sweeps.chaos` (MEGNO),
+Modules: :mod:`~poissonkit.sweeps.params` (design), :mod:`~poissonkit.sweeps.paths` (parameter
+paths of a scene file), :mod:`~poissonkit.sweeps.scenes` (what one run is),
+:mod:`~poissonkit.sweeps.outcomes` (registry), :mod:`~poissonkit.sweeps.chaos` (MEGNO),
 :mod:`~poissonkit.sweeps.execute` (Dask), :mod:`~poissonkit.sweeps.store` (Zarr),
 :mod:`~poissonkit.sweeps.plot` (stability maps).
 """
@@ -21,6 +22,7 @@ from poissonkit.sweeps.api import sweep
 from poissonkit.sweeps.chaos import megno
 from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, OUTCOMES, Outcome
 from poissonkit.sweeps.params import Axis, Design, Range, grid, parse_param
+from poissonkit.sweeps.paths import SweepPathError
 from poissonkit.sweeps.scenes import FATES, TomlScene, sweep_scene
 
 if TYPE_CHECKING:
@@ -40,5 +42,6 @@ def stability_map(ds: xr.Dataset, path: str | Path, *, x: str | None = None,
 
 __all__ = [
     "DEFAULT_OUTCOMES", "FATES", "OUTCOMES", "Axis", "Design", "Outcome", "Range",
-    "TomlScene", "grid", "megno", "parse_param", "stability_map", "sweep", "sweep_scene",
+    "SweepPathError", "TomlScene", "grid", "megno", "parse_param", "stability_map", "sweep",
+    "sweep_scene",
 ]

@@ -123,13 +123,9 @@ def set_path(data: dict[str, Any], path: str, value: float) -> None:
     Unknown keys are allowed only where the scene schema allows them; the scene is validated
     after all values are set (:func:`poissonkit.scene.scene_from_mapping`).
     """
-    segs = path.split(".")
-    if len(segs) >= 3 and segs[0] == "interactions" and segs[1].lstrip("-").isdigit():
-        rest = segs[3:] if len(segs) > 3 and segs[2] == "params" else segs[2:]
-        from poissonkit.scene.schema import PAIR_KEYS
+    from poissonkit.sweeps.paths import normalise
 
-        if rest[0] not in PAIR_KEYS:
-            segs = ["interactions", "pair", segs[1], "params", *rest]
+    segs = normalise(path)
     node: Any = data
     where = ""
     for depth, seg in enumerate(segs[:-1]):
@@ -230,6 +226,8 @@ class TomlScene:
     def __post_init__(self) -> None:
         if not (math.isfinite(self.escape) and self.escape > 1):
             raise InputError(f"scene sweep: escape must be > 1, got {self.escape!r}")
+        for path in self.fixed:  # a misspelt fixed path would otherwise fail every point
+            self.check(path)
 
     @property
     def raw(self) -> dict[str, Any]:
@@ -259,14 +257,18 @@ class TomlScene:
                 "duration_s": run.get("duration", math.nan), "escape_factor": self.escape}
 
     def check(self, path: str) -> str:
-        """Validate ``path`` by setting it in a copy of the scene.
+        """Validate ``path`` by its place in the scene schema and by setting it in a copy.
 
-        A path the file leaves out is accepted when it names a scene field
-        (:data:`FIELD_UNITS`) or a potential parameter (``...params.<name>``); the scene itself
-        is validated per point. Raises :class:`SceneError` / :class:`UnknownNameError` naming
-        the path.
+        The path must name a numeric field of the schema, or a parameter of the potential or
+        assembly the scene names (:func:`poissonkit.sweeps.paths.check_path`); a path the file
+        leaves out is then accepted, and the scene itself is validated per point. Raises
+        :class:`~poissonkit.sweeps.paths.SweepPathError`, :class:`SceneError` or
+        :class:`UnknownNameError` naming the path.
         """
+        from poissonkit.sweeps.paths import check_path
+
         data = self.raw
+        check_path(data, path)
         node: Any = data
         present = True
         try:

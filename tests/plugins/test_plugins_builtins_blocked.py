@@ -17,7 +17,9 @@ BLOCKED = "magnets,nbody,nonholonomic"
 
 @pytest.fixture
 def blocked(monkeypatch):
+    """The core alone: built-ins blocked, and installed third-party plugins not loaded."""
     monkeypatch.setenv("POISSONKIT_BLOCK_PLUGINS", BLOCKED)
+    monkeypatch.setenv("POISSONKIT_DISABLE_PLUGIN_AUTOLOAD", "1")
 
 
 @pytest.fixture

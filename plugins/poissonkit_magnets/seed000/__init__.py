@@ -17,7 +17,7 @@ Derivation (see ``docs/seed000.md``)
   reproduces the seed's printed ``mI`` to all 20 printed digits.
 * ``J_Fe = mu/V`` (the seed derives the magnetisation from the moment, not the other way round).
 * Dumbbell model: charges ``±kappa = ±mu/(2l)`` at ``±l nu`` with ``l = h/2``
-  (FORMULAS.md §1, (16)).
+  (Zub's seed eq. (16)).
 * Circular orbit: the seed's ``GetP_orb(mu1, mu2, l1, l2, R_orb, m)`` balances centrifugal and
   magnetic force, ``P^2/(m R) = |F(R)|``. The seed does not print ``R_orb``; the radius
   ``R_orb = 10 mm`` (= ``l``) with both axes perpendicular to the orbital plane and *antiparallel*

@@ -139,7 +139,7 @@ def parameter_table(dps: int = 30, *, diameter: str | float = DIAMETER,
 
 
 def dumbbell_energy(r, c1, c2, c3, *, mu1, mu2, l1, l2, mu0):
-    """Dumbbell pair energy U(r, c1, c2, c3), seed eq. (16) (FORMULAS.md §1), in mpmath.
+    """Dumbbell pair energy U(r, c1, c2, c3), Zub's seed eq. (16), in mpmath.
 
     Charges ``±mu/(2l)`` at ``±l nu``; used here as an independent high-precision oracle.
     """

@@ -39,7 +39,7 @@ def relative_orbit(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def dumbbell_potential():
     """The pair potential used: the magnets plugin's ``"dumbbell"`` when registered, else the
-    same energy (seed eq. (16), FORMULAS.md §1) as a sympy expression in ``r, c1, c2, c3``."""
+    same energy (Zub's seed eq. (16)) as a sympy expression in ``r, c1, c2, c3``."""
     from poissonkit.errors import UnknownNameError
     from poissonkit.plugin import potential
 

@@ -117,7 +117,7 @@ def check_jacobi_at_points(P: Bivector, constraints: Sequence[sp.Expr] = (), tri
                            seed: int | None = None) -> JacobiRecord:
     """Jacobi identity at random rational points (on the constraint set, if any), exactly.
 
-    ``Jac^{ijk} = P^{im} d_m P^{jk} + cyclic`` (FORMULAS.md §0) with the derivatives taken at
+    ``Jac^{ijk} = P^{im} d_m P^{jk} + cyclic`` (docs/conventions.md) with the derivatives taken at
     the points (:class:`~poissonkit.structure.randompoints.RandomPoints`, which also places the
     points on recognised constraint surfaces such as ``(gamma, gamma) = 1``). A non-zero value
     is an exact counterexample (a proof that ``P`` is not Poisson there); a pass carries the
