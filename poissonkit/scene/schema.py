@@ -481,7 +481,9 @@ def check_overlaps(bodies, where: str = "bodies") -> None:
     # the tree finds every pair within reach (coincident centres at distance 0 included);
     # a small relative pad keeps round-off from hiding a touching pair
     reach += 1e-9 * (reach + float(np.abs(centers).max()))
-    near = cKDTree(centers).query_pairs(reach, output_type="ndarray")
+    # in the max-norm (a superset of the Euclidean pairs within reach): no squares, so
+    # coordinates up to the float limit do not overflow inside the tree
+    near = cKDTree(centers).query_pairs(reach, p=np.inf, output_type="ndarray")
     for i, j in sorted((int(a), int(b)) for a, b in near):  # (i, j) order: first pair named
         a, c = shapes[i], shapes[j]
         coincident = bool(np.all(a.center == c.center))
