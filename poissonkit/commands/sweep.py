@@ -51,8 +51,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--resume", action="store_true",
                         help="finish an interrupted sweep in --out (only missing points run)")
     parser.add_argument("--overwrite", action="store_true", help="replace an existing sweep")
-    parser.add_argument("--periods", type=float, default=20.0,
-                        help="seed000: orbital periods per run")
+    parser.add_argument("--periods", type=float, default=None,
+                        help="seed000: orbital periods per run (default 20)")
     parser.add_argument("--escape", type=float, default=None,
                         help="escape distance (seed000: orbit radii, default 3; scene file: "
                              "times the initial size, default 10)")
@@ -65,7 +65,7 @@ def main(args: argparse.Namespace) -> int:
     from poissonkit.sweeps import sweep
     from poissonkit.sweeps.execute import default_store
 
-    if not (math.isfinite(args.periods) and args.periods > 0):
+    if args.periods is not None and not (math.isfinite(args.periods) and args.periods > 0):
         raise InputError(f"--periods must be > 0, got {args.periods!r}")
     params = list(args.param) + list(args.grid)
     if not params:
@@ -75,15 +75,22 @@ def main(args: argparse.Namespace) -> int:
         from poissonkit.plugin.registry import default_scene
 
         args.scene = default_scene().name
+    from poissonkit.scene.registered import resolve_scene
+
+    # a file, a registered scene or a shipped scene file, by name (as `poissonkit run`)
+    scene = resolve_scene(args.scene)
     options: dict[str, float | None] = {}
     if args.escape is not None:
         options["escape"] = args.escape
-    if Path(args.scene).suffix != ".toml" and not Path(args.scene).exists():
-        options["periods"] = args.periods  # a registered scene (e.g. seed000) by name
+    if args.periods is not None:
+        if not isinstance(scene, str):
+            raise InputError("--periods applies to a registered scene (e.g. seed000), not to "
+                             "a scene file: sweep run.duration instead")
+        options["periods"] = args.periods
     out = Path(args.out)
     store = default_store(out)
     try:
-        ds = sweep(args.scene, params, outcomes=args.outcomes, store=store,
+        ds = sweep(scene, params, outcomes=args.outcomes, store=store,
                    scheduler=args.scheduler, workers=args.workers, samples=args.random,
                    seed=args.seed, resume=args.resume, overwrite=args.overwrite,
                    batch_size=args.batch_size, progress=not args.no_progress, **options)

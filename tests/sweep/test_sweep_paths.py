@@ -18,7 +18,7 @@ from poissonkit.sweeps.paths import SweepPathError, check_path
 from poissonkit.sweeps.scenes import TomlScene
 
 ROOT = Path(__file__).resolve().parents[2]
-TWO_MAGNETS = ROOT / "examples" / "scenes" / "two_magnets.toml"
+TWO_MAGNETS = ROOT / "poissonkit" / "scenes" / "two_magnets.toml"
 
 
 @pytest.fixture
@@ -74,6 +74,8 @@ def test_fixed_paths_are_checked_when_the_scene_is_made():
 
 @pytest.mark.parametrize("scene,param,needle", [
     (str(TWO_MAGNETS), "interactions.params.screenin_length=1:2:3", "screenin_length"),
+    # a shipped scene by name, as `poissonkit run two_magnets` takes it
+    ("two_magnets", "interactions.params.screenin_length=1:2:3", "screenin_length"),
     ("seed000", "spin_ratoi=0:1:2", "spin_ratoi"),
 ])
 def test_cli_refuses_a_bad_path_before_any_cluster(scene, param, needle, tmp_path, capsys,
