@@ -109,6 +109,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="largest accepted max |ΔH|/|H(0)| (default: the scene's "
                         "run.energy_tol, 1e-6 for the seed scene); above it the run warns and "
                         f"exits with code {3}")
+    parser.add_argument("--from-summary", default=None, metavar="SUMMARY",
+                        help="run again the scene of an earlier run's summary.json with its "
+                        "options (its copy of the scene file is used); --out and the output "
+                        "options come from this command line")
 
 
 def _positive(name: str, value: float | None) -> None:
@@ -287,6 +291,36 @@ def main(args: argparse.Namespace) -> int:
     Returns :data:`EXIT_OK`, :data:`EXIT_ENERGY`, :data:`EXIT_CONTACT` or
     :data:`EXIT_INTERRUPTED` (see ``docs/reliability.md``).
     """
+    source = getattr(args, "from_summary", None)
+    if source is None:
+        return _main(args)
+    import tempfile
+
+    # the scene copy must outlive the run: the summary of the re-run copies it again
+    with tempfile.TemporaryDirectory(prefix="poissonkit-rerun-") as tmp:
+        _apply_summary(args, Path(source), Path(tmp))
+        return _main(args)
+
+
+def _apply_summary(args: argparse.Namespace, source: Path, scene_dir: Path) -> None:
+    """Set the run options of ``args`` to those recorded in the summary ``source``."""
+    import json
+
+    from poissonkit.report.provenance import rerun_options
+
+    try:
+        summary = json.loads(source.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise InputError(f"--from-summary: {str(source)!r} does not exist") from None
+    except (OSError, ValueError) as exc:
+        raise InputError(f"--from-summary: cannot read {str(source)!r}: {exc}") from None
+    if not isinstance(summary, dict):
+        raise InputError(f"--from-summary: {str(source)!r} is not a run summary")
+    for key, value in rerun_options(summary, scene_dir).items():
+        setattr(args, key, value)
+
+
+def _main(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
@@ -313,7 +347,7 @@ def main(args: argparse.Namespace) -> int:
             from poissonkit.numerics.checkpoint import CheckpointError
 
             raise CheckpointError(f"--resume: {out} has no checkpoints folder; nothing to resume")
-        for name in ("summary.json", "trajectory.npz"):  # outputs of the interrupted attempt
+        for name in ("summary.json", "trajectory.npz", "trajectory.nc"):  # the interrupted attempt
             (out / name).unlink(missing_ok=True)
     else:
         atomic.prepare_output_dir(out, overwrite=getattr(args, "overwrite", False))
@@ -420,15 +454,21 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
         if key in meta:
             summary[key] = meta[key]
     summary["parameters"] = meta
+    summary.update(_provenance(args, spec, sc))
     layout = _layout(spec.system)
     if nrows <= MAX_NPZ_ROWS:
+        from poissonkit.report.trajectory import scale_arrays
+
         tf, yf = read_trajectory(parts)
         relf = relative_position(spec, yf)
         extra = {} if relf is None else {"r_rel_si": relf * lunit}
         write_trajectory(out / "trajectory.npz", tf, yf, layout=layout, time_unit=tunit,
-                         **extra)
-        _remove_tree(parts)
+                         **extra, **scale_arrays(sc, tunit))
         files = ["summary.json", "trajectory.npz"]
+        if _write_dataset(out / "trajectory.nc", spec, sol, tf, yf, sc, tunit):
+            files.append("trajectory.nc")
+            summary["trajectory_dataset"] = "trajectory.nc"
+        _remove_tree(parts)
     else:
         summary["trajectory"] = ("trajectory.parts/ (read with "
                                  "poissonkit.numerics.checkpoint.read_trajectory)")
@@ -463,6 +503,38 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
     if energy_error > tol:
         return EXIT_ENERGY
     return EXIT_OK
+
+
+def _provenance(args: argparse.Namespace, spec: RunSpec, scales: Scales | None
+                ) -> dict[str, object]:
+    """Versions, command line, options, scene copy and units (``summary.json``)."""
+    from poissonkit.report.provenance import provenance
+    from poissonkit.scene.registered import resolve_scene
+
+    target = resolve_scene(args.scene) if args.scene is not None else None
+    found = provenance(args, target, scales)
+    source = found["scene_source"]
+    if isinstance(source, dict) and source.get("kind") == "registered":
+        # a registered scene is code: its name and the parameters it resolved to
+        source.update(resolved_name=spec.name, parameters=dict(spec.metadata or {}))
+    if getattr(args, "from_summary", None) is not None:
+        found["rerun_of"] = str(Path(args.from_summary).resolve())
+    return found
+
+
+def _write_dataset(path: Path, spec: RunSpec, sol: Solution, t: np.ndarray, y: np.ndarray,
+                   scales: Scales | None, tunit: float) -> bool:
+    """Write the trajectory as a NetCDF dataset; ``False`` (with a note) without xarray."""
+    from poissonkit.report.trajectory import trajectory_dataset, write_dataset
+
+    try:
+        ds = trajectory_dataset(spec.system, t, y, scales=scales, time_unit=tunit,
+                                attrs={"scene": spec.name, "method": sol.method})
+    except MissingDependencyError as exc:
+        print(f"note: no trajectory.nc ({exc})", file=sys.stderr)
+        return False
+    write_dataset(path, ds)
+    return True
 
 
 def _problems(energy_error: float, message: str, tol: float, interrupted: bool,

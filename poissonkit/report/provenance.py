@@ -1,0 +1,163 @@
+"""What a run was made from, for ``summary.json``: versions, command line, options, the scene
+itself (a copy of the file's text, or the registered scene's name and parameters) and units.
+
+A summary carrying these keys is enough to run the same scene again
+(``poissonkit run --from-summary OUT/summary.json``, :func:`rerun_options`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import hashlib
+import sys
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+
+from poissonkit.errors import InputError
+from poissonkit.numerics.units import Scales
+
+#: Options of ``poissonkit run`` that describe where and how the files are written, not the
+#: run itself: a re-run takes them from its own command line.
+OUTPUT_OPTIONS = frozenset({"out", "overwrite", "no_progress", "no_plots", "resume",
+                            "checkpoint_every", "from_summary", "command", "func", "verbose",
+                            "quiet"})
+
+#: Version of the provenance keys' layout (``provenance_format`` in ``summary.json``).
+FORMAT = 1
+
+JSONValue = None | bool | int | float | str | list["JSONValue"] | dict[str, "JSONValue"]
+
+
+def versions() -> dict[str, JSONValue]:
+    """``{"poissonkit": version, "plugins": [{name, source, version, status, error}, ...]}``
+    for every plugin poissonkit loaded (:func:`poissonkit.plugin.plugin_reports`)."""
+    import poissonkit
+    from poissonkit.plugin import plugin_reports
+
+    plugins: list[JSONValue] = [
+        {"name": r.name, "source": r.source, "version": r.version, "status": r.status,
+         "error": r.error} for r in plugin_reports()]
+    return {"poissonkit": str(poissonkit.__version__), "plugins": plugins}
+
+
+def options_of(args: argparse.Namespace) -> dict[str, JSONValue]:
+    """Every resolved option of the command (``vars(args)``), JSON values only."""
+    out: dict[str, JSONValue] = {}
+    for key, value in sorted(vars(args).items()):
+        if callable(value):  # argparse's dispatch function
+            continue
+        out[key] = value if isinstance(value, (bool, int, float, str, type(None))) else str(value)
+    return out
+
+
+def scene_source(scene: str | Path | None) -> dict[str, JSONValue]:
+    """Where the scene came from.
+
+    Parameters
+    ----------
+    scene
+        A scene file (``Path``), a registered scene's name, or ``None`` for the default scene.
+
+    Returns
+    -------
+    dict
+        For a file: ``kind="file"``, its absolute ``path``, ``text`` (a full copy), ``sha256``
+        and the ``resolved`` scene (assembly, potential and their parameters as validated).
+        For a registered scene: ``kind="registered"`` and its ``name`` (``None``: the default).
+    """
+    if not isinstance(scene, Path):
+        return {"kind": "registered", "name": scene}
+    text = scene.read_text(encoding="utf-8")
+    out: dict[str, JSONValue] = {
+        "kind": "file", "path": str(scene.resolve()), "name": scene.name, "text": text,
+        "sha256": hashlib.sha256(text.encode("utf-8")).hexdigest()}
+    from poissonkit.scene.loader import loads_scene
+
+    resolved = loads_scene(text, source=str(scene))
+    out["resolved"] = _jsonable(dataclasses.asdict(resolved)) \
+        if dataclasses.is_dataclass(resolved) else None
+    return out
+
+
+#: SI unit of each kind of quantity.
+SI_UNITS: Mapping[str, str] = {
+    "length": "m", "mass": "kg", "time": "s", "momentum": "kg m s-1",
+    "angular_momentum": "kg m2 s-1", "energy": "J", "alpha": "kg-1 m-2", "inertia": "kg m2",
+    "force": "N", "torque": "N m", "velocity": "m s-1", "frequency": "s-1", "dimensionless": "1"}
+
+
+def units(scales: Scales | None) -> dict[str, JSONValue]:
+    """SI value of one internal unit of each kind (``{"length": 0.01, ...}``, SI units named
+    in ``"si_units"``); all 1 for a system in SI units."""
+    s = scales if scales is not None else Scales()
+    return {"internal_unit_in_si": {k: float(s.unit(k)) for k in SI_UNITS},
+            "si_units": dict(SI_UNITS),
+            "system_in_si": scales is None}
+
+
+def provenance(args: argparse.Namespace, scene: str | Path | None, scales: Scales | None,
+               argv: Sequence[str] | None = None) -> dict[str, JSONValue]:
+    """The provenance keys of ``summary.json``.
+
+    Returns
+    -------
+    dict
+        ``provenance_format``, ``versions``, ``command_line`` (``sys.argv``), ``options``,
+        ``scene_source`` (:func:`scene_source`) and ``units`` (:func:`units`).
+    """
+    return {"provenance_format": FORMAT, "versions": versions(),
+            "command_line": list(sys.argv if argv is None else argv),
+            "options": options_of(args), "scene_source": scene_source(scene),
+            "units": units(scales)}
+
+
+def rerun_options(summary: Mapping[str, object], scene_dir: Path) -> dict[str, object]:
+    """Options that run the scene of ``summary`` again, as it ran.
+
+    Parameters
+    ----------
+    summary
+        A ``summary.json`` document written by ``poissonkit run``.
+    scene_dir
+        Folder where a scene file's copy is written (the copy is run, not the original path,
+        so a moved or edited file does not change the re-run).
+
+    Returns
+    -------
+    dict
+        The run options of the summary (output options left out, :data:`OUTPUT_OPTIONS`),
+        with ``scene`` set to the copy or the registered name.
+
+    Raises
+    ------
+    InputError
+        If the summary has no provenance (written by an older poissonkit).
+    """
+    options = summary.get("options")
+    source = summary.get("scene_source")
+    if not isinstance(options, dict) or not isinstance(source, dict):
+        raise InputError("--from-summary: the summary has no 'options'/'scene_source' (written "
+                         "by a poissonkit without provenance); run the scene again by hand")
+    out = {k: v for k, v in options.items() if k not in OUTPUT_OPTIONS}
+    if source.get("kind") == "file":
+        text = source.get("text")
+        if not isinstance(text, str):
+            raise InputError("--from-summary: the summary's scene_source has no scene text")
+        name = Path(str(source.get("name") or "scene.toml")).name
+        copy = scene_dir / name
+        copy.write_text(text, encoding="utf-8")
+        out["scene"] = str(copy)
+    else:
+        out["scene"] = source.get("name")
+    return out
+
+
+def _jsonable(value: object) -> JSONValue:
+    if isinstance(value, Mapping):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, (bool, int, float, str, type(None))):
+        return value
+    return str(value)

@@ -1,0 +1,196 @@
+"""The trajectory of a run as a self-describing :class:`xarray.Dataset` (``trajectory.nc``).
+
+Bodies (N-body and two-body systems) get variables with dimensions ``time × body × component``
+in SI units — ``position``, ``momentum`` (moving bodies), ``axis``, ``angular_momentum`` (tops;
+NaN for a moving body that is not a top) — with body names as the ``body`` coordinate. The
+two-body centre-of-mass form has ``relative_position``/``relative_momentum`` (``time ×
+component``) instead of per-body positions. Every dataset also holds the raw state ``y`` (``time
+× state``, internal units, component names from the system's layout), so nothing is lost.
+
+Units are in each variable's ``units`` attribute; the internal scales (SI value of one internal
+unit of length, mass, time, ...) are dataset attributes ``internal_unit_<kind>`` with
+``internal_unit_<kind>_units``. The file is NetCDF 3 written by scipy's engine (scipy is a
+dependency of poissonkit, xarray an optional one): no extra package is needed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from poissonkit.contracts import HasBodies, HasLayout, HasUnpack
+from poissonkit.errors import DimensionError, MissingDependencyError
+from poissonkit.report.provenance import SI_UNITS
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from poissonkit.numerics.units import Scales
+
+#: Names of the two bodies of the two-body centre-of-mass form.
+TWO_BODY_BLOCKS = (("nu1", "m1"), ("nu2", "m2"))
+COMPONENTS = ("x", "y", "z")
+#: NetCDF engine used (part of scipy: NetCDF 3 classic).
+ENGINE = "scipy"
+
+
+def _xarray():
+    try:
+        import xarray as xr
+    except ImportError:
+        raise MissingDependencyError(
+            "the trajectory dataset needs xarray: pip install xarray") from None
+    return xr
+
+
+def _names_with(layout: tuple[str, ...], suffix: str) -> list[str]:
+    """Body names whose block ``<name>.<suffix>`` is in the layout (state order)."""
+    return [c[: -len(suffix) - 1] for c in layout if c.endswith("." + suffix)]
+
+
+def _by_body(values: np.ndarray, have: list[str], bodies: list[str]) -> np.ndarray:
+    """``(time, len(have), 3)`` rows spread to ``(time, len(bodies), 3)``, NaN elsewhere."""
+    out = np.full((values.shape[0], len(bodies), 3), np.nan)
+    for k, name in enumerate(have):
+        out[:, bodies.index(name)] = values[:, k]
+    return out
+
+
+def _body_variables(system: object, y: np.ndarray, layout: tuple[str, ...]
+                    ) -> tuple[dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]],
+                               list[str]]:
+    """Per-body variables (SI) and the body names, or ``({}, [])`` for a system without
+    bodies."""
+    if not isinstance(system, HasUnpack):
+        return {}, []
+    parts = system.unpack(y, si=True)
+    tbc = ("time", "body", "component")
+    if isinstance(system, HasBodies) and {"r", "p", "nu", "m"} <= set(parts):
+        moving = _names_with(layout, "r_x")
+        tops = _names_with(layout, "nu_x")
+        bodies = moving + [n for n in tops if n not in moving]
+        return {
+            "position": (tbc, _by_body(parts["r"], moving, bodies),
+                         {"units": SI_UNITS["length"], "long_name": "position"}),
+            "momentum": (tbc, _by_body(parts["p"], moving, bodies),
+                         {"units": SI_UNITS["momentum"], "long_name": "linear momentum"}),
+            "axis": (tbc, _by_body(parts["nu"], tops, bodies),
+                     {"units": SI_UNITS["dimensionless"], "long_name": "unit symmetry axis"}),
+            "angular_momentum": (tbc, _by_body(parts["m"], tops, bodies),
+                                 {"units": SI_UNITS["angular_momentum"],
+                                  "long_name": "spin angular momentum (body's own)"}),
+        }, bodies
+    if {"r", "p", "nu1", "m1", "nu2", "m2"} <= set(parts):
+        from poissonkit.numerics.events import TWO_BODY_NAMES
+
+        tc = ("time", "component")
+        axes = np.stack([parts[a] for a, _ in TWO_BODY_BLOCKS], axis=1)
+        spins = np.stack([parts[m] for _, m in TWO_BODY_BLOCKS], axis=1)
+        return {
+            "relative_position": (tc, parts["r"], {"units": SI_UNITS["length"],
+                                                   "long_name": "r = r2 - r1"}),
+            "relative_momentum": (tc, parts["p"], {"units": SI_UNITS["momentum"],
+                                                   "long_name": "momentum conjugate to r"}),
+            "axis": (tbc, axes, {"units": SI_UNITS["dimensionless"],
+                                 "long_name": "unit symmetry axis"}),
+            "angular_momentum": (tbc, spins, {"units": SI_UNITS["angular_momentum"],
+                                              "long_name": "spin angular momentum"}),
+        }, list(TWO_BODY_NAMES)
+    return {}, []
+
+
+def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
+                       scales: Scales | None, time_unit: float = 1.0,
+                       attrs: Mapping[str, str | int | float] | None = None) -> xr.Dataset:
+    """The trajectory ``(t, y)`` of ``system`` as an :class:`xarray.Dataset`.
+
+    Parameters
+    ----------
+    system
+        The integrated system (bodies are read through
+        :class:`~poissonkit.contracts.HasUnpack`, :class:`~poissonkit.contracts.HasBodies`,
+        :class:`~poissonkit.contracts.HasLayout`).
+    t, y
+        Saved times (internal units) and states (rows, internal units).
+    scales
+        The system's internal units (``None``: the system is in SI).
+    time_unit
+        Seconds per internal time unit.
+    attrs
+        Further dataset attributes (e.g. scene name, method).
+
+    Returns
+    -------
+    xarray.Dataset
+        Coordinates ``time`` [s], ``time_internal``, ``body`` (names), ``component`` (x, y, z),
+        ``state`` (layout names); variables as the module describes.
+
+    Raises
+    ------
+    DimensionError
+        If ``t`` and ``y`` do not match.
+    MissingDependencyError
+        If xarray is not installed.
+    """
+    xr = _xarray()
+    t = np.asarray(t, dtype=float)
+    y = np.atleast_2d(np.asarray(y, dtype=float))
+    if y.shape[0] != t.shape[0]:
+        raise DimensionError(f"{t.shape[0]} times but {y.shape[0]} states")
+    layout = tuple(system.layout) if isinstance(system, HasLayout) else ()
+    if len(layout) != y.shape[1]:
+        layout = tuple(f"y{k}" for k in range(y.shape[1]))
+    variables, bodies = _body_variables(system, y, layout)
+    data = {name: xr.Variable(dims, values, attrs=a) for name, (dims, values, a)
+            in variables.items()}
+    data["y"] = xr.Variable(("time", "state"), y, attrs={
+        "units": "internal (see internal_unit_* attributes)",
+        "long_name": "state vector as integrated"})
+    coords: dict[str, xr.Variable] = {
+        "time": xr.Variable(("time",), t * float(time_unit),
+                            attrs={"units": SI_UNITS["time"], "long_name": "time"}),
+        "time_internal": xr.Variable(("time",), t, attrs={
+            "units": f"{float(time_unit)!r} s", "long_name": "time in the internal unit"}),
+        "state": xr.Variable(("state",), np.array(layout, dtype=str)),
+    }
+    if bodies:
+        coords["body"] = xr.Variable(("body",), np.array(bodies, dtype=str))
+        coords["component"] = xr.Variable(("component",), np.array(COMPONENTS, dtype=str))
+    import poissonkit
+
+    ds_attrs: dict[str, str | int | float] = {
+        "title": "poissonkit trajectory", "poissonkit_version": str(poissonkit.__version__),
+        "time_unit_s": float(time_unit), "system_in_si": int(scales is None),
+        "conventions": "values in SI units (variable attribute 'units'); 'y' in the "
+                       "internal units: si = internal * internal_unit_<kind>"}
+    if scales is not None:
+        for kind, unit in SI_UNITS.items():
+            ds_attrs[f"internal_unit_{kind}"] = float(scales.unit(kind))
+            ds_attrs[f"internal_unit_{kind}_units"] = unit
+    ds_attrs.update(dict(attrs or {}))
+    return xr.Dataset(data, coords=coords, attrs=ds_attrs)
+
+
+def write_dataset(path: str | Path, dataset: xr.Dataset) -> Path:
+    """Write ``dataset`` as NetCDF (scipy's NetCDF 3 engine), atomically."""
+    from poissonkit.report.atomic import atomic_path
+
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        dataset.to_netcdf(tmp, engine=ENGINE)
+    return path
+
+
+def scale_arrays(scales: Scales | None, time_unit: float) -> dict[str, np.ndarray]:
+    """Arrays that put the internal scales and SI units inside ``trajectory.npz``:
+    ``scale_kinds``, ``scale_si`` (SI value of one internal unit of each kind) and
+    ``scale_units``."""
+    kinds = list(SI_UNITS)
+    values = [float(scales.unit(k)) if scales is not None else 1.0 for k in kinds]
+    if scales is None:
+        values[kinds.index("time")] = float(time_unit)
+    return {"scale_kinds": np.array(kinds, dtype=str), "scale_si": np.array(values),
+            "scale_units": np.array([SI_UNITS[k] for k in kinds], dtype=str)}
