@@ -15,11 +15,13 @@ from poissonkit.contracts import (
     HasEnergy,
     HasLayout,
     HasName,
+    HasScales,
 )
 from poissonkit.errors import InputError, MissingDependencyError
 from poissonkit.numerics import diagnostics
 from poissonkit.numerics.diagnostics import Drift
 from poissonkit.numerics.events import EventRecord
+from poissonkit.numerics.units import Scales
 
 #: Invariants :meth:`Solution.plot` can draw: name -> (method, legend label).
 DRIFTS: dict[str, tuple[str, str]] = {
@@ -28,6 +30,11 @@ DRIFTS: dict[str, tuple[str, str]] = {
     "momentum": ("linear_momentum_drift", "|ΔP|/max|p_i(0)|"),
     "angular_momentum": ("angular_momentum_drift", "|Δj|/(Σ|r×p|+Σ|m|)"),
 }
+
+
+#: SI unit of the kinds of internal unit :meth:`Solution.to_xarray` records.
+_SI_UNITS = {"length": "m", "mass": "kg", "time": "s", "momentum": "kg m s-1",
+             "angular_momentum": "kg m2 s-1", "energy": "J"}
 
 
 @dataclass
@@ -211,7 +218,11 @@ class Solution:
             ``linear_momentum_drift``, ``angular_momentum_drift`` along ``t`` when the system
             is known, and the run's
             method, steps, wall time, step and tolerance as attributes (``None`` left out, so
-            the dataset writes to netCDF/zarr as is).
+            the dataset writes to netCDF/zarr as is). For a system in internal units
+            (:class:`~poissonkit.contracts.HasScales`) the SI value of one internal unit of
+            each kind is an attribute ``internal_unit_<kind>`` (with ``..._units``), and
+            ``t_si`` [s] a coordinate along ``t``. (``poissonkit run`` writes the richer
+            ``time × body × component`` form: :mod:`poissonkit.report.trajectory`.)
 
         Raises
         ------
@@ -230,8 +241,15 @@ class Solution:
         attrs = {"method": self.method, "steps": int(self.steps), "nfev": int(self.nfev),
                  "wall_time": float(self.wall_time), "step": self.step, "tol": self.tol,
                  "message": self.message, "system": self._system_name() if self.system else None}
-        return xr.Dataset(data, coords={"t": np.asarray(self.t, dtype=float),
-                                        "component": list(self.layout())},
+        t = np.asarray(self.t, dtype=float)
+        coords: dict[str, object] = {"t": t, "component": list(self.layout())}
+        scales = self.system.scales if isinstance(self.system, HasScales) else None
+        if isinstance(scales, Scales):
+            for kind, unit in _SI_UNITS.items():
+                attrs[f"internal_unit_{kind}"] = float(scales.unit(kind))
+                attrs[f"internal_unit_{kind}_units"] = unit
+            coords["t_si"] = ("t", t * float(scales.time), {"units": "s"})
+        return xr.Dataset(data, coords=coords,
                           attrs={k: v for k, v in attrs.items() if v is not None})
 
     def plot(self, ax=None, invariants=("energy", "casimirs", "angular_momentum")):

@@ -10,13 +10,14 @@ component``) instead of per-body positions. Every dataset also holds the raw sta
 Units are in each variable's ``units`` attribute; the internal scales (SI value of one internal
 unit of length, mass, time, ...) are dataset attributes ``internal_unit_<kind>`` with
 ``internal_unit_<kind>_units``. The file is NetCDF 3 written by scipy's engine (scipy is a
-dependency of poissonkit, xarray an optional one): no extra package is needed.
+dependency of poissonkit, and so is xarray): no extra package is needed.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
+from types import ModuleType
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -37,7 +38,7 @@ COMPONENTS = ("x", "y", "z")
 ENGINE = "scipy"
 
 
-def _xarray():
+def _xarray() -> ModuleType:
     try:
         import xarray as xr
     except ImportError:

@@ -153,3 +153,19 @@ def test_from_summary_without_provenance_is_refused(tmp_path, monkeypatch):
                 *QUIET) == 1
     assert _run(monkeypatch, "--from-summary", str(tmp_path / "missing.json"), "--out",
                 str(tmp_path / "o"), *QUIET) == 1
+
+
+def test_solution_to_xarray_carries_the_internal_scales():
+    from poissonkit.numerics import solve
+    from poissonkit.scene import build_run, load_scene
+
+    spec = build_run(load_scene(TWO))
+    sol = solve(spec.system, spec.y0, 5 * spec.step, method="splitting4", step=spec.step)
+    ds = sol.to_xarray()
+    sc = spec.system.scales
+    assert ds.attrs["internal_unit_length"] == sc.length == spec.metadata["scales"]["length"]
+    assert ds.attrs["internal_unit_energy_units"] == "J"
+    np.testing.assert_allclose(ds["t_si"].values, sol.t * spec.metadata["time_unit_s"],
+                               rtol=1e-15)
+    assert ds["t_si"].values[-1] == pytest.approx(5e-4)  # the scene's step is 1e-4 s
+    assert ds["t_si"].attrs["units"] == "s"
