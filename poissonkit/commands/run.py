@@ -7,10 +7,13 @@ folder (default ``./poissonkit-output``):
 
 * ``summary.json`` — parameters, ``P_orb``, ``T_orb``, method, steps, wall time (integration;
   the one-time compilation separately), maximum relative energy error, maximum Casimir drift,
-  maximum ``|Δj|/|j|``;
-* ``trajectory.npz`` — ``t`` (internal), ``t_si``, ``y`` (rows), ``layout`` (runs saving more
-  than :data:`MAX_NPZ_ROWS` rows keep them in ``trajectory.parts/`` instead: the trajectory is
-  streamed to disk while the run goes, so memory stays bounded);
+  maximum ``|Δj|/|j|``; and what made the run: versions, command line, options, a copy of
+  the scene, units (:mod:`poissonkit.report.provenance`; ``--from-summary`` runs it again);
+* ``trajectory.nc`` — the trajectory as an xarray dataset, ``time × body × component`` in SI
+  (:mod:`poissonkit.report.trajectory`);
+* ``trajectory.npz`` — ``t`` (internal), ``t_si``, ``y`` (rows), ``layout``, the scales
+  (runs saving more than :data:`MAX_NPZ_ROWS` rows keep them in ``trajectory.parts/``
+  instead: the trajectory is streamed to disk while the run goes, so memory stays bounded);
 * ``angular_momentum_z.png``, ``radius_and_x.png``, ``orbit.png``, ``drifts.png``.
 
 Every file is written atomically; a folder holding another run's files is refused unless
