@@ -1,15 +1,16 @@
 """Invariant drifts on a log axis, with exact zeros drawn honestly.
 
 A log axis cannot show 0. Values that are exactly zero (a conserved quantity the integrator
-keeps to the last bit) are drawn as hollow markers at a stated *floor* — a decade below the
-smallest nonzero drift of the figure — and the legend says so; they are never clipped into a
-line at an arbitrary 1e-17. Only the invariants the system has are drawn (the drifts that
+keeps to the last bit) are drawn as hollow markers ▽ at a stated *floor* — a decade below the
+smallest nonzero drift of the figure, but not below :data:`LOWEST_FLOOR` — and the legend says
+so; nonzero values under the floor are markers △ there. Nothing is clipped into a line. Only the invariants the system has are drawn (the drifts that
 :mod:`poissonkit.numerics.diagnostics` computed for it).
 """
 
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Mapping
 
 import numpy as np
@@ -27,6 +28,9 @@ _RELATIVE = {"energy_error": "|ΔH|/|H(0)|", "casimir_drift": "max_k |ΔC_k|/s_k
              "angular_momentum_drift": "|Δj|/(Σ|r×p|+Σ|m|)"}
 _ABSOLUTE = {"energy_error": "|ΔH|", "casimir_drift": "max_k |ΔC_k|",
              "linear_momentum_drift": "|ΔP|", "angular_momentum_drift": "|Δj|"}
+#: The floor never goes lower: a hundredth of double round-off (a cancellation leaving 1e-33
+#: would otherwise squash the figure's meaningful decades into a sliver).
+LOWEST_FLOOR = 1e-19
 #: At most this many zero markers per series (a run of exact zeros stays readable).
 MAX_ZERO_MARKERS = 60
 
@@ -46,13 +50,13 @@ def drift_label(d: Drift) -> str:
 
 
 def drift_floor(diag: Diagnostics) -> float:
-    """Where exact zeros are drawn: a decade below the smallest nonzero drift (1e-17 if every
-    drift is exactly zero)."""
+    """Where exact zeros are drawn: a decade below the smallest nonzero drift, but not below
+    :data:`LOWEST_FLOOR` (1e-17 if every drift is exactly zero)."""
     pos = [float(np.min(v[v > 0])) for v in (np.asarray(d.relative) for d in diag.drifts.values())
            if np.any(v > 0)]
     if not pos:
         return 1e-17
-    return 10.0 ** math.floor(math.log10(min(pos)) - 1)
+    return max(LOWEST_FLOOR, 10.0 ** math.floor(math.log10(min(pos)) - 1))
 
 
 def drift_axes(diag: Diagnostics, *, ax=None, time_scale: float = 1.0, time_unit: str = "s",
@@ -86,31 +90,42 @@ def drift_axes(diag: Diagnostics, *, ax=None, time_scale: float = 1.0, time_unit
     skip = dict(not_conserved or {})
     shown = {n: d for n, d in diag.drifts.items() if n.removesuffix("_drift") not in skip}
     floor = drift_floor(Diagnostics(diag.t, shown, diag.angular_momentum))
-    any_zero = False
+    marked = {"v": False, "^": False}
     for name, d in shown.items():
         color = _COLORS.get(name)
         y = np.asarray(d.relative, dtype=float)
         tt, yy = thin(t, y)
-        # t = 0 is zero by definition: not a finding, not drawn
-        line = np.where(yy > 0, yy, np.nan)
+        # t = 0 is zero by definition: not a finding, not drawn; values under the floor are
+        # markers, not a line plunging to 1e-35; a dot on the line keeps isolated samples
+        line = np.where(yy >= floor, yy, np.nan)
         line[0] = np.nan
-        ax.semilogy(tt, line, color=color, linewidth=0.7, label=drift_label(d))
-        zero = np.flatnonzero(y[1:] == 0) + 1
-        if zero.size:
-            any_zero = True
-            step = max(1, int(np.ceil(zero.size / MAX_ZERO_MARKERS)))
-            z = zero[::step]
-            ax.semilogy(t[z], np.full(z.size, floor), linestyle="none", marker="v",
-                        markersize=4, markerfacecolor="none", color=color or "0.3")
+        ax.semilogy(tt, line, color=color, linewidth=0.7, marker=".", markersize=1.5,
+                    label=drift_label(d))
+        for marker, hit in (("v", y[1:] == 0), ("^", (y[1:] > 0) & (y[1:] < floor))):
+            idx = np.flatnonzero(hit) + 1
+            if idx.size:
+                marked[marker] = True
+                idx = idx[::max(1, int(np.ceil(idx.size / MAX_ZERO_MARKERS)))]
+                ax.semilogy(t[idx], np.full(idx.size, floor), linestyle="none", marker=marker,
+                            markersize=4, markerfacecolor="none", color=color or "0.3")
     if not any(np.any(np.asarray(d.relative) > 0) for d in shown.values()):
         ax.set_ylim(floor / 10, floor * 10)  # only zeros: a log axis needs a range to show
-    if any_zero:
+    if marked["v"] or marked["^"]:
         ax.axhline(floor, color="0.5", linewidth=0.6, linestyle=":",
-                   label=f"▽ exactly 0 (drawn at the floor {floor:.0e})")
+                   label=f"floor {floor:.0e}: markers stand for")
+    if marked["v"]:
+        ax.plot([], [], "v", markerfacecolor="none", color="0.3", label="  exactly 0")
+    if marked["^"]:
+        ax.plot([], [], "^", markerfacecolor="none", color="0.3",
+                label=f"  nonzero, below {floor:.0e}")
     ax.set_xlabel(f"t [{time_unit}]")
     ax.set_ylabel("relative drift")
-    for q, why in skip.items():  # say what is missing and why, rather than drawing it
-        ax.plot([], [], " ", label=f"not an invariant here: {q.replace('_', ' ')} ({why})")
+    by_reason: dict[str, list[str]] = {}
+    for q, why in skip.items():
+        by_reason.setdefault(why, []).append(q.replace("_", " "))
+    for why, qs in by_reason.items():  # say what is missing and why, rather than drawing it
+        note = f"not an invariant here: {' and '.join(qs)} ({why})"
+        ax.plot([], [], " ", label=textwrap.fill(note, 40))
     # outside the axes: a legend never hides a curve
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, borderaxespad=0)
     return ax

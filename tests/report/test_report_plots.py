@@ -165,7 +165,8 @@ def test_fixed_body_leaves_momenta_out_of_the_drift_figure(five_run):
                     not_conserved=conserved_quantities(run.system))
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert not any(label.startswith(("|Δj|", "|ΔP|")) for label in labels)
-    assert sum("not an invariant here" in label for label in labels) == 2
+    (note,) = [label for label in labels if "not an invariant here" in label]
+    assert "linear momentum" in note and "angular momentum" in note and "m0" in note
     assert ax.get_yscale() == "log"
     plt.close("all")
 
@@ -189,13 +190,28 @@ def test_exact_zeros_are_markers_at_a_stated_floor_not_a_clipped_line():
     y = np.asarray(energy_line.get_ydata(), dtype=float)
     # zeros (and t = 0) are gaps in the line, not 1e-17
     assert np.isnan(y[[0, 2]]).all() and np.allclose(y[[1, 3, 4]], energy[[1, 3, 4]])
-    markers = [ln for ln in lines if ln.get_marker() == "v"]
+    markers = [ln for ln in lines if ln.get_marker() == "v" and len(ln.get_xdata())]
     # energy: one zero at t = 2; Casimirs: zeros at t = 1..4 (t = 0 is zero by definition)
     assert sorted(len(m.get_xdata()) for m in markers) == [1, 4]
     assert all(np.all(m.get_ydata() == 1e-13) for m in markers)
     legend = [t.get_text() for t in ax.get_legend().get_texts()]
-    assert any("exactly 0" in s and "1e-13" in s for s in legend)
+    assert "floor 1e-13: markers stand for" in legend and "  exactly 0" in legend
     assert min(ax.get_ylim()) <= 1e-13
+    plt.close("all")
+
+
+def test_tiny_nonzero_drifts_do_not_push_the_floor_to_1e_35():
+    from poissonkit.report.drift_plot import LOWEST_FLOOR
+
+    diag = _diag(energy_error=np.array([0.0, 1e-16, 3e-34, 0.0]))
+    assert drift_floor(diag) == LOWEST_FLOOR
+    ax = drift_axes(diag)
+    up = [ln for ln in ax.get_lines() if ln.get_marker() == "^" and len(ln.get_xdata())]
+    down = [ln for ln in ax.get_lines() if ln.get_marker() == "v" and len(ln.get_xdata())]
+    assert [list(ln.get_xdata()) for ln in up] == [[2.0]]
+    assert [list(ln.get_xdata()) for ln in down] == [[3.0]]
+    line = next(ln for ln in ax.get_lines() if ln.get_label() == "|ΔH|/|H(0)|")
+    assert np.isnan(np.asarray(line.get_ydata(), dtype=float)[[0, 2, 3]]).all()
     plt.close("all")
 
 
