@@ -82,7 +82,7 @@ def configuration_axes(system: NBodySystem, y: np.ndarray, *, axes: Sequence | N
     for ax, (a, b), plane in zip(axes, ((0, 1), (0, 2)), ("xy", "xz")):
         for i, body in enumerate(system.bodies):
             if body.fixed:
-                ax.plot(pos[0, i, a], pos[0, i, b], "s", color="k", markersize=7,
+                ax.plot(pos[0, i, a], pos[0, i, b], "s", color="k", markersize=7, zorder=4,
                         label="fixed" if i == _first_fixed(system) else None)
             else:
                 ax.plot(path[:, i, a], path[:, i, b], color="0.7", linewidth=0.6)
@@ -152,8 +152,8 @@ def closest_pair_axes(system: NBodySystem, t_s: np.ndarray, y: np.ndarray, *,
                     linewidth=0.8, label="contact: bounding spheres")
     ax.set_xlabel("t [s]")
     ax.set_ylabel("distance [mm]")
-    ax.set_ylim(bottom=0)
-    ax.legend(loc="best", fontsize=7)
+    ax.set_ylim(0, 1.15 * float(np.nanmax(d)) * _MM)  # room above for the legend
+    ax.legend(loc="lower right", fontsize=7)
     return ax
 
 
