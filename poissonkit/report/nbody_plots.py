@@ -21,6 +21,8 @@ __all__ = ["HasEnergyParts", "closest_pair_axes", "configuration_axes", "energy_
            "energy_partition_axes", "model_timeline_axes", "positions_si"]
 
 _MM = 1e3
+#: Bodies are labelled by name in the configuration figure up to this many (then it is clutter).
+MAX_NAMED = 30
 
 
 @runtime_checkable
@@ -65,7 +67,8 @@ def configuration_axes(system: NBodySystem, y: np.ndarray, *, axes: Sequence | N
     """All bodies at the first and last state in the xy and xz projections [mm].
 
     Paths are thin grey lines, the start a hollow circle, the end a filled one, tops' axes
-    arrows at the end, fixed bodies black squares; each body is labelled by name at its end.
+    arrows at the end, fixed bodies black squares; each body is labelled by name at its end
+    (up to :data:`MAX_NAMED` bodies).
 
     Returns
     -------
@@ -74,10 +77,13 @@ def configuration_axes(system: NBodySystem, y: np.ndarray, *, axes: Sequence | N
     if axes is None:
         _, axs = figure("Configuration at start (○) and end (●)", ncols=2, size=(10, 4.6))
         axes = axs[0]
-    pos = positions_si(system, y) * _MM
-    (path,) = thin(pos, limit=2000)
+    y = np.atleast_2d(y)
+    (rows,) = thin(y, limit=2000)  # positions of every row of a large system would not fit
+    path = positions_si(system, rows) * _MM
+    pos = positions_si(system, y[[0, -1]]) * _MM
     ends = {"start": _axes_of(system, y[0]), "end": _axes_of(system, y[-1])}
-    span = float(np.ptp(pos.reshape(-1, 3), axis=0).max()) or 1.0
+    span = float(np.ptp(np.concatenate([path, pos]).reshape(-1, 3), axis=0).max()) or 1.0
+    named = len(system.bodies) <= MAX_NAMED
     colors = [f"C{i % 10}" for i in range(len(system.bodies))]
     for ax, (a, b), plane in zip(axes, ((0, 1), (0, 2)), ("xy", "xz")):
         for i, body in enumerate(system.bodies):
@@ -89,8 +95,9 @@ def configuration_axes(system: NBodySystem, y: np.ndarray, *, axes: Sequence | N
                 ax.plot(pos[0, i, a], pos[0, i, b], "o", markerfacecolor="none",
                         color=colors[i], markersize=6)
                 ax.plot(pos[-1, i, a], pos[-1, i, b], "o", color=colors[i], markersize=6)
-            ax.annotate(body.name, (pos[-1, i, a], pos[-1, i, b]), fontsize=7,
-                        xytext=(4, 4), textcoords="offset points")
+            if named:
+                ax.annotate(body.name, (pos[-1, i, a], pos[-1, i, b]), fontsize=7,
+                            xytext=(4, 4), textcoords="offset points")
         nu = ends["end"]
         if nu:
             idx = sorted(nu)
@@ -102,7 +109,8 @@ def configuration_axes(system: NBodySystem, y: np.ndarray, *, axes: Sequence | N
         ax.set_xlabel(f"{plane[0]} [mm]")
         ax.set_ylabel(f"{plane[1]} [mm]")
         ax.set_title(f"{plane} projection", fontsize=9)
-        ax.legend(loc="best", fontsize=7)
+        if ax.get_legend_handles_labels()[0]:  # point masses, none fixed: nothing to explain
+            ax.legend(loc="best", fontsize=7)
     return axes
 
 
