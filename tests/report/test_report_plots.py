@@ -62,7 +62,6 @@ NAMES = ["m0", "m1", "m2", "m3", "m4"]
 def five_run(tmp_path_factory):
     """The built scene, its trajectory and diagnostics, and the folder ``poissonkit run``
     wrote for it."""
-    from poissonkit.numerics.checkpoint import read_trajectory  # noqa: F401 (import check)
     from poissonkit.report import diagnostics
     from poissonkit.scene import loads_scene
     from poissonkit.scene.build import build_run
