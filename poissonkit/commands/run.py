@@ -481,12 +481,16 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
     summary["warnings"] = problems
     write_summary(out / "summary.json", summary)
     figures: list[str] = []
-    if not args.no_plots and rel is not None:
-        from poissonkit.report import plots
+    if not args.no_plots:
+        from poissonkit.numerics.events import Contact
+        from poissonkit.report.figures import RunData, write_figures
 
-        figures = [p.name for p in plots.seed_figures(out, t * tunit, rel * lunit,
-                                                      diag.angular_momentum[:, 2] * jscale, diag,
-                                                      time_scale=tunit)]
+        shapes = {s.name: (s.radius, s.half_length) for e in spec.events
+                  if isinstance(e, Contact) for s in e.shapes}
+        run = RunData(spec.system, t, y, diag, time_unit=tunit, name=spec.name, metadata=meta,
+                      shapes=shapes, relative=None if rel is None else rel * lunit,
+                      jz=diag.angular_momentum[:, 2] * jscale)
+        figures = [p.name for p in write_figures(out, run)]
     shown = [f"max |ΔH|/|H| = {summary['max_rel_energy_error']:.2e}"]
     if "max_rel_casimir_drift" in summary:
         shown.append(f"max Casimir drift = {summary['max_rel_casimir_drift']:.2e}")

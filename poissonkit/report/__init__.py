@@ -6,7 +6,10 @@
   :mod:`poissonkit.report.atomic`);
 * :func:`invariant_report` — only the invariants a system really has, absolute and relative;
 * :func:`streamed_diagnostics` — diagnostics of a trajectory streamed to disk in parts.
-* :mod:`poissonkit.report.plots` — the seed's MATLAB figures (imported lazily: matplotlib).
+* :mod:`poissonkit.report.figures` — the plot registry: which figures a run gets (two-body
+  figures of :mod:`~poissonkit.report.plots`, N-body ones of
+  :mod:`~poissonkit.report.nbody_plots`, drifts of :mod:`~poissonkit.report.drift_plot`);
+  imported lazily (matplotlib).
 """
 
 from poissonkit.report.summary import (

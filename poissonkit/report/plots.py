@@ -1,9 +1,11 @@
-"""Figures of a run in the style of seed 000's MATLAB plots (matplotlib, Agg backend).
+"""Two-body figures in the style of seed 000's MATLAB plots (matplotlib, Agg backend).
 
 The seed shows (i) the z-component of the total angular momentum against time ("Total moment
 of momentum conservation law"), (ii) the orbital radius on the background of the x-coordinate
 ("Change of orbital radius on background of x-coordinate changing"), plus the orbit itself. We
-add the invariant drifts on a log scale. Every function writes one PNG and returns its path.
+add the invariant drifts on a log scale (:mod:`poissonkit.report.drift_plot`). The ``*_axes``
+functions draw and return matplotlib Axes (notebooks); the others write one PNG and return its
+path. All four are registered in :data:`poissonkit.report.figures.PLOTS` for two-body runs.
 """
 
 from __future__ import annotations
@@ -13,97 +15,86 @@ from pathlib import Path
 
 import numpy as np
 
+from poissonkit.report.drift_plot import drift_axes
+from poissonkit.report.figures import RunData, register_plot
+from poissonkit.report.plotkit import figure, save, thin
 from poissonkit.report.summary import Diagnostics
 
+__all__ = ["angular_momentum_z", "angular_momentum_z_axes", "drifts", "orbit", "orbit_axes",
+           "radius_and_x", "radius_and_x_axes", "seed_figures"]
 
-def _figure(title: str):
-    import matplotlib
 
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.2), dpi=100)
+def _axes(ax, title: str):
+    if ax is None:
+        return figure(title)[1]
     ax.set_title(title, fontsize=10)
-    ax.grid(True, color="0.85", linewidth=0.6)  # MATLAB's "grid on"
-    return fig, ax
+    return ax
 
 
-def _save(fig, path: Path) -> Path:
-    import matplotlib.pyplot as plt
-
-    from poissonkit.report.atomic import atomic_path
-
-    fig.tight_layout()
-    with atomic_path(path) as tmp:  # a killed run never leaves half a PNG
-        fig.savefig(tmp, format=path.suffix.lstrip(".") or "png")
-    plt.close(fig)
-    return path
-
-
-def _thin(*arrays: np.ndarray, limit: int = 20000):
-    """Every k-th sample so that a plot has at most ``limit`` points (files stay small)."""
-    n = len(arrays[0])
-    k = max(1, int(np.ceil(n / limit)))
-    return [a[::k] for a in arrays]
-
-
-def angular_momentum_z(path: str | Path, t: np.ndarray, jz: np.ndarray, *,
-                       unit: str = "J s", time_unit: str = "s") -> Path:
-    """``j_z(t)`` (seed: total moment of momentum, z-component), with its deviation inset."""
-    t, jz = _thin(np.asarray(t), np.asarray(jz))
-    fig, ax = _figure("Total angular momentum, z-component")
+def angular_momentum_z_axes(t: np.ndarray, jz: np.ndarray, *, ax=None, unit: str = "J s",
+                            time_unit: str = "s"):
+    """``j_z(t) − j_z(0)`` (seed: total moment of momentum, z-component); returns the Axes."""
+    t, jz = thin(np.asarray(t), np.asarray(jz))
+    ax = _axes(ax, "Total angular momentum, z-component")
     ax.plot(t, jz - jz[0], color="tab:blue", linewidth=0.8)
     ax.set_xlabel(f"t [{time_unit}]")
     ax.set_ylabel(f"j_z(t) - j_z(0) [{unit}]   (j_z(0) = {jz[0]:.10g})")
-    return _save(fig, Path(path))
+    return ax
 
 
-def radius_and_x(path: str | Path, t: np.ndarray, r: np.ndarray, *, unit: str = "mm",
-                 time_unit: str = "s") -> Path:
-    """Orbital radius ``|r|(t)`` on the background of ``x(t)`` (seed's second MATLAB figure)."""
-    r = np.asarray(r)
-    t, rr = _thin(np.asarray(t), r)
-    fig, ax = _figure("Orbital radius on the background of the x-coordinate")
+def radius_and_x_axes(t: np.ndarray, r: np.ndarray, *, ax=None, unit: str = "mm",
+                      time_unit: str = "s"):
+    """Orbital radius ``|r|(t)`` on the background of ``x(t)``; returns the Axes."""
+    t, rr = thin(np.asarray(t), np.asarray(r))
+    ax = _axes(ax, "Orbital radius on the background of the x-coordinate")
     ax.plot(t, rr[:, 0], color="0.6", linewidth=0.7, label="x")
     ax.plot(t, np.linalg.norm(rr, axis=1), color="tab:blue", linewidth=1.0, label="|r|")
     ax.set_xlabel(f"t [{time_unit}]")
     ax.set_ylabel(f"[{unit}]")
     ax.legend(loc="lower right", fontsize=8)
-    return _save(fig, Path(path))
+    return ax
 
 
-def orbit(path: str | Path, r: np.ndarray, *, unit: str = "mm") -> Path:
-    """The relative orbit in the xy-plane."""
-    (rr,) = _thin(np.asarray(r))
-    fig, ax = _figure("Relative orbit r = r2 - r1")
+def orbit_axes(r: np.ndarray, *, ax=None, unit: str = "mm"):
+    """The relative orbit in the xy-plane; returns the Axes."""
+    (rr,) = thin(np.asarray(r))
+    ax = _axes(ax, "Relative orbit r = r2 - r1")
     ax.plot(rr[:, 0], rr[:, 1], color="tab:blue", linewidth=0.7)
     ax.plot(rr[0, 0], rr[0, 1], "o", color="tab:red", markersize=4, label="start")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel(f"x [{unit}]")
     ax.set_ylabel(f"y [{unit}]")
     ax.legend(loc="upper right", fontsize=8)
-    return _save(fig, Path(path))
+    return ax
+
+
+def angular_momentum_z(path: str | Path, t: np.ndarray, jz: np.ndarray, *,
+                       unit: str = "J s", time_unit: str = "s") -> Path:
+    """Write :func:`angular_momentum_z_axes` to ``path``."""
+    ax = angular_momentum_z_axes(t, jz, unit=unit, time_unit=time_unit)
+    return save(ax.figure, Path(path))
+
+
+def radius_and_x(path: str | Path, t: np.ndarray, r: np.ndarray, *, unit: str = "mm",
+                 time_unit: str = "s") -> Path:
+    """Write :func:`radius_and_x_axes` to ``path``."""
+    return save(radius_and_x_axes(t, r, unit=unit, time_unit=time_unit).figure, Path(path))
+
+
+def orbit(path: str | Path, r: np.ndarray, *, unit: str = "mm") -> Path:
+    """Write :func:`orbit_axes` to ``path``."""
+    return save(orbit_axes(r, unit=unit).figure, Path(path))
 
 
 def drifts(path: str | Path, diag: Diagnostics, *, time_scale: float = 1.0,
            time_unit: str = "s") -> Path:
-    """Relative energy error, Casimir drift and angular-momentum drift against time (log)."""
-    t = np.asarray(diag.t) * time_scale
-    series = [("|ΔH|/|H|", diag.energy_error), ("Casimir drift", diag.casimir_drift),
-              ("|Δj|/(Σ|r×p|+Σ|m|)", diag.angular_momentum_drift)]
-    fig, ax = _figure("Invariant drifts")
-    for (label, y), color in zip(series, ("tab:blue", "tab:orange", "tab:green")):
-        tt, yy = _thin(t, np.maximum(np.asarray(y), 1e-17))  # log axis: floor at 1e-17
-        ax.semilogy(tt, yy, color=color, linewidth=0.7, label=label)
-    ax.set_xlabel(f"t [{time_unit}]")
-    ax.set_ylabel("relative error")
-    ax.legend(loc="lower right", fontsize=8)
-    return _save(fig, Path(path))
+    """Write :func:`poissonkit.report.drift_plot.drift_axes` to ``path``."""
+    return save(drift_axes(diag, time_scale=time_scale, time_unit=time_unit).figure, Path(path))
 
 
 def seed_figures(outdir: str | Path, t_si: np.ndarray, r_si: np.ndarray, jz_si: np.ndarray,
                  diag: Diagnostics, time_scale: float) -> Sequence[Path]:
-    """All four figures of ``poissonkit run`` into ``outdir`` (lengths plotted in mm)."""
+    """All four two-body figures into ``outdir`` (lengths plotted in mm)."""
     out = Path(outdir)
     r_mm = np.asarray(r_si) * 1e3
     return [
@@ -112,3 +103,32 @@ def seed_figures(outdir: str | Path, t_si: np.ndarray, r_si: np.ndarray, jz_si: 
         orbit(out / "orbit.png", r_mm),
         drifts(out / "drifts.png", diag, time_scale=time_scale),
     ]
+
+
+# ------------------------------------------------------------------ registry entries
+def _two_body(run: RunData) -> bool:
+    return run.relative is not None and run.n_bodies <= 2
+
+
+def _rel_mm(run: RunData) -> np.ndarray:
+    assert run.relative is not None  # guarded by _two_body
+    return np.asarray(run.relative) * 1e3
+
+
+def _jz(run: RunData) -> np.ndarray:
+    return run.jz if run.jz is not None else np.zeros(len(run.t))
+
+
+register_plot("angular_momentum_z", _two_body,
+              lambda run: angular_momentum_z_axes(run.t_s, _jz(run)).figure, replace=True)
+register_plot("radius_and_x", _two_body,
+              lambda run: radius_and_x_axes(run.t_s, _rel_mm(run)).figure, replace=True)
+register_plot("orbit", _two_body, lambda run: orbit_axes(_rel_mm(run)).figure, replace=True)
+def _drift_figure(run: RunData):
+    from poissonkit.report.summary import conserved_quantities
+
+    return drift_axes(run.diag, time_scale=run.time_unit,
+                      not_conserved=conserved_quantities(run.system)).figure
+
+
+register_plot("drifts", lambda run: bool(run.diag.drifts), _drift_figure, replace=True)

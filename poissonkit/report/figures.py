@@ -1,0 +1,154 @@
+"""The plot registry of ``poissonkit run``: which figures a run gets is decided by what it has.
+
+A :class:`PlotEntry` names a figure, says when it applies to a run (:attr:`PlotEntry.applies`,
+a predicate on :class:`RunData`) and draws it (:attr:`PlotEntry.draw`, returning a matplotlib
+``Figure``). The core registers its entries in :data:`PLOTS` on import; a plugin adds its own
+with :func:`register_plot` (no hook is needed: importing the plugin registers them).
+
+>>> from poissonkit.report.figures import PLOTS
+>>> "drifts" in PLOTS
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from poissonkit.contracts import HasBodies
+from poissonkit.errors import InputError
+from poissonkit.report.summary import Diagnostics
+
+__all__ = ["PLOTS", "PlotEntry", "RunData", "figures_for", "register_plot", "write_figures"]
+
+
+@dataclass(frozen=True)
+class RunData:
+    """What a figure may draw from: the saved states of a run and its description.
+
+    Attributes
+    ----------
+    system
+        The integrated system.
+    t
+        Saved times, internal units, shape ``(n,)``.
+    y
+        Saved states, internal units, shape ``(n, dim)``.
+    diag
+        The run's :class:`~poissonkit.report.summary.Diagnostics` at the same times.
+    time_unit
+        SI value of the internal time unit [s].
+    name
+        Scene name (figure titles).
+    metadata
+        The run's metadata (``"plan"``: the model plan of a planned scene).
+    shapes
+        ``{body name: (radius, half_length)}`` (internal length unit) of finite-size bodies.
+    relative
+        Relative position ``r2 − r1`` [m] of a two-body run (``None`` otherwise).
+    jz
+        z-component of the total angular momentum [J s] (two-body figures).
+    """
+
+    system: object
+    t: np.ndarray
+    y: np.ndarray
+    diag: Diagnostics
+    time_unit: float = 1.0
+    name: str = ""
+    metadata: Mapping[str, object] = field(default_factory=dict)
+    shapes: Mapping[str, tuple[float, float]] = field(default_factory=dict)
+    relative: np.ndarray | None = None
+    jz: np.ndarray | None = None
+
+    @property
+    def t_s(self) -> np.ndarray:
+        """Saved times [s]."""
+        return np.asarray(self.t) * self.time_unit
+
+    @property
+    def n_bodies(self) -> int:
+        """Number of bodies, fixed ones included (2 for the seed's two-body form)."""
+        if isinstance(self.system, HasBodies):
+            return len(self.system.bodies)
+        return 2 if self.relative is not None else 0
+
+    @property
+    def plan(self) -> Mapping[str, object] | None:
+        """The model plan of a planned scene, or ``None``."""
+        plan = self.metadata.get("plan")
+        return plan if isinstance(plan, Mapping) else None
+
+
+Draw = Callable[[RunData], object]  # returns a matplotlib Figure
+
+
+@dataclass(frozen=True)
+class PlotEntry:
+    """One registered figure.
+
+    Attributes
+    ----------
+    name
+        File stem (``<name>.png``) and registry key.
+    applies
+        ``applies(run)`` is true when the figure makes sense for the run.
+    draw
+        ``draw(run)`` returns a matplotlib ``Figure``.
+    """
+
+    name: str
+    applies: Callable[[RunData], bool]
+    draw: Draw
+
+
+#: Registered figures, in drawing order.
+PLOTS: dict[str, PlotEntry] = {}
+
+
+def register_plot(name: str, applies: Callable[[RunData], bool], draw: Draw, *,
+                  replace: bool = False) -> PlotEntry:
+    """Add a figure to :data:`PLOTS`.
+
+    Parameters
+    ----------
+    name
+        File stem and key.
+    applies, draw
+        See :class:`PlotEntry`.
+    replace
+        Allow replacing an entry of the same name.
+
+    Raises
+    ------
+    InputError
+        If ``name`` is taken and ``replace`` is false.
+    """
+    if name in PLOTS and not replace:
+        raise InputError(f"a plot named {name!r} is already registered")
+    entry = PlotEntry(name, applies, draw)
+    PLOTS[name] = entry
+    return entry
+
+
+def figures_for(run: RunData) -> list[PlotEntry]:
+    """The registered figures that apply to ``run``, in registration order."""
+    _load_builtin()
+    return [e for e in PLOTS.values() if e.applies(run)]
+
+
+def write_figures(outdir: str | Path, run: RunData) -> Sequence[Path]:
+    """Draw every figure that applies to ``run`` into ``outdir/<name>.png``; return the paths."""
+    from poissonkit.report.plotkit import save
+
+    out = Path(outdir)
+    return [save(e.draw(run), out / f"{e.name}.png") for e in figures_for(run)]
+
+
+def _load_builtin() -> None:
+    # the built-in entries register themselves on import
+    import poissonkit.report.nbody_plots  # noqa: F401
+    import poissonkit.report.plots  # noqa: F401
