@@ -31,3 +31,15 @@ def example_discoverable(tmp_path, monkeypatch):
     monkeypatch.delenv("POISSONKIT_DISABLE_PLUGIN_AUTOLOAD", raising=False)
     monkeypatch.delenv("POISSONKIT_BLOCK_PLUGINS", raising=False)
     return project
+
+
+@pytest.fixture
+def site(tmp_path, monkeypatch):
+    """A folder on ``sys.path`` for fake distributions (``*.dist-info`` plus modules, what
+    ``pip install`` leaves behind); entry-point plugins load."""
+    path = tmp_path / "site"
+    path.mkdir()
+    monkeypatch.syspath_prepend(str(path))
+    monkeypatch.delenv("POISSONKIT_DISABLE_PLUGIN_AUTOLOAD", raising=False)
+    monkeypatch.delenv("POISSONKIT_BLOCK_PLUGINS", raising=False)
+    return path

@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from poissonkit.plugin import model_family, potential
+from poissonkit.plugin import model_family
 
 K = 8.9875517923e9  # Coulomb's constant (CODATA 2018 ε0)
 

@@ -48,17 +48,6 @@ step = 0.01
 '''
 
 
-@pytest.fixture
-def site(tmp_path, monkeypatch):
-    """A folder on ``sys.path`` for fake distributions; entry-point plugins load."""
-    path = tmp_path / "site"
-    path.mkdir()
-    monkeypatch.syspath_prepend(str(path))
-    monkeypatch.delenv("POISSONKIT_DISABLE_PLUGIN_AUTOLOAD", raising=False)
-    monkeypatch.delenv("POISSONKIT_BLOCK_PLUGINS", raising=False)
-    return path
-
-
 def _report(name: str):
     return next(r for r in plugin_reports() if r.name == name)
 

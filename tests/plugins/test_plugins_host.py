@@ -78,16 +78,6 @@ def install_fake(site: Path, dist: str, version: str, eps: dict[str, str],
         (site / f"{mod}.py").write_text(textwrap.dedent(src))
 
 
-@pytest.fixture
-def site(tmp_path, monkeypatch):
-    path = tmp_path / "site"
-    path.mkdir()
-    monkeypatch.syspath_prepend(str(path))
-    monkeypatch.delenv("POISSONKIT_DISABLE_PLUGIN_AUTOLOAD", raising=False)
-    monkeypatch.delenv("POISSONKIT_BLOCK_PLUGINS", raising=False)
-    return path
-
-
 def report(name: str):
     found = [r for r in plugin_reports() if r.name == name]
     assert found, f"plugin {name!r} not reported; reports: {[r.name for r in plugin_reports()]}"
