@@ -24,7 +24,8 @@ distance ``ρ_b = (d_1 + d_2)/2``, inside which only the exact model is trusted.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from functools import cache
 from typing import Any
 
 import sympy as sp
@@ -72,3 +73,32 @@ def point_dipole_error(r: float, d1: float, d2: float) -> float:
     if r <= 1.05 * bound:
         return math.inf
     return POINT_DIPOLE_C * (d1 * d1 + d2 * d2) / r ** 2 / (1.0 - (bound / r) ** 2)
+
+
+#: ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)``
+PairFunction = Callable[[float, float, float, float], tuple[float, float, float, float, float]]
+_PARAMS = ("charge1", "dipole_length1", "charge2", "dipole_length2", "k")
+
+
+@cache
+def _partials(expr: Callable[[Mapping[str, Any]], sp.Expr]) -> Callable[..., list[float]]:
+    """U and its partials in ``r, c1, c2, c3`` as one plain function of the invariants and
+    the parameters: differentiated once per model, so evaluating a new pair compiles nothing."""
+    symbols = sp.symbols(" ".join(_PARAMS), real=True)
+    U = expr(dict(zip(_PARAMS, symbols)))
+    return sp.lambdify((R, C1, C2, C3, *symbols), [U] + [sp.diff(U, x) for x in (R, C1, C2, C3)],
+                       "math")
+
+
+def evaluator(expr: Callable[[Mapping[str, Any]], sp.Expr]
+              ) -> Callable[[Mapping[str, Any]], PairFunction]:
+    """``PairPotential.evaluate`` of a dipole model: what ``pair_interaction`` calls."""
+    def evaluate(params: Mapping[str, Any]) -> PairFunction:
+        f = _partials(expr)
+        values = [float(params.get(name, COULOMB_K)) for name in _PARAMS]
+
+        def pair(r: float, c1: float, c2: float, c3: float):
+            u, ur, u1, u2, u3 = f(r, c1, c2, c3, *values)
+            return float(u), float(ur), float(u1), float(u2), float(u3)
+        return pair
+    return evaluate

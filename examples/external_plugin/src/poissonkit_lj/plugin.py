@@ -4,7 +4,8 @@ It uses every extension point a built-in plugin uses, through public API only:
 
 * pair potentials — ``lennard_jones`` (central), ``finite_dipole`` and ``point_dipole``
   (orientation-dependent, :mod:`poissonkit_lj.dipoles`), whose charges and dipole lengths are
-  body attributes (``charge``, ``dipole_length``) read per body;
+  body attributes (``charge``, ``dipole_length``) read per body, and whose ``evaluate`` serves
+  ``pair_interaction`` without compiling a kernel per parameter set;
 * a model family — ``electric_dipoles``: ``point_dipole`` far, ``finite_dipole`` near, with the
   error estimate of :func:`poissonkit_lj.dipoles.point_dipole_error`, for the planner and
   ``pair_interaction("auto", ...)``;
@@ -34,6 +35,7 @@ from poissonkit.plugin import (
 )
 from poissonkit_lj.dipoles import (
     COULOMB_K,
+    evaluator,
     finite_dipole_expr,
     point_dipole_error,
     point_dipole_expr,
@@ -80,6 +82,7 @@ FINITE_DIPOLE = PairPotential(
         "axis).",
     params=_DIPOLE_PARAMS,
     expr=finite_dipole_expr,
+    evaluate=evaluator(finite_dipole_expr),
     orientation="both",
     body_params=_DIPOLE_BODY_PARAMS,
 )
@@ -89,6 +92,7 @@ POINT_DIPOLE = PairPotential(
     doc="Point-dipole energy k p1 p2 (c3 - 3 c1 c2)/r^3 of two electric dipoles, p = q d.",
     params=_DIPOLE_PARAMS,
     expr=point_dipole_expr,
+    evaluate=evaluator(point_dipole_expr),
     orientation="both",
     body_params=_DIPOLE_BODY_PARAMS,
 )
