@@ -104,6 +104,7 @@ def estimated_error(model: str, r: float, body1: Mapping[str, Any],
 #: within the tolerance at 1e30 m is never good enough, one good at 1e-30 m is always.
 BRACKET_LIMIT = 1e30
 
+
 def body_attributes(body: BodyModel) -> Mapping[str, Any]:
     """The attributes of a body that model families read: its magnet data (size, moment) and
     every attribute the registered potentials declare (:attr:`BodyModel.extra`)."""
