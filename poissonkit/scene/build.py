@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -102,6 +103,17 @@ class BuiltScene:
         return self.scales.length if self.scales is not None else 1.0
 
 
+@contextmanager
+def _named_errors(scene: Scene) -> Iterator[None]:
+    """Re-raise any typed error while building ``scene`` as a :class:`SceneError` naming it."""
+    try:
+        yield
+    except SceneError:
+        raise
+    except PoissonkitError as exc:
+        raise SceneError(f"scene {scene.name!r}: {exc}") from None
+
+
 def build_scene(scene: Scene, scales: Scales | str | None = "auto") -> BuiltScene:
     """Build a scene's system, initial state and internal units: the one path runs
     (:func:`build_run`) and sweeps (:class:`poissonkit.sweeps.scenes.TomlScene`) share.
@@ -131,7 +143,7 @@ def build_scene(scene: Scene, scales: Scales | str | None = "auto") -> BuiltScen
         return direct
     G = scene_graph(scene)
     plan = None
-    try:
+    with _named_errors(scene):
         bodies = bodies_of(G)
         if scene.planner is not None:
             from poissonkit.scene.planner import Planner
@@ -143,10 +155,6 @@ def build_scene(scene: Scene, scales: Scales | str | None = "auto") -> BuiltScen
             pairs = pairs_of(G, bodies)
         system = system_of(bodies, pairs, cutoff=scene.cutoff, scales=scales)
         y0 = state_of(bodies, system)
-    except SceneError:
-        raise
-    except PoissonkitError as exc:
-        raise SceneError(f"scene {scene.name!r}: {exc}") from None
     return _built(scene, system, y0, bodies, plan)
 
 
@@ -158,7 +166,7 @@ def _all_pairs_direct(scene: Scene, scales: Scales | str | None) -> BuiltScene |
     if (scene.assembly is not None or scene.planner is not None or scene.pairs_mode != "all"
             or scene.pairs or scene.potential is None):
         return None
-    try:
+    with _named_errors(scene):
         bodies = [BodyModel.from_attrs(b, str(b.get("name", k)))
                   for k, b in enumerate(scene.bodies)]
         pair = uniform_all_pairs(bodies, scene.potential, scene.potential_params)
@@ -166,10 +174,6 @@ def _all_pairs_direct(scene: Scene, scales: Scales | str | None) -> BuiltScene |
             return None
         system = all_pairs_system(bodies, pair, cutoff=scene.cutoff, scales=scales)
         y0 = state_of(bodies, system)
-    except SceneError:
-        raise
-    except PoissonkitError as exc:
-        raise SceneError(f"scene {scene.name!r}: {exc}") from None
     return _built(scene, system, y0, bodies)
 
 
