@@ -1,4 +1,4 @@
-"""Command-line interface: ``poissonkit run | scenes | verify | bench | plugins | sweep``.
+"""Command-line interface: ``poissonkit run | scenes | view | verify | bench | plugins | sweep``.
 
 Each subcommand lives in ``poissonkit/commands/<name>.py`` with ``add_arguments(parser)`` and
 ``main(args) -> int``; modules are imported only when their command runs.
@@ -16,6 +16,7 @@ from poissonkit.errors import PoissonkitError
 COMMANDS: dict[str, tuple[str, str]] = {
     "run": ("poissonkit.commands.run", "integrate a scene (default: the seed 000 orbit)"),
     "scenes": ("poissonkit.commands.scenes", "list the scenes `run` takes by name"),
+    "view": ("poissonkit.commands.view", "open the interactive 3D view of a run in a browser"),
     "verify": ("poissonkit.commands.verify", "check a Poisson structure: Jacobi, rank, Casimirs"),
     "bench": ("poissonkit.commands.bench", "speed against error of every integrator on a scene"),
     "plugins": ("poissonkit.commands.plugins", "list plugins and what they contribute"),

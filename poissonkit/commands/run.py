@@ -14,7 +14,10 @@ folder (default ``./poissonkit-output``):
 * ``trajectory.npz`` — ``t`` (internal), ``t_si``, ``y`` (rows), ``layout``, the scales
   (runs saving more than :data:`MAX_NPZ_ROWS` rows keep them in ``trajectory.parts/``
   instead: the trajectory is streamed to disk while the run goes, so memory stays bounded);
-* ``angular_momentum_z.png``, ``radius_and_x.png``, ``orbit.png``, ``drifts.png``.
+* ``trajectory.html`` — an interactive 3D view (plotly, self-contained; ``poissonkit view
+  OUT`` opens it; :mod:`poissonkit.report.view`);
+* the figures the run's content calls for (:mod:`poissonkit.report.figures`), e.g.
+  ``orbit.png`` and ``drifts.png`` of the seed scene. ``--no-plot`` skips figures and view.
 
 Every file is written atomically; a folder holding another run's files is refused unless
 ``--overwrite``. ``--checkpoint-every N`` / ``--resume`` checkpoint and continue a run; SIGINT
@@ -42,6 +45,8 @@ from poissonkit.errors import InputError, MissingDependencyError, MissingStepErr
 from poissonkit.numerics.units import Scales
 
 if TYPE_CHECKING:
+    import xarray as xr
+
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
     from poissonkit.numerics.events import EventRecord
     from poissonkit.numerics.runspec import RunSpec
@@ -91,6 +96,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", default=DEFAULT_OUT,
                         help=f"output folder (default ./{DEFAULT_OUT})")
     parser.add_argument("--save-every", type=int, default=1, help="keep every k-th step")
+    parser.add_argument("--save-dt", type=float, default=None, metavar="SECONDS",
+                        help="save the state every SECONDS of physical time instead, reached "
+                        "exactly by every method (not with --save-every or checkpoints)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument("--no-plot", "--no-plots", dest="no_plots", action="store_true",
                         help="do not write PNG figures (as for `sweep`)")
@@ -206,7 +214,7 @@ def _time_unit(spec: RunSpec) -> float:
 def _solve(spec: RunSpec, progress: bool, save_every: int, *,
            checkpoint: Checkpoint | None = None, resume: bool = False,
            stream: TrajectoryStream | None = None,
-           stop: Callable[[], bool] | None = None) -> Solution:
+           stop: Callable[[], bool] | None = None, save_dt: float | None = None) -> Solution:
     try:
         from poissonkit.numerics.solver import solve
     except ImportError:
@@ -219,10 +227,19 @@ def _solve(spec: RunSpec, progress: bool, save_every: int, *,
             return solve(spec.system, spec.y0, spec.t_end, method=spec.method, step=spec.step,
                          tol=spec.tol, progress=progress, save_every=save_every,
                          events=spec.events, checkpoint=checkpoint, resume=resume,
-                         stream=stream, stop=stop)
+                         stream=stream, stop=stop, t_eval=_sample_times(spec, save_dt))
     except MissingStepError as exc:  # the API's message speaks of step=... in internal units
         raise InputError(f"{exc.method} is a fixed-step method: pass --step SECONDS, or choose "
                          "an adaptive method with --method (e.g. dop853) for --tol") from None
+
+
+def _sample_times(spec: RunSpec, save_dt: float | None) -> np.ndarray | None:
+    """Internal sample times of ``--save-dt SECONDS`` (``None`` without it)."""
+    if save_dt is None:
+        return None
+    from poissonkit.numerics.sample_times import uniform_times
+
+    return uniform_times(0.0, float(spec.t_end), save_dt / _time_unit(spec))
 
 
 def trajectory_rows(sol: Trajectory) -> tuple[np.ndarray, np.ndarray]:
@@ -335,6 +352,11 @@ def _main(args: argparse.Namespace) -> int:
     if every is not None and every < 1:
         raise InputError(f"--checkpoint-every must be >= 1, got {every}")
     resume = bool(getattr(args, "resume", False))
+    save_dt = getattr(args, "save_dt", None)
+    _positive("save-dt", save_dt)
+    if save_dt is not None and (args.save_every != 1 or every is not None or resume):
+        raise InputError("--save-dt chooses the saved states itself: not with --save-every, "
+                         "--checkpoint-every or --resume")
     energy_tol = getattr(args, "energy_tol", None)
     _positive("energy-tol", energy_tol)
     spec = build_spec(args)
@@ -371,7 +393,7 @@ def _main(args: argparse.Namespace) -> int:
     with _StopOnSigint() as stop:
         sol = _solve(spec, progress=not args.no_progress, save_every=args.save_every,
                      stop=stop, stream=TrajectoryStream(parts), checkpoint=checkpoint,
-                     resume=resume and checkpoint is not None)
+                     resume=resume and checkpoint is not None, save_dt=save_dt)
     wall = sol.wall_time or (time.perf_counter() - t0)
     return _report(args, spec, sol, out, parts, wall, compile_time, energy_tol)
 
@@ -468,9 +490,16 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
         write_trajectory(out / "trajectory.npz", tf, yf, layout=layout, time_unit=tunit,
                          **extra, **scale_arrays(sc, tunit))
         files = ["summary.json", "trajectory.npz"]
-        if _write_dataset(out / "trajectory.nc", spec, sol, tf, yf, sc, tunit):
+        dataset = _dataset(spec, sol, tf, yf, sc, tunit)
+        if dataset is not None:
+            from poissonkit.report.trajectory import write_dataset
+
+            write_dataset(out / "trajectory.nc", dataset)
             files.append("trajectory.nc")
             summary["trajectory_dataset"] = "trajectory.nc"
+            if not args.no_plots and _write_view(out / "trajectory.html", spec, dataset):
+                files.append("trajectory.html")
+                summary["view"] = "trajectory.html"
         _remove_tree(parts)
     else:
         summary["trajectory"] = ("trajectory.parts/ (read with "
@@ -529,18 +558,35 @@ def _provenance(args: argparse.Namespace, spec: RunSpec, scales: Scales | None
     return found
 
 
-def _write_dataset(path: Path, spec: RunSpec, sol: Solution, t: np.ndarray, y: np.ndarray,
-                   scales: Scales | None, tunit: float) -> bool:
-    """Write the trajectory as a NetCDF dataset; ``False`` (with a note) without xarray."""
-    from poissonkit.report.trajectory import trajectory_dataset, write_dataset
+def _dataset(spec: RunSpec, sol: Solution, t: np.ndarray, y: np.ndarray,
+             scales: Scales | None, tunit: float) -> xr.Dataset | None:
+    """The trajectory as an xarray dataset (with the bodies' sizes); ``None`` (with a note)
+    without xarray."""
+    from poissonkit.numerics.events import Contact
+    from poissonkit.report.trajectory import trajectory_dataset
 
+    length = float(scales.length) if scales is not None else 1.0
+    shapes = {s.name: (s.radius * length, s.half_length * length)
+              for e in spec.events if isinstance(e, Contact) for s in e.shapes}
     try:
-        ds = trajectory_dataset(spec.system, t, y, scales=scales, time_unit=tunit,
-                                attrs={"scene": spec.name, "method": sol.method})
+        return trajectory_dataset(spec.system, t, y, scales=scales, time_unit=tunit,
+                                  attrs={"scene": spec.name, "method": sol.method},
+                                  shapes=shapes)
     except MissingDependencyError as exc:
         print(f"note: no trajectory.nc ({exc})", file=sys.stderr)
+        return None
+
+
+def _write_view(path: Path, spec: RunSpec, dataset: xr.Dataset) -> bool:
+    """Write the interactive 3D view (``trajectory.html``); ``False`` (with a note) when the
+    run has no bodies to show or plotly is missing."""
+    from poissonkit.report.view import write_view
+
+    try:
+        write_view(path, dataset, title=spec.name)
+    except (MissingDependencyError, InputError) as exc:
+        print(f"note: no trajectory.html ({exc})", file=sys.stderr)
         return False
-    write_dataset(path, ds)
     return True
 
 

@@ -87,7 +87,8 @@ def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator 
           options: Mapping[str, OptionValue] | None = None, t0: float = 0.0,
           checkpoint: Checkpoint | None = None, resume: bool = False,
           stream: TrajectoryStream | str | os.PathLike[str] | None = None,
-          stop: Callable[[], bool] | None = None) -> Solution:
+          stop: Callable[[], bool] | None = None,
+          t_eval: ArrayLike | None = None) -> Solution:
     """Integrate ``system`` from ``y0`` at ``t0`` to ``t_end``.
 
     Parameters
@@ -137,6 +138,13 @@ def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator 
         Callable checked between chunks of steps; when it returns true the run stops cleanly
         (``extra["interrupted"]``, ``message`` says where), writing a last checkpoint. A request,
         not a demand: methods without the ``stop`` capability (scipy) run to their end.
+    t_eval
+        Times (internal unit, increasing, in ``[t0, t_end]``) at which to save the state,
+        reached exactly by every method: fixed-step methods step exactly to each sample time
+        (at most ``step`` per step), adaptive ones restart at each
+        (:mod:`poissonkit.numerics.sample_times`). The solution holds ``t0``, these times and
+        the end. Not with ``save_every``, ``checkpoint`` or ``resume``; ``stop`` is honoured
+        between samples, a ``stream`` receives the rows at the end.
 
     Returns
     -------
@@ -188,6 +196,21 @@ def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator 
 
     events = check_events(events)
     integ, caps = _integrator_and_capabilities(method, options)
+    if t_eval is not None:
+        from poissonkit.numerics.sample_times import check_sample_times
+
+        if save_every != 1:
+            raise InputError("give t_eval or save_every, not both (t_eval chooses the saved "
+                             "states)")
+        if checkpoint is not None or resume:
+            raise InputError("t_eval cannot be combined with checkpoint/resume: a run saving "
+                             "states at given times is not checkpointed; use save_every")
+        times = check_sample_times(t_eval, t0, t_end)
+        refuse_beyond(caps, integ.name, system, events, None)
+        if isinstance(system, HasOverlapCheck):
+            system.check_overlap(y0)
+        return _solve_at_times(integ, system, y0, t0, t_end, times, step=step, tol=tol,
+                               events=events, progress=progress, stop=stop, stream=stream)
     control = _control(checkpoint, resume, stream, stop)
     refuse_beyond(caps, integ.name, system, events, control)
     if isinstance(system, HasOverlapCheck):  # coincident bodies: singular forces whatever
@@ -207,6 +230,34 @@ def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator 
         late_stream.write(raw.t, raw.y)
         raw.extra.update(stream=str(late_stream.folder), streamed_rows=late_stream.rows,
                          interrupted=False)
+        raw.t, raw.y = raw.t[[0, -1]], raw.y[[0, -1]]
+    return Solution(t=raw.t, y=raw.y, method=integ.name, steps=raw.steps,
+                    wall_time=wall, system=system, nfev=raw.nfev, events=raw.events, step=step,
+                    tol=tol, message=raw.message, extra=raw.extra)
+
+
+def _solve_at_times(integ: Integrator, system: System, y0: np.ndarray, t0: float,
+                    t_end: float, times: np.ndarray, *, step: float | None, tol: float | None,
+                    events: Sequence[Event], progress: bool, stop: Callable[[], bool] | None,
+                    stream: TrajectoryStream | str | os.PathLike[str] | None) -> Solution:
+    """``solve`` with ``t_eval``: piece by piece through the sample times."""
+    from poissonkit.numerics.sample_times import integrate_at_times
+
+    if stop is not None and not callable(stop):
+        raise InputError(f"stop must be a callable returning a bool, got {stop!r}")
+    control = _control(None, False, stream, None)
+    start = time.perf_counter()
+    try:
+        raw = integrate_at_times(integ, system, y0, t0, t_end, times, step=step, tol=tol,
+                                 events=events, progress=progress, stop=stop,
+                                 max_save_every=MAX_STEPS)
+    except ZeroDivisionError:
+        raise IntegrationError(f"{integ.name}: division by zero in a compiled kernel (two "
+                               "bodies at the same place?)") from None
+    wall = time.perf_counter() - start
+    if control is not None and control.stream is not None:
+        control.stream.write(raw.t, raw.y)
+        raw.extra.update(stream=str(control.stream.folder), streamed_rows=control.stream.rows)
         raw.t, raw.y = raw.t[[0, -1]], raw.y[[0, -1]]
     return Solution(t=raw.t, y=raw.y, method=integ.name, steps=raw.steps,
                     wall_time=wall, system=system, nfev=raw.nfev, events=raw.events, step=step,

@@ -2,7 +2,9 @@
 
 Bodies (N-body and two-body systems) get variables with dimensions ``time × body × component``
 in SI units — ``position``, ``momentum`` (moving bodies), ``axis``, ``angular_momentum`` (tops;
-NaN for a moving body that is not a top) — with body names as the ``body`` coordinate. The
+NaN for a moving body that is not a top) — with body names as the ``body`` coordinate. Fixed
+bodies are there too, at their place (``fixed`` = 1; NaN momenta), with their sizes when known
+(``radius``, ``half_length``). The
 two-body centre-of-mass form has ``relative_position``/``relative_momentum`` (``time ×
 component``) instead of per-body positions. Every dataset also holds the raw state ``y`` (``time
 × state``, internal units, component names from the system's layout), so nothing is lost.
@@ -72,14 +74,27 @@ def _body_variables(system: object, y: np.ndarray, layout: tuple[str, ...]
     if isinstance(system, HasBodies) and {"r", "p", "nu", "m"} <= set(parts):
         moving = _names_with(layout, "r_x")
         tops = _names_with(layout, "nu_x")
-        bodies = moving + [n for n in tops if n not in moving]
+        fixed = [b for b in system.bodies if b.fixed and b.name not in moving + tops]
+        bodies = moving + [n for n in tops if n not in moving] + [b.name for b in fixed]
+        position = _by_body(parts["r"], moving, bodies)
+        axis = _by_body(parts["nu"], tops, bodies)
+        for b in fixed:  # no degrees of freedom: where the scene put them, all the time
+            k = bodies.index(b.name)
+            if b.position is not None:
+                position[:, k] = b.position
+            if b.axis is not None:
+                axis[:, k] = b.axis
         return {
-            "position": (tbc, _by_body(parts["r"], moving, bodies),
+            "position": (tbc, position,
                          {"units": SI_UNITS["length"], "long_name": "position"}),
             "momentum": (tbc, _by_body(parts["p"], moving, bodies),
                          {"units": SI_UNITS["momentum"], "long_name": "linear momentum"}),
-            "axis": (tbc, _by_body(parts["nu"], tops, bodies),
+            "axis": (tbc, axis,
                      {"units": SI_UNITS["dimensionless"], "long_name": "unit symmetry axis"}),
+            "fixed": (("body",), np.array([n in {b.name for b in fixed} for n in bodies],
+                                          dtype=np.int8),
+                      {"units": SI_UNITS["dimensionless"],
+                       "long_name": "1: a fixed body (position and axis from the scene)"}),
             "angular_momentum": (tbc, _by_body(parts["m"], tops, bodies),
                                  {"units": SI_UNITS["angular_momentum"],
                                   "long_name": "spin angular momentum (body's own)"}),
@@ -105,7 +120,8 @@ def _body_variables(system: object, y: np.ndarray, layout: tuple[str, ...]
 
 def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
                        scales: Scales | None, time_unit: float = 1.0,
-                       attrs: Mapping[str, str | int | float] | None = None) -> xr.Dataset:
+                       attrs: Mapping[str, str | int | float] | None = None,
+                       shapes: Mapping[str, tuple[float, float]] | None = None) -> xr.Dataset:
     """The trajectory ``(t, y)`` of ``system`` as an :class:`xarray.Dataset`.
 
     Parameters
@@ -122,6 +138,9 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
         Seconds per internal time unit.
     attrs
         Further dataset attributes (e.g. scene name, method).
+    shapes
+        ``{body name: (radius, half_length)}`` [m] of finite-size bodies: stored as the
+        variables ``radius`` and ``half_length`` (``body``; NaN for a body without a size).
 
     Returns
     -------
@@ -159,6 +178,14 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
     }
     if bodies:
         coords["body"] = xr.Variable(("body",), np.array(bodies, dtype=str))
+        if shapes:
+            for k, (name, long_name) in enumerate((("radius", "radius of the body's shape"),
+                                                   ("half_length", "half-length along the "
+                                                    "symmetry axis (0: a sphere)"))):
+                values = np.array([shapes[b][k] if b in shapes else np.nan for b in bodies],
+                                  dtype=float)
+                data[name] = xr.Variable(("body",), values, attrs={
+                    "units": SI_UNITS["length"], "long_name": long_name})
         coords["component"] = xr.Variable(("component",), np.array(COMPONENTS, dtype=str))
     import poissonkit
 
@@ -173,6 +200,26 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
             ds_attrs[f"internal_unit_{kind}_units"] = unit
     ds_attrs.update(dict(attrs or {}))
     return xr.Dataset(data, coords=coords, attrs=ds_attrs)
+
+
+def open_trajectory(path: str | Path) -> xr.Dataset:
+    """Read a trajectory dataset written by :func:`write_dataset` (loaded into memory).
+
+    Raises
+    ------
+    InputError
+        The file cannot be read as a dataset.
+    MissingDependencyError
+        If xarray is not installed.
+    """
+    xr = _xarray()
+    try:
+        with xr.open_dataset(path, engine=ENGINE) as ds:
+            return ds.load()
+    except (OSError, ValueError, TypeError) as exc:
+        from poissonkit.errors import InputError
+
+        raise InputError(f"cannot read the trajectory dataset {str(path)!r}: {exc}") from None
 
 
 def write_dataset(path: str | Path, dataset: xr.Dataset) -> Path:

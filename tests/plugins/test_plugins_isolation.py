@@ -31,6 +31,7 @@ REGISTRY_TESTS = (
     "tests/scene/test_model_families.py",
     "tests/scene/test_scene_loader.py",
     "tests/scene/test_scene_registry.py",
+    "tests/scene/test_scene_discovery.py",
     "tests/sweep/test_sweep_outcomes.py",
     "tests/sweep/test_sweep_plugins.py",
     "tests/numerics/test_numerics_registry.py",

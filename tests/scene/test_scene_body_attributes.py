@@ -46,7 +46,9 @@ def _direct(pos: np.ndarray, q: np.ndarray) -> tuple[float, np.ndarray]:
     return float(u[iu].sum()), f_on_i.sum(axis=1)
 
 
-def test_an_undeclared_attribute_is_named_with_the_declared_ones():
+def test_an_undeclared_attribute_is_named_with_the_declared_ones(monkeypatch):
+    # built-ins only: an installed third-party plugin may declare a "charge"
+    monkeypatch.setenv("POISSONKIT_DISABLE_PLUGIN_AUTOLOAD", "1")
     with pytest.raises(SceneError, match=r"bodies\[0\]\.charge: unknown key; .*body_params"):
         loads_scene(_scene_text(potential="gravity"))
 

@@ -170,7 +170,13 @@ def _max_axis_tilt(record: Any) -> float:
     """Largest angle [rad] between a top's axis and its initial axis over the saved states."""
     sol = record.solution
     system = sol.system
-    nu = np.asarray(system.unpack(np.asarray(sol.y), si=True)["nu"], dtype=float)
+    parts = system.unpack(np.asarray(sol.y), si=True)
+    # N-body form: "nu" (time, top, 3); the two-body centre-of-mass form: "nu1", "nu2"
+    axes = [parts["nu"]] if "nu" in parts else [parts[k][:, None] for k in ("nu1", "nu2")
+                                                if k in parts]
+    if not axes:
+        return math.nan
+    nu = np.concatenate([np.asarray(a, dtype=float) for a in axes], axis=1)
     if nu.ndim != 3 or nu.shape[1] == 0:
         return math.nan
     nu = nu / np.linalg.norm(nu, axis=-1, keepdims=True)

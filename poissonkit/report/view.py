@@ -1,0 +1,291 @@
+"""The interactive 3D view of a run: one self-contained HTML file (``trajectory.html``).
+
+Built with plotly's offline HTML writer (the plotly.js library is embedded, so the file opens
+without a network): bodies drawn to scale as spheres or cylinders along their symmetry axes,
+axes of tops as line segments, the paths of the bodies, an animation with a time slider, and
+body names on hover. Input is the run's trajectory dataset (:mod:`poissonkit.report.trajectory`,
+SI units), so ``poissonkit view`` can also rebuild the page from a ``trajectory.nc``.
+
+The two-body centre-of-mass form of the seed scene has only the relative position: the view
+shows it in the frame of the first body (first body at the origin), and says so in its title.
+
+Large scenes stay bounded: meshes for at most :data:`MESH_BODIES` bodies (markers beyond),
+at most :data:`MAX_POINTS` body positions over all frames.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from types import ModuleType
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from poissonkit.errors import InputError, MissingDependencyError
+
+if TYPE_CHECKING:
+    import plotly.graph_objects as go
+    import xarray as xr
+
+#: Bodies drawn as meshes (spheres, cylinders); more are drawn as markers.
+MESH_BODIES = 40
+#: Most animation frames.
+MAX_FRAMES = 150
+#: Most body positions over all frames (bounds the file size for large N).
+MAX_POINTS = 2_000_000
+#: Mesh resolution: points around a cylinder, latitude × longitude bands of a sphere.
+RING = 16
+SPHERE = (8, 14)
+
+__all__ = ["view_figure", "write_view"]
+
+
+def _plotly() -> ModuleType:
+    try:
+        import plotly.graph_objects as go
+    except ImportError:
+        raise MissingDependencyError("the 3D view needs plotly: pip install plotly") from None
+    return go
+
+
+def _sphere_template() -> tuple[np.ndarray, np.ndarray]:
+    """Unit-sphere vertices ``(n, 3)`` and triangles ``(m, 3)``."""
+    n_lat, n_lon = SPHERE
+    theta = np.linspace(0, np.pi, n_lat + 1)[1:-1]
+    phi = np.linspace(0, 2 * np.pi, n_lon, endpoint=False)
+    ring = np.stack([np.outer(np.sin(theta), np.cos(phi)), np.outer(np.sin(theta), np.sin(phi)),
+                     np.outer(np.cos(theta), np.ones_like(phi))], axis=-1).reshape(-1, 3)
+    verts = np.vstack([[0, 0, 1], ring, [0, 0, -1]])
+    top, bottom = 0, len(verts) - 1
+    tris = []
+    for j in range(n_lon):
+        tris.append((top, 1 + j, 1 + (j + 1) % n_lon))
+    for i in range(n_lat - 2):
+        for j in range(n_lon):
+            a, b = 1 + i * n_lon + j, 1 + i * n_lon + (j + 1) % n_lon
+            c, d = a + n_lon, b + n_lon
+            tris += [(a, c, b), (b, c, d)]
+    last = 1 + (n_lat - 2) * n_lon
+    for j in range(n_lon):
+        tris.append((bottom, last + (j + 1) % n_lon, last + j))
+    return verts, np.array(tris)
+
+
+def _cylinder_template() -> tuple[np.ndarray, np.ndarray]:
+    """Cylinder of radius 1 from z = −1 to z = 1 along z: vertices and triangles."""
+    phi = np.linspace(0, 2 * np.pi, RING, endpoint=False)
+    circle = np.stack([np.cos(phi), np.sin(phi)], axis=-1)
+    lower = np.column_stack([circle, -np.ones(RING)])
+    upper = np.column_stack([circle, np.ones(RING)])
+    verts = np.vstack([lower, upper, [0, 0, -1], [0, 0, 1]])
+    cb, ct = 2 * RING, 2 * RING + 1
+    tris = []
+    for j in range(RING):
+        k = (j + 1) % RING
+        tris += [(j, k, RING + j), (k, RING + k, RING + j), (cb, k, j), (ct, RING + j, RING + k)]
+    return verts, np.array(tris)
+
+
+def _frame_of(axis: np.ndarray) -> np.ndarray:
+    """Rotation matrix whose third column is the unit vector ``axis``."""
+    z = axis / np.linalg.norm(axis)
+    helper = np.array([1.0, 0, 0]) if abs(z[0]) < 0.9 else np.array([0, 1.0, 0])
+    x = np.cross(helper, z)
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, np.cross(z, x), z])
+
+
+def _positions(ds: xr.Dataset) -> tuple[np.ndarray, np.ndarray, list[str], str]:
+    """Positions and axes ``(time, body, 3)`` [m] (axis NaN: not a top), names, a frame note."""
+    if "body" not in ds.coords:
+        raise InputError("the trajectory has no bodies (a system without positions): nothing "
+                         "to show in 3D")
+    names = [str(b) for b in ds["body"].values]
+    n_t = ds.sizes["time"]
+    axis = ds["axis"].values if "axis" in ds else np.full((n_t, len(names), 3), np.nan)
+    if "position" in ds:
+        return ds["position"].values, axis, names, ""
+    if "relative_position" in ds:  # two-body centre-of-mass form: the first body's frame
+        pos = np.zeros((n_t, len(names), 3))
+        pos[:, 1] = ds["relative_position"].values
+        return pos, axis, names, f" (frame of {names[0]})"
+    raise InputError("the trajectory dataset has neither 'position' nor 'relative_position'")
+
+
+def _dataset_shapes(ds: xr.Dataset, names: list[str]) -> dict[str, tuple[float, float]]:
+    """``{name: (radius, half_length)}`` from the dataset's shape variables (sized bodies)."""
+    if "radius" not in ds:
+        return {}
+    radius = ds["radius"].values
+    half = ds["half_length"].values if "half_length" in ds else np.zeros_like(radius)
+    return {n: (float(r), float(h)) for n, r, h in zip(names, radius, half)
+            if np.isfinite(r) and r > 0}
+
+
+def _frames_index(n_t: int, n_bodies: int, max_frames: int) -> np.ndarray:
+    n = int(min(max_frames, max(2, MAX_POINTS // max(n_bodies, 1)), n_t))
+    return np.unique(np.linspace(0, n_t - 1, n).round().astype(int))
+
+
+def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] | None = None,
+                *, title: str = "", max_frames: int = MAX_FRAMES) -> go.Figure:
+    """The animated 3D figure of a trajectory dataset.
+
+    Parameters
+    ----------
+    dataset
+        A trajectory dataset (:func:`poissonkit.report.trajectory.trajectory_dataset`, SI).
+    shapes
+        ``{body name: (radius, half_length)}`` in metres: a body with a half-length and an axis
+        is a cylinder, otherwise a sphere; bodies without a shape get a marker-sized sphere
+        (1 % of the scene's extent; the hover text says it is not to scale). Default: the
+        dataset's ``radius`` and ``half_length`` variables.
+    title
+        Title of the page (the scene name).
+    max_frames
+        Most animation frames (evenly spaced saved states, first and last included).
+
+    Returns
+    -------
+    plotly.graph_objects.Figure
+
+    Raises
+    ------
+    InputError
+        The dataset has no bodies.
+    MissingDependencyError
+        plotly is not installed.
+    """
+    go = _plotly()
+    pos, axis, names, frame_note = _positions(dataset)
+    times = np.asarray(dataset["time"].values, dtype=float)
+    pick = _frames_index(len(times), len(names), max_frames)
+    pos, axis, times = pos[pick], axis[pick], times[pick]
+    lo, hi = np.nanmin(pos, axis=(0, 1)), np.nanmax(pos, axis=(0, 1))
+    shapes = dict(shapes) if shapes is not None else _dataset_shapes(dataset, names)
+    extent = float(np.max(hi - lo)) or max((max(s) for s in shapes.values()), default=1.0)
+    default_radius = 0.01 * extent
+    size = {n: shapes.get(n, (default_radius, 0.0)) for n in names}
+    reach = max(max(r, h) for r, h in size.values())
+    pad = 1.5 * reach + 0.02 * extent
+    lo, hi = lo - pad, hi + pad
+    # equal scales on the three axes (spheres stay round); a flat scene is widened to 30 % of
+    # its largest extent so that it is not a sliver
+    widest = float(np.max(hi - lo))
+    grow = np.maximum(0.3 * widest - (hi - lo), 0.0) / 2
+    lo, hi = lo - grow, hi + grow
+    ranges = [[float(lo[k]), float(hi[k])] for k in range(3)]
+    ratio = {c: float((hi[k] - lo[k]) / widest) for k, c in enumerate("xyz")}
+    meshes = len(names) <= MESH_BODIES
+    fixed = {n for n, f in zip(names, dataset["fixed"].values) if f} if "fixed" in dataset \
+        else set()
+    sphere, cylinder = _sphere_template(), _cylinder_template()
+
+    def body_mesh(k: int, f: int) -> np.ndarray:
+        radius, half = size[names[k]]
+        a = axis[f, k]
+        if half > 0 and np.all(np.isfinite(a)):
+            verts = cylinder[0] * np.array([radius, radius, half])
+            verts = verts @ _frame_of(a).T
+        else:
+            verts = sphere[0] * radius
+        return verts + pos[f, k]
+
+    def axes_segments(f: int) -> np.ndarray:
+        seg = []
+        for k, n in enumerate(names):
+            a = axis[f, k]
+            if np.all(np.isfinite(a)):
+                length = 1.8 * max(size[n])
+                seg += [pos[f, k], pos[f, k] + length * a / np.linalg.norm(a),
+                        [np.nan] * 3]
+        return np.array(seg, dtype=float).reshape(-1, 3)
+
+    def frame_traces(f: int) -> list[go.BaseTraceType]:
+        traces: list[go.BaseTraceType] = []
+        if meshes:
+            for k, n in enumerate(names):
+                v = body_mesh(k, f)
+                tris = cylinder[1] if len(v) == len(cylinder[0]) else sphere[1]
+                traces.append(go.Mesh3d(
+                    x=v[:, 0], y=v[:, 1], z=v[:, 2], i=tris[:, 0], j=tris[:, 1], k=tris[:, 2],
+                    name=n, showlegend=True, flatshading=True, opacity=0.9,
+                    color=_COLORS[k % len(_COLORS)], hoverinfo="name"))
+        seg = axes_segments(f)
+        traces.append(go.Scatter3d(x=seg[:, 0], y=seg[:, 1], z=seg[:, 2], mode="lines",
+                                   name="axes", line={"color": "black", "width": 4},
+                                   hoverinfo="skip", showlegend=bool(len(seg))))
+        notes = [n + (" (fixed)" if n in fixed else "")
+                 + ("" if n in shapes else " (size not to scale)") for n in names]
+        traces.append(go.Scatter3d(
+            x=pos[f, :, 0], y=pos[f, :, 1], z=pos[f, :, 2], mode="markers", name="bodies",
+            text=notes, hovertemplate="%{text}<br>x=%{x:.4g} m<br>y=%{y:.4g} m"
+                                      "<br>z=%{z:.4g} m<extra></extra>",
+            marker={"size": 3 if meshes else 2, "color": "black" if meshes else "steelblue"},
+            showlegend=not meshes))
+        return traces
+
+    paths = []
+    if meshes:
+        for k, n in enumerate(names):
+            paths.append(go.Scatter3d(x=pos[:, k, 0], y=pos[:, k, 1], z=pos[:, k, 2],
+                                      mode="lines", name=f"path of {n}", showlegend=False,
+                                      line={"color": _COLORS[k % len(_COLORS)], "width": 2},
+                                      hoverinfo="skip", opacity=0.5))
+    first = frame_traces(0)
+    moving = list(range(len(paths), len(paths) + len(first)))
+    frames = [go.Frame(data=frame_traces(f), traces=moving, name=str(f))
+              for f in range(len(times))]
+    label = [f"{t:.4g} s" for t in times]
+    slider = {"active": 0, "currentvalue": {"prefix": "t = "}, "pad": {"t": 30},
+              "steps": [{"label": label[f], "method": "animate",
+                         "args": [[str(f)], {"mode": "immediate", "frame": {"duration": 0,
+                                  "redraw": True}, "transition": {"duration": 0}}]}
+                        for f in range(len(times))]}
+    play = {"type": "buttons", "showactive": False, "x": 0.05, "y": 0.05,
+            "buttons": [{"label": "play", "method": "animate",
+                         "args": [None, {"frame": {"duration": 60, "redraw": True},
+                                         "fromcurrent": True, "transition": {"duration": 0}}]},
+                        {"label": "pause", "method": "animate",
+                         "args": [[None], {"mode": "immediate",
+                                           "frame": {"duration": 0, "redraw": False}}]}]}
+    axis_titles = {f"{c}axis": {"title": f"{c} [m]", "range": ranges[i]}
+                   for i, c in enumerate("xyz")}
+    fig = go.Figure(data=[*paths, *first], frames=frames)
+    fig.update_layout(title=f"{title or 'poissonkit run'}: {len(names)} bodies{frame_note}",
+                      scene={**axis_titles, "aspectmode": "manual", "aspectratio": ratio},
+                      sliders=[slider], updatemenus=[play], margin={"l": 0, "r": 0, "b": 0})
+    return fig
+
+
+#: Body colours (plotly's default qualitative palette).
+_COLORS = ("#636efa", "#ef553b", "#00cc96", "#ab63fa", "#ffa15a", "#19d3f3", "#ff6692",
+           "#b6e880", "#ff97ff", "#fecb52")
+
+
+def write_view(path: str | Path, dataset: xr.Dataset,
+               shapes: Mapping[str, tuple[float, float]] | None = None, *,
+               title: str = "") -> Path:
+    """Write the 3D view of ``dataset`` as one self-contained HTML file, atomically.
+
+    Parameters
+    ----------
+    path
+        Output file (``trajectory.html``).
+    dataset, shapes, title
+        As in :func:`view_figure`.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
+    from poissonkit.report.atomic import atomic_path
+
+    fig = view_figure(dataset, shapes, title=title)
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        # plotly.js embedded: the page needs no network (and no CDN) to open
+        fig.write_html(str(tmp), include_plotlyjs=True, full_html=True, auto_play=False)
+    return path
