@@ -117,7 +117,7 @@ def impose_span(Qs: Sequence[sp.Matrix], prefactor: sp.Expr, coords: Sequence[sp
             unsolved = True
         H0 = ints[k0] + sum((cs[k] * ints[k] for k in range(k0 + 1, m)), sp.Integer(0))
         for sd in found:
-            Q = Qs[k0].subs(sd)
+            Q = Qs[k0].subs(sd).applyfunc(sp.factor)  # one fraction per entry, readable
             if Q.is_zero_matrix:
                 continue
             sols.append(Bivector(tuple(coords), sp.ImmutableMatrix(Q * prefactor)))
