@@ -224,9 +224,11 @@ class Ansatz:
         """One line stating the searched space."""
         mom = {"affine": "affine in", "linear": "linear in", "none": "independent of"}[
             self.momentum_terms]
-        text = (f"P = ({self.prefactor}) * Q, Q^ij {mom} ({', '.join(map(str, self.momenta))})"
-                f" with coefficients polynomial of degree <= {self.degree} in "
+        poly = (f"polynomial of degree <= {self.degree} in "
                 f"({', '.join(map(str, self.positions))})")
+        text = (f"P = ({self.prefactor}) * Q, Q^ij {mom} ({', '.join(map(str, self.momenta))})"
+                f" with coefficients {poly}") if self.momenta else \
+            f"P = ({self.prefactor}) * Q, Q^ij {poly}"
         if self.zero and coords:
             names = ", ".join(f"{{{coords[i]},{coords[j]}}}" for i, j in sorted(self.zero))
             text += f"; forced zero: {names}"
