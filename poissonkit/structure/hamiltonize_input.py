@@ -12,6 +12,7 @@ from poissonkit.errors import InputError, UnknownNameError
 from poissonkit.structure._expr import as_expr, as_symbols
 from poissonkit.structure.hamiltonize_problem import HamiltonizationProblem, problem_from
 from poissonkit.structure.parsing import declare_parameters, parse_expression
+from poissonkit.structure.system import HamiltonianSystem
 
 __all__ = ["build_problem"]
 
@@ -96,6 +97,16 @@ def _field(field, coords) -> tuple[tuple[sp.Symbol, ...], list]:
     return syms, list(field)
 
 
+def _resolved(system):
+    """A registered name built with its default parameters; anything else as is."""
+    if isinstance(system, str):
+        from poissonkit.plugin import system as registry_entry
+
+        entry = registry_entry(system)
+        return entry.build(**entry.resolve_params({}))
+    return system
+
+
 def build_problem(system=None, *, field=None, coords=None, params=None, hamiltonian=...,
                   integrals=None, casimirs=None, measure=None, name: str = ""
                   ) -> tuple[HamiltonizationProblem, dict[str, sp.Expr]]:
@@ -113,10 +124,12 @@ def build_problem(system=None, *, field=None, coords=None, params=None, hamilton
         if params is not None or measure is not None or coords is not None:
             raise InputError("hamiltonize: params=, coords= and measure= go with field=; a "
                              "system brings its own")
+        system = _resolved(system)
         base = problem_from(system, hamiltonian=hamiltonian,
                             casimirs=None if isinstance(casimirs, Mapping) else casimirs)
-        known = dict(getattr(system, "integrals", {}) or {})
-        known.update(getattr(system, "casimirs", {}) or {})
+        known = dict(base.casimirs)
+        if isinstance(system, HamiltonianSystem):
+            known = {**system.casimirs, **system.integrals}
         read = _Reader(base.coords, None)
         read.names.update({str(s): s for e in (*base.field, *known.values())
                            for s in e.free_symbols})

@@ -135,8 +135,11 @@ class HamiltonizeResult:
         if self.found:
             lines.append(f"  result     : {len(self.solutions)} Poisson component(s)")
             for k, P in enumerate(self.solutions):
-                free = sorted({str(s) for e in P.matrix for s in e.free_symbols}
-                              & {str(t) for t in self.parameters})
+                H = self.hamiltonians[k] if k < len(self.hamiltonians) else None
+                used = {str(s) for e in P.matrix for s in e.free_symbols}
+                if H is not None:
+                    used |= {str(s) for s in H.free_symbols}
+                free = sorted(used & {str(t) for t in self.parameters})
                 mult = "" if self.multipliers[k] is None else f"; N = {self.multipliers[k]}"
                 lines.append(f"    [{k}] free parameters: {', '.join(free) or 'none'}{mult}")
                 if self.problem.hamiltonian_span and k < len(self.hamiltonians):

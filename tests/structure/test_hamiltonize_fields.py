@@ -152,3 +152,29 @@ def test_payload_in_a_field_is_refused_and_never_run(tmp_path):
         with pytest.raises(ParseError):
             pk.hamiltonize(coords=["x", "y"], **kw)
     assert not marker.exists()
+
+
+def test_system_with_text_hamiltonian_and_integrals_by_name():
+    # the same Lotka–Volterra system as a HamiltonianSystem whose fields are text
+    P = pk.Bivector.from_components({(1, 2): "x1*x2", (1, 3): "-x1*x3", (2, 3): "x2*x3"},
+                                    ["x1", "x2", "x3"])
+    S = pk.HamiltonianSystem(P, "x1 + x2 + x3", integrals={"sum": "x1 + x2 + x3",
+                                                             "prod": "x1*x2*x3"})
+    res = pk.hamiltonize(S, integrals=["sum", "prod"], degree=2, casimirs=["prod"])
+    assert res.found
+    x1, x2, x3 = P.coords
+    for Q, H in zip(res.solutions, res.hamiltonians):
+        assert _reproduces(Q, H, S.vector_field()) and pk.check_jacobi(Q).is_poisson
+        assert sp.expand(Q.bracket(x1 * x2 * x3, x1)) == 0         # the imposed Casimir
+    # x1 x2 x3 is a Casimir of Plank's bracket for a = (1, -1, 1): that bracket is the answer,
+    # and H is x1 + x2 + x3 up to the free multiple c2 of the Casimir
+    plank = sp.Matrix([[0, x1 * x2, -x1 * x3], [-x1 * x2, 0, x2 * x3], [x1 * x3, -x2 * x3, 0]])
+    assert [Q.matrix for Q in res.solutions] == [plank]
+    (H,) = res.hamiltonians
+    (c2,) = H.free_symbols - set(P.coords)
+    assert sp.expand(H - (x1 + x2 + x3) - c2 * x1 * x2 * x3) == 0
+    # by name in the field form: a Casimir that names one of the integrals
+    res2 = pk.hamiltonize(field=list(S.vector_field()), coords=P.coords, hamiltonian=x1 + x2 + x3,
+                          integrals={"prod": "x1*x2*x3"}, casimirs=["prod"], degree=2)
+    assert res2.found and res2.problem.casimirs == {"prod": x1 * x2 * x3}
+    assert res2.integral_casimirs[0] == ({"prod": 1},)
