@@ -7,8 +7,8 @@ A JSON structure file holds a bivector in PoissonGeometry's dict format::
 with coordinates ``x1 .. xn`` (or an optional ``"coords": [...]`` list, and ``"params": [...]``
 naming symbolic parameters the entries may use, or ``{"b": {"positive": true}}`` with
 assumptions, as ``Bivector.from_components(..., params=...)`` takes them). Strings are parsed
-with the allow-list parser, never evaluated. Parameters of registered entries are read as the exact rationals their texts
-mean (:func:`exact_number`).
+with the allow-list parser, never evaluated. Parameters of registered entries are read as the
+exact rationals their texts mean (:func:`exact_number`).
 """
 
 from __future__ import annotations
