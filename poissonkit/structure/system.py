@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -53,14 +54,14 @@ def _text_names(structure: Bivector, params: Any) -> dict[str, sp.Symbol]:
     return names
 
 
-def _read(value: object, what: str, names: Mapping[str, sp.Symbol]) -> sp.Expr:
-    """A sympy value as is; a text through the allow-list parser with ``names``."""
+def _read(value: object, what: str, names: Callable[[], Mapping[str, sp.Symbol]]) -> sp.Expr:
+    """A sympy value as is; a text through the allow-list parser with ``names()``."""
     if not isinstance(value, str):
         return as_expr(value, what)
     from poissonkit.structure.parsing import parse_expression
 
     try:
-        return parse_expression(value, (), names)
+        return parse_expression(value, (), names())
     except ParseError as exc:  # say which field, and that text is only ever parsed
         raise ParseError(f"{what} (text read by parse_expression, names: coordinates, the "
                          f"bracket's parameters and the keys of params): {exc}") from None
@@ -120,7 +121,8 @@ class HamiltonianSystem:
             raise InputError(f"HamiltonianSystem.structure must be a Bivector, got "
                              f"{type(self.structure).__name__}")
         put = object.__setattr__  # frozen dataclass
-        names = _text_names(self.structure, self.params)
+        # built on the first text only: systems given as sympy pay nothing
+        names = functools.cache(lambda: _text_names(self.structure, self.params))
         put(self, "hamiltonian", _read(self.hamiltonian, "Hamiltonian", names))
         put(self, "multiplier", _read(self.multiplier, "multiplier", names))
         for attr, what in (("casimirs", "Casimir"), ("integrals", "first integral")):
