@@ -178,3 +178,26 @@ def test_system_with_text_hamiltonian_and_integrals_by_name():
                           integrals={"prod": "x1*x2*x3"}, casimirs=["prod"], degree=2)
     assert res2.found and res2.problem.casimirs == {"prod": x1 * x2 * x3}
     assert res2.integral_casimirs[0] == ({"prod": 1},)
+
+
+def test_span_search_decides_jacobi_like_the_survey_on_suslov():
+    # FORMULAS.md §12: for U = 3 gamma3 + gamma1^2 gamma2 the bracket (127) is Poisson (oracle
+    # matrix at one point, as in test_hamiltonize_survey); for U = gamma3^2/2 + gamma1^2 gamma2
+    # no bracket of the family satisfies Jacobi. The span path reaches both verdicts itself.
+    from poissonkit_nonholonomic.suslov import suslov_potential
+
+    R = sp.Rational
+    good = suslov_potential(I11=2, I22=1, U="3*gamma_z + gamma_x**2*gamma_y")
+    res = pk.hamiltonize(good, integrals={"H": good.hamiltonian}, degree=3)
+    assert res.found and len(res.solutions) == 1
+    assert sp.expand(res.hamiltonians[0] - good.hamiltonian) == 0
+    P = res.solutions[0]
+    point = dict(zip(P.coords, (R(2, 3), R(1, 3), R(2, 3), 1, -2, 0)))
+    oracle = sp.Matrix([[0, 0, 2, 0, 3, 0], [0, 0, 1, R(-3, 2), 0, 0],
+                        [-2, -1, 0, R(2, 9), R(-4, 9), 0], [0, R(3, 2), R(-2, 9), 0, 0, 0],
+                        [-3, 0, R(4, 9), 0, 0, 0], [0, 0, 0, 0, 0, 0]])
+    assert P.matrix.subs(point) == oracle
+    bad = suslov_potential(I11=2, I22=1, U="gamma_z**2/2 + gamma_x**2*gamma_y")
+    res = pk.hamiltonize(bad, integrals={"H": bad.hamiltonian}, degree=3)
+    assert res.status == "no_jacobi_solution" and res.proved_absent
+    assert res.certificate.kind == "jacobi" and "unit ideal" in res.certificate.text
