@@ -61,9 +61,12 @@ class HamiltonizeResult:
     multiplier
         ``N`` (an expression; in the free parameters for a polynomial multiplier ansatz).
     family
-        The bivector solving the linear conditions, with free parameters ``t1, t2, ...``.
+        The bivector solving the linear conditions, with free parameters ``t1, t2, ...``
+        (``None`` for a search over combinations of integrals: its linear family is one copy
+        of the bracket per integral, see :mod:`~poissonkit.structure.hamiltonize_span`).
     parameters
-        The free parameters of ``family``.
+        The free parameters of ``family`` (for a span search also the unknown coefficients
+        ``c2, c3, ...`` of ``H``).
     jacobi_equations
         Polynomial equations in ``parameters`` equivalent to ``[P, P] = 0`` on ``family``
         (a reduced Groebner basis when solved; empty if Jacobi holds identically).
