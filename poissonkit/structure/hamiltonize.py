@@ -27,6 +27,12 @@ Method (survey of Borisov, Mamaev and Tsiganov, eq. (12)/(13), and its Theorem 2
    computed in a sparse polynomial ring (``Jac(s Q)/s^2 = Jac(Q) + sum (d log s) Q Q``), split
    over coordinate monomials and solved exactly with a Groebner basis.
 
+Inputs as text (a field, a Hamiltonian, integrals, Casimirs, with declared parameters) are
+read by :mod:`poissonkit.structure.hamiltonize_input`; a Hamiltonian searched among the
+combinations of given integrals is linearised in step 2 (one copy of ``Q`` per integral) and
+finished by :mod:`poissonkit.structure.hamiltonize_span`; a Casimir given by its differential
+``dC`` enters step 2 exactly like a function's gradient.
+
 A negative answer is a **proof within the ansatz**: either a vector ``y`` with ``y^T A = 0``,
 ``y^T b = 1`` (a combination of the linear conditions that reads ``0 = 1``; re-checked
 independently before it is reported), or, for a polynomial multiplier, the elimination forces
