@@ -51,6 +51,8 @@ _LAZY: dict[str, str] = {
     "parse_expression": "poissonkit.structure.parsing",
     "verify": "poissonkit.structure.verification",
     "hamiltonize": "poissonkit.structure.hamiltonize",
+    "HamiltonizationProblem": "poissonkit.structure.hamiltonize_problem",
+    "HamiltonizeResult": "poissonkit.structure.hamiltonize_result",
     # numerics
     "solve": "poissonkit.numerics.solver",
     "Solution": "poissonkit.numerics.solution",

@@ -129,7 +129,8 @@ class Bivector:
 
     @classmethod
     def from_components(cls, components: Mapping[tuple[int, int], object],
-                        coords: Sequence[sp.Symbol | str], *, one_based: bool = True) -> Bivector:
+                        coords: Sequence[sp.Symbol | str], *, one_based: bool = True,
+                        params=None) -> Bivector:
         """Build from upper-triangle components ``{(i, j): P^{ij}}``.
 
         Parameters
@@ -137,15 +138,29 @@ class Bivector:
         components
             Keys are index pairs (1-based by default, as in PoissonGeometry); values are sympy
             expressions or strings. Strings are parsed with an allow-list of names (the
-            coordinates and a fixed set of functions), never with ``eval``.
+            coordinates, the declared ``params`` and a fixed set of functions), never with
+            ``eval``.
         coords
             Coordinate symbols or names.
         one_based
             Whether the index pairs start at 1.
+        params
+            Parameters the strings may name: ``["a", "b"]`` (real symbols),
+            ``{"b": {"positive": True}}`` or sympy symbols (see
+            :func:`poissonkit.structure.parsing.declare_parameters`). A name neither a
+            coordinate nor declared is a :class:`~poissonkit.errors.ParseError` listing the
+            allowed names.
+
+        Examples
+        --------
+        >>> P = Bivector.from_components({(1, 2): "-a*x1*x2/b"}, ["x1", "x2"], params=["a", "b"])
+        >>> P.matrix[0, 1]
+        -a*x1*x2/b
         """
-        from poissonkit.structure.parsing import parse_expression
+        from poissonkit.structure.parsing import declare_parameters, parse_expression
 
         syms = _as_symbols(coords)
+        declared = declare_parameters(params, reserved=syms)
         n = len(syms)
         mat = sp.zeros(n, n)
         off = 1 if one_based else 0
@@ -158,7 +173,7 @@ class Bivector:
                 raise DimensionError(f"index pair {key} out of range for dimension {n}")
             if i == j:
                 raise InputError(f"index pair {key} repeats an index")
-            expr = parse_expression(value, syms) if isinstance(value, str) \
+            expr = parse_expression(value, syms, declared) if isinstance(value, str) \
                 else as_expr(value, f"component {key!r}")
             if mat[i, j] != 0 or mat[j, i] != 0:
                 raise InputError(f"index pair {key} given twice")

@@ -27,6 +27,12 @@ Method (survey of Borisov, Mamaev and Tsiganov, eq. (12)/(13), and its Theorem 2
    computed in a sparse polynomial ring (``Jac(s Q)/s^2 = Jac(Q) + sum (d log s) Q Q``), split
    over coordinate monomials and solved exactly with a Groebner basis.
 
+Inputs as text (a field, a Hamiltonian, integrals, Casimirs, with declared parameters) are
+read by :mod:`poissonkit.structure.hamiltonize_input`; a Hamiltonian searched among the
+combinations of given integrals is linearised in step 2 (one copy of ``Q`` per integral) and
+finished by :mod:`poissonkit.structure.hamiltonize_span`; a Casimir given by its differential
+``dC`` enters step 2 exactly like a function's gradient.
+
 A negative answer is a **proof within the ansatz**: either a vector ``y`` with ``y^T A = 0``,
 ``y^T b = 1`` (a combination of the linear conditions that reads ``0 = 1``; re-checked
 independently before it is reported), or, for a polynomial multiplier, the elimination forces
@@ -51,12 +57,14 @@ from poissonkit.structure._exact_linear import (
 )
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
+from poissonkit.structure.hamiltonize_input import build_problem
 from poissonkit.structure.hamiltonize_problem import (
     Ansatz,
     HamiltonizationProblem,
     problem_from,
 )
 from poissonkit.structure.hamiltonize_result import Certificate, HamiltonizeResult, result_record
+from poissonkit.structure.hamiltonize_span import casimir_combinations, impose_span
 
 #: Name stem of the free parameters of a solution family (``t1, t2, ...``).
 PARAMETER_STEM = "t"
@@ -160,7 +168,8 @@ def _prefactor_and_multiplier(problem, multiplier, prefactor):
             N, how = sp.Integer(1), "N = 1"
         else:
             N, how = rho, "N = rho (density of the invariant measure)"
-        s = N if prefactor is None and problem.hamiltonian is not None else \
+        has_h = problem.hamiltonian is not None or bool(problem.hamiltonian_span)
+        s = N if prefactor is None and has_h else \
             (sp.Integer(1) if prefactor is None else as_expr(prefactor, "prefactor"))
         return N, s, how
     if isinstance(multiplier, tuple):
@@ -188,11 +197,12 @@ def _prefactor_and_multiplier(problem, multiplier, prefactor):
 
 
 # ------------------------------------------------------------------------------ main
-def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = None,
-                multiplier="auto", prefactor=None, hamiltonian=..., casimirs=None,
+def hamiltonize(system=None, *, field=None, coords=None, params=None, hamiltonian=...,
+                integrals=None, casimirs=None, measure=None, ansatz: Ansatz | None = None,
+                degree: int | None = None, multiplier="auto", prefactor=None,
                 positions: Sequence | None = None, momenta: Sequence | None = None,
                 momentum_terms: str = "affine", zero: Sequence = (),
-                max_jacobi_parameters: int = 12) -> HamiltonizeResult:
+                max_jacobi_parameters: int = 12, name: str = "") -> HamiltonizeResult:
     """Search a Poisson bivector ``P`` and multiplier ``N`` with ``X = N P dH``.
 
     Parameters
@@ -200,7 +210,29 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
     system
         A :class:`~poissonkit.structure.system.HamiltonianSystem` (its equations of motion,
         Hamiltonian, Casimir claims and measure are read; see :func:`problem_from`), a
-        :class:`HamiltonizationProblem`, or a registered system name.
+        :class:`HamiltonizationProblem`, or a registered system name. Or, instead:
+    field
+        The vector field ``X`` (``xdot = X``): a sequence of components in the order of
+        ``coords``, or a mapping coordinate -> component; each a sympy expression or text
+        (read by the allow-list parser; names: ``coords``, ``params`` and its fixed functions).
+        Any polynomial or rational field (after the multiplier and prefactor are applied).
+    coords
+        The coordinates of ``field`` (names, which become real symbols, or sympy symbols).
+    params
+        Parameters the texts may name, as in
+        :func:`~poissonkit.structure.parsing.declare_parameters` (``["a", "b"]``,
+        ``{"k": {"positive": True}}``). The search then runs over ``QQ(parameters)``.
+    integrals
+        First integrals ``I_k`` (a sequence, named ``I1, I2, ...``, or a mapping; with a
+        system also names of its integrals). Without ``hamiltonian``: ``H = sum c_k I_k`` is
+        searched with unknown constants ``c`` (see :mod:`~poissonkit.structure.hamiltonize_span`;
+        a negative answer covers every combination). With it: ``H`` is fixed and each found
+        bracket reports which combinations of the integrals are its Casimirs
+        (``res.integral_casimirs``).
+    measure
+        Invariant-measure density ``rho`` of ``field`` (multiplier ``"auto"`` then uses it).
+    name
+        Label for reports (with ``field``).
     ansatz
         The searched space (:class:`Ansatz`). If omitted it is built from ``positions``,
         ``momenta``, ``degree``, ``momentum_terms``, ``prefactor`` and ``zero``.
@@ -217,10 +249,16 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
     hamiltonian
         Override of ``H``; ``None`` drops the condition ``X = N P dH``.
     casimirs
-        Override of the Casimirs (mapping, or names among the system's Casimirs/integrals).
+        Casimirs to impose: a mapping ``{name: C}``, where a value that is a sequence of ``n``
+        components is the *differential* ``dC`` of a Casimir known only through it (its
+        closedness is checked exactly; the condition ``P dC = 0`` is linear as for any
+        Casimir), or a sequence of expressions / names of the given integrals (with a system:
+        names among its Casimirs and integrals; default: its Casimir claims).
     positions, momenta
         Default: coordinates named ``gamma_*`` (or ``q_*``, ``nu_*``) are positions, the others
-        momenta; without such names every coordinate is a position.
+        momenta; without such names every coordinate is a position (coefficients polynomial
+        of degree ``<= degree`` in all coordinates: no ``positions=`` needed for a field that
+        is not mechanical).
     momentum_terms, zero
         See :class:`Ansatz`; ``zero`` may also be ``"positions"`` / ``"momenta"`` to force the
         whole ``{pos, pos}`` / ``{mom, mom}`` block to vanish (or a list of index pairs).
@@ -237,9 +275,17 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
     ------
     InputError
         Malformed input, or a field/prefactor that is not rational in the coordinates.
+    ParseError
+        Text with a name that is neither a coordinate nor a declared parameter (the message
+        lists the allowed names), or an unsafe construct.
 
     Examples
     --------
+    >>> import poissonkit as pk
+    >>> res = pk.hamiltonize(field=["x2*x3", "-x1*x3", "0"], coords=["x1", "x2", "x3"],
+    ...                      integrals=["x1**2 + x2**2", "x3**2"], degree=1)
+    >>> res.found
+    True
     >>> from poissonkit.structure.hamiltonize import hamiltonize
     >>> hamiltonize("nh.chaplygin_ball", degree=2).status  # doctest: +SKIP
     'no_linear_solution'
@@ -248,10 +294,16 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
     (True, ())
     """
     t0 = time.perf_counter()
-    problem = problem_from(system, hamiltonian=hamiltonian, casimirs=casimirs)
+    problem, ints = build_problem(system, field=field, coords=coords, params=params,
+                                  hamiltonian=hamiltonian, integrals=integrals,
+                                  casimirs=casimirs, measure=measure, name=name)
     coords = problem.coords
+    span = problem.hamiltonian_span
     N, s, how = _prefactor_and_multiplier(problem, multiplier, prefactor)
     poly_mult = isinstance(multiplier, tuple)
+    if poly_mult and span:
+        raise InputError("a polynomial multiplier ansatz and a Hamiltonian searched among "
+                         "integrals cannot be combined; fix one of them")
     if ansatz is None:
         ansatz = _build_ansatz(coords, positions, momenta, degree, momentum_terms, s, zero)
     elif degree is not None or prefactor is not None:
@@ -259,9 +311,9 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
     for c in ansatz.positions + ansatz.momenta:
         if c not in coords:
             raise InputError(f"Ansatz coordinate {c} is not a coordinate of the system")
-    if problem.hamiltonian is None and not problem.casimirs:
+    if problem.hamiltonian is None and not span and not problem.casimir_forms():
         raise InputError("nothing to search for: no Hamiltonian and no Casimirs given")
-    columns = _columns(ansatz, coords, multiplier[1] if poly_mult else None)
+    columns = _columns(ansatz, coords, multiplier[1] if poly_mult else None, max(1, len(span)))
     t1 = time.perf_counter()
     system_ = _assemble(problem, ansatz.prefactor, N, columns, poly_mult)
     t2 = time.perf_counter()
@@ -270,6 +322,11 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
 
     def finish(status, **kw):
         stats["seconds_total"] = time.perf_counter() - t0
+        sols = kw.get("solutions", ())
+        if sols and "hamiltonians" not in kw:
+            kw["hamiltonians"] = tuple(problem.hamiltonian for _ in sols)
+        if sols and ints:
+            kw["integral_casimirs"] = tuple(casimir_combinations(P, ints) for P in sols)
         return HamiltonizeResult(status=status, ansatz=ansatz, problem=problem, stats=stats, **kw)
 
     K = system_.fld.K
@@ -290,12 +347,23 @@ def hamiltonize(system, *, ansatz: Ansatz | None = None, degree: int | None = No
             f"has mu = 1/N = 0: no multiplier of degree <= {multiplier[1]} exists (exact "
             "elimination)."))
 
-    tau, Qm, mu = _family(sol, columns, coords, K)
+    tau, Qs, mu = _family(sol, columns, coords, K, max(1, len(span)))
+    stats["parameters"] = len(tau)
+    if span:
+        if len(tau) > max_jacobi_parameters:
+            return finish("jacobi_unsolved", multiplier=N, parameters=tau)
+        t4 = time.perf_counter()
+        status, out = impose_span(
+            Qs, ansatz.prefactor, coords, tau, span, N,
+            lambda Q: _jacobi_equations(Q, ansatz.prefactor, coords, tau, system_.fld))
+        stats["jacobi_equations"] = out.pop("count")
+        stats["seconds_jacobi"] = time.perf_counter() - t4
+        return finish(status, multiplier=N, **out)
+    Qm = Qs[0]
     Nfam = (N / mu) if poly_mult else N
     if problem.hamiltonian is None:
         Nfam = None  # no field condition: the multiplier plays no part
     family = Bivector(coords, sp.ImmutableMatrix(Qm * ansatz.prefactor))
-    stats["parameters"] = len(tau)
     if len(tau) > max_jacobi_parameters:
         return finish("jacobi_unsolved", multiplier=Nfam, family=family, parameters=tau)
     t4 = time.perf_counter()
@@ -319,9 +387,10 @@ def _build_ansatz(coords, positions, momenta, degree, momentum_terms, s, zero) -
                   momentum_terms if mom else "none", s, _zero_pairs(zero, coords, pos, mom))
 
 
-def _columns(ansatz: Ansatz, coords, mu_degree: int | None) -> list[tuple]:
-    """The unknowns: ``("P", i, j, monomial)`` (``Q^{ij} += u * monomial``, ``i < j``) and, for a
-    multiplier ansatz, ``("mu", None, None, monomial)``."""
+def _columns(ansatz: Ansatz, coords, mu_degree: int | None, copies: int = 1) -> list[tuple]:
+    """The unknowns: ``("P", i, j, monomial, k)`` (``Q_k^{ij} += u * monomial``, ``i < j``; one
+    copy ``Q_k`` per integral of a Hamiltonian span, else ``k = 0``) and, for a multiplier
+    ansatz, ``("mu", None, None, monomial, 0)``."""
     n = len(coords)
     pidx = [coords.index(c) for c in ansatz.positions]
     midx = [coords.index(c) for c in ansatz.momenta]
@@ -335,12 +404,13 @@ def _columns(ansatz: Ansatz, coords, mu_degree: int | None) -> list[tuple]:
                 e[m] += 1
                 mono_list.append(tuple(e))
     columns: list[tuple] = []
-    for i in range(n):
-        for j in range(i + 1, n):
-            if (i, j) not in ansatz.zero:
-                columns.extend(("P", i, j, mono) for mono in mono_list)
+    for k in range(copies):
+        for i in range(n):
+            for j in range(i + 1, n):
+                if (i, j) not in ansatz.zero:
+                    columns.extend(("P", i, j, mono, k) for mono in mono_list)
     if mu_degree is not None:
-        columns.extend(("mu", None, None, mono) for mono in _monomials(n, range(n), mu_degree))
+        columns.extend(("mu", None, None, mono, 0) for mono in _monomials(n, range(n), mu_degree))
     return columns
 
 
@@ -358,13 +428,16 @@ def _assemble(problem: HamiltonizationProblem, s, N, columns, poly_mult: bool) -
     """Clear denominators and split ``X = N s Q dH`` and ``s Q dC = 0`` over monomials.
 
     Fixed ``N``: ``Q dH = X/(N s)``. Multiplier ansatz ``N = base/mu``: ``Q dH - mu X/(base s)
-    = 0`` (homogeneous; ``N`` is the base here).
+    = 0`` (homogeneous; ``N`` is the base here). Hamiltonian span ``H = sum c_k I_k``: the
+    bilinear ``sum c_k Q dI_k`` is linearised as ``sum_k W_k dI_k`` with one copy ``W_k = c_k Q``
+    per integral (:mod:`poissonkit.structure.hamiltonize_span` restores ``W_k = c_k Q``).
     """
     coords = problem.coords
     n = len(coords)
-    exprs = list(problem.field) + list(problem.casimirs.values()) + [s, N]
-    if problem.hamiltonian is not None:
-        exprs.append(problem.hamiltonian)
+    forms = problem.casimir_forms()
+    gens = list(problem.hamiltonian_span.values()) or (
+        [problem.hamiltonian] if problem.hamiltonian is not None else [])
+    exprs = list(problem.field) + [a for f in forms.values() for a in f] + [s, N] + gens
     fld = _Field(coords, [sp.sympify(e) for e in exprs])
     rows: dict[tuple, dict[int, dict]] = {}
     rhs: dict[tuple, dict] = {}
@@ -378,29 +451,31 @@ def _assemble(problem: HamiltonizationProblem, s, N, columns, poly_mult: bool) -
             pm = monom[fld.nc:]
             slot[pm] = slot.get(pm, 0) + (coeff if sign > 0 else -coeff)
 
-    if problem.hamiltonian is not None:
-        dH = [fld.convert(sp.diff(problem.hamiltonian, x), "dH") for x in coords]
+    if gens:
+        m = len(gens)
+        dH = [fld.convert(sp.diff(G, x), "dH") for G in gens for x in coords]
         r = [fld.convert(sp.sympify(problem.field[i]) / (N * s), f"X_{i}/(N s)")
              for i in range(n)]
-        # row i, cleared by its own denominator: [D_i dH_1, ..., D_i dH_n, D_i r_i]
+        # row i, cleared by its own denominator: [D_i dG_1 (n entries), ..., D_i dG_m, D_i r_i]
         cleared = [fld.cleared(dH + [r[i]])[1] for i in range(n)]
-        for c, (kind, i, j, mono) in enumerate(columns):
+        for c, (kind, i, j, mono, k) in enumerate(columns):
             if kind == "P":
-                add(("X", i), cleared[i][j].mul_monom(fld.shift(mono)), c)
-                add(("X", j), cleared[j][i].mul_monom(fld.shift(mono)), c, -1)
+                add(("X", i), cleared[i][k * n + j].mul_monom(fld.shift(mono)), c)
+                add(("X", j), cleared[j][k * n + i].mul_monom(fld.shift(mono)), c, -1)
             else:
-                for k in range(n):
-                    add(("X", k), cleared[k][n].mul_monom(fld.shift(mono)), c, -1)
+                for q in range(n):
+                    add(("X", q), cleared[q][m * n].mul_monom(fld.shift(mono)), c, -1)
         if not poly_mult:
             for i in range(n):
-                add(("X", i), cleared[i][n])
-    for cname, C in problem.casimirs.items():
-        dC = [fld.convert(sp.diff(C, x), f"d({cname})") for x in coords]
+                add(("X", i), cleared[i][m * n])
+    for cname, form in forms.items():
+        dC = [fld.convert(a, f"d({cname})") for a in form]
         _, cc = fld.cleared(dC)
-        for c, (kind, i, j, mono) in enumerate(columns):
+        # every copy W_k = c_k Q is annihilated when Q is (some c_k is not zero)
+        for c, (kind, i, j, mono, k) in enumerate(columns):
             if kind == "P":
-                add(("C", cname, i), cc[j].mul_monom(fld.shift(mono)), c)
-                add(("C", cname, j), cc[i].mul_monom(fld.shift(mono)), c, -1)
+                add(("C", cname, i, k), cc[j].mul_monom(fld.shift(mono)), c)
+                add(("C", cname, j, k), cc[i].mul_monom(fld.shift(mono)), c, -1)
     labels = list(rows)
     return _LinearSystem(labels, [{c: fld.to_K(v) for c, v in rows[k].items()} for k in labels],
                          [fld.to_K(rhs.get(k, {})) for k in labels], fld)
@@ -422,8 +497,9 @@ def _linear_certificate(ls: _LinearSystem, ncols: int, coords) -> Certificate:
         "(exact, re-checked)."))
 
 
-def _family(sol, columns, coords, K):
-    """``(tau, Q, mu)``: the solution family with free parameters ``t1..tk`` as sympy objects."""
+def _family(sol, columns, coords, K, copies: int = 1):
+    """``(tau, [Q_0, ...], mu)``: the solution family (one ``Q`` per copy) with free
+    parameters ``t1..tk`` as sympy objects."""
     n = len(coords)
     k = len(sol.free)
     tau = sp.symbols(f"{PARAMETER_STEM}1:{k + 1}", real=True) if k else ()
@@ -431,17 +507,17 @@ def _family(sol, columns, coords, K):
     for t, d in zip(tau, sol.directions):
         for c, v in d.items():
             coeff[c] = coeff.get(c, sp.Integer(0)) + K.to_sympy(v) * t
-    Qm = sp.zeros(n, n)
+    Qs = [sp.zeros(n, n) for _ in range(copies)]
     mu = sp.Integer(0)
     for c, val in coeff.items():
-        kind, i, j, mono = columns[c]
+        kind, i, j, mono, k = columns[c]
         term = val * sp.Mul(*[x**e for x, e in zip(coords, mono)])
         if kind == "P":
-            Qm[i, j] += term
-            Qm[j, i] -= term
+            Qs[k][i, j] += term
+            Qs[k][j, i] -= term
         else:
             mu += term
-    return tau, Qm, mu
+    return tau, Qs, mu
 
 
 def _impose_jacobi(Qm, s, coords, tau, fld, family, Nfam, mu) -> tuple[str, dict]:

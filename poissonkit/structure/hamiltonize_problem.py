@@ -31,6 +31,14 @@ class HamiltonizationProblem:
         Invariant-measure density ``rho`` (``div(rho X) = 0``) or ``None``.
     name
         Label for reports.
+    hamiltonian_span
+        ``{name: I}``: instead of a fixed ``hamiltonian``, search ``H = sum c_k I_k`` with
+        unknown constants ``c_k`` (not all zero). Excludes ``hamiltonian``.
+    casimir_differentials
+        ``{name: (a_1, ..., a_n)}``: closed 1-forms ``a = dC`` of Casimirs known only through
+        their differential (``C`` itself may be a logarithm, an integral, a non-elementary
+        function): the condition is ``P a = 0``, linear in ``P`` like any Casimir's. Closedness
+        (``d_i a_j = d_j a_i``) is checked exactly, so ``a`` is locally ``dC``.
     """
 
     coords: tuple[sp.Symbol, ...]
@@ -39,6 +47,8 @@ class HamiltonizationProblem:
     casimirs: Mapping[str, sp.Expr] = field(default_factory=dict)
     measure: sp.Expr | None = None
     name: str = ""
+    hamiltonian_span: Mapping[str, sp.Expr] = field(default_factory=dict)
+    casimir_differentials: Mapping[str, tuple[sp.Expr, ...]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         put = object.__setattr__
@@ -62,6 +72,41 @@ class HamiltonizationProblem:
                                for k, v in self.casimirs.items()})
         if self.measure is not None:
             put(self, "measure", as_expr(self.measure, "measure"))
+        if not isinstance(self.hamiltonian_span, Mapping) or \
+                not isinstance(self.casimir_differentials, Mapping):
+            raise InputError("HamiltonizationProblem.hamiltonian_span and casimir_differentials "
+                             "must be mappings name -> expression / 1-form")
+        span = {str(k): as_expr(v, f"integral {k!r}") for k, v in self.hamiltonian_span.items()}
+        if span and self.hamiltonian is not None:
+            raise InputError("give a Hamiltonian or a span of integrals to search it in, not "
+                             "both")
+        put(self, "hamiltonian_span", span)
+        forms = {}
+        for k, form in self.casimir_differentials.items():
+            if isinstance(form, (str, sp.Basic)) or len(form) != len(coords):
+                raise InputError(f"Casimir differential {k!r} must have {len(coords)} "
+                                 "components, one per coordinate")
+            forms[str(k)] = tuple(as_expr(a, f"component of d({k})") for a in form)
+            _check_closed(forms[str(k)], coords, str(k))
+        put(self, "casimir_differentials", forms)
+
+    def casimir_forms(self) -> dict[str, tuple[sp.Expr, ...]]:
+        """``{name: dC}`` for every Casimir condition: the given functions' gradients and the
+        given differentials."""
+        out = {k: tuple(sp.diff(C, x) for x in self.coords) for k, C in self.casimirs.items()}
+        out.update(self.casimir_differentials)
+        return out
+
+
+def _check_closed(form: tuple[sp.Expr, ...], coords: tuple[sp.Symbol, ...], name: str) -> None:
+    """Refuse a 1-form that is not closed: it is the differential of no function."""
+    for i in range(len(coords)):
+        for j in range(i + 1, len(coords)):
+            curl = sp.cancel(sp.together(sp.diff(form[j], coords[i]) - sp.diff(form[i], coords[j])))
+            if curl != 0:
+                raise InputError(f"d({name}) is not closed: d{coords[i]} of component "
+                                 f"{coords[j]} minus d{coords[j]} of component {coords[i]} is "
+                                 f"{curl}, so it is the differential of no function")
 
 
 def problem_from(system, *, hamiltonian=..., casimirs=None) -> HamiltonizationProblem:
@@ -116,7 +161,9 @@ def problem_from(system, *, hamiltonian=..., casimirs=None) -> HamiltonizationPr
                 from poissonkit.errors import UnknownNameError
 
                 raise UnknownNameError("Casimir", str(exc.args[0]), known) from None
-    return HamiltonizationProblem(prob.coords, prob.field, H, cas, prob.measure, prob.name)
+    return HamiltonizationProblem(prob.coords, prob.field, H, cas, prob.measure, prob.name,
+                                  prob.hamiltonian_span if hamiltonian is ... else {},
+                                  prob.casimir_differentials)
 
 
 @dataclass(frozen=True)
@@ -177,9 +224,11 @@ class Ansatz:
         """One line stating the searched space."""
         mom = {"affine": "affine in", "linear": "linear in", "none": "independent of"}[
             self.momentum_terms]
-        text = (f"P = ({self.prefactor}) * Q, Q^ij {mom} ({', '.join(map(str, self.momenta))})"
-                f" with coefficients polynomial of degree <= {self.degree} in "
+        poly = (f"polynomial of degree <= {self.degree} in "
                 f"({', '.join(map(str, self.positions))})")
+        text = (f"P = ({self.prefactor}) * Q, Q^ij {mom} ({', '.join(map(str, self.momenta))})"
+                f" with coefficients {poly}") if self.momenta else \
+            f"P = ({self.prefactor}) * Q, Q^ij {poly}"
         if self.zero and coords:
             names = ", ".join(f"{{{coords[i]},{coords[j]}}}" for i, j in sorted(self.zero))
             text += f"; forced zero: {names}"

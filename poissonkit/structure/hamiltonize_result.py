@@ -61,9 +61,12 @@ class HamiltonizeResult:
     multiplier
         ``N`` (an expression; in the free parameters for a polynomial multiplier ansatz).
     family
-        The bivector solving the linear conditions, with free parameters ``t1, t2, ...``.
+        The bivector solving the linear conditions, with free parameters ``t1, t2, ...``
+        (``None`` for a search over combinations of integrals: its linear family is one copy
+        of the bracket per integral, see :mod:`~poissonkit.structure.hamiltonize_span`).
     parameters
-        The free parameters of ``family``.
+        The free parameters of ``family`` (for a span search also the unknown coefficients
+        ``c2, c3, ...`` of ``H``).
     jacobi_equations
         Polynomial equations in ``parameters`` equivalent to ``[P, P] = 0`` on ``family``
         (a reduced Groebner basis when solved; empty if Jacobi holds identically).
@@ -72,6 +75,14 @@ class HamiltonizeResult:
         that stay free remain symbols), each paired with its multiplier in ``multipliers``.
     multipliers
         ``N`` for each entry of ``solutions`` (``None`` without a Hamiltonian).
+    hamiltonians
+        ``H`` for each entry of ``solutions``: the given Hamiltonian, or the combination of the
+        integrals found by a span search (unknown coefficients ``c2, c3, ...`` that stay free
+        remain symbols).
+    integral_casimirs
+        For each entry of ``solutions``: a basis of the constant-coefficient combinations of
+        the given integrals that are Casimirs of that bracket, each as ``{integral name:
+        coefficient}`` (empty without integrals).
     certificate
         Proof of non-existence within the ansatz, or ``None``.
     stats
@@ -88,6 +99,8 @@ class HamiltonizeResult:
     solutions: tuple[Bivector, ...] = ()
     multipliers: tuple[sp.Expr, ...] = ()
     certificate: Certificate | None = None
+    hamiltonians: tuple[sp.Expr | None, ...] = ()
+    integral_casimirs: tuple[tuple[Mapping[str, sp.Expr], ...], ...] = ()
     stats: Mapping[str, object] = field(default_factory=dict)
 
     @property
@@ -109,8 +122,12 @@ class HamiltonizeResult:
         cond = []
         if self.problem.hamiltonian is not None:
             cond.append("X = N P dH")
-        if self.problem.casimirs:
-            cond.append("Casimirs " + ", ".join(self.problem.casimirs))
+        elif self.problem.hamiltonian_span:
+            cond.append("X = N P dH, H = sum c_k I_k over ("
+                        + ", ".join(self.problem.hamiltonian_span) + ")")
+        if self.problem.casimirs or self.problem.casimir_differentials:
+            cond.append("Casimirs " + ", ".join([*self.problem.casimirs,
+                                                 *self.problem.casimir_differentials]))
         cond.append("[P,P] = 0")
         lines.append(f"  conditions : {'; '.join(cond)}")
         if self.multiplier is not None:
@@ -121,10 +138,19 @@ class HamiltonizeResult:
         if self.found:
             lines.append(f"  result     : {len(self.solutions)} Poisson component(s)")
             for k, P in enumerate(self.solutions):
-                free = sorted({str(s) for e in P.matrix for s in e.free_symbols}
-                              & {str(t) for t in self.parameters})
+                H = self.hamiltonians[k] if k < len(self.hamiltonians) else None
+                used = {str(s) for e in P.matrix for s in e.free_symbols}
+                if H is not None:
+                    used |= {str(s) for s in H.free_symbols}
+                free = sorted(used & {str(t) for t in self.parameters})
                 mult = "" if self.multipliers[k] is None else f"; N = {self.multipliers[k]}"
                 lines.append(f"    [{k}] free parameters: {', '.join(free) or 'none'}{mult}")
+                if self.problem.hamiltonian_span and k < len(self.hamiltonians):
+                    lines.append(f"        H = {self.hamiltonians[k]}")
+                if k < len(self.integral_casimirs) and self.integral_casimirs[k]:
+                    lines.append("        Casimirs among the integrals: " + ", ".join(
+                        " + ".join(f"({v})*{n}" for n, v in comb.items())
+                        for comb in self.integral_casimirs[k]))
         elif self.certificate is not None:
             lines.append(f"  result     : no bracket in this ansatz. {self.certificate.text}")
         else:
@@ -149,6 +175,12 @@ def result_record(res: HamiltonizeResult) -> dict:
                       for i in range(len(coords)) for j in range(i + 1, len(coords))
                       if P.matrix[i, j] != 0}}
         for P, N in zip(res.solutions, res.multipliers)]
+    for k, sol in enumerate(rec["solutions"]):
+        if k < len(res.hamiltonians) and res.hamiltonians[k] is not None:
+            sol["H"] = str(res.hamiltonians[k])
+        if k < len(res.integral_casimirs):
+            sol["integral_casimirs"] = [{n: str(v) for n, v in comb.items()}
+                                        for comb in res.integral_casimirs[k]]
     if res.certificate is not None:
         rec["certificate"] = {"kind": res.certificate.kind, "text": res.certificate.text,
                               "combination": {f"{k[0]} [{k[1]}]": str(v) for k, v in

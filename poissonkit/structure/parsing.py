@@ -9,17 +9,19 @@ from __future__ import annotations
 
 import ast
 import math
+import re
 from collections.abc import Iterable, Mapping
+from typing import Union
 
 import sympy as sp
 from sympy.parsing.sympy_parser import parse_expr, standard_transformations
 
-from poissonkit.errors import ParseError
+from poissonkit.errors import InputError, ParseError
 # the public home of the non-string conversion: parse text here, convert values with as_expr
 from poissonkit.structure._expr import as_expr
 
-__all__ = ["ALLOWED_FUNCTIONS", "MAX_DIGITS", "MAX_EXPONENT", "MAX_LENGTH", "as_expr",
-           "parse_expression"]
+__all__ = ["ALLOWED_FUNCTIONS", "ASSUMPTIONS", "MAX_DIGITS", "MAX_EXPONENT", "MAX_LENGTH",
+           "ParameterSpec", "as_expr", "declare_parameters", "parse_expression"]
 
 ALLOWED_FUNCTIONS: dict[str, object] = {
     "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "asin": sp.asin, "acos": sp.acos,
@@ -131,8 +133,91 @@ def _check_powers(tree: ast.AST, text: str) -> None:
             raise ParseError(f"a constant in {text[:80]!r} would have more than {MAX_DIGITS} digits")
 
 
+#: Assumptions a declared parameter may carry (``{"m": {"positive": True}}``).
+ASSUMPTIONS = ("real", "positive", "negative", "nonnegative", "nonpositive", "nonzero",
+               "integer", "rational")
+_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+
+#: How parameters are declared: names, symbols, or ``{name: assumptions | symbol}``.
+ParameterSpec = Union[Iterable[Union[str, sp.Symbol]],
+                      Mapping[str, Union[Mapping[str, bool], sp.Symbol, None]], None]
+
+
+def _parameter_symbol(name: object, how: object) -> sp.Symbol:
+    """One declared parameter: ``how`` is ``None``, an assumptions mapping or a symbol."""
+    if isinstance(name, sp.Symbol) and how is None:
+        return name
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
+        raise InputError(f"parameter name {name!r} is not an identifier (letters, digits, _)")
+    if name in ALLOWED_FUNCTIONS:
+        raise InputError(f"parameter name {name!r} is a function or constant of the parser")
+    if isinstance(how, sp.Symbol):
+        if how.name != name:
+            raise InputError(f"parameter {name!r} is declared as the symbol {how.name!r}")
+        return how
+    assumptions = {} if how is None else how
+    if not isinstance(assumptions, Mapping):
+        raise InputError(f"parameter {name!r}: expected an assumptions mapping such as "
+                         f"{{'positive': True}} or a sympy Symbol, got {type(how).__name__}")
+    for key, value in assumptions.items():
+        if key not in ASSUMPTIONS or not isinstance(value, bool):
+            raise InputError(f"parameter {name!r}: assumption {key!r}={value!r} is not one of "
+                             f"{', '.join(ASSUMPTIONS)} with a True/False value")
+    # real by default, like the coordinates: a parameter then cancels against its conjugate
+    return sp.Symbol(name, **{"real": True, **assumptions})
+
+
+def declare_parameters(params: ParameterSpec,
+                       reserved: Iterable[sp.Symbol | str] = ()) -> dict[str, sp.Symbol]:
+    """The symbols of declared parameters, by name.
+
+    Parameters
+    ----------
+    params
+        ``None``; a sequence of names or sympy symbols (``["a", "b"]``); or a mapping
+        ``{name: assumptions}`` with assumptions among :data:`ASSUMPTIONS`
+        (``{"m": {"positive": True}}``) or ``{name: symbol}``. A name becomes a *real*
+        symbol (as coordinates are) plus the stated assumptions; a symbol is used as given.
+    reserved
+        Names already taken (the coordinates): a parameter may not reuse one.
+
+    Returns
+    -------
+    dict
+        ``{name: Symbol}``, in declaration order.
+
+    Raises
+    ------
+    InputError
+        A name that is not an identifier, a parser function name (``sin``, ``E``, ``I``), a
+        coordinate's name, repeated, or an unknown assumption.
+
+    Examples
+    --------
+    >>> declare_parameters({"a": {"positive": True}, "b": None})["a"].is_positive
+    True
+    """
+    if params is None:
+        return {}
+    if isinstance(params, (str, bytes, sp.Basic)):
+        raise InputError(f"params must be a sequence of names or a mapping name -> "
+                         f"assumptions, got {params!r:.60}")
+    pairs = params.items() if isinstance(params, Mapping) else ((p, None) for p in params)
+    taken = {str(r) for r in reserved}
+    out: dict[str, sp.Symbol] = {}
+    for name, how in pairs:
+        sym = _parameter_symbol(name, how)
+        if sym.name in taken:
+            raise InputError(f"parameter {sym.name!r} has the name of a coordinate")
+        if sym.name in out:
+            raise InputError(f"parameter {sym.name!r} is declared twice")
+        out[sym.name] = sym
+    return out
+
+
 def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
-                     extra: Mapping[str, object] | None = None) -> sp.Expr:
+                     extra: Mapping[str, object] | None = None, *,
+                     params: ParameterSpec = None) -> sp.Expr:
     """Parse ``text`` into a sympy expression using only allowed names.
 
     Parameters
@@ -142,7 +227,10 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
     symbols
         Symbols that may appear (matched by name).
     extra
-        More allowed names (parameters, user functions).
+        More allowed names (parameter symbols, user functions), by name.
+    params
+        Parameters the text may name, declared as in :func:`declare_parameters`
+        (``["a", "b"]`` or ``{"m": {"positive": True}}``).
 
     Raises
     ------
@@ -166,6 +254,8 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
     local = {str(s): s for s in symbols}
     if extra:
         local.update(extra)
+    if params is not None:
+        local.update(declare_parameters(params, reserved=[str(s) for s in symbols]))
     try:
         tree = ast.parse(src, mode="eval")
     except SyntaxError as exc:
@@ -177,9 +267,10 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
             raise ParseError(f"construct {type(node).__name__} is not allowed in {text!r}")
         if isinstance(node, ast.Name):
             if node.id.startswith("_") or (node.id not in local and node.id not in ALLOWED_FUNCTIONS):
-                allowed = sorted(set(local) | set(ALLOWED_FUNCTIONS))
                 raise ParseError(f"name {node.id!r} is not allowed in {text!r}; allowed: "
-                                 + ", ".join(allowed))
+                                 f"{', '.join(local) or '(none)'} (coordinates and declared "
+                                 "parameters; declare more with params=[...]); functions "
+                                 f"and constants: {', '.join(sorted(ALLOWED_FUNCTIONS))}")
         if isinstance(node, ast.Call) and not isinstance(node.func, ast.Name):
             raise ParseError(f"only calls of named functions are allowed in {text!r}")
         if isinstance(node, ast.Constant) and not isinstance(node.value, (int, float)):

@@ -2,16 +2,17 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import Any
 
 import sympy as sp
 
 from poissonkit._display import html_table, latex_aligned, latex_text, text_block
-from poissonkit.errors import InputError, UnknownNameError
+from poissonkit.errors import InputError, ParseError, UnknownNameError
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
 
@@ -39,6 +40,33 @@ def _param_value(name: str, value: Any) -> Any:
     return value
 
 
+def _text_names(structure: Bivector, params: Any) -> dict[str, sp.Symbol]:
+    """Names a text expression of a system may use: coordinates, then the bivector's own
+    parameters (so ``"a"`` in ``H`` is the ``a`` of the bracket), then the keys of ``params``."""
+    names = {str(c): c for c in structure.coords}
+    for e in structure.matrix:
+        for s in sorted(e.free_symbols, key=str):
+            names.setdefault(str(s), s)
+    if isinstance(params, Mapping):
+        for k in params:
+            if isinstance(k, str) and k.isidentifier() and not k.startswith("_"):
+                names.setdefault(k, sp.Symbol(k, real=True))
+    return names
+
+
+def _read(value: object, what: str, names: Callable[[], Mapping[str, sp.Symbol]]) -> sp.Expr:
+    """A sympy value as is; a text through the allow-list parser with ``names()``."""
+    if not isinstance(value, str):
+        return as_expr(value, what)
+    from poissonkit.structure.parsing import parse_expression
+
+    try:
+        return parse_expression(value, (), names())
+    except ParseError as exc:  # say which field, and that text is only ever parsed
+        raise ParseError(f"{what} (text read by parse_expression, names: coordinates, the "
+                         f"bracket's parameters and the keys of params): {exc}") from None
+
+
 @dataclass(frozen=True)
 class HamiltonianSystem:
     """``xdot = N(x) P(x) dH(x)`` with its claimed invariants.
@@ -48,7 +76,14 @@ class HamiltonianSystem:
     structure
         The Poisson bivector ``P``.
     hamiltonian
-        ``H`` as a sympy expression in ``structure.coords`` and parameters.
+        ``H`` as a sympy expression in ``structure.coords`` and parameters, or as text
+        (``"(x1**2 + x2**2)/2 + a*x3"``). Text is read by the allow-list parser
+        (:func:`~poissonkit.structure.parsing.parse_expression`, never ``eval``) and may name
+        the coordinates, the parameters of ``structure`` (the same symbols, with their
+        assumptions) and the keys of ``params``; any other name is a
+        :class:`~poissonkit.errors.ParseError` listing the allowed ones. The same holds for
+        ``multiplier``, ``casimirs``, ``integrals``, ``measure``, ``constraints`` and the
+        values of ``original``.
     multiplier
         Conformal factor ``N`` (1 for Hamiltonian systems; ``-1/g`` for the survey's body-frame
         systems, see :mod:`poissonkit.conventions`).
@@ -86,19 +121,21 @@ class HamiltonianSystem:
             raise InputError(f"HamiltonianSystem.structure must be a Bivector, got "
                              f"{type(self.structure).__name__}")
         put = object.__setattr__  # frozen dataclass
-        put(self, "hamiltonian", as_expr(self.hamiltonian, "Hamiltonian"))
-        put(self, "multiplier", as_expr(self.multiplier, "multiplier"))
+        # built on the first text only: systems given as sympy pay nothing
+        names = functools.cache(lambda: _text_names(self.structure, self.params))
+        put(self, "hamiltonian", _read(self.hamiltonian, "Hamiltonian", names))
+        put(self, "multiplier", _read(self.multiplier, "multiplier", names))
         for attr, what in (("casimirs", "Casimir"), ("integrals", "first integral")):
             items = getattr(self, attr)
             if not isinstance(items, Mapping):
                 raise InputError(f"{attr} must be a mapping name -> expression, got "
                                  f"{type(items).__name__}")
-            put(self, attr, {str(k): as_expr(v, f"{what} {k!r}") for k, v in items.items()})
+            put(self, attr, {str(k): _read(v, f"{what} {k!r}", names) for k, v in items.items()})
         if self.measure is not None:
-            put(self, "measure", as_expr(self.measure, "invariant measure"))
+            put(self, "measure", _read(self.measure, "invariant measure", names))
         if isinstance(self.constraints, (str, sp.Basic)):
             raise InputError("constraints must be a sequence of expressions")
-        put(self, "constraints", tuple(as_expr(c, "constraint") for c in self.constraints))
+        put(self, "constraints", tuple(_read(c, "constraint", names) for c in self.constraints))
         if not isinstance(self.params, Mapping):
             raise InputError(f"params must be a mapping name -> value, got "
                              f"{type(self.params).__name__}")
@@ -106,7 +143,7 @@ class HamiltonianSystem:
         if self.original is not None:
             if not isinstance(self.original, Mapping):
                 raise InputError("original must be a mapping coordinate -> expression")
-            put(self, "original", {k: as_expr(v, f"original equation for {k}")
+            put(self, "original", {k: _read(v, f"original equation for {k}", names)
                                    for k, v in self.original.items()})
 
     @property

@@ -63,3 +63,15 @@ def test_guide_pages_use_the_public_surface_only(page):
         imports = re.findall(r"^\s*(?:from|import) .*$", block, re.M)
         assert all(i.strip() in ("import poissonkit as pk", "import sympy as sp")
                    for i in imports), imports
+
+
+def test_paper_to_bracket_examples(tmp_path, monkeypatch):
+    # truths: Plank's bracket is Poisson for all a, b, c and gives the Lotka–Volterra field
+    # with H = x1 + x2 + x3; x1*x2*x3 is its Casimir at (a, b, c) = (1, -1, 1); the damped top
+    # has no Hamiltonian among its (non-)integrals
+    lines = _run_blocks(GUIDE / "paper-to-bracket.md", tmp_path, monkeypatch)
+    assert "  {x1, x2} = a*x1*x2" in lines and "  {x2, x3} = c*x2*x3" in lines
+    assert lines.count("True") >= 4                       # Jacobi, X = P dH, Casimir, found P
+    assert "[x1*x2*x3]" in lines and "True ()" in lines
+    assert any(line.startswith("H = m1**2 + m2**2/2 + m3**2/3 |") for line in lines)
+    assert "no_linear_solution True" in lines and lines[-1] == "True ok"

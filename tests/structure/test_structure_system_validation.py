@@ -50,7 +50,7 @@ def test_valid_system_converts_numbers_and_keeps_euler_equations():
     ("params", [("I1", 1.0)], InputError),
     ("casimirs", [sp.Integer(1)], InputError),
     ("constraints", "gamma**2 - 1", InputError),
-    ("hamiltonian", "m_x**2", ParseError),
+    ("hamiltonian", "m_w**2", ParseError),          # text: only known names are read
 ])
 def test_invalid_fields_raise_typed_errors(field, value, error):
     kw = {"structure": so3(), "hamiltonian": so3().coords[0] ** 2, field: value}

@@ -5,9 +5,10 @@ A JSON structure file holds a bivector in PoissonGeometry's dict format::
     {"dim": 3, "bivector": {"1,2": "x3", "1,3": "-x2", "2,3": "x1"}}
 
 with coordinates ``x1 .. xn`` (or an optional ``"coords": [...]`` list, and ``"params": [...]``
-naming symbolic parameters the entries may use). Strings are parsed with the allow-list parser,
-never evaluated. Parameters of registered entries are read as the exact rationals their texts
-mean (:func:`exact_number`).
+naming symbolic parameters the entries may use, or ``{"b": {"positive": true}}`` with
+assumptions, as ``Bivector.from_components(..., params=...)`` takes them). Strings are parsed
+with the allow-list parser, never evaluated. Parameters of registered entries are read as the
+exact rationals their texts mean (:func:`exact_number`).
 """
 
 from __future__ import annotations
@@ -75,7 +76,7 @@ def load_structure_json(source: str | Path | dict) -> tuple[str, Bivector]:
         Malformed file, unknown keys, unknown symbols or unsafe expressions.
     """
     from poissonkit.structure.bivector import Bivector
-    from poissonkit.structure.parsing import parse_expression
+    from poissonkit.structure.parsing import declare_parameters, parse_expression
 
     if isinstance(source, dict):
         data, name = source, str(source.get("name", "structure"))
@@ -119,13 +120,15 @@ def load_structure_json(source: str | Path | dict) -> tuple[str, Bivector]:
         coords = [f"{var}{i}" for i in range(1, dim + 1)]
     syms = [sp.Symbol(c, real=True) for c in coords]
     params = data.get("params", [])
-    if not isinstance(params, list) or not all(isinstance(p, str) for p in params):
-        raise InputError('"params" must be a list of names')
-    extra = {}
-    for p in params:
-        if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", p) or p in coords:
-            raise InputError(f'"params": parameter name {p!r} is not a new identifier')
-        extra[p] = sp.Symbol(p, real=True)
+    # declared as in Bivector.from_components: names, or {name: {"positive": true}}
+    if not (isinstance(params, list) and all(isinstance(p, str) for p in params)) and \
+            not (isinstance(params, dict) and all(v is None or isinstance(v, dict)
+                                                  for v in params.values())):
+        raise InputError('"params" must be a list of names or an object {name: assumptions}')
+    try:
+        extra = declare_parameters(params, reserved=coords)
+    except InputError as exc:
+        raise InputError(f'"params": {exc}') from None
     comps = {}
     for key, value in data["bivector"].items():
         i, j = _parse_key(key)
