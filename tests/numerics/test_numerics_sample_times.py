@@ -54,6 +54,8 @@ def relative(system, y):
     ("midpoint", {"step": PERIOD / 4000}, 1e-4),       # fixed step, implicit
     ("dop853", {"tol": 1e-11}, 1e-8),                  # adaptive (scipy)
     ("wisdom_holman", {"step": PERIOD / 200}, 1e-4),   # fixed step, Kepler drift
+    ("logh4", {"step": 0.02}, 1e-7),                   # time-transformed (fictitious step)
+    ("splitting4", {"step": PERIOD / 200, "options": {"adaptive": True}}, 1e-5),
 ])
 def test_states_at_requested_times_match_kepler(kepler, method, kw, err):
     system, y0 = kepler
