@@ -7,12 +7,16 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import sympy as sp
 
 from poissonkit._display import html_table, latex_aligned, text_block
 from poissonkit.errors import DimensionError, InputError, ParseError, UnknownNameError
 from poissonkit.structure._expr import as_expr, as_symbols, as_sympy
+
+if TYPE_CHECKING:
+    from poissonkit.structure.parsing import ParameterSpec
 
 # Shared with schouten, blocks, poisson_map and checks (one implementation, one error text).
 _as_symbols = as_symbols
@@ -130,7 +134,7 @@ class Bivector:
     @classmethod
     def from_components(cls, components: Mapping[tuple[int, int], object],
                         coords: Sequence[sp.Symbol | str], *, one_based: bool = True,
-                        params=None) -> Bivector:
+                        params: ParameterSpec = None) -> Bivector:
         """Build from upper-triangle components ``{(i, j): P^{ij}}``.
 
         Parameters
