@@ -291,24 +291,28 @@ def _block_casimirs(B: Bivector, vars_: list[sp.Symbol], degree: int
 
 
 def _normalise(p: PolyElement) -> PolyElement:
-    """Primitive integer (``Z[parameters]``) coefficients, positive leading coefficient (grlex).
-
-    ``p`` has leading coefficient 1 (it comes from a reduced echelon basis), so the scale factor
-    is the leading coefficient of the normal form.
-    """
+    """:func:`_primitive_form` of a generator, as a ring element."""
     R = p.ring
-    K = R.domain
-    P = sp.Poly(sp.together(p.as_expr()), *R.symbols)
-    _c, P = P.clear_denoms(convert=True)
+    lead = max(p, key=lambda m: (sum(m), m))
+    form = sp.Poly(_primitive_form(p.as_expr(), R.symbols), *R.symbols)
+    lc = form.coeff_monomial(lead)
+    return p.mul_ground(R.domain.from_sympy(lc) / p[lead])
+
+
+def _primitive_form(expr: sp.Expr, gens: Sequence[sp.Symbol]) -> sp.Expr:
+    """``expr`` scaled to primitive coefficients in ``Z[parameters]``, positive grlex leading one.
+
+    The leading coefficient (in ``gens``, grlex) is a polynomial in the parameters; its own
+    grlex leading coefficient (parameters sorted by name) is made positive.
+    """
+    num, _den = sp.fraction(sp.together(sp.expand(expr)))
+    params = sorted(num.free_symbols - set(gens), key=str)
+    _c, integer = sp.Poly(num, *gens, *params).clear_denoms(convert=True)
+    P = sp.Poly(integer.as_expr(), *gens)
     _c, P = P.primitive()
-    lc = sp.sympify(P.LC(order="grlex"))
-    if not lc.is_number:
-        lc_poly = sp.Poly(lc, *sorted(lc.free_symbols, key=str))
-        if lc_poly.LC(order="grlex") < 0:
-            lc = -lc
-    elif lc < 0:
-        lc = -lc
-    return p.mul_ground(K.from_sympy(lc) / p[max(p, key=lambda m: (sum(m), m))])
+    lc = sp.Poly(sp.sympify(P.LC(order="grlex")), *params) if params else None
+    sign = (lc.LC(order="grlex") if lc is not None else P.LC(order="grlex")) < 0
+    return sp.expand(-P.as_expr() if sign else P.as_expr())
 
 
 def find_casimirs(P, degree: int, variables: Sequence | None = None,
@@ -412,15 +416,7 @@ def _relation_symbols(n: int, P: Bivector) -> tuple[sp.Symbol, ...]:
 
 def _normal_relation(expr: sp.Expr, syms: tuple[sp.Symbol, ...]) -> sp.Expr:
     """Primitive integer coefficients, positive leading coefficient (grlex in ``C_1 > C_2 ..``)."""
-    used = [s for s in syms if expr.has(s)]
-    P = sp.Poly(sp.together(sp.expand(expr)), *used)
-    _c, P = P.clear_denoms(convert=True)
-    _c, P = P.primitive()
-    lc = sp.sympify(P.LC(order="grlex"))
-    if (lc.is_number and lc < 0) or (not lc.is_number and sp.Poly(
-            lc, *sorted(lc.free_symbols, key=str)).LC(order="grlex") < 0):
-        P = -P
-    return sp.expand(P.as_expr())
+    return _primitive_form(expr, [s for s in syms if expr.has(s)])
 
 
 def is_casimir(P, C, constraints: Sequence = ()) -> CheckResult:
