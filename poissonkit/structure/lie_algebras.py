@@ -515,7 +515,7 @@ def lie_algebra(name: str, coords: Sequence[sp.Symbol | str] | None = None) -> L
     >>> g.coords
     (m_12, m_13, m_14, m_23, m_24, m_34)
     >>> g.bivector.bracket(g.coords[0], g.coords[3])
-    -m_13
+    m_13
     >>> sorted(g.invariants())
     ['Pf(X)', 'tr(X^2)']
     """
