@@ -54,7 +54,7 @@ class Casimirs:
     Iterating yields the generators. Every polynomial Casimir of degree ``<= degree`` in the
     searched variables is a polynomial in them (for generic parameter values).
 
-    Normal form (:mod:`poissonkit.structure._casimir_basis`): monomial order ``grlex`` with the
+    Normal form (``poissonkit.structure._casimir_basis``): monomial order ``grlex`` with the
     coordinates in the order of ``P.coords``; each generator has primitive integer coefficients
     (over ``Z[parameters]`` with parameters) and a positive leading coefficient; no generator is
     a polynomial in lower-degree ones, and each is reduced against the products of lower-degree
@@ -340,7 +340,10 @@ def find_casimirs(P, degree: int, variables: Sequence | None = None,
     -------
     Casimirs
         Generators: every polynomial Casimir of degree ``<= degree`` in ``variables`` is a
-        polynomial in them, for generic parameter values.
+        polynomial in them, for generic parameter values. They are in a normal form
+        (:class:`Casimirs`; ``grlex`` on ``P.coords``, primitive integer coefficients, positive
+        leading coefficient, reduced), and ``.relations`` lists the polynomial relations among
+        them up to weight ``degree``.
 
     Notes
     -----
@@ -353,7 +356,11 @@ def find_casimirs(P, degree: int, variables: Sequence | None = None,
 
     Independent blocks are solved separately and their generators concatenated (module
     docstring). Each block keeps a generator only if it is not a polynomial in lower-degree
-    generators, so e.g. ``(gamma, gamma)**2`` is not reported at degree 4.
+    generators, so e.g. ``(gamma, gamma)**2`` is not reported at degree 4, and reduces it
+    against the products of those (``poissonkit.structure._casimir_basis``): the answer
+    depends on the span of the Casimirs only, not on the scale of ``P`` or the solver's path.
+    Relations are searched block by block (blocks have disjoint variables, so there are no
+    others).
 
     Examples
     --------
