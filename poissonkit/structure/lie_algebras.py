@@ -24,7 +24,7 @@ from functools import lru_cache
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
-from poissonkit.errors import InputError, UnknownNameError
+from poissonkit.errors import InputError, PoissonkitError, UnknownNameError
 from poissonkit.structure.bivector import Bivector, _as_symbols
 
 __all__ = ["LIE_ALGEBRA_NAMES", "LieAlgebra", "lie_algebra", "pfaffian"]
@@ -208,7 +208,8 @@ def _build(spec: _Spec, coords: Sequence[sp.Symbol | str] | None) -> LieAlgebra:
                 c[b] += w * ga
         c = {b: v for b, v in c.items() if v}
         if _add(*((v, work[b]) for b, v in c.items())) != Y:  # closure, checked exactly
-            raise AssertionError(f"{spec.name}: a commutator left the span of the basis")
+            raise PoissonkitError(f"{spec.name}: a commutator left the span of the basis "
+                                  "(the basis is not closed; please report)")
         return c
 
     brackets = []
