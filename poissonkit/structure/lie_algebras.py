@@ -449,9 +449,10 @@ def _spec(name: str) -> _Spec:
         raise UnknownNameError("Lie algebra", name, LIE_ALGEBRA_NAMES)
     fam, k = m.group(1), int(m.group(2))
     size = k + int(m.group(3)) if m.group(3) is not None else k
-    bad = size < _MIN[fam] or (fam == "sp" and k % 2)
-    if bad:
-        raise InputError(f"{name!r}: size out of range; accepted: " + ", ".join(LIE_ALGEBRA_NAMES))
+    if size < _MIN[fam] or (fam == "sp" and k % 2):
+        why = "sp(2n) takes the even matrix size 2n" if fam == "sp" and k % 2 else \
+            "size out of range"
+        raise InputError(f"{name!r}: {why}; accepted: " + ", ".join(LIE_ALGEBRA_NAMES))
     dims = {"gl": k * k, "sl": k * k - 1, "so": size * (size - 1) // 2, "sp": k * (k + 1) // 2,
             "u": k * k, "su": k * k - 1, "e": k * (k + 1) // 2, "se": k * (k + 1) // 2,
             "heisenberg": 2 * k + 1}
