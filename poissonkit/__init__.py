@@ -43,6 +43,8 @@ except PackageNotFoundError:  # running from a source tree without installation
 _LAZY: dict[str, str] = {
     # symbolic structures
     "se3": "poissonkit.structure.blocks",
+    "lie_algebra": "poissonkit.structure.lie_algebras",
+    "LieAlgebra": "poissonkit.structure.lie_algebras",
     "p_gf": "poissonkit.structure.deformed",
     "chaplygin_ball": "poissonkit.structure.deformed",
     "check_jacobi": "poissonkit.structure.jacobi",

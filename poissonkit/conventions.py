@@ -36,6 +36,46 @@ Schouten bracket and Jacobi
 * Schouten bracket of a bivector with a vector field ``[P, X] = -L_X P`` (so that ``X`` is a
   Poisson vector field iff ``[P, X] = 0``); the Lichnerowicz coboundary is ``d_P A = [P, A]``.
 
+Classical Lie algebras (``lie_algebra(name)``, ``lie_poisson(name)``)
+----------------------------------------------------------------------
+* Coordinates on ``g*`` are ``x_a = <mu, E_a>`` for the stated basis ``E_a`` of ``g`` (matrices of
+  the defining representation), and ``{x_a, x_b} = sum_c C[a][b][c] x_c`` with
+  ``[E_a, E_b] = sum_c C[a][b][c] E_c`` (the "+" Lie–Poisson bracket, as ``lie_poisson(C)``).
+* Pairing: ``mu`` is represented by the matrix ``X`` in ``g`` with
+  ``<mu, Y> = kappa Re tr(X^H Y)`` for all ``Y`` in ``g`` (``X^H = X^T`` for real algebras);
+  the standard invariants are ``tr(X^k)`` (``tr(H^k)``, ``H = -i X``, for ``u``, ``su``) and
+  the Pfaffian. ``E_ij`` is the matrix unit; indices are 1-based and joined in names
+  (``x_12``), separated for size > 9 (``x_1_12``).
+* ``gl(n)``: ``E_ij``, coordinates ``x_ij = X_ij``; ``kappa = 1``.
+* ``sl(n)``: ``E_ij`` (``i != j``) and ``E_ii - I/n`` (``i < n``); ``X`` is traceless with
+  ``X_ij = x_ij`` and ``X_nn = -(x_11 + ... + x_(n-1)(n-1))``; ``kappa = 1``.
+* ``so(p,q)`` (``so(n) = so(n,0)``; ``eta = diag(1_p, -1_q)``): ``B_ij = E_ij - eta_i eta_j E_ji``
+  (``i < j``; rotations inside a definite block, boosts ``E_ij + E_ji`` across), coordinates
+  ``m_ij``; ``X_ij = m_ij``, ``X_ji = -eta_i eta_j m_ij``; ``kappa = 1/2``; Pfaffian
+  ``Pf(X eta)``. ``so(3)`` uses the hat-map basis ``J_a`` (``J_a w = e_a x w``), coordinates
+  ``(m_x, m_y, m_z)``, ``X = hat(m)``: exactly :func:`~poissonkit.structure.so3`.
+* ``sp(2n)`` (``X^T J + J X = 0``, ``J = [[0, I], [-I, 0]]``): ``E_ij - E_(n+j)(n+i)``,
+  ``E_i(n+j) + E_j(n+i)`` and ``E_(n+i)j + E_(n+j)i`` (``i <= j``), coordinates ``a_ij``,
+  ``b_ij``, ``c_ij`` with ``X = [[a, b], [c, -a^T]]``, ``b``, ``c`` symmetric; ``kappa = 1/2``.
+* ``u(n)``, ``su(n)``: ``i (E_ij + E_ji)`` (``i <= j``; ``su``: ``2 i (E_ii - I/n)`` on the
+  diagonal, ``i < n``) and ``E_ji - E_ij`` (``i < j``), coordinates ``s_ij``, ``a_ij``; the
+  Hermitian ``H = -i X`` has ``H_ij = s_ij + i a_ij`` (``i < j``), ``H_ii = s_ii``;
+  ``kappa = 1/2``.
+* ``e(n)`` / ``se(n)``: ``(n+1) x (n+1)`` matrices ``[[R, v], [0, 0]]``: translations
+  ``T_i = E_i(n+1)`` and the rotations of ``so(n)``; ``e(n)`` puts translations first
+  (coordinates ``nu_i``, ``m_ij``; ``e(3)`` is :func:`~poissonkit.structure.e3`, ``(nu, m)``),
+  ``se(n)`` rotations first (``L_ij``, ``P_i``; ``se(3)`` is
+  :func:`~poissonkit.structure.se3`). No invariant trace form: no ``X``.
+* ``heisenberg(n)``: ``Q_i = E_1(1+i)``, ``P_i = E_(1+i)(n+2)``, ``Z = E_1(n+2)`` in
+  ``(n+2) x (n+2)`` matrices, coordinates ``q_i, p_i, z``: ``{q_i, p_j} = delta_ij z``.
+
+Casimir normal form (``find_casimirs``)
+---------------------------------------
+* Monomial order ``grlex`` with the coordinates in the order of ``P.coords``. Each generator
+  has primitive integer coefficients (``Z[parameters]`` with parameters) and a positive leading
+  coefficient, and is reduced against the products of lower-degree generators and the other
+  generators of its degree; ``relations`` are polynomials in ``C_1, C_2, ...`` in the same form.
+
 Rigid bodies and N-body states
 ------------------------------
 * A symmetric top carries ``(nu, m)``: unit symmetry axis and angular momentum, both in the

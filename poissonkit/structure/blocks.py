@@ -38,17 +38,30 @@ def canonical(n: int, q: str = "q", p: str = "p") -> Bivector:
 
 
 def lie_poisson(structure_constants, coords: Sequence[sp.Symbol | str] | None = None) -> Bivector:
-    """Lie–Poisson bivector ``{x_i, x_j} = sum_k C[i][j][k] x_k``.
+    """Lie–Poisson bivector ``{x_i, x_j} = sum_k C[i][j][k] x_k``, or of a classical algebra by name.
 
     Parameters
     ----------
     structure_constants
         Nested sequence ``C[i][j][k]`` of shape ``(n, n, n)``, antisymmetric in ``i, j``.
         The Jacobi identity of the Lie algebra is *not* assumed; check it with
-        :func:`poissonkit.structure.check_jacobi`.
+        :func:`poissonkit.structure.check_jacobi`. Or the name of a classical algebra,
+        ``"so(5)"``, ``"sl(4)"``, ``"so(3,1)"``, ... (see
+        :func:`poissonkit.structure.lie_algebras.lie_algebra` for the names, bases and
+        coordinates; ``"so(3)"``, ``"e(3)"``, ``"se(3)"`` give :func:`so3`, :func:`e3`,
+        :func:`se3`).
     coords
-        Coordinate names (default ``x_1 .. x_n``).
+        Coordinate names (default ``x_1 .. x_n``, or the algebra's own names).
+
+    Examples
+    --------
+    >>> lie_poisson("so(3)") == so3()
+    True
     """
+    if isinstance(structure_constants, str):
+        from poissonkit.structure.lie_algebras import lie_algebra
+
+        return lie_algebra(structure_constants, coords).bivector
     try:
         # strict: strings are refused, never evaluated
         C = [[[sp.sympify(c, strict=True) for c in row] for row in mat] for mat in structure_constants]

@@ -25,10 +25,13 @@ from itertools import combinations_with_replacement
 
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
+from sympy.polys.orderings import grlex
+from sympy.polys.rings import PolyElement, PolyRing
 
 from poissonkit.errors import (
     InputError,
 )
+from poissonkit.structure._casimir_basis import reduced_generators, relations
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.checks import CheckResult
 from poissonkit.structure.zerotest import _as_exprs, _Atomizer, _expr, _vanishing
@@ -46,28 +49,44 @@ __all__ = [
 # ---------------------------------------------------------------------------------- Casimirs
 @dataclass(frozen=True)
 class Casimirs:
-    """Generators of the polynomial Casimirs of ``P`` up to a degree.
+    """Generators of the polynomial Casimirs of ``P`` up to a degree, in a normal form.
 
     Iterating yields the generators. Every polynomial Casimir of degree ``<= degree`` in the
     searched variables is a polynomial in them (for generic parameter values).
 
+    Normal form (``poissonkit.structure._casimir_basis``): monomial order ``grlex`` with the
+    coordinates in the order of ``P.coords``; each generator has primitive integer coefficients
+    (over ``Z[parameters]`` with parameters) and a positive leading coefficient; no generator is
+    a polynomial in lower-degree ones, and each is reduced against the products of lower-degree
+    generators and against the other generators of its degree (no leading monomial of those
+    occurs in it). Lowest degree first, then by leading monomial, largest first; the generators
+    of independent blocks of ``P`` follow the order of the blocks.
+
     Attributes
     ----------
     generators
-        The generators, each with a leading coefficient 1 on its first monomial (lowest degree
-        first).
+        The generators.
     degree
         The degree searched.
     variables
         The variables the Casimirs were allowed to depend on.
     note
         Method remarks.
+    symbols
+        One symbol per generator (``C_1, C_2, ...``), the variables of :attr:`relations`.
+    relations
+        Polynomials ``R(C_1, ..., C_r)`` with ``R(generators) = 0`` identically, of weight
+        ``<= degree`` (``C_k`` weighs the degree of its generator), in the same normal form;
+        relations that follow from lower ones are left out. Empty when the generators are
+        algebraically independent up to that weight.
     """
 
     generators: tuple[sp.Expr, ...]
     degree: int
     variables: tuple[sp.Symbol, ...]
     note: str = ""
+    symbols: tuple[sp.Symbol, ...] = ()
+    relations: tuple[sp.Expr, ...] = ()
 
     def __iter__(self):
         return iter(self.generators)
@@ -250,7 +269,9 @@ def _nullspace(A: DomainMatrix) -> DomainMatrix:
     return DomainMatrix(out, (N.shape[0], ncols), K)
 
 
-def _block_casimirs(B: Bivector, vars_: list[sp.Symbol], degree: int) -> list[sp.Expr]:
+def _block_casimirs(B: Bivector, vars_: list[sp.Symbol], degree: int
+                    ) -> tuple[list[PolyElement], list[int]]:
+    """Reduced, normalised generators of one block (ring elements over ``B.coords``), degrees."""
     pos = [B.coords.index(v) for v in vars_]
     monos: list[tuple[int, ...]] = []
     for k in range(1, degree + 1):
@@ -262,75 +283,36 @@ def _block_casimirs(B: Bivector, vars_: list[sp.Symbol], degree: int) -> list[sp
     A = _kernel_matrix(B, monos)
     null = _nullspace(A)
     if null.shape[0] == 0:
-        return []
-    # degree-adapted basis: columns ordered by degree (highest first), then rref; a row's
-    # pivot then carries its true degree and rows of degree <= k span the Casimirs of degree <= k
-    order = sorted(range(len(monos)), key=lambda a: -sum(monos[a]))
-    R, _piv = null.extract(list(range(null.shape[0])), order).rref()
-    dense = R.to_Matrix()
-    exprs = [sp.Mul(*[c ** e for c, e in zip(B.coords, monos[a])]) for a in order]
-    rows = []
-    for r in range(dense.rows):
-        vec = list(dense.row(r))
-        nz = [c for c, v in enumerate(vec) if v != 0]
-        if not nz:
-            continue
-        poly = sp.Add(*[vec[c] * exprs[c] for c in nz])
-        rows.append((sum(monos[order[nz[0]]]), poly))
-    rows.sort(key=lambda t: t[0])
-    # keep only those that are not polynomials in lower-degree generators
-    gens_out: list[tuple[int, sp.Expr]] = []
-    for deg, poly in rows:
-        if not _in_span(poly, _products(gens_out, deg), vars_):
-            gens_out.append((deg, _normalise(poly, vars_)))
-    return [p for _d, p in gens_out]
+        return [], []
+    K = null.domain
+    R = PolyRing(B.coords, K, grlex)
+    rows = [R({monos[c]: v for c, v in d.items() if v}) for d in null.rep.to_sdm().values()]
+    return reduced_generators(rows, _normalise)
 
 
-def _products(gens: list[tuple[int, sp.Expr]], max_deg: int) -> list[sp.Expr]:
-    out: list[sp.Expr] = []
-
-    def rec(start: int, deg: int, acc: sp.Expr) -> None:
-        for k in range(start, len(gens)):
-            d, g = gens[k]
-            if deg + d <= max_deg:
-                prod = sp.expand(acc * g)
-                out.append(prod)
-                rec(k, deg + d, prod)
-
-    rec(0, 0, sp.Integer(1))
-    return out
+def _normalise(p: PolyElement) -> PolyElement:
+    """:func:`_primitive_form` of a generator, as a ring element."""
+    R = p.ring
+    lead = max(p, key=lambda m: (sum(m), m))
+    form = sp.Poly(_primitive_form(p.as_expr(), R.symbols), *R.symbols)
+    lc = form.coeff_monomial(lead)
+    return p.mul_ground(R.domain.from_sympy(lc) / p[lead])
 
 
-def _in_span(poly: sp.Expr, products: list[sp.Expr], vars_) -> bool:
-    if not products:
-        return False
-    polys = [sp.Poly(p, *vars_) for p in products + [poly]]
-    monos = sorted({m for p in polys for m in p.monoms()})
-    idx = {m: k for k, m in enumerate(monos)}
-    rows = []
-    for p in polys:
-        r = [sp.Integer(0)] * len(monos)
-        for m, c in p.terms():
-            r[idx[m]] = c
-        rows.append(r)
-    M = sp.Matrix(rows)
-    flat = list(M)
-    dom, conv = sp.construct_domain(flat, field=True)
-    D = DomainMatrix([conv[i * len(monos):(i + 1) * len(monos)] for i in range(len(rows))],
-                     M.shape, dom)
-    full = D.rank()
-    base = DomainMatrix([conv[i * len(monos):(i + 1) * len(monos)] for i in range(len(rows) - 1)],
-                        (len(rows) - 1, len(monos)), dom).rank()
-    return full == base
+def _primitive_form(expr: sp.Expr, gens: Sequence[sp.Symbol]) -> sp.Expr:
+    """``expr`` scaled to primitive coefficients in ``Z[parameters]``, positive grlex leading one.
 
-
-def _normalise(poly: sp.Expr, vars_) -> sp.Expr:
-    """Readable form: clear parameter denominators, leading coefficient +1 where possible."""
-    p = sp.Poly(poly, *vars_)
-    _content, prim = p.primitive() if p.domain.is_Ring or p.domain.has_assoc_Ring else (1, p)
-    expr = sp.together(prim.as_expr())
-    num, _den = sp.fraction(expr)
-    return sp.expand(num) if num.free_symbols & set(vars_) else sp.expand(expr)
+    The leading coefficient (in ``gens``, grlex) is a polynomial in the parameters; its own
+    grlex leading coefficient (parameters sorted by name) is made positive.
+    """
+    num, _den = sp.fraction(sp.together(sp.expand(expr)))
+    params = sorted(num.free_symbols - set(gens), key=str)
+    _c, integer = sp.Poly(num, *gens, *params).clear_denoms(convert=True)
+    P = sp.Poly(integer.as_expr(), *gens)
+    _c, P = P.primitive()
+    lc = sp.Poly(sp.sympify(P.LC(order="grlex")), *params) if params else None
+    sign = (lc.LC(order="grlex") if lc is not None else P.LC(order="grlex")) < 0
+    return sp.expand(-P.as_expr() if sign else P.as_expr())
 
 
 def find_casimirs(P, degree: int, variables: Sequence | None = None,
@@ -358,7 +340,10 @@ def find_casimirs(P, degree: int, variables: Sequence | None = None,
     -------
     Casimirs
         Generators: every polynomial Casimir of degree ``<= degree`` in ``variables`` is a
-        polynomial in them, for generic parameter values.
+        polynomial in them, for generic parameter values. They are in a normal form
+        (:class:`Casimirs`; ``grlex`` on ``P.coords``, primitive integer coefficients, positive
+        leading coefficient, reduced), and ``.relations`` lists the polynomial relations among
+        them up to weight ``degree``.
 
     Notes
     -----
@@ -371,7 +356,11 @@ def find_casimirs(P, degree: int, variables: Sequence | None = None,
 
     Independent blocks are solved separately and their generators concatenated (module
     docstring). Each block keeps a generator only if it is not a polynomial in lower-degree
-    generators, so e.g. ``(gamma, gamma)**2`` is not reported at degree 4.
+    generators, so e.g. ``(gamma, gamma)**2`` is not reported at degree 4, and reduces it
+    against the products of those (``poissonkit.structure._casimir_basis``): the answer
+    depends on the span of the Casimirs only, not on the scale of ``P`` or the solver's path.
+    Relations are searched block by block (blocks have disjoint variables, so there are no
+    others).
 
     Examples
     --------
@@ -401,6 +390,7 @@ def find_casimirs(P, degree: int, variables: Sequence | None = None,
             raise InputError(f"P contains symbols {sorted(extra)} that are neither coordinates "
                              f"nor listed in params={sorted(allowed)}")
     gens: list[sp.Expr] = []
+    rels: list[tuple[int, dict]] = []  # (index of the block's first generator, relation)
     var_set = set(vars_)
     for idx in _blocks(P):
         B = _sub(P, idx)
@@ -410,9 +400,30 @@ def find_casimirs(P, degree: int, variables: Sequence | None = None,
         if B.dim % 2 == 0 and not any(e.free_symbols for e in B.matrix) \
                 and B.matrix.det() != 0:
             continue  # constant non-degenerate block (e.g. a canonical pair): no Casimirs
-        gens.extend(_block_casimirs(B, bvars, degree))
+        block, degs = _block_casimirs(B, bvars, degree)
+        # blocks have disjoint variables, so relations are those of each block
+        rels.extend((len(gens), r) for r in relations(block, degs, degree))
+        gens.extend(p.as_expr() for p in block)
+    syms = _relation_symbols(len(gens), P)
+    rel_exprs = tuple(_normal_relation(sp.Add(*[
+        c * sp.Mul(*[syms[first + k] ** a for k, a in enumerate(e)]) for e, c in r.items()]),
+        syms) for first, r in rels)
     note = "blocks solved separately; non-polynomial entries handled as in find_casimirs Notes"
-    return Casimirs(tuple(gens), degree, tuple(vars_), note)
+    return Casimirs(tuple(gens), degree, tuple(vars_), note, syms, rel_exprs)
+
+
+def _relation_symbols(n: int, P: Bivector) -> tuple[sp.Symbol, ...]:
+    """``C_1 .. C_n``, prefixed with underscores while a name clashes with ``P``'s symbols."""
+    taken = set(P.names) | {str(s) for e in P.matrix for s in e.free_symbols}
+    base = "C"
+    while any(f"{base}_{k + 1}" in taken for k in range(n)):
+        base = "_" + base
+    return tuple(sp.Symbol(f"{base}_{k + 1}") for k in range(n))
+
+
+def _normal_relation(expr: sp.Expr, syms: tuple[sp.Symbol, ...]) -> sp.Expr:
+    """Primitive integer coefficients, positive leading coefficient (grlex in ``C_1 > C_2 ..``)."""
+    return _primitive_form(expr, [s for s in syms if expr.has(s)])
 
 
 def is_casimir(P, C, constraints: Sequence = ()) -> CheckResult:
