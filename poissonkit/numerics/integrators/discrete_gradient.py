@@ -15,8 +15,10 @@ bracket (constant, linear, quadratic, rational) and any multiplier ``N``. Both c
   degree is read from the symbolic ``H``).
 * ``"gonzalez"`` — the midpoint discrete gradient ``∇̄H = ∇H(x̄) + (H(x') − H(x) − ∇H(x̄)·Δ)
   Δ/|Δ|²``, ``Δ = x' − x`` (Gonzalez, J. Nonlinear Sci. 6 (1996) 449), exact for any ``H``
-  (roots, quotients, logarithms). The energy values entering it are those of the stored states,
-  so the energy differences telescope exactly.
+  (roots, quotients, logarithms). ``H(x)`` in it is taken as the run's initial energy, equal
+  to it in exact arithmetic: the computed ``H`` moves in steps of an ulp between neighbouring
+  doubles, and with the computed ``H(x)`` those steps would add up as a random walk
+  (``ε|H|√n`` after ``n`` steps); against the fixed level they do not add up.
 
 ``"auto"`` takes ``"avf"`` for polynomial ``H`` and ``"gonzalez"`` otherwise.
 
@@ -135,8 +137,8 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
     remember, check = step_end_kernels(ks)
 
     @jit
-    def run(y, c, t0, h, n_total, tol, maxiter, newton, nodes, weights, data, work, save_every,
-            step0, max_steps, out_t, out_y, contact, escape, watch, back1, back2, hist):
+    def run(y, c, t0, h, n_total, tol, maxiter, newton, nodes, weights, href, data, work,
+            save_every, step0, max_steps, out_t, out_y, contact, escape, watch, back1, back2, hist):
         n = y.shape[0]
         f = np.empty(n)
         D = np.empty(n)
@@ -152,7 +154,6 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
         delta = np.empty(n)
         nsave = 0
         nfev = 0
-        H0 = 0.0
         track = contact > 0.0 or escape > 0.0 or watch > 0.0
         for k in range(max_steps):
             gstep = step0 + k + 1
@@ -162,9 +163,6 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
             nfev += 1
             for i in range(n):
                 D[i] = h * f[i]
-            if gz:
-                grad(y, g)
-                H0 = g[0]
             ok = False
             prev = np.inf
             for it in range(maxiter):
@@ -192,7 +190,7 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
                         dot += g[i + 1] * D[i]
                         dd += D[i] * D[i]
                     if dd > 0.0:
-                        corr = (H1 - H0 - dot) / dd
+                        corr = (H1 - href - dot) / dd
                         for i in range(n):
                             gb[i] += corr * D[i]
                 else:
@@ -345,7 +343,12 @@ class DiscreteGradient:
         rows = min(n_total // save_every + 2, 4096)
         scratch = SaveBuffer(y.size, 4)
         no_hist = np.zeros(5)
-        args = (itol, self.max_iterations, newton, nodes, weights, data, work)
+        # Gonzalez: H(x) of every step is the run's initial energy (equal in exact arithmetic),
+        # so the rounding of the computed energies does not add up from step to step
+        energy_grad = np.empty(y.size + 1)
+        dg.grad(y, energy_grad)
+        href = float(energy_grad[0])
+        args = (itol, self.max_iterations, newton, nodes, weights, href, data, work)
 
         def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
                   ) -> tuple[int, float, int, int, int, float]:
