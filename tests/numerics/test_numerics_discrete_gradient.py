@@ -77,10 +77,9 @@ def test_energy_is_kept_to_round_off_where_midpoint_keeps_it_to_its_order(reques
     assert np.max(np.abs(sol.y[-1] - mid.y[-1])) < 0.05
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("name", SYSTEMS)
 def test_energy_is_kept_to_round_off_over_1e5_steps(request, name):
-    cs, y0 = request.getfixturevalue(name)
+    cs, y0 = request.getfixturevalue(name)  # about a second per system once compiled
     sol = solve(cs, y0, 2000.0, DG, step=0.02, save_every=500)
     assert sol.steps == 100_000
     assert _relative_energy_drift(cs, sol.y) < 1e-13
