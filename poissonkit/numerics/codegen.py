@@ -245,7 +245,10 @@ def discrete_gradient_sources(coords: Sequence[sp.Symbol], hamiltonian: sp.Expr,
 
     * ``dg_skew(y, out)`` fills ``out`` with the ``n(n-1)/2`` entries of ``S = N P`` above the
       diagonal, row by row (the caller mirrors them, so ``S`` is skew to the last bit);
-    * ``dg_grad(y, out)`` fills ``out[0] = H`` and ``out[1:] = ∇H`` (one CSE program for both).
+    * ``dg_grad(y, out)`` fills ``out`` with ``∇H``;
+    * ``dg_energy(y, out)`` fills ``out[0] = H`` (apart from ``dg_grad``: the average vector
+      field never needs ``H``, Gonzalez's discrete gradient needs ``H`` and ``∇H`` at different
+      points).
 
     ``"degree"`` is the total degree of ``H`` when it is a polynomial in ``coords``, else
     ``"-1"``.
@@ -255,12 +258,13 @@ def discrete_gradient_sources(coords: Sequence[sp.Symbol], hamiltonian: sp.Expr,
     N = sp.sympify(multiplier)
     upper = [N * structure[i, j] if structure[i, j] != 0 else sp.Integer(0)
              for i in range(n) for j in range(i + 1, n)]
-    grad = [H, *(sp.diff(H, x) for x in coords)]
+    grad = [sp.diff(H, x) for x in coords]
     degree = polynomial_degree(H, coords)
     return {
         "dg_skew": array_source("dg_skew", coords, upper or [sp.Integer(0)],
                                 (max(len(upper), 1),)),
-        "dg_grad": array_source("dg_grad", coords, grad, (n + 1,)),
+        "dg_grad": array_source("dg_grad", coords, grad, (n,)),
+        "dg_energy": array_source("dg_energy", coords, [H], (1,)),
         "degree": str(-1 if degree is None else degree),
     }
 

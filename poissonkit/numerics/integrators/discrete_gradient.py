@@ -23,18 +23,19 @@ bracket (constant, linear, quadratic, rational) and any multiplier ``N``. Both c
 ``"auto"`` takes ``"avf"`` for polynomial ``H`` and ``"gonzalez"`` otherwise.
 
 Casimirs: a Casimir ``C`` changes by ``C(x') − C(x)``; for ``C`` linear or quadratic this is
-``∇C(x̄)·(x' − x) = h ∇C(x̄)ᵀ S(x̄) ∇̄H = 0``, so linear and quadratic Casimirs (those of every
-Lie–Poisson bracket of a quadratic Casimir, ``(γ, γ)`` and ``(γ, M)`` of the Chaplygin ball) are
-conserved to round-off, as by the implicit midpoint rule. Casimirs of higher degree or not
-polynomial (``Σ kᵢ ln xᵢ`` of a Lotka–Volterra bracket) are *not* conserved exactly: they drift
-at the method's order, ``O(h²)``. Nothing projects them back.
+``∇C(x̄)·(x' − x) = h ∇C(x̄)ᵀ S(x̄) ∇̄H = 0``, so linear and quadratic Casimirs (``|m|²`` of
+so(3), the quadratic Casimirs of any Lie–Poisson bracket, ``(γ, γ)`` and ``(γ, M)`` of the
+Chaplygin ball) are conserved to round-off, as by the implicit midpoint rule. Casimirs of higher
+degree or not polynomial (``x₁x₂x₃`` of Plank's bracket ``{xᵢ, xⱼ} = aᵢⱼ xᵢ xⱼ`` when ``a`` has
+the kernel ``(1, 1, 1)``, ``Σ kᵢ ln xᵢ`` in general) are *not* conserved exactly: they drift at
+the method's order, ``O(h²)``. Nothing projects them back.
 
 The implicit equation is solved for the increment ``D = x' − x`` by simplified Newton: the
 matrix ``I − (h/2) J(x̄)`` with the compiled field's Jacobian ``J`` at the predicted midpoint
 (the midpoint rule's matrix; it differs from the exact Jacobian by ``O(h²)``, so the iteration
 converges linearly at a rate ``O(h²)``) is factorised once per step, and the iteration runs to
-a tolerance relative to ``D``; the state is accumulated with Kahan's compensated summation, so its rounding
-does not add up over long runs. A step whose iteration does not converge raises
+a tolerance relative to ``D``. The state is accumulated with Kahan's compensated summation, so
+its rounding does not add up over long runs. A step whose iteration does not converge raises
 :class:`~poissonkit.errors.IntegrationError`.
 """
 
@@ -75,10 +76,12 @@ GRADIENTS = ("auto", "avf", "gonzalez")
 
 class DiscreteGradientKernels(NamedTuple):
     """Compiled pieces of one system: ``skew(y, out)`` (entries of ``N P`` above the diagonal),
-    ``grad(y, out)`` (``H`` then ``∇H``) and the polynomial degree of ``H`` (``-1``: none)."""
+    ``grad(y, out)`` (``∇H``), ``energy(y, out)`` (``out[0] = H``) and the polynomial degree of
+    ``H`` (``-1``: none)."""
 
     skew: CompiledFunction
     grad: CompiledFunction
+    energy: CompiledFunction
     degree: int
 
 
@@ -86,7 +89,7 @@ _kernel_cache: dict[str, DiscreteGradientKernels] = {}
 
 
 def discrete_gradient_kernels(system: HasSymbolicForm) -> DiscreteGradientKernels:
-    """The compiled ``N P`` and ``(H, ∇H)`` of ``system`` (generated once, disk-cached)."""
+    """The compiled ``N P``, ``∇H`` and ``H`` of ``system`` (generated once, disk-cached)."""
     from poissonkit.numerics.codegen import compile_source, discrete_gradient_sources
     from poissonkit.numerics.jit import load_sources, source_key, store_sources
 
@@ -102,6 +105,7 @@ def discrete_gradient_kernels(system: HasSymbolicForm) -> DiscreteGradientKernel
         store_sources(key, sources)
     hit = DiscreteGradientKernels(compile_source(sources["dg_skew"], "dg_skew"),
                                   compile_source(sources["dg_grad"], "dg_grad"),
+                                  compile_source(sources["dg_energy"], "dg_energy"),
                                   int(sources["degree"]))
     _kernel_cache[key] = hit
     return hit
@@ -171,20 +175,20 @@ def _nojac(y, data, work, out):
     return
 
 
-_runners: dict[tuple[int, int, int, bool], tuple[CompiledFunction, object]] = {}
+_runners: dict[tuple[int, int, int, int, bool], tuple[CompiledFunction, object]] = {}
 
 
 def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
             gonzalez: bool) -> CompiledFunction:
     """The compiled time loop for one system's kernels and discrete gradient (cached)."""
     ks = system.kernels
-    key = (id(ks.rhs), id(dg.skew), id(dg.grad), bool(gonzalez))
+    key = (id(ks.rhs), id(dg.skew), id(dg.grad), id(dg.energy), bool(gonzalez))
     hit = _runners.get(key)
     if hit is not None:
         return hit[0]
     rhs = ks.rhs
     jac = ks.jac if ks.jac is not None else _nojac
-    skew, grad = dg.skew, dg.grad
+    skew, grad, energy = dg.skew, dg.grad, dg.energy
     gz = bool(gonzalez)  # a compile-time constant of the loop
     remember, check = step_end_kernels(ks)
 
@@ -198,7 +202,8 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
         xs = np.empty(n)
         up = np.empty(max(n * (n - 1) // 2, 1))
         S = np.zeros((n, n))
-        g = np.empty(n + 1)
+        g = np.empty(n)
+        e1 = np.empty(1)
         gb = np.empty(n)
         G = np.empty(n)
         J = np.empty((n, n))
@@ -233,17 +238,16 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
                     # H(x') here is H(x) of the next step and the differences telescope
                     for i in range(n):
                         xs[i] = y[i] + (D[i] - c[i])
-                    grad(xs, g)
-                    H1 = g[0]
+                    energy(xs, e1)
                     grad(mid, g)
                     dot = 0.0
                     dd = 0.0
                     for i in range(n):
-                        gb[i] = g[i + 1]
-                        dot += g[i + 1] * D[i]
+                        gb[i] = g[i]
+                        dot += g[i] * D[i]
                         dd += D[i] * D[i]
                     if dd > 0.0:
-                        corr = (H1 - href - dot) / dd
+                        corr = (e1[0] - href - dot) / dd
                         for i in range(n):
                             gb[i] += corr * D[i]
                 else:
@@ -254,7 +258,7 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
                             xs[i] = y[i] + nodes[r] * D[i]
                         grad(xs, g)
                         for i in range(n):
-                            gb[i] += weights[r] * g[i + 1]
+                            gb[i] += weights[r] * g[i]
                 nfev += 1
                 for i in range(n):
                     acc = 0.0
@@ -400,9 +404,9 @@ class DiscreteGradient:
         no_hist = np.zeros(5)
         # Gonzalez: H(x) of every step is the run's initial energy (equal in exact arithmetic),
         # so the rounding of the computed energies does not add up from step to step
-        energy_grad = np.empty(y.size + 1)
-        dg.grad(y, energy_grad)
-        href = float(energy_grad[0])
+        e0 = np.empty(1)
+        dg.energy(y, e0)
+        href = float(e0[0])
         args = (itol, self.max_iterations, newton, nodes, weights, href, data, work)
 
         def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
