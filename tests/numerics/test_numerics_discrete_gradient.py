@@ -232,3 +232,30 @@ def test_a_located_event_matches_the_quadrature_time():
     assert abs(sol.events[0].time - t_star) < 1e-6  # O(h^2) trajectory error dominates
     assert abs(math.hypot(*sol.y[-1, :2]) - 0.5) < 1e-6
     assert _relative_energy_drift(cs, sol.y) < 1e-14
+
+
+@pytest.mark.slow  # two fresh processes, the first compiling everything (~1 min)
+def test_a_second_process_compiles_nothing(tmp_path):
+    # generated kernels (N P, grad H, H) and the time loop come from the disk cache
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    from poissonkit.numerics import jit as jitmod
+
+    def probe() -> dict:
+        env = {**os.environ, jitmod.CACHE_ENV: str(tmp_path)}
+        out = subprocess.run([sys.executable, str(Path(__file__).with_name(
+            "warm_start_probe.py")), "discrete_gradient"], env=env, capture_output=True,
+            text=True, timeout=600, check=False)
+        assert out.returncode == 0, out.stderr[-3000:]
+        return json.loads(out.stdout.strip().splitlines()[-1])
+
+    first = probe()
+    assert any("run" in name for name in first["compiled"])
+    second = probe()
+    assert second["compiles"] == 0, second["compiled"]
+    assert second["values"] == first["values"]
+
