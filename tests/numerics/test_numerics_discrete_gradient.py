@@ -147,6 +147,28 @@ def test_a_cubic_casimir_drifts_at_order_two(plank_lv):
     assert 3.0 <= drift[0] / drift[1] <= 5.0  # at the method's order
 
 
+@pytest.mark.parametrize("newton", [True, False])
+def test_conformal_heavy_top_with_a_quartic_term(newton):
+    # e(3) with a multiplier N != 1 and a polynomial H (average vector field, S = N P at the
+    # midpoint): H to round-off, the quadratic Casimirs (gamma, gamma), (gamma, L) too, with
+    # Newton or fixed-point iteration
+    from poissonkit.structure import e3
+
+    P = e3("gamma_M")
+    g1, g2, g3, L1, L2, L3 = P.coords
+    H = (L1**2 / 2 + L2**2 / 3 + L3**2 / 4) / 2 + g3 + (L1 * g2) ** 2 / 2
+    hs = HamiltonianSystem(P, H, multiplier=1 / (1 + g3**2 / 4),
+                           casimirs={"gamma2": g1**2 + g2**2 + g3**2,
+                                     "area": g1 * L1 + g2 * L2 + g3 * L3})
+    cs = compile_system(hs)
+    x0 = np.array([0.6, 0.0, 0.8, 1.0, -0.5, 0.3])
+    sol = solve(cs, x0, 50.0, DG, step=0.05, options={"newton": newton})
+    assert sol.extra["gradient"] == "avf" and sol.extra["newton"] is newton
+    assert _relative_energy_drift(cs, sol.y) < 1e-14
+    c = cs.casimirs(sol.y)
+    assert np.max(np.abs(c - c[0])) < 1e-13
+
+
 def test_non_convergence_is_a_typed_error(quartic_so3):
     cs, y0 = quartic_so3
     with pytest.raises(IntegrationError, match="did not converge"):

@@ -194,7 +194,8 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
 
     @jit
     def run(y, c, t0, h, n_total, tol, maxiter, newton, nodes, weights, href, data, work,
-            save_every, step0, max_steps, out_t, out_y, contact, escape, watch, back1, back2, hist):
+            save_every, step0, max_steps, out_t, out_y, contact, escape, watch, back1, back2,
+            hist):
         n = y.shape[0]
         f = np.empty(n)
         D = np.empty(n)
@@ -234,8 +235,8 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
                         S[j, i] = -up[q]
                         q += 1
                 if gz:
-                    # x' exactly as the compensated update below will store it, so that
-                    # H(x') here is H(x) of the next step and the differences telescope
+                    # x' exactly as the compensated update below will store it: the level
+                    # H(x') = href is met by the stored state itself
                     for i in range(n):
                         xs[i] = y[i] + (D[i] - c[i])
                     energy(xs, e1)
@@ -291,6 +292,8 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
                     ok = True
                     break
                 # round-off floor: the correction stopped shrinking while already tiny
+                # (Gonzalez's correction divides the rounding of H by |D|: its floor is of
+                # order eps (1 + |y|), not eps |D|)
                 if dn >= prev and dn <= 1e3 * tol * (dm + 1e-2 * (1.0 + yn)):
                     ok = True
                     break
