@@ -80,12 +80,12 @@ def chaplygin():
 def discrete_gradient():
     """A short discrete-gradient run of the Chaplygin ball (its own kernels and time loop)."""
     import numpy as np
-    from poissonkit_nonholonomic.ball import chaplygin_ball
 
     from poissonkit.numerics.solver import solve
     from poissonkit.numerics.system import compile_system
+    from poissonkit.plugin import system
 
-    cs = compile_system(chaplygin_ball(1, 2, 3, 1))
+    cs = compile_system(system("nh.chaplygin_ball").build(I1=1, I2=2, I3=3, d=1))
     y0 = np.array([0.0, 0.6, 0.8, 1.0, -0.5, 0.2])
     return solve(cs, y0, 0.2, "discrete_gradient", step=0.01).y[-1]
 
