@@ -17,6 +17,7 @@ import numpy as np
 if TYPE_CHECKING:  # only for annotations: the numerics import this module
     from poissonkit.numerics.integrators.base import RawResult
     from poissonkit.numerics.integrators.driver import Control
+    from poissonkit.numerics.system import SymbolicForm
     from poissonkit.plugin.contributions import Capabilities
     from poissonkit.sweeps.scenes import RunRecord
 
@@ -208,6 +209,15 @@ class CompiledFrom(Protocol):
 
     @property
     def hamiltonian_system(self) -> object: ...
+
+
+@runtime_checkable
+class HasSymbolicForm(Protocol):
+    """A compiled system that hands out its symbolic ``ẋ = N P ∇H`` with parameter values
+    substituted (``symbolic_form()``: coordinates, ``H``, ``N``, ``P`` and a cache key), for
+    integrators that need the bracket and the Hamiltonian separately (discrete gradients)."""
+
+    def symbolic_form(self) -> SymbolicForm: ...
 
 
 @runtime_checkable

@@ -98,6 +98,12 @@ def _midpoint(**params: Option) -> Integrator:
     return ImplicitMidpoint(**params)
 
 
+def _discrete_gradient(**params: Option) -> Integrator:
+    from poissonkit.numerics.integrators.discrete_gradient import DiscreteGradient
+
+    return DiscreteGradient(**params)
+
+
 _SCIPY_PARAMS = (
     Param("atol", "float", "absolute tolerance (0 = same as tol)", 0.0),
     Param("max_step", "float", "largest step, internal time unit (0 = unlimited)", 0.0),
@@ -162,6 +168,23 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
                 Param("max_iterations", "int", "iteration limit per step", 50, positive=True),
                 Param("newton", "bool", "use Newton's method when a Jacobian exists", True)),
         factory=_midpoint, order=2, family="implicit", capabilities=caps.MIDPOINT))
+    out.append(IntegratorEntry(
+        name="discrete_gradient",
+        doc="Energy-preserving discrete-gradient method (order 2, symmetric) for any compiled "
+        "symbolic system x' = N P grad H: x' = x + h S(midpoint) grad_bar H(x, x') with the "
+        "average vector field (exact Gauss-Legendre quadrature, polynomial H) or Gonzalez's "
+        "midpoint discrete gradient (any H); H conserved to round-off, linear and quadratic "
+        "Casimirs too, other Casimirs to O(h^2). Cohen & Hairer 2011; McLachlan, Quispel & "
+        "Robidoux 1999.",
+        params=(Param("gradient", "str", "discrete gradient: auto (avf for polynomial H, else "
+                      "gonzalez), avf or gonzalez", "auto"),
+                Param("tol", "float", "Newton tolerance relative to the step's increment",
+                      1e-14, positive=True),
+                Param("max_iterations", "int", "iteration limit per step", 50, positive=True),
+                Param("newton", "bool", "Newton's method with the field's Jacobian at the "
+                      "midpoint (else fixed-point iteration)", True)),
+        factory=_discrete_gradient, order=2, family="implicit",
+        capabilities=caps.DISCRETE_GRADIENT))
     for method, order, doc in (
             ("RK45", 5, "scipy solve_ivp RK45 (Dormand–Prince 5(4)), adaptive; baseline."),
             ("DOP853", 8, ("scipy solve_ivp DOP853 (Dormand–Prince 8(5,3)), adaptive; "

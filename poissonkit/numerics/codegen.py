@@ -230,6 +230,45 @@ def jacobian_source(name: str, inputs: Sequence[sp.Symbol], outputs: Sequence[sp
     return program_source(name, args, program, jac, (len(outputs), n))
 
 
+def polynomial_degree(expr: sp.Expr, coords: Sequence[sp.Symbol]) -> int | None:
+    """Total degree of ``expr`` as a polynomial in ``coords``, or ``None`` if it is not one
+    (roots, quotients, transcendental functions of the coordinates)."""
+    e = sp.sympify(expr)
+    if not e.is_polynomial(*coords):
+        return None
+    return int(sp.Poly(e, *coords).total_degree()) if e.free_symbols & set(coords) else 0
+
+
+def discrete_gradient_sources(coords: Sequence[sp.Symbol], hamiltonian: sp.Expr,
+                              multiplier: sp.Expr, structure: sp.Matrix) -> dict[str, str]:
+    """Sources of the kernels of a discrete-gradient method for ``ẋ = N P ∇H``.
+
+    * ``dg_skew(y, out)`` fills ``out`` with the ``n(n-1)/2`` entries of ``S = N P`` above the
+      diagonal, row by row (the caller mirrors them, so ``S`` is skew to the last bit);
+    * ``dg_grad(y, out)`` fills ``out`` with ``∇H``;
+    * ``dg_energy(y, out)`` fills ``out[0] = H`` (apart from ``dg_grad``: the average vector
+      field never needs ``H``, Gonzalez's discrete gradient needs ``H`` and ``∇H`` at different
+      points).
+
+    ``"degree"`` is the total degree of ``H`` when it is a polynomial in ``coords``, else
+    ``"-1"``.
+    """
+    n = len(coords)
+    H = sp.sympify(hamiltonian)
+    N = sp.sympify(multiplier)
+    upper = [N * structure[i, j] if structure[i, j] != 0 else sp.Integer(0)
+             for i in range(n) for j in range(i + 1, n)]
+    grad = [sp.diff(H, x) for x in coords]
+    degree = polynomial_degree(H, coords)
+    return {
+        "dg_skew": array_source("dg_skew", coords, upper or [sp.Integer(0)],
+                                (max(len(upper), 1),)),
+        "dg_grad": array_source("dg_grad", coords, grad, (n,)),
+        "dg_energy": array_source("dg_energy", coords, [H], (1,)),
+        "degree": str(-1 if degree is None else degree),
+    }
+
+
 def compile_source(source: str, name: str, namespace: dict | None = None):
     """Execute generated ``source`` and return the compiled function ``name`` (disk-cached,
     see :mod:`poissonkit.numerics.jit`)."""

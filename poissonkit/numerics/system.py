@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 import sympy as sp
@@ -65,6 +65,28 @@ def _parameter_value(name: str, value: object) -> float:
     if not math.isfinite(v):
         raise InputError(f"parameter {name!r} must be finite, got {value!r}")
     return v
+
+
+class SymbolicForm(NamedTuple):
+    """``ẋ = N P ∇H`` of a compiled system with its parameter values substituted.
+
+    Attributes
+    ----------
+    coords
+        Coordinate symbols in state order.
+    hamiltonian, multiplier
+        ``H`` and ``N`` (sympy expressions in ``coords`` only).
+    structure
+        The bivector's matrix ``P`` (sympy, in ``coords`` only).
+    key
+        Cache key of the compiled system's generated sources (derived kernels extend it).
+    """
+
+    coords: tuple[sp.Symbol, ...]
+    hamiltonian: sp.Expr
+    multiplier: sp.Expr
+    structure: sp.Matrix
+    key: str
 
 
 class CompiledSystem:
@@ -203,6 +225,14 @@ class CompiledSystem:
             check_free_symbols(X + [H], coords, self._what)
             self._X = X
         return self._X
+
+    def symbolic_form(self) -> SymbolicForm:
+        """``(coords, H, N, P, key)`` with this system's parameter values substituted (see
+        :class:`SymbolicForm`); for integrators that need ``P`` and ``∇H`` separately."""
+        hsys = self.hamiltonian_system
+        return SymbolicForm(self._coords, self._prep(hsys.hamiltonian),
+                            self._prep(hsys.multiplier),
+                            hsys.structure.matrix.xreplace(self._subs), self._key)
 
     def work(self) -> tuple[np.ndarray, ...]:
         """Scratch arrays for the kernels."""
@@ -390,4 +420,4 @@ def compile_system(hsys: HamiltonianSystem, params: Mapping[str, object] | None 
     return hit
 
 
-__all__ = ["CompiledSystem", "compile_system", "math"]
+__all__ = ["CompiledSystem", "SymbolicForm", "compile_system", "math"]

@@ -2,7 +2,7 @@
 
 Used by tests/numerics/test_numerics_warm_start.py and benchmarks/bench_warm_start.py::
 
-    python tests/numerics/warm_start_probe.py seed|cluster|chaplygin
+    python tests/numerics/warm_start_probe.py seed|cluster|chaplygin|discrete_gradient
 
 Output: ``{"case", "compiles", "compiled", "seconds", "numba_init", "plugins", "values"}`` —
 the number of numba compilations (cache loads do not count), the functions compiled, the wall
@@ -77,7 +77,21 @@ def chaplygin():
                            cs.integrals(y), [cs.energy(y)]])
 
 
-CASES = {"seed": seed, "cluster": cluster, "chaplygin": chaplygin}
+def discrete_gradient():
+    """A short discrete-gradient run of the Chaplygin ball (its own kernels and time loop)."""
+    import numpy as np
+
+    from poissonkit.numerics.solver import solve
+    from poissonkit.numerics.system import compile_system
+    from poissonkit.plugin import system
+
+    cs = compile_system(system("nh.chaplygin_ball").build(I1=1, I2=2, I3=3, d=1))
+    y0 = np.array([0.0, 0.6, 0.8, 1.0, -0.5, 0.2])
+    return solve(cs, y0, 0.2, "discrete_gradient", step=0.01).y[-1]
+
+
+CASES = {"seed": seed, "cluster": cluster, "chaplygin": chaplygin,
+         "discrete_gradient": discrete_gradient}
 
 
 def main() -> None:

@@ -23,6 +23,9 @@ TIME_TRANSFORMED = replace(COMPILED, adaptive=True, needs_splitting=True)
 #: Implicit midpoint: any compiled system.
 MIDPOINT = COMPILED
 
+#: Discrete gradient: a compiled symbolic system (``compile_system``), on the shared driver.
+DISCRETE_GRADIENT = COMPILED
+
 #: Wisdom–Holman: point masses around a dominant body.
 WISDOM_HOLMAN = replace(COMPILED, point_masses_only=True)
 
