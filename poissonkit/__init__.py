@@ -51,6 +51,13 @@ _LAZY: dict[str, str] = {
     "parse_expression": "poissonkit.structure.parsing",
     "verify": "poissonkit.structure.verification",
     "hamiltonize": "poissonkit.structure.hamiltonize",
+    # bi-Hamiltonian structures
+    "compatible": "poissonkit.structure.bihamiltonian",
+    "recursion_operator": "poissonkit.structure.bihamiltonian",
+    "pencil_casimirs": "poissonkit.structure.bihamiltonian",
+    "lenard_magri_chain": "poissonkit.structure.bihamiltonian",
+    "lenard_magri_chains": "poissonkit.structure.bihamiltonian",
+    "LenardMagriChain": "poissonkit.structure.bihamiltonian",
     # numerics
     "solve": "poissonkit.numerics.solver",
     "Solution": "poissonkit.numerics.solution",
