@@ -17,6 +17,7 @@ from poissonkit_nonholonomic.general import generalized_chaplygin, p_gf_system
 from poissonkit_nonholonomic.paraboloid import ball_on_paraboloid, ball_on_paraboloid_rank4
 from poissonkit_nonholonomic.routh import routh_sphere, routh_sphere_rank4
 from poissonkit_nonholonomic.routh_gyrostat import routh_gyrostat_rank4
+from poissonkit_nonholonomic.separation import chaplygin_spheroconical
 from poissonkit_nonholonomic.suslov import (
     suslov,
     suslov_potential,
@@ -64,6 +65,13 @@ def entries() -> list[SystemEntry]:
                     _BALL + (Param("S", "vector", "gyrostatic momentum [kg m^2/s]",
                                    default=(1.0, 0.0, -1.0)),),
                     build=chaplygin_gyrostat, tags=(TAG, "rolling", "gyrostat")),
+        SystemEntry("nh.chaplygin_spheroconical",
+                    chaplygin_spheroconical.__doc__.strip().splitlines()[0],
+                    (_f("I1", 1.0, "principal moment of inertia (distinct I_i) [kg m^2]"),
+                     _f("I2", 2.0, "principal moment of inertia [kg m^2]"),
+                     _f("I3", 3.0, "principal moment of inertia [kg m^2]"),
+                     _f("d", 1.0, "m b^2: mass times the ball's radius squared [kg m^2]")),
+                    build=chaplygin_spheroconical, tags=(TAG, "rolling", "separation")),
         SystemEntry("nh.chaplygin_ball_sphere_bmf",
                     chaplygin_ball_sphere_bmf.__doc__.strip().splitlines()[0], _BALL,
                     build=chaplygin_ball_sphere_bmf, tags=(TAG, "rolling")),
