@@ -75,7 +75,7 @@ def _same_span(A, B, coords) -> bool:
 
 
 def _elementary_from_power_sums(p):
-    """Newton's identities: e_k from the power sums p_1..p_n (k e_k = sum (-1)^(i-1) e_{k-i} p_i)."""
+    """Newton's identities: e_k from the power sums (k e_k = sum (-1)^(i-1) e_{k-i} p_i)."""
     e = [sp.Integer(1)]
     for k in range(1, len(p) + 1):
         e.append(sp.expand(sum((-1) ** (i - 1) * e[k - i] * p[i - 1] for i in range(1, k + 1)) / k))
