@@ -55,6 +55,13 @@ _LAZY: dict[str, str] = {
     "hamiltonize": "poissonkit.structure.hamiltonize",
     "HamiltonizationProblem": "poissonkit.structure.hamiltonize_problem",
     "HamiltonizeResult": "poissonkit.structure.hamiltonize_result",
+    # bi-Hamiltonian structures
+    "compatible": "poissonkit.structure.bihamiltonian",
+    "recursion_operator": "poissonkit.structure.bihamiltonian",
+    "pencil_casimirs": "poissonkit.structure.bihamiltonian",
+    "lenard_magri_chain": "poissonkit.structure.bihamiltonian",
+    "lenard_magri_chains": "poissonkit.structure.bihamiltonian",
+    "LenardMagriChain": "poissonkit.structure.bihamiltonian",
     # numerics
     "solve": "poissonkit.numerics.solver",
     "Solution": "poissonkit.numerics.solution",

@@ -19,6 +19,8 @@ from poissonkit_nonholonomic.common import claim_outcome
 from poissonkit_nonholonomic.paraboloid import proposition7
 from poissonkit_nonholonomic.reduction import CHAPLYGIN_REDUCTION_CLAIMS, VESELOVA_REDUCTION_CLAIMS
 from poissonkit_nonholonomic.routh import RANK4_CLAIMS as ROUTH_RANK4_CLAIMS
+from poissonkit_nonholonomic.routh_gyrostat import GYROSTAT_RANK4_CLAIMS
+from poissonkit_nonholonomic.separation import SEPARATION_CLAIMS, SPHEROCONICAL_CLAIMS
 from poissonkit_nonholonomic.suslov import suslov_prop9, suslov_rank4_casimirs, suslov_rank4_jacobi
 
 Claim = Callable[[Any], tuple[bool, str, str]]
@@ -158,8 +160,10 @@ CLAIMS: dict[str, tuple[Claim, ...]] = {
     "nh.chaplygin_ball_sphere_bmf": (bmf_decomposition,),
     "nh.veselova": (veselova_chaplygin_equivalence, veselova_pushforward)
     + VESELOVA_REDUCTION_CLAIMS,
-    "nh.chaplygin_ball": (chaplygin_remark6,) + CHAPLYGIN_REDUCTION_CLAIMS,
+    "nh.chaplygin_ball": (chaplygin_remark6,) + CHAPLYGIN_REDUCTION_CLAIMS + SEPARATION_CLAIMS,
+    "nh.chaplygin_spheroconical": SPHEROCONICAL_CLAIMS,
     "nh.routh_sphere_rank4": ROUTH_RANK4_CLAIMS,
+    "nh.routh_gyrostat_rank4": GYROSTAT_RANK4_CLAIMS,
     "nh.ball_on_paraboloid_rank4": (proposition7,),
     "nh.suslov_rank4": (suslov_rank4_jacobi, suslov_rank4_casimirs, suslov_prop9),
 }

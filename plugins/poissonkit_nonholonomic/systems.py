@@ -16,6 +16,8 @@ from poissonkit_nonholonomic.claims import CLAIMS
 from poissonkit_nonholonomic.general import generalized_chaplygin, p_gf_system
 from poissonkit_nonholonomic.paraboloid import ball_on_paraboloid, ball_on_paraboloid_rank4
 from poissonkit_nonholonomic.routh import routh_sphere, routh_sphere_rank4
+from poissonkit_nonholonomic.routh_gyrostat import routh_gyrostat_rank4
+from poissonkit_nonholonomic.separation import chaplygin_spheroconical
 from poissonkit_nonholonomic.suslov import (
     suslov,
     suslov_potential,
@@ -63,6 +65,13 @@ def entries() -> list[SystemEntry]:
                     _BALL + (Param("S", "vector", "gyrostatic momentum [kg m^2/s]",
                                    default=(1.0, 0.0, -1.0)),),
                     build=chaplygin_gyrostat, tags=(TAG, "rolling", "gyrostat")),
+        SystemEntry("nh.chaplygin_spheroconical",
+                    chaplygin_spheroconical.__doc__.strip().splitlines()[0],
+                    (_f("I1", 1.0, "principal moment of inertia (distinct I_i) [kg m^2]"),
+                     _f("I2", 2.0, "principal moment of inertia [kg m^2]"),
+                     _f("I3", 3.0, "principal moment of inertia [kg m^2]"),
+                     _f("d", 1.0, "m b^2: mass times the ball's radius squared [kg m^2]")),
+                    build=chaplygin_spheroconical, tags=(TAG, "rolling", "separation")),
         SystemEntry("nh.chaplygin_ball_sphere_bmf",
                     chaplygin_ball_sphere_bmf.__doc__.strip().splitlines()[0], _BALL,
                     build=chaplygin_ball_sphere_bmf, tags=(TAG, "rolling")),
@@ -79,6 +88,13 @@ def entries() -> list[SystemEntry]:
                     _ROUTH + (Param("casimir", "str", "which linear integral is the Casimir: "
                            "'jellett' (P^(1)) or 'routh' (P^(2))", "jellett"),),
                     build=routh_sphere_rank4, tags=(TAG, "rolling")),
+        SystemEntry("nh.routh_gyrostat_rank4",
+                    routh_gyrostat_rank4.__doc__.strip().splitlines()[0],
+                    _ROUTH + (Param("s", "float", "axial gyrostatic momentum S = (0, 0, s) "
+                                    "[kg m^2/s]; I1 != I3", sp.Rational(3, 2)),
+                              Param("casimir", "str", "which shifted linear integral is the "
+                                    "Casimir: 'jellett' or 'routh'", "jellett")),
+                    build=routh_gyrostat_rank4, tags=(TAG, "rolling", "gyrostat")),
         SystemEntry("nh.suslov", suslov.__doc__.strip().splitlines()[0],
                     (_f("I11", 2.0, "inertia I11 [kg m^2]"), _f("I22", 1.0, "inertia I22 [kg m^2]"),
                      Param("I13", "float", "inertia I13 [kg m^2]", 0.5),

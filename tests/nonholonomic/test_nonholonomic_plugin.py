@@ -12,7 +12,7 @@ EXPECTED = {"nh.chaplygin_ball", "nh.chaplygin_gyrostat", "nh.chaplygin_ball_sph
             "nh.veselova", "nh.veselova_gyrostat", "nh.routh_sphere", "nh.suslov",
             "nh.suslov_rank2", "nh.suslov_potential", "nh.generalized_chaplygin", "nh.p_gf",
             "nh.suslov_rank4", "nh.ball_on_paraboloid", "nh.routh_sphere_rank4",
-            "nh.ball_on_paraboloid_rank4"}
+            "nh.ball_on_paraboloid_rank4", "nh.routh_gyrostat_rank4", "nh.chaplygin_spheroconical"}
 
 
 def test_plugin_loads_and_contributes_every_system():
