@@ -35,6 +35,7 @@ from poissonkit.sweeps.params import Axis, Range, design_from
 from poissonkit.sweeps.scenes import sweep_scene
 from poissonkit.sweeps.store import (
     ZarrWriter,
+    check_layout,
     check_resumable,
     create_store,
     empty_dataset,
@@ -132,6 +133,7 @@ def sweep(scene: SweepScene | str | Path,
         if path.exists() and resume:
             check_resumable(store_attrs(path), ds)
             chunks, verified = verify_store(path, shape, variables)
+            check_layout(path, ds, chunks)
             message = repair_message(path, verified.untrusted)
             if message is not None:
                 warnings.warn(message, StoreRepairWarning, stacklevel=2)

@@ -203,7 +203,7 @@ def _chunk_exists(arr: zarr.Array, coords: ChunkCoords) -> bool:
     key = arr.metadata.encode_chunk_key(coords)
     try:
         return bool(sync(arr.store.exists(f"{arr.path}/{key}")))
-    except Exception:  # noqa: BLE001 - cannot tell: call it damaged, not missing
+    except Exception:  # noqa: BLE001 - cannot tell: let the read and the checksum decide
         return True
 
 
@@ -253,12 +253,16 @@ def verify_chunk(path: Path, arrays: Mapping[str, zarr.Array], coords: ChunkCoor
     assert isinstance(sums, dict)
     blocks: dict[str, np.ndarray] = {}
     for name, arr in arrays.items():
+        # every written chunk is stored (write_empty_chunks), so a missing file is a lost chunk
+        # even when the fill value zarr would return happens to equal the stored values
+        if not _chunk_exists(arr, coords):
+            return None, MISSING_CHUNK
         try:
             block = _read_block(arr, region)
         except Exception:  # noqa: BLE001 - a decode error is a damaged chunk, not a crash
             return None, UNREADABLE_CHUNK
         if sums.get(name) != digest(block, arr.dtype):
-            return None, (CHECKSUM if _chunk_exists(arr, coords) else MISSING_CHUNK)
+            return None, CHECKSUM
         blocks[name] = block
     return blocks, None
 

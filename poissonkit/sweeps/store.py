@@ -89,6 +89,50 @@ def _quiet():
     return ctx
 
 
+def _encoding(ds: xr.Dataset, chunks: Sequence[int] | None) -> dict[str, dict[str, object]]:
+    shape = tuple(ds["completed"].shape)
+    chunks = tuple(shape) if chunks is None else tuple(int(c) for c in chunks)
+    return {name: {"chunks": chunks} for name in ds.data_vars}
+
+
+#: Attributes that may differ between a store and the sweep resuming it.
+_VOLATILE_ATTRS = ("poissonkit_version",)
+
+
+def check_layout(path: str | Path, ds: xr.Dataset, chunks: Sequence[int]) -> None:
+    """Raise :class:`InputError` unless the store's metadata (every variable's shape, dtype,
+    codecs, fill value, dimension names, attributes, and the dataset's attributes) is exactly
+    what this sweep writes: metadata altered on disk is refused, never read as a layout.
+
+    The expected metadata is made by writing the empty dataset to an in-memory Zarr store with
+    the store's chunks, so it is zarr's and xarray's own encoding, not a copy of it.
+    """
+    import zarr
+    from zarr.storage import MemoryStore
+
+    mem = MemoryStore()
+    ctx = _quiet()
+    try:
+        ds.to_zarr(mem, mode="w", encoding=_encoding(ds, chunks))
+        expected = zarr.open_group(mem, mode="r")
+    finally:
+        ctx.__exit__(None, None, None)
+    group, arrays = open_arrays(path, [str(v) for v in ds.variables], mode="r")
+    for name, arr in arrays.items():
+        if arr.metadata.to_dict() != expected[name].metadata.to_dict():
+            raise InputError(f"cannot resume: the metadata of {name!r} in the sweep store "
+                             f"{str(path)!r} differs from what this sweep writes (altered or "
+                             "damaged); start it again with overwrite (overwrite=True, "
+                             "--overwrite)")
+    have = {k: v for k, v in group.attrs.items() if k not in _VOLATILE_ATTRS}
+    want = {k: v for k, v in expected.attrs.items() if k not in _VOLATILE_ATTRS}
+    if have != want:
+        diff = sorted(k for k in {*have, *want} if have.get(k) != want.get(k))
+        raise InputError(f"cannot resume: the attributes {', '.join(diff)} of the sweep store "
+                         f"{str(path)!r} differ from this sweep's (altered or damaged); start it "
+                         "again with overwrite (overwrite=True, --overwrite)")
+
+
 def create_store(path: str | Path, ds: xr.Dataset, chunks: Sequence[int] | None = None
                  ) -> None:
     """Write the (empty) dataset as a new Zarr store, replacing any store at ``path``.
@@ -97,12 +141,9 @@ def create_store(path: str | Path, ds: xr.Dataset, chunks: Sequence[int] | None 
     """
     import zarr
 
-    shape = tuple(ds["completed"].shape)
-    chunks = tuple(shape) if chunks is None else tuple(int(c) for c in chunks)
-    encoding = {name: {"chunks": chunks} for name in ds.data_vars}
     ctx = _quiet()
     try:
-        ds.to_zarr(str(path), mode="w", encoding=encoding)
+        ds.to_zarr(str(path), mode="w", encoding=_encoding(ds, chunks))
         # created after the consolidated metadata, so xarray does not list it
         zarr.create_group(store=str(path), path=RECORDS, overwrite=True)
     finally:
