@@ -115,7 +115,9 @@ def digest(block: np.ndarray, dtype: np.dtype) -> str:
     return h.hexdigest()
 
 
-def _quiet() -> warnings.catch_warnings:
+def quiet_zarr() -> warnings.catch_warnings:
+    """Enter a warnings context that hides zarr's consolidated-metadata notice (the caller
+    exits it)."""
     ctx = warnings.catch_warnings()
     ctx.__enter__()
     # zarr format 3 warns that consolidated metadata is not in its spec yet; xarray reads it
@@ -142,7 +144,7 @@ def open_arrays(path: str | Path, variables: Iterable[str], *, mode: str = "r+"
     import zarr
 
     p = Path(path)
-    ctx = _quiet()
+    ctx = quiet_zarr()
     try:
         try:
             group = zarr.open_group(str(p), mode=mode)
@@ -170,7 +172,7 @@ def write_record(path: str | Path, coords: ChunkCoords, blocks: Mapping[str, np.
     n = int(next(iter(blocks.values())).size) if blocks else 0
     attrs = {"format": RECORD_FORMAT, "chunk": list(coords), "points": n,
              "sha256": {k: digest(v, dtypes[k]) for k, v in blocks.items()}}
-    ctx = _quiet()
+    ctx = quiet_zarr()
     try:
         zarr.create_group(store=str(path), path=f"{RECORDS}/{record_name(coords)}",
                           attributes=attrs, overwrite=True)
@@ -227,7 +229,7 @@ class Verified:
 
 
 def _read_block(arr: zarr.Array, region: Region) -> np.ndarray:
-    ctx = _quiet()
+    ctx = quiet_zarr()
     try:
         return np.asarray(arr[region])
     finally:

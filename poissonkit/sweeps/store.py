@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import json
 import math
-import warnings
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -28,6 +27,7 @@ from poissonkit.sweeps.integrity import (
     RECORDS,
     ChunkCoords,
     Region,
+    quiet_zarr,
     open_arrays,
     write_record,
 )
@@ -81,14 +81,6 @@ def empty_dataset(design: Design, outcomes: Iterable[str], attrs: Mapping[str, o
     return xr.Dataset(data, coords=coords, attrs=_clean_attrs(attrs))
 
 
-def _quiet():
-    ctx = warnings.catch_warnings()
-    ctx.__enter__()
-    # zarr format 3 warns that consolidated metadata is not in its spec yet; xarray reads it
-    warnings.filterwarnings("ignore", message=".*[Cc]onsolidated metadata.*")
-    return ctx
-
-
 def _encoding(ds: xr.Dataset, chunks: Sequence[int] | None) -> dict[str, dict[str, object]]:
     shape = tuple(ds["completed"].shape)
     chunks = tuple(shape) if chunks is None else tuple(int(c) for c in chunks)
@@ -111,7 +103,7 @@ def check_layout(path: str | Path, ds: xr.Dataset, chunks: Sequence[int]) -> Non
     from zarr.storage import MemoryStore
 
     mem = MemoryStore()
-    ctx = _quiet()
+    ctx = quiet_zarr()
     try:
         ds.to_zarr(mem, mode="w", encoding=_encoding(ds, chunks))
         expected = zarr.open_group(mem, mode="r")
@@ -141,7 +133,7 @@ def create_store(path: str | Path, ds: xr.Dataset, chunks: Sequence[int] | None 
     """
     import zarr
 
-    ctx = _quiet()
+    ctx = quiet_zarr()
     try:
         ds.to_zarr(str(path), mode="w", encoding=_encoding(ds, chunks))
         # created after the consolidated metadata, so xarray does not list it
@@ -154,7 +146,7 @@ def refresh_coords(path: str | Path, ds: xr.Dataset) -> None:
     """Rewrite the coordinate values of a resumed store from the design (they never change, so
     a damaged coordinate chunk is simply written again)."""
     _, arrays = open_arrays(path, [str(c) for c in ds.coords])
-    ctx = _quiet()
+    ctx = quiet_zarr()
     try:
         for name, arr in arrays.items():
             arr[...] = np.asarray(ds[name].values, dtype=arr.dtype)
@@ -166,7 +158,7 @@ def open_store(path: str | Path) -> xr.Dataset:
     """The dataset of an existing store, loaded into memory."""
     import xarray as xr
 
-    ctx = _quiet()
+    ctx = quiet_zarr()
     try:
         with xr.open_zarr(str(path)) as ds:
             return ds.load()
@@ -215,7 +207,7 @@ class ZarrWriter:
         status variables last, then the completion record of what was stored."""
         order = [n for n in self.variables if n not in _STATUS] + list(_STATUS)
         stored: dict[str, np.ndarray] = {}
-        ctx = _quiet()
+        ctx = quiet_zarr()
         try:
             for name in order:
                 arr = self.arrays[name]

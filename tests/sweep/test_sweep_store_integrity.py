@@ -207,3 +207,21 @@ def test_chunks_partition_the_grid(shape, target):
         assert 1 <= flat.size <= max(1, target)
         seen[flat] += 1
     assert (seen == 1).all()
+
+
+def test_a_store_without_records_is_recomputed_with_a_warning(reference, dask_client,
+                                                              tmp_path):
+    """A store as written before the records existed: one chunk per variable, no records."""
+    store = tmp_path / "old.zarr"
+    old = reference[1].copy(deep=True)
+    for v in old.variables.values():
+        v.encoding = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        old.to_zarr(store, mode="w")
+    assert zarr.open_group(str(store), mode="r")["fate"].chunks == (4, 3)
+    ds, said, ran = _resume(store, dask_client)
+    assert len(said) == 1 and "12 stored points" in said[0] and "completion record" in said[0]
+    assert ran == [12]
+    assert_same(ds, reference[1])
+    assert_same(_open(store), reference[1])
