@@ -199,14 +199,40 @@ def _read_record(path: Path, coords: ChunkCoords) -> Mapping[str, object] | None
     return attrs
 
 
-def _chunk_exists(arr: zarr.Array, coords: ChunkCoords) -> bool:
+def _stored_chunks(arr: zarr.Array) -> set[str] | None:
+    """Keys of the chunks stored for ``arr`` (``None``: the store cannot list them)."""
     from zarr.core.sync import sync
 
-    key = arr.metadata.encode_chunk_key(coords)
+    async def collect() -> set[str]:
+        return {k async for k in arr.store.list_prefix(f"{arr.path}/")}
+
     try:
-        return bool(sync(arr.store.exists(f"{arr.path}/{key}")))
+        return sync(collect())
     except Exception:  # noqa: BLE001 - cannot tell: let the read and the checksum decide
-        return True
+        return None
+
+
+class _Reader:
+    """Reads a variable's chunks: the whole array in one go when it decodes, else chunk by
+    chunk (so one damaged chunk costs only its own points)."""
+
+    def __init__(self, arr: zarr.Array) -> None:
+        self.arr = arr
+        self.keys = _stored_chunks(arr)
+        try:
+            self.full: np.ndarray | None = _read_block(arr, tuple(slice(None) for _ in arr.shape))
+        except Exception:  # noqa: BLE001 - some chunk does not decode: read them one by one
+            self.full = None
+
+    def exists(self, coords: ChunkCoords) -> bool:
+        if self.keys is None:
+            return True
+        return f"{self.arr.path}/{self.arr.metadata.encode_chunk_key(coords)}" in self.keys
+
+    def read(self, region: Region) -> np.ndarray:
+        if self.full is not None:
+            return self.full[region]
+        return _read_block(self.arr, region)
 
 
 @dataclass
@@ -236,7 +262,7 @@ def _read_block(arr: zarr.Array, region: Region) -> np.ndarray:
         ctx.__exit__(None, None, None)
 
 
-def verify_chunk(path: Path, arrays: Mapping[str, zarr.Array], coords: ChunkCoords,
+def verify_chunk(path: Path, readers: Mapping[str, _Reader], coords: ChunkCoords,
                  region: Region) -> tuple[dict[str, np.ndarray] | None, str | None]:
     """Check one chunk against its record: ``(blocks, None)`` if trusted, else
     ``(None, reason)``; ``(None, None)`` for a chunk never written."""
@@ -244,7 +270,7 @@ def verify_chunk(path: Path, arrays: Mapping[str, zarr.Array], coords: ChunkCoor
     if record is None or record == BAD_RECORD:
         # without a record, were values written here (a batch cut short, a deleted record)?
         try:
-            written = bool(np.any(_read_block(arrays["completed"], region)))
+            written = bool(np.any(readers["completed"].read(region)))
         except Exception:  # noqa: BLE001 - an unreadable chunk was written once
             written = True
         if record == BAD_RECORD:
@@ -254,16 +280,16 @@ def verify_chunk(path: Path, arrays: Mapping[str, zarr.Array], coords: ChunkCoor
     sums = record["sha256"]
     assert isinstance(sums, dict)
     blocks: dict[str, np.ndarray] = {}
-    for name, arr in arrays.items():
+    for name, reader in readers.items():
         # every written chunk is stored (write_empty_chunks), so a missing file is a lost chunk
         # even when the fill value zarr would return happens to equal the stored values
-        if not _chunk_exists(arr, coords):
+        if not reader.exists(coords):
             return None, MISSING_CHUNK
         try:
-            block = _read_block(arr, region)
+            block = reader.read(region)
         except Exception:  # noqa: BLE001 - a decode error is a damaged chunk, not a crash
             return None, UNREADABLE_CHUNK
-        if sums.get(name) != digest(block, arr.dtype):
+        if sums.get(name) != digest(block, reader.arr.dtype):
             return None, CHECKSUM
         blocks[name] = block
     return blocks, None
@@ -297,8 +323,9 @@ def verify_store(path: str | Path, shape: Sequence[int], variables: Sequence[str
                            ValueError(f"{tuple(arr.chunks)} instead of {chunks}"))
     assert chunks is not None
     out = Verified()
+    readers = {name: _Reader(arr) for name, arr in arrays.items()}
     for coords, region in chunk_regions(shape, chunks):
-        blocks, reason = verify_chunk(p, arrays, coords, region)
+        blocks, reason = verify_chunk(p, readers, coords, region)
         if blocks is not None:
             out.blocks[coords] = blocks
         elif reason is None:
