@@ -164,6 +164,29 @@ def open_arrays(path: str | Path, variables: Iterable[str], *, mode: str = "r+"
         ctx.__exit__(None, None, None)
 
 
+def ensure_records(path: str | Path) -> None:
+    """Make the group of completion records writable: a damaged or missing group document is
+    written again (the records under it are kept; each is checked on its own)."""
+    import zarr
+    from zarr.core.sync import sync
+
+    ctx = quiet_zarr()
+    try:
+        try:
+            zarr.open_group(store=str(path), path=RECORDS, mode="r")
+            return
+        except Exception:  # noqa: BLE001 - unreadable or missing: write it again below
+            pass
+        root = zarr.open_group(str(path), mode="r+")
+        try:
+            sync(root.store.delete(f"{RECORDS}/zarr.json"))
+        except Exception:  # noqa: BLE001 - already gone
+            pass
+        zarr.create_group(store=str(path), path=RECORDS, overwrite=False)
+    finally:
+        ctx.__exit__(None, None, None)
+
+
 def write_record(path: str | Path, coords: ChunkCoords, blocks: Mapping[str, np.ndarray],
                  dtypes: Mapping[str, np.dtype]) -> None:
     """Write the completion record of a chunk whose ``blocks`` are now stored in full."""

@@ -27,6 +27,7 @@ from poissonkit.sweeps.integrity import (
     RECORDS,
     ChunkCoords,
     Region,
+    ensure_records,
     quiet_zarr,
     open_arrays,
     write_record,
@@ -198,6 +199,7 @@ class ZarrWriter:
         self.path = Path(path)
         self.variables = tuple(variables)
         _, self.arrays = open_arrays(self.path, self.variables)
+        ensure_records(self.path)
         first = self.arrays[self.variables[0]]
         self.chunks = tuple(int(c) for c in first.chunks)
 

@@ -225,3 +225,14 @@ def test_a_store_without_records_is_recomputed_with_a_warning(reference, dask_cl
     assert ran == [12]
     assert_same(ds, reference[1])
     assert_same(_open(store), reference[1])
+
+
+def test_a_damaged_group_of_records_is_written_again(reference, dask_client, tmp_path):
+    """Found by the fuzz: the records' group document garbled, then a chunk lost."""
+    store = _copy(reference, tmp_path)
+    (store / RECORDS / "zarr.json").write_bytes(b"\xfb{")
+    chunk_file(store, "completed", (0, 0)).unlink()
+    ds, said, ran = _resume(store, dask_client)
+    assert_same(ds, reference[1])
+    assert_same(_open(store), reference[1])
+    assert len(said) == 1 and "3 stored points" in said[0] and ran == [12]
