@@ -9,6 +9,7 @@ Modules: :mod:`~poissonkit.sweeps.params` (design), :mod:`~poissonkit.sweeps.pat
 paths of a scene file), :mod:`~poissonkit.sweeps.scenes` (what one run is),
 :mod:`~poissonkit.sweeps.outcomes` (registry), :mod:`~poissonkit.sweeps.chaos` (MEGNO),
 :mod:`~poissonkit.sweeps.execute` (Dask), :mod:`~poissonkit.sweeps.store` (Zarr),
+:mod:`~poissonkit.sweeps.integrity` (chunk ownership, completion records, verified resume),
 :mod:`~poissonkit.sweeps.plot` (stability maps).
 """
 
@@ -20,6 +21,7 @@ from typing import TYPE_CHECKING
 
 from poissonkit.sweeps.api import sweep
 from poissonkit.sweeps.chaos import megno
+from poissonkit.sweeps.integrity import StoreRepairWarning
 from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, OUTCOMES, Outcome
 from poissonkit.sweeps.params import Axis, Design, Range, grid, parse_param
 from poissonkit.sweeps.paths import SweepPathError
@@ -42,6 +44,7 @@ def stability_map(ds: xr.Dataset, path: str | Path, *, x: str | None = None,
 
 __all__ = [
     "DEFAULT_OUTCOMES", "FATES", "OUTCOMES", "Axis", "Design", "Outcome", "Range",
-    "SweepPathError", "TomlScene", "grid", "megno", "parse_param", "stability_map", "sweep",
+    "StoreRepairWarning", "SweepPathError", "TomlScene", "grid", "megno", "parse_param",
+    "stability_map", "sweep",
     "sweep_scene",
 ]

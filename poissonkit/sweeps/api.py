@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -11,16 +12,35 @@ import numpy as np
 
 from poissonkit.contracts import SweepScene
 from poissonkit.errors import InputError
-from poissonkit.sweeps.execute import PointResult, execute, make_client, resolve_units
+from poissonkit.sweeps.execute import (
+    PointResult,
+    batch_size_for,
+    execute,
+    make_client,
+    resolve_units,
+    worker_count,
+)
+from poissonkit.sweeps.integrity import (
+    StoreRepairWarning,
+    chunk_of,
+    chunk_regions,
+    chunk_shape,
+    fill_dataset,
+    region_points,
+    repair_message,
+    verify_store,
+)
 from poissonkit.sweeps.outcomes import outcome_entries, resolve_outcomes
 from poissonkit.sweeps.params import Axis, Range, design_from
 from poissonkit.sweeps.scenes import sweep_scene
 from poissonkit.sweeps.store import (
     ZarrWriter,
+    check_layout,
     check_resumable,
     create_store,
     empty_dataset,
-    open_store,
+    refresh_coords,
+    store_attrs,
 )
 
 if TYPE_CHECKING:  # dask and xarray are imported where used
@@ -64,10 +84,14 @@ def sweep(scene: SweepScene | str | Path,
         Random design: number of points and the seed of their draw.
     resume
         Continue the sweep in ``store``: only points not completed are run (none if finished).
+        Every stored chunk is first checked against its completion record; points whose values
+        cannot be trusted (chunk missing, truncated or altered, record missing or damaged) are
+        run again, announced by a :class:`~poissonkit.sweeps.integrity.StoreRepairWarning`.
     overwrite
         Replace an existing store instead of refusing.
     batch_size
-        Runs per task (default: about 8 tasks per worker, at most 64 runs each).
+        Runs per task (default: about 8 tasks per worker, at most 64 runs each); each task
+        owns one chunk of the store (a resumed store keeps its chunks).
     retries
         Dask retries of a task that raised (a lost worker's tasks are rescheduled anyway).
     progress
@@ -101,33 +125,36 @@ def sweep(scene: SweepScene | str | Path,
              "outcomes": ",".join(names), "poissonkit_version": __version__,
              "chaos_indicator": "MEGNO from two nearby runs (shadow orbit, renormalised)"}
     ds = empty_dataset(design, names, attrs, units)
-    writer = None
-    if store is not None:
-        path = Path(store)
+    variables = [*names, "completed", "failed", "error"]
+    shape = design.shape
+    path = None if store is None else Path(store)
+    chunks: tuple[int, ...] | None = None
+    if path is not None:
         if path.exists() and resume:
-            old = open_store(path)
-            check_resumable(old, ds)
-            ds = old
+            check_resumable(store_attrs(path), ds)
+            chunks, verified = verify_store(path, shape, variables)
+            check_layout(path, ds, chunks)
+            message = repair_message(path, verified.untrusted)
+            if message is not None:
+                warnings.warn(message, StoreRepairWarning, stacklevel=2)
+            ds = fill_dataset(ds, verified, chunks)
+            refresh_coords(path, ds)
         elif path.exists() and not overwrite:
             raise InputError(f"store {str(path)!r} exists: resume it (resume=True, --resume) or "
                              "overwrite it (overwrite=True, --overwrite)")
-        else:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            create_store(path, ds)
-        writer = ZarrWriter(path, [*names, "completed", "failed", "error"])
     elif resume:
         raise InputError("resume needs a store")
 
-    shape = design.shape
     completed = np.asarray(ds["completed"].values, dtype=bool).reshape(-1)
-    todo = [(k, v) for k, v in design.points() if not completed[k]]
     total = design.size
     done = int(completed.sum())
     failures = int(np.asarray(ds["failed"].values).sum())
-    if not todo:
+    if done == total:
         return ds
-    arrays = {n: np.array(ds[n].values) for n in [*names, "completed", "failed", "error"]}
+    arrays = {n: np.array(ds[n].values) for n in variables}
     count = [done]
+    writer: ZarrWriter | None = None
+    regions: dict[tuple[int, ...], tuple[slice, ...]] = {}
 
     def on_results(results: list[PointResult]) -> None:
         flat = np.array([r[0] for r in results], dtype=np.int64)
@@ -143,15 +170,34 @@ def sweep(scene: SweepScene | str | Path,
         for n, v in values.items():
             arrays[n][index] = v
         if writer is not None:
-            writer.write(index, values)
+            assert chunks is not None
+            coords = chunk_of(int(flat[0]), shape, chunks)
+            region = regions[coords]
+            writer.write_chunk(coords, region, {n: arrays[n][region] for n in variables})
         count[0] += len(results)
         if on_batch is not None:
             on_batch(count[0], total)
 
     c, close = make_client(client, scheduler, workers)
     try:
-        execute(sc, todo, chosen, c, on_results=on_results, batch_size=batch_size,
-                retries=retries, progress=progress, total=total, done=done, failures=failures)
+        size = batch_size_for(total, worker_count(c), batch_size)
+        if chunks is None:  # a new sweep: one batch per chunk of this size
+            chunks = chunk_shape(shape, size)
+            if path is not None:
+                path.parent.mkdir(parents=True, exist_ok=True)
+                create_store(path, ds, chunks)
+        if path is not None:
+            writer = ZarrWriter(path, variables)
+        points = dict(design.points())
+        parts = []
+        for coords, region in chunk_regions(shape, chunks):
+            regions[coords] = region
+            flat = region_points(shape, region)
+            if not completed[flat].all():
+                parts.append([(int(k), points[int(k)]) for k in flat])
+        todo = [p for part in parts for p in part]
+        execute(sc, todo, chosen, c, on_results=on_results, retries=retries,
+                progress=progress, total=total, done=done, failures=failures, parts=parts)
     finally:
         close()
     for n, v in arrays.items():

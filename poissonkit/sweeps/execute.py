@@ -144,15 +144,27 @@ def make_client(client: Client | None = None, scheduler: str | None = None,
     return c, close
 
 
+def worker_count(client: Client) -> int:
+    """Number of workers the client's cluster has now (at least 1)."""
+    return max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})) or 1)
+
+
+def batch_size_for(n_points: int, n_workers: int, batch_size: int | None) -> int:
+    """Runs per batch: ``batch_size`` checked, or by default about 8 batches per worker, at
+    most 64 runs each (small enough to balance and to lose little with a dying worker)."""
+    if batch_size is None:
+        return max(1, min(64, math.ceil(n_points / (8 * max(1, n_workers)))))
+    if (isinstance(batch_size, bool) or not isinstance(batch_size, (int, np.integer))
+            or batch_size < 1):
+        raise InputError(f"batch_size must be a positive integer, got {batch_size!r}")
+    return int(batch_size)
+
+
 def batches(todo: Sequence[tuple[int, dict[str, float]]], n_workers: int,
             batch_size: int | None) -> list[list[tuple[int, dict[str, float]]]]:
-    """Split the points into batches: by default about 8 per worker, at most 64 runs each
-    (small enough to balance and to lose little with a dying worker)."""
-    if batch_size is None:
-        batch_size = max(1, min(64, math.ceil(len(todo) / (8 * max(1, n_workers)))))
-    if not isinstance(batch_size, (int, np.integer)) or batch_size < 1:
-        raise InputError(f"batch_size must be a positive integer, got {batch_size!r}")
-    return [list(todo[k:k + batch_size]) for k in range(0, len(todo), batch_size)]
+    """Split the points into consecutive batches (size from :func:`batch_size_for`)."""
+    size = batch_size_for(len(todo), n_workers, batch_size)
+    return [list(todo[k:k + size]) for k in range(0, len(todo), size)]
 
 
 def execute(scene: SweepScene, todo: Sequence[tuple[int, dict[str, float]]],
@@ -160,17 +172,19 @@ def execute(scene: SweepScene, todo: Sequence[tuple[int, dict[str, float]]],
             client: Client, *, on_results: Callable[[list[PointResult]], None],
             batch_size: int | None = None, retries: int = 2,
             progress: bool = True, total: int | None = None, done: int = 0,
-            failures: int = 0) -> None:
+            failures: int = 0,
+            parts: Sequence[Sequence[tuple[int, dict[str, float]]]] | None = None) -> None:
     """Submit the batches, hand each finished batch to ``on_results`` as it completes.
 
-    A batch whose task fails for good (after Dask's retries, or because its workers kept dying)
-    is handed over as failed points with the task's error.
+    ``parts``: the batches already formed (a sweep store's chunks); otherwise ``todo`` is split
+    by :func:`batches`. A batch whose task fails for good (after Dask's retries, or because its
+    workers kept dying) is handed over as failed points with the task's error.
     """
     from distributed import as_completed
     from tqdm.auto import tqdm
 
-    n_workers = max(1, len(client.scheduler_info(n_workers=-1).get("workers", {})) or 1)
-    parts = batches(todo, n_workers, batch_size)
+    if parts is None:
+        parts = batches(todo, worker_count(client), batch_size)
     tag = uuid.uuid4().hex[:8]
     futures = {client.submit(run_batch, scene, part, tuple(outcomes), retries=retries,
                              pure=False, key=f"sweep-{tag}-{k}"): part
