@@ -89,11 +89,24 @@ def main(args: argparse.Namespace) -> int:
         options["periods"] = args.periods
     out = Path(args.out)
     store = default_store(out)
+    import warnings
+
+    from poissonkit.sweeps import StoreRepairWarning
+
     try:
-        ds = sweep(scene, params, outcomes=args.outcomes, store=store,
-                   scheduler=args.scheduler, workers=args.workers, samples=args.random,
-                   seed=args.seed, resume=args.resume, overwrite=args.overwrite,
-                   batch_size=args.batch_size, progress=not args.no_progress, **options)
+        with warnings.catch_warnings(record=True) as repairs:
+            warnings.simplefilter("always", StoreRepairWarning)
+            ds = sweep(scene, params, outcomes=args.outcomes, store=store,
+                       scheduler=args.scheduler, workers=args.workers, samples=args.random,
+                       seed=args.seed, resume=args.resume, overwrite=args.overwrite,
+                       batch_size=args.batch_size, progress=not args.no_progress, **options)
+        for w in repairs:  # a clean line for a repaired store; other warnings as Python shows them
+            if issubclass(w.category, StoreRepairWarning):
+                import sys
+
+                print(f"poissonkit sweep: warning: {w.message}", file=sys.stderr)
+            else:
+                warnings.showwarning(w.message, w.category, w.filename, w.lineno)
     except KeyboardInterrupt:
         import sys
 
