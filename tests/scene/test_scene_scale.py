@@ -199,3 +199,13 @@ def test_set_up_memory_grows_linearly():
     small = _build_peak(6, 6, 6)
     large = _build_peak(12, 12, 6)
     assert large / small < 6.0, (small, large)
+
+
+@pytest.mark.slow
+def test_ten_thousand_body_lattice_stays_within_the_memory_estimate():
+    """The limit's own estimate (no pair held) bounds the traced peak of the build."""
+    from poissonkit.scene.limits import estimate_bytes
+
+    build_scene(loads_scene(_lattice_text(3, 3, 3)))
+    peak = _build_peak(25, 20, 20)
+    assert peak < estimate_bytes(10**4, 0), peak
