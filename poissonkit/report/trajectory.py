@@ -55,8 +55,8 @@ def _names_with(layout: tuple[str, ...], suffix: str) -> list[str]:
 def _by_body(values: np.ndarray, have: list[str], bodies: list[str]) -> np.ndarray:
     """``(time, len(have), 3)`` rows spread to ``(time, len(bodies), 3)``, NaN elsewhere."""
     out = np.full((values.shape[0], len(bodies), 3), np.nan)
-    for k, name in enumerate(have):
-        out[:, bodies.index(name)] = values[:, k]
+    column = {name: k for k, name in enumerate(bodies)}  # not bodies.index: O(N) per body
+    out[:, [column[name] for name in have]] = values[:, :len(have)]
     return out
 
 
@@ -72,7 +72,8 @@ def _body_variables(system: object, y: np.ndarray, layout: tuple[str, ...]
     if isinstance(system, HasBodies) and {"r", "p", "nu", "m"} <= set(parts):
         moving = _names_with(layout, "r_x")
         tops = _names_with(layout, "nu_x")
-        bodies = moving + [n for n in tops if n not in moving]
+        known = set(moving)
+        bodies = moving + [n for n in tops if n not in known]
         return {
             "position": (tbc, _by_body(parts["r"], moving, bodies),
                          {"units": SI_UNITS["length"], "long_name": "position"}),
