@@ -64,7 +64,8 @@ def test_uniform_graph_pair_reads_each_body_once(monkeypatch):
     bodies = bodies_of(G)
     calls = []
     original = BodyModel.attr
-    monkeypatch.setattr(BodyModel, "attr", lambda self, name: calls.append(1) or original(self, name))
+    monkeypatch.setattr(BodyModel, "attr",
+                        lambda self, name: calls.append(1) or original(self, name))
     assert uniform_graph_pair(G, bodies) is not None
     assert len(calls) <= 4 * len(bodies)
 

@@ -29,7 +29,8 @@ def _lattice_text(nx: int, ny: int, nz: int, cutoff: float | None = 0.05,
 name = "lattice"
 [assembly]
 name = "lattice"
-params = {{ nx = {nx}, ny = {ny}, nz = {nz}, spacing = {SPACING}, mass = 7.658e-4, alpha = 3.872e7, moment = {MOMENT}, axes = "{axes}", interactions = "{interactions}" }}
+params = {{ nx = {nx}, ny = {ny}, nz = {nz}, spacing = {SPACING}, mass = 7.658e-4, \
+alpha = 3.872e7, moment = {MOMENT}, axes = "{axes}", interactions = "{interactions}" }}
 [interactions]
 potential = "dipole"
 {cut}
