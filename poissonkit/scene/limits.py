@@ -79,8 +79,9 @@ def check_memory(bodies: int, pairs: int, where: str = "bodies",
 #: Body fields a magnet's parameters are derived from together (``moment`` from
 #: ``magnetization`` and the cylinder, ``half_length`` from ``length``).
 _MAGNET_FIELDS = ("moment", "magnetization", "radius", "length", "half_length")
-#: Structural edges per body that an assembly with ``interactions = "neighbours"`` holds at
-#: most (a cubic lattice: three per site).
+#: Structural edges per body that an assembly with ``interactions = "neighbours"`` holds
+#: (chains, rings and lattices at most three per site; a dense ``random_cluster`` may hold
+#: more, which the estimate does not see).
 NEIGHBOURS_PER_BODY = 3
 
 
