@@ -195,10 +195,11 @@ def _build_peak(nx: int, ny: int, nz: int) -> int:
 
 
 def test_set_up_memory_grows_linearly():
-    """Traced peak of building N = 216 and 4N = 864 bodies: about 4x (N²: 16x)."""
+    """Traced peak of building N = 1024 and 4N = 4096 bodies: about 4x (N²: 16x). Both are
+    above the 512 bodies up to which the length unit is found from the dense distance matrix."""
     build_scene(loads_scene(_lattice_text(3, 3, 3)))  # imports and registries out of the way
-    small = _build_peak(6, 6, 6)
-    large = _build_peak(12, 12, 6)
+    small = _build_peak(16, 8, 8)
+    large = _build_peak(16, 16, 16)
     assert large / small < 6.0, (small, large)
 
 
