@@ -213,11 +213,15 @@ def random_cluster(n: int, radius: float, body: Mapping[str, Any], *, seed: int 
     min_distance = _length(min_distance, "min_distance")
     rng = np.random.default_rng(seed)
     pos: list[np.ndarray] = []
+    # accepted centres hashed by cells of side min_distance: a trial is compared with the
+    # centres of its 27 neighbouring cells only (the same test, O(n) instead of O(n^2))
+    cells: dict[tuple[int, int, int], list[np.ndarray]] = {}
     for k in range(n):
         for _ in range(max_tries):
             x = rng.uniform(-radius, radius, 3)
-            if x @ x <= radius * radius and all(np.linalg.norm(x - y) >= min_distance for y in pos):
+            if x @ x <= radius * radius and _far_from(x, cells, min_distance):
                 pos.append(x)
+                cells.setdefault(_cell(x, min_distance), []).append(x)
                 break
         else:
             raise InputError(f"random_cluster: could not place body {k} of {n} with "
@@ -234,11 +238,37 @@ def random_cluster(n: int, radius: float, body: Mapping[str, Any], *, seed: int 
     _add_bodies(G, body, np.array(pos), ax)
     if interactions == "neighbours":
         # structural edges: pairs closer than twice the minimum distance
-        P = np.array(pos)
-        near = [(i, j) for i, j in itertools.combinations(range(n), 2)
-                if np.linalg.norm(P[i] - P[j]) < 2 * min_distance]
-        return _finish(G, near, interactions)
+        return _finish(G, _near_pairs(np.array(pos), 2 * min_distance), interactions)
     return _finish(G, [], interactions)
+
+
+def _cell(x: np.ndarray, side: float) -> tuple[int, int, int]:
+    # a slightly larger cell keeps two centres closer than ``side`` in neighbouring cells
+    # despite the rounding of x / side
+    c = np.floor(x / (side * (1 + 1e-9)))
+    return (int(c[0]), int(c[1]), int(c[2]))
+
+
+def _far_from(x: np.ndarray, cells: Mapping[tuple[int, int, int], list[np.ndarray]],
+              min_distance: float) -> bool:
+    """True if ``x`` is at least ``min_distance`` from every hashed centre (only centres in
+    the neighbouring cells can be closer)."""
+    cx, cy, cz = _cell(x, min_distance)
+    for key in itertools.product((cx - 1, cx, cx + 1), (cy - 1, cy, cy + 1), (cz - 1, cz, cz + 1)):
+        for y in cells.get(key, ()):
+            if not np.linalg.norm(x - y) >= min_distance:
+                return False
+    return True
+
+
+def _near_pairs(P: np.ndarray, reach: float) -> list[tuple[int, int]]:
+    """Pairs ``(i, j)``, ``i < j`` in lexicographic order, with centres closer than ``reach``
+    (candidates from a k-d tree, then the exact test)."""
+    from scipy.spatial import cKDTree
+
+    found = cKDTree(P).query_pairs(reach * (1 + 1e-9), output_type="ndarray")  # round-off margin
+    candidates = sorted((int(min(a, b)), int(max(a, b))) for a, b in found)
+    return [(i, j) for i, j in candidates if np.linalg.norm(P[i] - P[j]) < reach]
 
 
 def _count(n: Any, minimum: int = 1) -> int:

@@ -78,18 +78,22 @@ def configuration_axes(system: NBodySystem, y: np.ndarray, *, axes: Sequence | N
         _, axs = figure("Configuration at start (○) and end (●)", ncols=2, size=(10, 4.6))
         axes = axs[0]
     y = np.atleast_2d(y)
-    (rows,) = thin(y, limit=2000)  # positions of every row of a large system would not fit
+    # positions of every row of a large system would not fit: at most ~2e6 body positions
+    (rows,) = thin(y, limit=_row_limit(2000, len(system.bodies)))
     path = positions_si(system, rows) * _MM
     pos = positions_si(system, y[[0, -1]]) * _MM
     ends = {"start": _axes_of(system, y[0]), "end": _axes_of(system, y[-1])}
     span = float(np.ptp(np.concatenate([path, pos]).reshape(-1, 3), axis=0).max()) or 1.0
     named = len(system.bodies) <= MAX_NAMED
     colors = [f"C{i % 10}" for i in range(len(system.bodies))]
+    shown = _drawn(len(system.bodies))
+    first_fixed = _first_fixed(system)
     for ax, (a, b), plane in zip(axes, ((0, 1), (0, 2)), ("xy", "xz")):
-        for i, body in enumerate(system.bodies):
+        for i in shown:
+            body = system.bodies[i]
             if body.fixed:
                 ax.plot(pos[0, i, a], pos[0, i, b], "s", color="k", markersize=7, zorder=4,
-                        label="fixed" if i == _first_fixed(system) else None)
+                        label="fixed" if i == first_fixed else None)
             else:
                 ax.plot(path[:, i, a], path[:, i, b], color="0.7", linewidth=0.6)
                 ax.plot(pos[0, i, a], pos[0, i, b], "o", markerfacecolor="none",
@@ -100,7 +104,7 @@ def configuration_axes(system: NBodySystem, y: np.ndarray, *, axes: Sequence | N
                             xytext=(4, 4), textcoords="offset points")
         nu = ends["end"]
         if nu:
-            idx = sorted(nu)
+            idx = sorted(set(nu) & set(shown))
             vec = np.array([nu[i] for i in idx]) * 0.08 * span
             ax.quiver(pos[-1, idx, a], pos[-1, idx, b], vec[:, a], vec[:, b], angles="xy",
                       scale_units="xy", scale=1, color="tab:red", width=0.004,
@@ -112,6 +116,23 @@ def configuration_axes(system: NBodySystem, y: np.ndarray, *, axes: Sequence | N
         if ax.get_legend_handles_labels()[0]:  # point masses, none fixed: nothing to explain
             ax.legend(loc="best", fontsize=7)
     return axes
+
+
+#: Most bodies drawn in the configuration figure (evenly spread over the bodies beyond it:
+#: a figure of 10⁵ bodies draws in bounded time and memory).
+MAX_DRAWN = 2000
+
+
+def _row_limit(limit: int, bodies: int) -> int:
+    """Rows a figure reads: ``limit``, fewer for many bodies (about 2e6 positions at most)."""
+    return max(2, min(limit, 2_000_000 // max(bodies, 1)))
+
+
+def _drawn(n: int) -> list[int]:
+    """Indices of the bodies drawn: all up to :data:`MAX_DRAWN`, else that many spread evenly."""
+    if n <= MAX_DRAWN:
+        return list(range(n))
+    return sorted({int(k) for k in np.linspace(0, n - 1, MAX_DRAWN)})
 
 
 def _first_fixed(system: NBodySystem) -> int:
@@ -146,7 +167,7 @@ def closest_pair_axes(system: NBodySystem, t_s: np.ndarray, y: np.ndarray, *,
     matplotlib.axes.Axes
     """
     ax = ax if ax is not None else figure("Closest pair")[1]
-    t_s, yy = thin(np.asarray(t_s), np.atleast_2d(y), limit=4000)
+    t_s, yy = thin(np.asarray(t_s), np.atleast_2d(y), limit=_row_limit(4000, len(system.bodies)))
     d, pair = closest_pair(positions_si(system, yy))
     ax.plot(t_s, d * _MM, color="tab:blue", linewidth=0.9, label="closest-pair distance")
     if shapes:
@@ -198,7 +219,7 @@ def energy_partition(system: NBodySystem, y: np.ndarray) -> dict[str, np.ndarray
 def energy_partition_axes(system: NBodySystem, t_s: np.ndarray, y: np.ndarray, *, ax=None):
     """Energy partition against time [J]; returns the Axes."""
     ax = ax if ax is not None else figure("Energy partition")[1]
-    t_s, yy = thin(np.asarray(t_s), np.atleast_2d(y), limit=4000)
+    t_s, yy = thin(np.asarray(t_s), np.atleast_2d(y), limit=_row_limit(4000, len(system.bodies)))
     parts = energy_partition(system, yy)
     styles = {"translational": ("tab:blue", "-"), "rotational": ("tab:orange", "-"),
               "interaction": ("tab:green", "-"), "total": ("k", "--")}

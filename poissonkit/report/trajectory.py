@@ -57,8 +57,8 @@ def _names_with(layout: tuple[str, ...], suffix: str) -> list[str]:
 def _by_body(values: np.ndarray, have: list[str], bodies: list[str]) -> np.ndarray:
     """``(time, len(have), 3)`` rows spread to ``(time, len(bodies), 3)``, NaN elsewhere."""
     out = np.full((values.shape[0], len(bodies), 3), np.nan)
-    for k, name in enumerate(have):
-        out[:, bodies.index(name)] = values[:, k]
+    column = {name: k for k, name in enumerate(bodies)}  # not bodies.index: O(N) per body
+    out[:, [column[name] for name in have]] = values[:, :len(have)]
     return out
 
 
@@ -74,12 +74,15 @@ def _body_variables(system: object, y: np.ndarray, layout: tuple[str, ...]
     if isinstance(system, HasBodies) and {"r", "p", "nu", "m"} <= set(parts):
         moving = _names_with(layout, "r_x")
         tops = _names_with(layout, "nu_x")
-        fixed = [b for b in system.bodies if b.fixed and b.name not in moving + tops]
-        bodies = moving + [n for n in tops if n not in moving] + [b.name for b in fixed]
+        in_state = set(moving) | set(tops)
+        fixed = [b for b in system.bodies if b.fixed and b.name not in in_state]
+        known = set(moving)
+        bodies = moving + [n for n in tops if n not in known] + [b.name for b in fixed]
         position = _by_body(parts["r"], moving, bodies)
         axis = _by_body(parts["nu"], tops, bodies)
-        for b in fixed:  # no degrees of freedom: where the scene put them, all the time
-            k = bodies.index(b.name)
+        first_fixed = len(bodies) - len(fixed)
+        for k, b in enumerate(fixed, start=first_fixed):  # no degrees of freedom: where the
+            # scene put them, all the time
             if b.position is not None:
                 position[:, k] = b.position
             if b.axis is not None:
@@ -91,8 +94,7 @@ def _body_variables(system: object, y: np.ndarray, layout: tuple[str, ...]
                          {"units": SI_UNITS["momentum"], "long_name": "linear momentum"}),
             "axis": (tbc, axis,
                      {"units": SI_UNITS["dimensionless"], "long_name": "unit symmetry axis"}),
-            "fixed": (("body",), np.array([n in {b.name for b in fixed} for n in bodies],
-                                          dtype=np.int8),
+            "fixed": (("body",), (np.arange(len(bodies)) >= first_fixed).astype(np.int8),
                       {"units": SI_UNITS["dimensionless"],
                        "long_name": "1: a fixed body (position and axis from the scene)"}),
             "angular_momentum": (tbc, _by_body(parts["m"], tops, bodies),

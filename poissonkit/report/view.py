@@ -32,8 +32,8 @@ if TYPE_CHECKING:
 MESH_BODIES = 40
 #: Most animation frames.
 MAX_FRAMES = 150
-#: Most body positions over all frames (bounds the file size for large N).
-MAX_POINTS = 2_000_000
+#: Most body positions over all frames (bounds the file size for large N: about 25 bytes each).
+MAX_POINTS = 400_000
 #: Mesh resolution: points around a cylinder, latitude × longitude bands of a sphere.
 RING = 16
 SPHERE = (8, 14)
@@ -202,22 +202,32 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
                         [np.nan] * 3]
         return np.array(seg, dtype=float).reshape(-1, 3)
 
-    def frame_traces(f: int) -> list[go.BaseTraceType]:
+    notes = [n + (" (fixed)" if n in fixed else "")
+             + ("" if n in shapes else " (size not to scale)") for n in names]
+
+    def frame_traces(f: int, full: bool) -> list[go.BaseTraceType]:
+        """The moving traces at frame ``f``; ``full``: with everything that does not move
+        (the first frame), else coordinates only (plotly merges a frame into the traces)."""
         traces: list[go.BaseTraceType] = []
         if meshes:
             for k, n in enumerate(names):
                 v = body_mesh(k, f)
+                if not full:
+                    traces.append(go.Mesh3d(x=v[:, 0], y=v[:, 1], z=v[:, 2]))
+                    continue
                 tris = cylinder[1] if len(v) == len(cylinder[0]) else sphere[1]
                 traces.append(go.Mesh3d(
                     x=v[:, 0], y=v[:, 1], z=v[:, 2], i=tris[:, 0], j=tris[:, 1], k=tris[:, 2],
                     name=n, showlegend=True, flatshading=True, opacity=0.9,
                     color=_COLORS[k % len(_COLORS)], hoverinfo="name"))
         seg = axes_segments(f)
-        traces.append(go.Scatter3d(x=seg[:, 0], y=seg[:, 1], z=seg[:, 2], mode="lines",
+        traces.append(go.Scatter3d(x=seg[:, 0], y=seg[:, 1], z=seg[:, 2]) if not full else
+                      go.Scatter3d(x=seg[:, 0], y=seg[:, 1], z=seg[:, 2], mode="lines",
                                    name="axes", line={"color": "black", "width": 4},
                                    hoverinfo="skip", showlegend=bool(len(seg))))
-        notes = [n + (" (fixed)" if n in fixed else "")
-                 + ("" if n in shapes else " (size not to scale)") for n in names]
+        if not full:
+            traces.append(go.Scatter3d(x=pos[f, :, 0], y=pos[f, :, 1], z=pos[f, :, 2]))
+            return traces
         traces.append(go.Scatter3d(
             x=pos[f, :, 0], y=pos[f, :, 1], z=pos[f, :, 2], mode="markers", name="bodies",
             text=notes, hovertemplate="%{text}<br>x=%{x:.4g} m<br>y=%{y:.4g} m"
@@ -233,9 +243,9 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
                                       mode="lines", name=f"path of {n}", showlegend=False,
                                       line={"color": _COLORS[k % len(_COLORS)], "width": 2},
                                       hoverinfo="skip", opacity=0.5))
-    first = frame_traces(0)
+    first = frame_traces(0, full=True)
     moving = list(range(len(paths), len(paths) + len(first)))
-    frames = [go.Frame(data=frame_traces(f), traces=moving, name=str(f))
+    frames = [go.Frame(data=frame_traces(f, full=False), traces=moving, name=str(f))
               for f in range(len(times))]
     label = [f"{t:.4g} s" for t in times]
     slider = {"active": 0, "currentvalue": {"prefix": "t = "}, "pad": {"t": 30},

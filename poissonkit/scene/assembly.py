@@ -290,8 +290,36 @@ def from_graph(G: nx.Graph, cutoff: float | None = None, default_potential: str 
         Use :func:`initial_state` for the matching initial state vector.
     """
     bodies = bodies_of(G)
+    pair = uniform_graph_pair(G, bodies, default_potential, default_params)
+    if pair is not None:  # every pair alike: one AllPairs, no pair list (O(N) set-up)
+        return all_pairs_system(bodies, pair, cutoff=cutoff, scales=scales)
     pairs = pairs_of(G, bodies, default_potential, default_params)
     return system_of(bodies, pairs, cutoff=cutoff, scales=scales)
+
+
+def uniform_graph_pair(G: nx.Graph, bodies: list[BodyModel],
+                       default_potential: str | None = None,
+                       default_params: Mapping[str, ParamValue] | None = None
+                       ) -> PairSpec | None:
+    """The pair of :func:`uniform_all_pairs` when every pair of ``G`` interacts alike: ``G``
+    has no edges or all ``N(N-1)/2`` of them, none with its own data, and the graph's default
+    potential (see :func:`edges_of`) gives every pair the same parameters up to those read
+    from the bodies. ``None`` otherwise (then :func:`pairs_of` lists the pairs).
+
+    The system :func:`all_pairs_system` builds from it is the one :func:`system_of` builds
+    from the full pair list; only the set-up differs (O(N) instead of O(N²)).
+    """
+    n = G.number_of_nodes()
+    if G.is_directed() or G.is_multigraph() or G.number_of_edges() not in (0, n * (n - 1) // 2):
+        return None
+    if G.number_of_edges() and (nx.number_of_selfloops(G)
+                                or any(data for _u, _v, data in G.edges(data=True))):
+        return None
+    potential = G.graph.get("potential", default_potential)
+    if potential is None:
+        return None
+    params = {**dict(default_params or {}), **dict(G.graph.get("params") or {})}
+    return uniform_all_pairs(bodies, potential, params)
 
 
 def system_of(bodies: list[BodyModel], pairs: Sequence[PairSpec], cutoff: float | None = None,
@@ -353,10 +381,11 @@ def uniform_all_pairs(bodies: list[BodyModel], potential: str,
     """The pair (0, 1) with its resolved parameters, when every pair of ``bodies`` interacting
     through ``potential`` differs from it only in parameters read from the bodies
     (``body_params``, numbers on every body); ``None`` otherwise (fixed bodies, fewer than three
-    bodies, a parameter filled per pair by the ``<base>1``/``<base>2`` convention).
+    bodies, a parameter filled per pair by the ``<base>1``/``<base>2`` convention from an
+    attribute whose value differs between bodies).
 
     Then :func:`all_pairs_system` builds the same system as :func:`system_of` of every pair,
-    without listing the pairs.
+    without listing the pairs. The check reads each body once: O(N).
     """
     from poissonkit.plugin import potential as lookup
 
@@ -370,11 +399,18 @@ def uniform_all_pairs(bodies: list[BodyModel], potential: str,
             return None
     for param in entry.params:
         if (param.name not in given and param.name not in bound and param.name[-1:] in "12"
-                and any(b.attr(param.name[:-1]) is not None for b in bodies)):
+                and not _same_on_every_body(bodies, param.name[:-1])):
             return None
     where = f"pair ({bodies[0].name}, {bodies[1].name}): "
     return PairSpec(0, 1, potential, pair_params(entry, bodies[0], bodies[1], given,
                                                  where=where))
+
+
+def _same_on_every_body(bodies: Sequence[BodyModel], attr: str) -> bool:
+    """True if every body has the same value of ``attr`` (or none has it): then a parameter
+    ``<attr>1``/``<attr>2`` filled from the bodies is the same for every pair."""
+    first = bodies[0].attr(attr)
+    return all(b.attr(attr) == first for b in bodies)
 
 
 def all_pairs_system(bodies: list[BodyModel], pair: PairSpec, cutoff: float | None = None,

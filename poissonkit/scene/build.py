@@ -17,15 +17,25 @@ from poissonkit.scene.schema import Scene
 
 if TYPE_CHECKING:
     from poissonkit.numerics.events import Contact
+    from poissonkit.plugin.contributions import Assembly
     from poissonkit.numerics.nbody import NBodySystem
     from poissonkit.numerics.units import Scales
 
 
-def scene_graph(scene: Scene) -> nx.Graph:
+def scene_graph(scene: Scene, *, edges: bool = True) -> nx.Graph:
     """The scene's bodies (nodes) and interacting pairs (edges) as a networkx graph.
 
     Node attributes follow :mod:`poissonkit.scene.bodies`; edges carry ``potential``,
     ``params`` and ``first`` for listed pairs; ``G.graph`` holds the default potential.
+
+    Parameters
+    ----------
+    scene
+        A validated scene.
+    edges
+        ``False``: the bodies only, with no edges, built without ever holding the
+        ``N(N-1)/2`` edges of a scene (or an assembly with ``interactions = "complete"``) in
+        which every pair interacts; for callers that need the bodies alone.
     """
     from poissonkit.plugin import assembly
     from poissonkit.scene.assembly import complete
@@ -34,7 +44,10 @@ def scene_graph(scene: Scene) -> nx.Graph:
         name, params = scene.assembly
         entry = assembly(name)
         try:
-            G = entry.build(**entry.resolve_params(params))
+            resolved = entry.resolve_params(params)
+            if not edges and _joins_every_pair(entry, resolved):
+                resolved = {**resolved, "interactions": "neighbours"}
+            G = entry.build(**resolved)
         except PoissonkitError as exc:
             raise SceneError(f"assembly: {exc}") from None
         for node in G.nodes:
@@ -43,11 +56,14 @@ def scene_graph(scene: Scene) -> nx.Graph:
         G = nx.Graph()
         for k, body in enumerate(scene.bodies):
             G.add_node(k, **dict(body))
-        if scene.pairs_mode == "all":
+        if edges and scene.pairs_mode == "all":
             G = complete(G)
     if scene.potential is not None:
         G.graph["potential"] = scene.potential
     G.graph["params"] = {**dict(G.graph.get("params") or {}), **dict(scene.potential_params)}
+    if not edges:
+        G.remove_edges_from(list(G.edges))
+        return G
     if scene.pairs_mode == "listed":
         G.remove_edges_from(list(G.edges))
     by_name = {G.nodes[n].get("name", str(n)): n for n in G.nodes}
@@ -60,6 +76,33 @@ def scene_graph(scene: Scene) -> nx.Graph:
         G.add_edge(by_name[a], by_name[b], potential=pair.potential, params=dict(pair.params),
                    first=by_name[a])
     return G
+
+
+def _joins_every_pair(entry: Assembly, resolved: Mapping[str, object]) -> bool:
+    """True if the assembly takes an ``interactions`` parameter and it asks for every pair
+    (``"complete"``, the convention of the registered graph builders)."""
+    return (any(p.name == "interactions" for p in entry.params)
+            and resolved.get("interactions") == "complete")
+
+
+def every_pair_alike(scene: Scene) -> bool:
+    """True if every pair of the scene's bodies interacts through the scene's one default
+    potential (``pairs = "all"``, no listed pair, no planner; an assembly asked for
+    ``interactions = "complete"``). Such a scene is built without listing its pairs when the
+    pair parameters read from the bodies allow it (:func:`build_scene`)."""
+    from poissonkit.plugin import assembly
+
+    if scene.planner is not None or scene.pairs_mode != "all" or scene.pairs:
+        return False
+    if scene.assembly is None:
+        return scene.potential is not None
+    name, params = scene.assembly
+    entry = assembly(name)
+    try:
+        resolved = entry.resolve_params(params)
+    except PoissonkitError:
+        return False
+    return _joins_every_pair(entry, resolved)
 
 
 @dataclass(frozen=True)
@@ -159,17 +202,27 @@ def build_scene(scene: Scene, scales: Scales | str | None = "auto") -> BuiltScen
 
 
 def _all_pairs_direct(scene: Scene, scales: Scales | str | None) -> BuiltScene | None:
-    """A scene of bodies that all interact through one potential whose per-pair parameters
-    come from the bodies, built without listing its pairs (``None`` if it is not one)."""
-    from poissonkit.scene.assembly import all_pairs_system, state_of, uniform_all_pairs
+    """A scene whose bodies all interact through one potential, with per-pair parameters
+    that differ only by what they read from the bodies, built without listing its pairs
+    (``None`` if it is not one): set-up in O(N) time and memory."""
+    from poissonkit.scene.assembly import (
+        all_pairs_system,
+        bodies_of,
+        state_of,
+        uniform_graph_pair,
+    )
 
-    if (scene.assembly is not None or scene.planner is not None or scene.pairs_mode != "all"
-            or scene.pairs or scene.potential is None):
+    if not every_pair_alike(scene):
         return None
     with _named_errors(scene):
-        bodies = [BodyModel.from_attrs(b, str(b.get("name", k)))
-                  for k, b in enumerate(scene.bodies)]
-        pair = uniform_all_pairs(bodies, scene.potential, scene.potential_params)
+        if scene.assembly is None:
+            bodies = [BodyModel.from_attrs(b, str(b.get("name", k)))
+                      for k, b in enumerate(scene.bodies)]
+            G = nx.Graph(potential=scene.potential, params=dict(scene.potential_params))
+        else:
+            G = scene_graph(scene, edges=False)
+            bodies = bodies_of(G)
+        pair = uniform_graph_pair(G, bodies) if len(bodies) > 2 else None
         if pair is None:
             return None
         system = all_pairs_system(bodies, pair, cutoff=scene.cutoff, scales=scales)

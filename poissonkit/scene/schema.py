@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from poissonkit.errors import PoissonkitError, SceneError
+from poissonkit.scene.limits import held_pairs
 
 TOP_KEYS = ("name", "description", "defaults", "bodies", "assembly", "interactions", "run",
             "planner")
@@ -319,7 +320,7 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
         raw = data["bodies"]
         if not isinstance(raw, list) or not raw:
             raise SceneError("bodies: must be a non-empty array of tables ([[bodies]])")
-        check_size(len(raw), _pair_count(len(raw), data), "bodies")
+        check_size(len(raw), _pair_count(raw, data), "bodies")
         bodies = tuple(_body(b, defaults, f"bodies[{k}]") for k, b in enumerate(raw))
         seen: dict[str, int] = {}
         for k, b in enumerate(bodies):
@@ -343,8 +344,7 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
             value = resolved.get(key)
             if isinstance(value, int) and not isinstance(value, bool) and value > 0:
                 size *= value
-        # an assembly may join every pair: count them all (the graph holds each edge)
-        check_size(size, size * (size - 1) // 2, "assembly.params")
+        check_size(size, held_pairs(size, data, assembly=resolved), "assembly.params")
         assembly = (aname, aparams)
         overrides = dict(_table(table.get("overrides", {}), "assembly.overrides"))
         _body_keys(overrides, "assembly.overrides")
@@ -407,7 +407,7 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
         from poissonkit.scene.build import scene_graph
 
         try:
-            graph = scene_graph(scene)
+            graph = scene_graph(scene, edges=False)
         except (OverflowError, ZeroDivisionError):  # body_radius = 1e300 or 1e-320: the
             # volume overflows or underflows to zero
             raise SceneError("assembly.params: a size or moment is out of range") from None
@@ -415,32 +415,13 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
     return scene
 
 
-def _pair_count(n: int, data: Mapping[str, Any]) -> int:
-    """Pairs a scene of ``n`` bodies holds while it is built: the listed ones with
-    ``interactions.pairs = "listed"``; none when every pair interacts through one potential
-    that reads its per-pair parameters from the bodies (``body_params``, e.g. gravity: built
-    as one all-pairs interaction, see :func:`poissonkit.scene.build.build_scene`); else every
-    pair."""
-    inter = data.get("interactions", {})
-    if not isinstance(inter, Mapping):
-        return n * (n - 1) // 2
-    listed = inter.get("pair", [])
-    if inter.get("pairs", "all") == "listed":
-        return len(listed) if isinstance(listed, list) else 0
-    potential = inter.get("potential")
-    if (not listed and "planner" not in data and isinstance(potential, str)
-            and _reads_bodies(potential)):
-        return 0
-    return n * (n - 1) // 2
-
-
-def _reads_bodies(potential: str) -> bool:
-    """True if the registered potential takes per-pair parameters from the bodies."""
-    from poissonkit.plugin.contributions import PairPotential
-    from poissonkit.plugin.manager import entries
-
-    entry = entries("potential").get(potential)
-    return isinstance(entry, PairPotential) and bool(entry.body_params)
+def _pair_count(raw: list[Any], data: Mapping[str, Any]) -> int:
+    """Pairs a scene of these body tables holds while it is built
+    (:func:`poissonkit.scene.limits.held_pairs`)."""
+    defaults = data.get("defaults", {})
+    defaults = defaults if isinstance(defaults, Mapping) else {}
+    tables = [{**defaults, **b} if isinstance(b, Mapping) else {} for b in raw]
+    return held_pairs(len(raw), data, tables)
 
 
 def check_size(bodies: int, pairs: int, where: str) -> None:

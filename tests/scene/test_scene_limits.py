@@ -77,7 +77,9 @@ def test_limit_names_the_estimate_and_the_memory():
         check_memory(1000, 499500, available=1500 * 2**20)
 
 
-def test_a_huge_assembly_is_refused_before_it_is_built():
+def test_a_huge_assembly_is_refused_before_it_is_built(monkeypatch):
+    # its pairs are all alike (none held): the bodies alone decide, against a fixed 4 GiB
+    monkeypatch.setattr("poissonkit.scene.limits.available_memory", lambda: 4 * 2**30)
     text = """
 [assembly]
 name = "random_cluster"
