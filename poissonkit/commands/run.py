@@ -345,13 +345,10 @@ def _main(args: argparse.Namespace) -> int:
     else:
         spec = _with_contact(spec)
     out = Path(args.out)
-    if resume:
-        if not (out / "checkpoints").is_dir():
-            from poissonkit.numerics.checkpoint import CheckpointError
+    if resume:  # refuses a finished run; clears the interrupted attempt's files
+        from poissonkit.report.resume import prepare_resume
 
-            raise CheckpointError(f"--resume: {out} has no checkpoints folder; nothing to resume")
-        for name in ("summary.json", "trajectory.npz", "trajectory.nc"):  # the interrupted attempt
-            (out / name).unlink(missing_ok=True)
+        prepare_resume(out)
     else:
         atomic.prepare_output_dir(out, overwrite=getattr(args, "overwrite", False))
     if every is None and resume:
@@ -405,7 +402,6 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
     """Diagnostics, files and the printed summary of a finished (or stopped) run."""
     from poissonkit.numerics.checkpoint import read_trajectory
     from poissonkit.report import invariant_report, streamed_diagnostics, write_summary
-    from poissonkit.report import write_trajectory
 
     nrows = int(sol.extra.get("streamed_rows", len(sol.t)))
     diag, t, y = streamed_diagnostics(spec.system, parts, plot_rows=PLOT_ROWS)
@@ -459,19 +455,24 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
     summary["parameters"] = meta
     summary.update(_provenance(args, spec, sc))
     layout = _layout(spec.system)
+    summary["saved_rows"] = nrows
     if nrows <= MAX_NPZ_ROWS:
+        from poissonkit.report.gather import gather_trajectory
         from poissonkit.report.trajectory import scale_arrays
 
-        tf, yf = read_trajectory(parts)
-        relf = relative_position(spec, yf)
-        extra = {} if relf is None else {"r_rel_si": relf * lunit}
-        write_trajectory(out / "trajectory.npz", tf, yf, layout=layout, time_unit=tunit,
-                         **extra, **scale_arrays(sc, tunit))
+        def rel_si(rows: np.ndarray) -> np.ndarray | None:
+            r = relative_position(spec, rows)
+            return None if r is None else r * lunit
+
+        maps = {} if rel_si(y[:1]) is None else {"r_rel_si": rel_si}
+        gather_trajectory(out / "trajectory.npz", parts, layout=layout, time_unit=tunit,
+                          row_maps=maps, **scale_arrays(sc, tunit))  # one part at a time
         files = ["summary.json", "trajectory.npz"]
+        tf, yf = read_trajectory(parts)
         if _write_dataset(out / "trajectory.nc", spec, sol, tf, yf, sc, tunit):
             files.append("trajectory.nc")
             summary["trajectory_dataset"] = "trajectory.nc"
-        _remove_tree(parts)
+        del tf, yf
     else:
         summary["trajectory"] = ("trajectory.parts/ (read with "
                                  "poissonkit.numerics.checkpoint.read_trajectory)")
@@ -479,7 +480,14 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
     energy_error = float(summary["max_rel_energy_error"])
     problems = _problems(energy_error, sol.message, tol, interrupted, touching, tunit)
     summary["warnings"] = problems
-    write_summary(out / "summary.json", summary)
+    write_summary(out / "summary.json", summary)  # the commit record (report/resume.py)
+    from poissonkit.report.killpoints import kill_point
+    from poissonkit.report.resume import finish_parts
+
+    kill_point("summary-written")
+    # parts go only after the summary; a stopped, checkpointed run keeps them for --resume
+    finish_parts(out, keep=interrupted and (out / "checkpoints").is_dir()
+                 or nrows > MAX_NPZ_ROWS)
     figures: list[str] = []
     if not args.no_plots:
         from poissonkit.numerics.events import Contact
@@ -558,9 +566,3 @@ def _problems(energy_error: float, message: str, tol: float, interrupted: bool,
         out.append(f"energy error max |ΔH|/|H(0)| = {energy_error:.3g} "
                    f"exceeds the scene's tolerance {tol:g}")
     return out
-
-
-def _remove_tree(path: Path) -> None:
-    import shutil
-
-    shutil.rmtree(path, ignore_errors=True)
