@@ -10,7 +10,8 @@ folder (default ``./poissonkit-output``):
   maximum ``|Δj|/|j|``; and what made the run: versions, command line, options, a copy of
   the scene, units (:mod:`poissonkit.report.provenance`; ``--from-summary`` runs it again);
 * ``trajectory.nc`` — the trajectory as an xarray dataset, ``time × body × component`` in SI
-  (:mod:`poissonkit.report.trajectory`);
+  (:mod:`poissonkit.report.trajectory`); runs saving more than :data:`DATASET_MAX_ROWS` rows
+  get ``trajectory.zarr`` instead, written part by part so that memory stays bounded;
 * ``trajectory.npz`` — ``t`` (internal), ``t_si``, ``y`` (rows), ``layout``, the scales
   (runs saving more than :data:`MAX_NPZ_ROWS` rows keep them in ``trajectory.parts/``
   instead: the trajectory is streamed to disk while the run goes, so memory stays bounded);
@@ -42,6 +43,8 @@ from poissonkit.errors import InputError, MissingDependencyError, MissingStepErr
 from poissonkit.numerics.units import Scales
 
 if TYPE_CHECKING:
+    import xarray as xr
+
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
     from poissonkit.numerics.events import EventRecord
     from poissonkit.numerics.runspec import RunSpec
@@ -59,6 +62,9 @@ EXIT_INTERRUPTED = 130  #: stopped by SIGINT (128 + 2, the shell's convention)
 DEFAULT_ENERGY_TOL = 1e-6
 #: Saved rows above which the trajectory stays as parts (trajectory.parts/) instead of one npz.
 MAX_NPZ_ROWS = 1 << 20
+#: Saved rows up to which the xarray dataset is trajectory.nc (built whole in memory: one part's
+#: worth); longer trajectories get trajectory.zarr, written part by part (bounded memory).
+DATASET_MAX_ROWS = 1 << 16
 #: Rows kept for the figures of a streamed run.
 PLOT_ROWS = 20000
 
@@ -400,7 +406,6 @@ def _checkpoint_every_of(out: Path) -> int:
 def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, parts: Path,
             wall: float, compile_time: float, energy_tol: float | None) -> int:
     """Diagnostics, files and the printed summary of a finished (or stopped) run."""
-    from poissonkit.numerics.checkpoint import read_trajectory
     from poissonkit.report import invariant_report, streamed_diagnostics, write_summary
 
     nrows = int(sol.extra.get("streamed_rows", len(sol.t)))
@@ -468,11 +473,10 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
         gather_trajectory(out / "trajectory.npz", parts, layout=layout, time_unit=tunit,
                           row_maps=maps, **scale_arrays(sc, tunit))  # one part at a time
         files = ["summary.json", "trajectory.npz"]
-        tf, yf = read_trajectory(parts)
-        if _write_dataset(out / "trajectory.nc", spec, sol, tf, yf, sc, tunit):
-            files.append("trajectory.nc")
-            summary["trajectory_dataset"] = "trajectory.nc"
-        del tf, yf
+        name = "trajectory.nc" if nrows <= DATASET_MAX_ROWS else "trajectory.zarr"
+        if _write_dataset(out / name, spec, sol, parts, sc, tunit):
+            files.append(name)
+            summary["trajectory_dataset"] = name
     else:
         summary["trajectory"] = ("trajectory.parts/ (read with "
                                  "poissonkit.numerics.checkpoint.read_trajectory)")
@@ -537,16 +541,26 @@ def _provenance(args: argparse.Namespace, spec: RunSpec, scales: Scales | None
     return found
 
 
-def _write_dataset(path: Path, spec: RunSpec, sol: Solution, t: np.ndarray, y: np.ndarray,
+def _write_dataset(path: Path, spec: RunSpec, sol: Solution, parts: Path,
                    scales: Scales | None, tunit: float) -> bool:
-    """Write the trajectory as a NetCDF dataset; ``False`` (with a note) without xarray."""
+    """Write the trajectory as a NetCDF dataset (``.nc``, built whole: at most
+    :data:`DATASET_MAX_ROWS` rows) or a Zarr store written part by part (``.zarr``);
+    ``False`` (with a note) without xarray."""
+    from poissonkit.numerics.checkpoint import read_trajectory
+    from poissonkit.report.gather import gather_dataset
     from poissonkit.report.trajectory import trajectory_dataset, write_dataset
 
+    def build(t: np.ndarray, y: np.ndarray) -> xr.Dataset:
+        return trajectory_dataset(spec.system, t, y, scales=scales, time_unit=tunit,
+                                  attrs={"scene": spec.name, "method": sol.method})
+
     try:
-        ds = trajectory_dataset(spec.system, t, y, scales=scales, time_unit=tunit,
-                                attrs={"scene": spec.name, "method": sol.method})
+        if path.suffix == ".zarr":
+            gather_dataset(path, parts, build)
+            return True
+        ds = build(*read_trajectory(parts))
     except MissingDependencyError as exc:
-        print(f"note: no trajectory.nc ({exc})", file=sys.stderr)
+        print(f"note: no {path.name} ({exc})", file=sys.stderr)
         return False
     write_dataset(path, ds)
     return True

@@ -100,7 +100,8 @@ def atomic_path(path: str | Path, suffix: str | None = None, phase: str | None =
 def remove_stale_temps(folder: str | Path) -> list[Path]:
     """Remove the temporary files a killed writer left in ``folder`` (not recursive).
 
-    Only names :func:`atomic_path` makes are touched (``.<name>.<random>.tmp<suffix>``); call it
+    Only names :func:`atomic_path` makes are touched (``.<name>.<random>.tmp<suffix>``, files,
+    or folders of a store written under such a name); call it
     only when no other writer works in ``folder`` (e.g. before resuming a run there).
 
     Returns
@@ -113,7 +114,12 @@ def remove_stale_temps(folder: str | Path) -> list[Path]:
         return []
     gone = []
     for p in sorted(folder.iterdir()):
-        if _TEMP.match(p.name) and p.is_file() and not p.is_symlink():
+        if not _TEMP.match(p.name) or p.is_symlink():
+            continue
+        if p.is_dir():  # a store written under a temporary folder name (e.g. Zarr)
+            shutil.rmtree(p, ignore_errors=True)
+            gone.append(p)
+        elif p.is_file():
             with contextlib.suppress(FileNotFoundError):
                 p.unlink()
                 gone.append(p)

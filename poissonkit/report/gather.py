@@ -5,19 +5,30 @@ The file is the same ``.npz`` :func:`~poissonkit.report.summary.write_trajectory
 member is written as a ``.npy`` header followed by the rows of one part at a time, so the peak
 memory is one part (``TrajectoryStream.max_rows`` rows), not the whole trajectory. The parts are
 checked first (:func:`~poissonkit.numerics.parts.verify_parts`: no hole, gap or duplicate).
+
+:func:`gather_dataset` does the same for the xarray dataset of a long trajectory: a Zarr store
+(``trajectory.zarr``) appended one part at a time, since the NetCDF 3 file of scipy's engine can
+only be written from arrays held whole in memory.
 """
 
 from __future__ import annotations
 
 import zipfile
+import os
+import shutil
+import tempfile
 from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from poissonkit.numerics.parts import PartInfo, iter_parts, verify_parts
 from poissonkit.report.atomic import atomic_path
 from poissonkit.report.killpoints import kill_point
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 #: Maps a block of rows ``y`` to the rows of an extra per-row array (e.g. ``r_rel_si``).
 RowMap = Callable[[np.ndarray], np.ndarray]
@@ -106,3 +117,43 @@ def gather_trajectory(path: str | Path, folder: str | Path, *, layout: tuple[str
             _small(zf, name, np.asarray(arr))
     kill_point("gather-written")
     return rows
+
+
+def gather_dataset(path: str | Path, folder: str | Path,
+                   build: Callable[[np.ndarray, np.ndarray], xr.Dataset]) -> int:
+    """Write the dataset of the parts of ``folder`` as a Zarr store ``path`` (format 2), one
+    part at a time; return the number of rows.
+
+    Parameters
+    ----------
+    path
+        The store (a folder) to write; it appears complete or not at all (written under a
+        temporary name, then renamed).
+    folder
+        Folder of the trajectory parts.
+    build
+        ``build(t, y)``: the dataset of a block of rows (time along dimension ``time``), e.g.
+        :func:`~poissonkit.report.trajectory.trajectory_dataset`.
+
+    Raises
+    ------
+    PartsError
+        If the parts do not form one sequence.
+    """
+    path = Path(path)
+    infos = verify_parts(folder)
+    # ".<name>.<random>.tmp": the name atomic.remove_stale_temps knows
+    tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent))
+    try:
+        for k, (t, y) in enumerate(iter_parts(infos)):
+            ds = build(t, y)
+            if k == 0:
+                ds.to_zarr(tmp, mode="w", zarr_format=2, consolidated=True)
+            else:
+                ds.to_zarr(tmp, append_dim="time", zarr_format=2, consolidated=True)
+        shutil.rmtree(path, ignore_errors=True)
+        os.replace(tmp, path)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return infos[-1].stop if infos else 0

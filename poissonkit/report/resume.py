@@ -10,7 +10,8 @@ before ``trajectory.parts/`` is removed). :func:`prepare_resume` decides:
   removed). The message says whether the trajectory is complete; to run it again, use
   ``--overwrite``;
 * otherwise (killed, or stopped by SIGINT): the temporary files a killed writer left are removed,
-  the interrupted attempt's ``summary.json`` / ``trajectory.npz`` / ``trajectory.nc`` are removed,
+  the interrupted attempt's ``summary.json`` / ``trajectory.npz`` / ``trajectory.nc`` /
+  ``trajectory.zarr`` are removed,
   and the run continues from its newest valid checkpoint, after the parts it reassembles have
   been checked (:func:`~poissonkit.numerics.parts.verify_parts`).
 """
@@ -29,7 +30,7 @@ from poissonkit.numerics.parts import PartsError, iter_parts, verify_parts
 from poissonkit.report.atomic import remove_stale_temps
 
 #: Files of an interrupted attempt that the resumed run writes again.
-ATTEMPT_FILES = ("summary.json", "trajectory.npz", "trajectory.nc")
+ATTEMPT_FILES = ("summary.json", "trajectory.npz", "trajectory.nc", "trajectory.zarr")
 PARTS = "trajectory.parts"
 CHECKPOINTS = "checkpoints"
 
@@ -127,7 +128,10 @@ def prepare_resume(out: str | Path) -> None:
         raise CheckpointError(f"--resume: {out} has no checkpoint; nothing to resume (a run "
                               "killed before its first checkpoint starts again with --overwrite)")
     for name in ATTEMPT_FILES:
-        (out / name).unlink(missing_ok=True)
+        if (out / name).is_dir():
+            shutil.rmtree(out / name)
+        else:
+            (out / name).unlink(missing_ok=True)
 
 
 def finish_parts(out: str | Path, keep: bool) -> None:

@@ -123,3 +123,22 @@ def cli_scene():
     from pathlib import Path
 
     return Path(__file__).resolve().parents[2] / "poissonkit" / "scenes" / "two_magnets.toml"
+
+
+def test_long_trajectory_dataset_is_a_zarr_store_written_in_parts(tmp_path, monkeypatch):
+    import xarray as xr
+
+    from poissonkit.commands import run as run_command
+
+    run = ["run", str(cli_scene()), "--duration", "0.0002", "--step", "1e-6", "--no-progress",
+           "--no-plots", "--checkpoint-every", "50"]
+    assert cli.main([*run, "--out", str(tmp_path / "nc")]) == 0
+    monkeypatch.setattr(run_command, "DATASET_MAX_ROWS", 100)  # 201 rows: above it
+    assert cli.main([*run, "--out", str(tmp_path / "zarr")]) == 0
+    assert not (tmp_path / "zarr" / "trajectory.nc").exists()
+    with xr.open_dataset(tmp_path / "nc" / "trajectory.nc") as a, \
+            xr.open_zarr(tmp_path / "zarr" / "trajectory.zarr") as b:
+        assert set(a.data_vars) == set(b.data_vars) and a.sizes == b.sizes
+        for k in [*a.data_vars, "time", "time_internal"]:
+            assert np.array_equal(a[k].values, b[k].values), k
+    assert not list((tmp_path / "zarr").glob(".*"))
