@@ -142,3 +142,35 @@ def test_long_trajectory_dataset_is_a_zarr_store_written_in_parts(tmp_path, monk
         for k in [*a.data_vars, "time", "time_internal"]:
             assert np.array_equal(a[k].values, b[k].values), k
     assert not list((tmp_path / "zarr").glob(".*"))
+
+
+def test_a_stopped_run_keeps_its_parts_and_resumes_every_row(tmp_path, monkeypatch):
+    from poissonkit.commands import run as run_command
+
+    class StopSoon:  # a SIGINT after a few chunks of steps
+        def __init__(self) -> None:
+            self.calls = 0
+
+        def __enter__(self) -> StopSoon:
+            return self
+
+        def __exit__(self, *exc: object) -> None:
+            pass
+
+        def __call__(self) -> bool:
+            self.calls += 1
+            return self.calls >= 3
+
+    run = ["run", str(cli_scene()), "--duration", "0.0003", "--step", "1e-6", "--no-progress",
+           "--no-plots"]
+    assert cli.main([*run, "--out", str(tmp_path / "ref")]) == 0
+    out = tmp_path / "out"
+    with monkeypatch.context() as m:
+        m.setattr(run_command, "_StopOnSigint", StopSoon)
+        assert cli.main([*run, "--checkpoint-every", "40", "--out", str(out)]) == 130
+    assert (out / "trajectory.parts").is_dir()  # kept for --resume
+    assert cli.main([*run, "--out", str(out), "--resume"]) == 0
+    with np.load(tmp_path / "ref" / "trajectory.npz") as a, np.load(out / "trajectory.npz") as b:
+        assert a.files == b.files
+        assert all(a[k].tobytes() == b[k].tobytes() for k in a.files)
+    assert not (out / "trajectory.parts").exists()
