@@ -490,7 +490,7 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
 
     kill_point("summary-written")
     # parts go only after the summary; a stopped, checkpointed run keeps them for --resume
-    finish_parts(out, keep=interrupted and (out / "checkpoints").is_dir()
+    finish_parts(out, keep=(interrupted and (out / "checkpoints").is_dir())
                  or nrows > MAX_NPZ_ROWS)
     figures: list[str] = []
     if not args.no_plots:
