@@ -1,6 +1,7 @@
 """Fuzzing kills: ``poissonkit run`` killed at a drawn phase boundary (injected kill point,
-:mod:`poissonkit.report.killpoints`), at a drawn occurrence, with drawn checkpoint and save
-intervals, its resume possibly killed again; then resumed until it ends.
+:mod:`poissonkit.report.killpoints`), at a drawn occurrence within the run's reach, with drawn
+checkpoint and save intervals, its first resume possibly killed again (``truncate`` included);
+then resumed until it ends.
 
 Property: the final ``trajectory.npz`` is bit-identical to an uninterrupted run's, or the resume
 refuses in one line with a typed error, and only where that is right (killed before its first
@@ -86,16 +87,28 @@ def _print_counts():
     print(f"\nkill points: {dict(sorted(c.items()))}", file=sys.__stderr__)
 
 
-_kills = st.one_of(st.none(), st.tuples(st.sampled_from(PHASES), st.integers(1, 6)))
+def _occurrences(phase: str, checkpoints_written: int) -> int:
+    """How many times a run reaches ``phase``: once per checkpoint, once per part (one per
+    checkpoint plus the last), or once."""
+    if phase.startswith("checkpoint"):
+        return checkpoints_written
+    if phase.startswith("part"):
+        return checkpoints_written + 1
+    return 1
 
 
 @slow
 @settings(max_examples=EXAMPLES, deadline=TIMEOUT_S * 10 * 1000, database=None,
           suppress_health_check=list(HealthCheck))
-@given(steps=st.integers(150, 600), every=st.integers(15, 250), save_every=st.integers(1, 5),
-       first=st.tuples(st.sampled_from(PHASES), st.integers(1, 6)), again=_kills)
-def test_kill_at_drawn_points_then_resume(tmp_path_factory, steps, every, save_every, first,
-                                         again):
+@given(data=st.data(), steps=st.integers(150, 600), save_every=st.integers(1, 5))
+def test_kill_at_drawn_points_then_resume(tmp_path_factory, data, steps, save_every):
+    every = data.draw(st.integers(15, steps // 2), label="checkpoint every")
+    n_ck = (steps - 1) // every
+    first_phase = data.draw(st.sampled_from([p for p in PHASES if p != "truncate"]))
+    first = (first_phase, data.draw(st.integers(1, _occurrences(first_phase, n_ck))))
+    again_phase = data.draw(st.one_of(st.none(), st.sampled_from(PHASES)))
+    again = None if again_phase is None else \
+        (again_phase, data.draw(st.integers(1, max(1, _occurrences(again_phase, n_ck) // 2))))
     c = COUNTS.setdefault("kill points", Counter())
     c["tried"] += 1
     tmp = tmp_path_factory.mktemp("kill")
@@ -104,6 +117,8 @@ def test_kill_at_drawn_points_then_resume(tmp_path_factory, steps, every, save_e
     done = _run(out, steps, save_every, "--checkpoint-every", str(every),
                 kill=f"{first[0]}@{first[1]}")
     kills = [again and f"{again[0]}@{again[1]}", None, None]
+    outcome = "not killed (finished; --resume refused it)" if done.returncode == 0 \
+        else "killed, resumed bit-identical"
     while done.returncode == -9:
         c["killed"] += 1
         had_checkpoint = bool(checkpoints(out / "checkpoints"))
@@ -116,12 +131,17 @@ def test_kill_at_drawn_points_then_resume(tmp_path_factory, steps, every, save_e
                 c["typed_error"] += 1
                 return
             assert "already finished" in done.stderr, done.stderr
+            outcome = "killed after its summary: refused as finished, intact"
             break
-    if done.returncode == 0:  # the kill point was not reached: a finished run; resume refuses
+    assert done.returncode in (0, 1), done.stderr
+    if done.returncode == 0:  # finished now: a further resume refuses it
         again_done = _run(out, steps, save_every, "--resume")
         assert again_done.returncode == 1 and "already finished" in again_done.stderr
     got = _arrays(out / "trajectory.npz")
     if got != ref:
         c["silent data loss"] += 1
         raise AssertionError(f"trajectory differs from the uninterrupted run ({first}, {again})")
+    assert not [q for q in out.rglob(".*") if ".tmp" in q.name]  # no temporary left
+    assert not (out / "trajectory.parts").exists()
+    c[outcome] += 1
     c["ok"] += 1
