@@ -10,7 +10,8 @@ folder (default ``./poissonkit-output``):
   maximum ``|Δj|/|j|``; and what made the run: versions, command line, options, a copy of
   the scene, units (:mod:`poissonkit.report.provenance`; ``--from-summary`` runs it again);
 * ``trajectory.nc`` — the trajectory as an xarray dataset, ``time × body × component`` in SI
-  (:mod:`poissonkit.report.trajectory`);
+  (:mod:`poissonkit.report.trajectory`); runs saving more than :data:`DATASET_MAX_ROWS` rows
+  get ``trajectory.zarr`` instead, written part by part so that memory stays bounded;
 * ``trajectory.npz`` — ``t`` (internal), ``t_si``, ``y`` (rows), ``layout``, the scales
   (runs saving more than :data:`MAX_NPZ_ROWS` rows keep them in ``trajectory.parts/``
   instead: the trajectory is streamed to disk while the run goes, so memory stays bounded);
@@ -64,6 +65,9 @@ EXIT_INTERRUPTED = 130  #: stopped by SIGINT (128 + 2, the shell's convention)
 DEFAULT_ENERGY_TOL = 1e-6
 #: Saved rows above which the trajectory stays as parts (trajectory.parts/) instead of one npz.
 MAX_NPZ_ROWS = 1 << 20
+#: Saved rows up to which the xarray dataset is trajectory.nc (built whole in memory: one part's
+#: worth); longer trajectories get trajectory.zarr, written part by part (bounded memory).
+DATASET_MAX_ROWS = 1 << 16
 #: Rows kept for the figures of a streamed run.
 PLOT_ROWS = 20000
 
@@ -367,13 +371,10 @@ def _main(args: argparse.Namespace) -> int:
     else:
         spec = _with_contact(spec)
     out = Path(args.out)
-    if resume:
-        if not (out / "checkpoints").is_dir():
-            from poissonkit.numerics.checkpoint import CheckpointError
+    if resume:  # refuses a finished run; clears the interrupted attempt's files
+        from poissonkit.report.resume import prepare_resume
 
-            raise CheckpointError(f"--resume: {out} has no checkpoints folder; nothing to resume")
-        for name in ("summary.json", "trajectory.npz", "trajectory.nc"):  # the interrupted attempt
-            (out / name).unlink(missing_ok=True)
+        prepare_resume(out)
     else:
         atomic.prepare_output_dir(out, overwrite=getattr(args, "overwrite", False))
     if every is None and resume:
@@ -425,9 +426,7 @@ def _checkpoint_every_of(out: Path) -> int:
 def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, parts: Path,
             wall: float, compile_time: float, energy_tol: float | None) -> int:
     """Diagnostics, files and the printed summary of a finished (or stopped) run."""
-    from poissonkit.numerics.checkpoint import read_trajectory
     from poissonkit.report import invariant_report, streamed_diagnostics, write_summary
-    from poissonkit.report import write_trajectory
 
     nrows = int(sol.extra.get("streamed_rows", len(sol.t)))
     diag, t, y = streamed_diagnostics(spec.system, parts, plot_rows=PLOT_ROWS)
@@ -481,26 +480,28 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
     summary["parameters"] = meta
     summary.update(_provenance(args, spec, sc))
     layout = _layout(spec.system)
+    summary["saved_rows"] = nrows
     if nrows <= MAX_NPZ_ROWS:
+        from poissonkit.report.gather import gather_trajectory
         from poissonkit.report.trajectory import scale_arrays
 
-        tf, yf = read_trajectory(parts)
-        relf = relative_position(spec, yf)
-        extra = {} if relf is None else {"r_rel_si": relf * lunit}
-        write_trajectory(out / "trajectory.npz", tf, yf, layout=layout, time_unit=tunit,
-                         **extra, **scale_arrays(sc, tunit))
-        files = ["summary.json", "trajectory.npz"]
-        dataset = _dataset(spec, sol, tf, yf, sc, tunit)
-        if dataset is not None:
-            from poissonkit.report.trajectory import write_dataset
+        def rel_si(rows: np.ndarray) -> np.ndarray | None:
+            r = relative_position(spec, rows)
+            return None if r is None else r * lunit
 
-            write_dataset(out / "trajectory.nc", dataset)
-            files.append("trajectory.nc")
-            summary["trajectory_dataset"] = "trajectory.nc"
-            if not args.no_plots and _write_view(out / "trajectory.html", spec, dataset):
+        maps = {} if rel_si(y[:1]) is None else {"r_rel_si": rel_si}
+        gather_trajectory(out / "trajectory.npz", parts, layout=layout, time_unit=tunit,
+                          row_maps=maps, **scale_arrays(sc, tunit))  # one part at a time
+        files = ["summary.json", "trajectory.npz"]
+        name = "trajectory.nc" if nrows <= DATASET_MAX_ROWS else "trajectory.zarr"
+        if _write_dataset(out / name, spec, sol, parts, sc, tunit):
+            files.append(name)
+            summary["trajectory_dataset"] = name
+            # the view shows at most a few hundred frames: the figures' rows are plenty
+            view = None if args.no_plots else _dataset(spec, sol, t, y, sc, tunit)
+            if view is not None and _write_view(out / "trajectory.html", spec, view):
                 files.append("trajectory.html")
                 summary["view"] = "trajectory.html"
-        _remove_tree(parts)
     else:
         summary["trajectory"] = ("trajectory.parts/ (read with "
                                  "poissonkit.numerics.checkpoint.read_trajectory)")
@@ -508,7 +509,14 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
     energy_error = float(summary["max_rel_energy_error"])
     problems = _problems(energy_error, sol.message, tol, interrupted, touching, tunit)
     summary["warnings"] = problems
-    write_summary(out / "summary.json", summary)
+    write_summary(out / "summary.json", summary)  # the commit record (report/resume.py)
+    from poissonkit.report.killpoints import kill_point
+    from poissonkit.report.resume import finish_parts
+
+    kill_point("summary-written")
+    # parts go only after the summary; a stopped, checkpointed run keeps them for --resume
+    finish_parts(out, keep=(interrupted and (out / "checkpoints").is_dir())
+                 or nrows > MAX_NPZ_ROWS)
     figures: list[str] = []
     if not args.no_plots:
         from poissonkit.numerics.events import Contact
@@ -559,22 +567,16 @@ def _provenance(args: argparse.Namespace, spec: RunSpec, scales: Scales | None
 
 
 def _dataset(spec: RunSpec, sol: Solution, t: np.ndarray, y: np.ndarray,
-             scales: Scales | None, tunit: float) -> xr.Dataset | None:
-    """The trajectory as an xarray dataset (with the bodies' sizes); ``None`` (with a note)
-    without xarray."""
+             scales: Scales | None, tunit: float) -> xr.Dataset:
+    """The trajectory rows ``(t, y)`` as an xarray dataset, with the bodies' sizes."""
     from poissonkit.numerics.events import Contact
     from poissonkit.report.trajectory import trajectory_dataset
 
     length = float(scales.length) if scales is not None else 1.0
     shapes = {s.name: (s.radius * length, s.half_length * length)
               for e in spec.events if isinstance(e, Contact) for s in e.shapes}
-    try:
-        return trajectory_dataset(spec.system, t, y, scales=scales, time_unit=tunit,
-                                  attrs={"scene": spec.name, "method": sol.method},
-                                  shapes=shapes)
-    except MissingDependencyError as exc:
-        print(f"note: no trajectory.nc ({exc})", file=sys.stderr)
-        return None
+    return trajectory_dataset(spec.system, t, y, scales=scales, time_unit=tunit,
+                              attrs={"scene": spec.name, "method": sol.method}, shapes=shapes)
 
 
 def _write_view(path: Path, spec: RunSpec, dataset: xr.Dataset) -> bool:
@@ -587,6 +589,30 @@ def _write_view(path: Path, spec: RunSpec, dataset: xr.Dataset) -> bool:
     except (MissingDependencyError, InputError) as exc:
         print(f"note: no trajectory.html ({exc})", file=sys.stderr)
         return False
+    return True
+
+
+def _write_dataset(path: Path, spec: RunSpec, sol: Solution, parts: Path,
+                   scales: Scales | None, tunit: float) -> bool:
+    """Write the trajectory as a NetCDF dataset (``.nc``, built whole: at most
+    :data:`DATASET_MAX_ROWS` rows) or a Zarr store written part by part (``.zarr``);
+    ``False`` (with a note) without xarray."""
+    from poissonkit.numerics.checkpoint import read_trajectory
+    from poissonkit.report.gather import gather_dataset
+    from poissonkit.report.trajectory import write_dataset
+
+    def build(t: np.ndarray, y: np.ndarray) -> xr.Dataset:
+        return _dataset(spec, sol, t, y, scales, tunit)
+
+    try:
+        if path.suffix == ".zarr":
+            gather_dataset(path, parts, build)
+            return True
+        ds = build(*read_trajectory(parts))
+    except MissingDependencyError as exc:
+        print(f"note: no {path.name} ({exc})", file=sys.stderr)
+        return False
+    write_dataset(path, ds)
     return True
 
 
@@ -604,9 +630,3 @@ def _problems(energy_error: float, message: str, tol: float, interrupted: bool,
         out.append(f"energy error max |ΔH|/|H(0)| = {energy_error:.3g} "
                    f"exceeds the scene's tolerance {tol:g}")
     return out
-
-
-def _remove_tree(path: Path) -> None:
-    import shutil
-
-    shutil.rmtree(path, ignore_errors=True)

@@ -17,8 +17,16 @@ state; the scipy methods cannot be checkpointed — their internal step-size con
 not exposed.)
 
 :class:`TrajectoryStream` writes saved rows to numbered ``part-NNNNNN.npz`` files in a folder
-(each atomic), so a long run keeps only a bounded number of rows in memory;
-:func:`read_trajectory` reads them back.
+(each atomic, each recording the global indices of its rows), so a long run keeps only a bounded
+number of rows in memory; :func:`read_trajectory` reads them back after checking they form one
+sequence (:mod:`poissonkit.numerics.parts`).
+
+Order of writes, so that a kill at any instant leaves a state a resume can finish: a checkpoint
+first spills the held rows as a part, then is written itself (its ``stream_parts`` /
+``stream_rows`` point just past that part), then older checkpoints are pruned. A resume checks
+that parts ``0 .. stream_parts - 1`` hold rows ``0 .. stream_rows - 1`` exactly (else
+:class:`~poissonkit.numerics.parts.PartsError`) and only then removes later parts, the newest
+first. Kill points (:mod:`poissonkit.report.killpoints`) mark each boundary for the tests.
 """
 
 from __future__ import annotations
@@ -35,11 +43,12 @@ from typing import Any
 import numpy as np
 
 from poissonkit.errors import InputError
+from poissonkit.numerics.parts import iter_parts, part_files, part_number, verify_parts
 from poissonkit.report import atomic
+from poissonkit.report.killpoints import kill_point
 
 MAGIC = b"POISSONKIT-CHECKPOINT 1\n"
 _NAME = re.compile(r"^checkpoint-(\d{12})\.pkcp$")
-_PART = re.compile(r"^part-(\d{6})\.npz$")
 
 
 class CheckpointError(InputError):
@@ -94,7 +103,10 @@ def write_checkpoint(ck: Checkpoint, steps: int, arrays: Mapping[str, np.ndarray
     payload = buf.getvalue()
     digest = hashlib.sha256(payload).hexdigest()
     data = MAGIC + f"{digest} {len(payload)}\n".encode() + payload
-    path = atomic.write_bytes(Path(ck.folder) / f"checkpoint-{int(steps):012d}.pkcp", data)
+    path = Path(ck.folder) / f"checkpoint-{int(steps):012d}.pkcp"
+    with atomic.atomic_path(path, phase="checkpoint-tmp") as tmp:
+        tmp.write_bytes(data)
+    kill_point("checkpoint-written")
     for old in checkpoints(ck.folder)[:-ck.keep]:
         old.unlink(missing_ok=True)
     return path
@@ -193,23 +205,35 @@ class TrajectoryStream:
 
     def part_files(self) -> list[Path]:
         """Part files written so far, in order."""
-        return sorted(p for p in self.folder.iterdir() if _PART.match(p.name))
+        return part_files(self.folder)
 
     def write(self, t: np.ndarray, y: np.ndarray) -> None:
-        """Append rows as the next part."""
+        """Append rows as the next part (recording their global indices ``rows``)."""
         if len(t) == 0:
             return
         path = self.folder / f"part-{self.parts:06d}.npz"
-        with atomic.atomic_path(path) as tmp:
-            np.savez(tmp, t=np.asarray(t, dtype=float), y=np.asarray(y, dtype=float))
+        with atomic.atomic_path(path, phase="part-tmp") as tmp:
+            np.savez(tmp, t=np.asarray(t, dtype=float), y=np.asarray(y, dtype=float),
+                     rows=np.array([self.rows, self.rows + len(t)], dtype=np.int64))
         self.parts += 1
         self.rows += len(t)
+        kill_point("part-written")
 
     def truncate(self, parts: int, rows: int) -> None:
-        """Drop parts numbered ``parts`` and above (written after a checkpoint)."""
-        for p in self.part_files():
-            if int(_PART.match(p.name).group(1)) >= parts:
+        """Continue after a checkpoint: check parts ``0 .. parts - 1`` hold rows
+        ``0 .. rows - 1`` exactly, then drop the later parts (newest first).
+
+        Raises
+        ------
+        PartsError
+            If the kept parts have a hole, a gap or a duplicate, or do not hold ``rows`` rows;
+            nothing is removed then.
+        """
+        verify_parts(self.folder, parts=parts, rows=rows)
+        for p in reversed(self.part_files()):
+            if part_number(p) >= parts:
                 p.unlink()
+                kill_point("truncate")
         self.parts = parts
         self.rows = rows
 
@@ -221,16 +245,16 @@ def read_trajectory(folder: str | Path, every: int = 1) -> tuple[np.ndarray, np.
     ------
     InputError
         If ``folder`` holds no parts.
+    PartsError
+        If the parts do not form one sequence (a missing part, a gap, a duplicate, damage).
     """
     folder = Path(folder)
-    files = sorted(p for p in folder.iterdir() if _PART.match(p.name)) if folder.is_dir() else []
-    if not files:
+    infos = verify_parts(folder)
+    if not infos:
         raise InputError(f"no trajectory parts in {folder}")
     ts, ys = [], []
     offset = 0
-    for f in files:
-        with np.load(f, allow_pickle=False) as z:
-            t, y = z["t"], z["y"]
+    for t, y in iter_parts(infos):
         sel = np.arange((-offset) % every, len(t), every)
         ts.append(t[sel])
         ys.append(y[sel])

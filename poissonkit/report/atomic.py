@@ -13,6 +13,7 @@ API (small on purpose, so every command can use it):
 * :func:`atomic_path` — context manager yielding a temporary path for libraries that insist on
   writing to a path themselves (``np.savez``, ``fig.savefig``);
 * :func:`write_bytes`, :func:`write_text`, :func:`write_json` — the common cases;
+* :func:`remove_stale_temps` — remove what a killed writer left (before resuming in a folder);
 * :func:`prepare_output_dir` — refuse to mix a new run's files into a non-empty folder unless
   the caller allows overwriting.
 """
@@ -22,12 +23,17 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import re
 import shutil
 import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 
 from poissonkit.errors import InputError
+from poissonkit.report.killpoints import kill_point
+
+#: The temporary files :func:`atomic_path` makes: ``.<name>.<8 random chars>.tmp<suffix>``.
+_TEMP = re.compile(r"^\.(?P<name>.+)\.[a-z0-9_]{8}\.tmp[^/]*$")
 
 
 class OutputExistsError(InputError):
@@ -49,7 +55,8 @@ def _fsync_dir(folder: Path) -> None:
 
 
 @contextlib.contextmanager
-def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
+def atomic_path(path: str | Path, suffix: str | None = None, phase: str | None = None
+                ) -> Iterator[Path]:
     """Yield a temporary path; on normal exit it is fsynced and renamed onto ``path``.
 
     Parameters
@@ -59,6 +66,9 @@ def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
     suffix
         Suffix of the temporary file (default: ``path``'s, so that libraries choosing a format
         from the extension, e.g. ``savefig``, see the right one).
+    phase
+        Kill point (:mod:`poissonkit.report.killpoints`) reached once the temporary file is
+        written, before it is renamed (tests only).
 
     Notes
     -----
@@ -74,6 +84,8 @@ def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
     tmp_path = Path(tmp)
     try:
         yield tmp_path
+        if phase is not None:
+            kill_point(phase)
         with open(tmp_path, "rb+") as fh:
             fh.flush()
             os.fsync(fh.fileno())
@@ -83,6 +95,35 @@ def atomic_path(path: str | Path, suffix: str | None = None) -> Iterator[Path]:
         with contextlib.suppress(OSError):
             tmp_path.unlink()
         raise
+
+
+def remove_stale_temps(folder: str | Path) -> list[Path]:
+    """Remove the temporary files a killed writer left in ``folder`` (not recursive).
+
+    Only names :func:`atomic_path` makes are touched (``.<name>.<random>.tmp<suffix>``, files,
+    or folders of a store written under such a name); call it
+    only when no other writer works in ``folder`` (e.g. before resuming a run there).
+
+    Returns
+    -------
+    list of Path
+        The files removed.
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        return []
+    gone = []
+    for p in sorted(folder.iterdir()):
+        if not _TEMP.match(p.name) or p.is_symlink():
+            continue
+        if p.is_dir():  # a store written under a temporary folder name (e.g. Zarr)
+            shutil.rmtree(p, ignore_errors=True)
+            gone.append(p)
+        elif p.is_file():
+            with contextlib.suppress(FileNotFoundError):
+                p.unlink()
+                gone.append(p)
+    return gone
 
 
 def write_bytes(path: str | Path, data: bytes) -> Path:

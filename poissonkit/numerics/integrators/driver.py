@@ -163,6 +163,12 @@ def drive(name: str, system: HasCompiledKernels, y0: np.ndarray, t0: float, t_en
         st.hist[2] = centre_distance(system, st.y)
     buf = SaveBuffer(n, buffer_rows, sink=stream)
     resumed_from = None
+    if stream is not None and not control.resume and stream.parts:
+        from poissonkit.errors import InputError
+
+        # a fresh run's rows would be numbered after another run's parts: never mix them
+        raise InputError(f"stream folder {stream.folder} already holds trajectory parts; use an "
+                         "empty folder, or resume=True to continue that run")
     if control.resume:
         if ck is None:
             from poissonkit.errors import InputError

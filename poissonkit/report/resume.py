@@ -1,0 +1,149 @@
+"""What ``poissonkit run --resume`` may do in an output folder: finish what was started, only.
+
+A run's commit record is its ``summary.json`` (written atomically after the trajectory file and
+before ``trajectory.parts/`` is removed). :func:`prepare_resume` decides:
+
+* the folder holds a **finished** run (a summary whose status is not ``interrupted``):
+  :class:`RunFinishedError`, a one-line refusal; the summary and the trajectory are left
+  untouched (only the remains of an interrupted final clean-up — a leftover
+  ``trajectory.parts/`` whose rows ``trajectory.npz`` already holds, temporary files — are
+  removed). The message says whether the trajectory is complete; to run it again, use
+  ``--overwrite``;
+* otherwise (killed, or stopped by SIGINT): the temporary files a killed writer left are removed,
+  the interrupted attempt's ``summary.json`` / ``trajectory.npz`` / ``trajectory.nc`` /
+  ``trajectory.zarr`` are removed,
+  and the run continues from its newest valid checkpoint, after the parts it reassembles have
+  been checked (:func:`~poissonkit.numerics.parts.verify_parts`).
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+from poissonkit.errors import InputError
+from poissonkit.numerics.parts import PartsError, iter_parts, verify_parts
+from poissonkit.report.atomic import remove_stale_temps
+
+#: Files of an interrupted attempt that the resumed run writes again.
+ATTEMPT_FILES = ("summary.json", "trajectory.npz", "trajectory.nc", "trajectory.zarr")
+PARTS = "trajectory.parts"
+CHECKPOINTS = "checkpoints"
+
+
+class RunFinishedError(InputError):
+    """``--resume`` on a run that already finished: refused, its files left untouched."""
+
+
+def _summary(out: Path) -> dict[str, object] | None:
+    try:
+        data = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None  # no (readable) commit record: the run did not finish
+    return data if isinstance(data, dict) else None
+
+
+def _npz_problem(path: Path, rows: object, t_reached: object) -> str | None:
+    """Why ``path`` is not the complete trajectory the summary describes (``None``: it is)."""
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            t = z["t"]
+    except FileNotFoundError:
+        return f"{path.name} is missing"
+    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile):
+        return f"{path.name} is damaged"
+    if isinstance(rows, int) and len(t) != rows:
+        return f"{path.name} holds {len(t)} of {rows} rows"
+    if not isinstance(rows, int) and isinstance(t_reached, float) and \
+            (len(t) == 0 or float(t[-1]) != t_reached):  # summaries without saved_rows
+        return f"{path.name} does not reach t = {t_reached!r}"
+    return None
+
+
+def _parts_problem(folder: Path, rows: object, t_reached: object) -> str | None:
+    try:
+        infos = verify_parts(folder)
+    except PartsError as exc:
+        return str(exc)
+    if not infos:
+        return f"{folder.name}/ is missing"
+    if isinstance(rows, int) and infos[-1].stop != rows:
+        return f"{folder.name}/ holds {infos[-1].stop} of {rows} rows"
+    last_t = next(iter_parts(infos[-1:]))[0]
+    if not isinstance(rows, int) and isinstance(t_reached, float) and \
+            float(last_t[-1]) != t_reached:
+        return f"{folder.name}/ does not reach t = {t_reached!r}"
+    return None
+
+
+def finished_problem(out: str | Path) -> tuple[bool, str | None]:
+    """``(finished, problem)``: whether ``out`` holds a finished run, and what is wrong with its
+    trajectory (``None``: complete)."""
+    out = Path(out)
+    summary = _summary(out)
+    if summary is None or summary.get("status") in (None, "interrupted"):
+        return False, None
+    rows, t_reached = summary.get("saved_rows"), summary.get("t_reached")
+    if str(summary.get("trajectory", "")).startswith(PARTS):
+        return True, _parts_problem(out / PARTS, rows, t_reached)
+    return True, _npz_problem(out / "trajectory.npz", rows, t_reached)
+
+
+def prepare_resume(out: str | Path) -> None:
+    """Make ``out`` ready for a resumed run, or refuse (see the module docstring).
+
+    Raises
+    ------
+    RunFinishedError
+        If ``out`` holds a finished run.
+    CheckpointError
+        If ``out`` has no checkpoint to resume from.
+    """
+    from poissonkit.numerics.checkpoint import CheckpointError, checkpoints
+
+    out = Path(out)
+    finished, problem = finished_problem(out)
+    if finished:
+        summary = _summary(out) or {}
+        status = summary.get("status")
+        if problem is None:
+            if not str(summary.get("trajectory", "")).startswith(PARTS):
+                shutil.rmtree(out / PARTS, ignore_errors=True)  # rows already in the npz
+            remove_stale_temps(out)
+            raise RunFinishedError(
+                f"--resume: the run in {out} already finished (status {status}, "
+                f"{summary.get('saved_rows', '?')} rows); nothing to resume, its files are left "
+                "as they are (--overwrite runs it again)")
+        raise RunFinishedError(
+            f"--resume: the run in {out} already finished (status {status}) but {problem}; "
+            "resuming would keep only the rows after the last checkpoint, so it is refused "
+            "(--overwrite runs it again)")
+    for folder in (out, out / PARTS, out / CHECKPOINTS):
+        remove_stale_temps(folder)
+    if not checkpoints(out / CHECKPOINTS):
+        raise CheckpointError(f"--resume: {out} has no checkpoint; nothing to resume (a run "
+                              "killed before its first checkpoint starts again with --overwrite)")
+    for name in ATTEMPT_FILES:
+        if (out / name).is_dir():
+            shutil.rmtree(out / name)
+        else:
+            (out / name).unlink(missing_ok=True)
+
+
+def finish_parts(out: str | Path, keep: bool) -> None:
+    """After the summary is written: remove ``trajectory.parts/`` unless ``keep`` (a stopped,
+    checkpointed run keeps it for ``--resume``). Removes the newest part first."""
+    from poissonkit.numerics.parts import part_files
+    from poissonkit.report.killpoints import kill_point
+
+    folder = Path(out) / PARTS
+    if keep or not folder.is_dir():
+        return
+    for p in reversed(part_files(folder)):
+        p.unlink(missing_ok=True)
+        kill_point("parts-removing")
+    shutil.rmtree(folder, ignore_errors=True)
