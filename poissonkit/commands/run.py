@@ -90,7 +90,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "the tilted orbit is unstable)")
     parser.add_argument("--out", default=DEFAULT_OUT,
                         help=f"output folder (default ./{DEFAULT_OUT})")
-    parser.add_argument("--save-every", type=int, default=1, help="keep every k-th step")
+    parser.add_argument("--save-every", type=int, default=None,
+                        help="keep every k-th step (default: the scene's run.save_every, else 1)")
+    parser.add_argument("--max-steps", type=int, default=None, metavar="N",
+                        help="refuse, before it starts, a run of more than N fixed steps "
+                        "(default: the scene's run.max_steps, else no limit); runs estimated "
+                        "to take more than 10 min are warned about")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument("--no-plot", "--no-plots", dest="no_plots", action="store_true",
                         help="do not write PNG figures (as for `sweep`)")
@@ -327,10 +332,9 @@ def _main(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
+    from poissonkit.numerics.workload import plan_run
     from poissonkit.report import atomic
 
-    if args.save_every < 1:
-        raise InputError(f"--save-every must be >= 1, got {args.save_every}")
     every = getattr(args, "checkpoint_every", None)
     if every is not None and every < 1:
         raise InputError(f"--checkpoint-every must be >= 1, got {every}")
@@ -365,6 +369,10 @@ def _main(args: argparse.Namespace) -> int:
                    events=())
     _solve(warm, progress=False, save_every=1)
     compile_time = time.perf_counter() - tc
+    args.save_every = plan_run(spec, args.save_every, getattr(args, "max_steps", None),
+                               step_seconds_bound=compile_time,
+                               report=lambda m: print(f"warning: {m}", file=sys.stderr)
+                               ).save_every
     parts = out / "trajectory.parts"
     checkpoint = Checkpoint(out / "checkpoints", every) if every is not None else None
     t0 = time.perf_counter()

@@ -209,7 +209,8 @@ def build_run(scene: Scene) -> RunSpec:
     return RunSpec(
         name=scene.name, system=system, y0=built.y0, t_end=built.t_end,
         method=scene.run.method, step=built.step,
-        tol=scene.run.tol, metadata=metadata, events=events, energy_tol=scene.run.energy_tol)
+        tol=scene.run.tol, metadata=metadata, events=events, energy_tol=scene.run.energy_tol,
+        save_every=scene.run.save_every, max_steps=scene.run.max_steps)
 
 
 def contact_events(bodies: Sequence[BodyModel], length_unit: float = 1.0

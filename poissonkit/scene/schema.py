@@ -21,7 +21,8 @@ BODY_KEYS = ("name", "mass", "alpha", "inertia", "r", "p", "nu", "m", "fixed", "
 INTERACTION_KEYS = ("potential", "params", "pairs", "cutoff", "pair")
 PAIR_KEYS = ("bodies", "potential", "params")
 ASSEMBLY_KEYS = ("name", "params", "overrides")
-RUN_KEYS = ("method", "step", "tol", "duration", "save_every", "energy_tol", "contact")
+RUN_KEYS = ("method", "step", "tol", "duration", "save_every", "energy_tol", "contact",
+            "max_steps")
 PLANNER_KEYS = ("tol", "models", "replan_every", "hysteresis", "cutoff")
 #: Integer assembly parameters that count bodies (their product is the assembly's size).
 _COUNT_PARAMS = ("n", "nx", "ny", "nz")
@@ -57,7 +58,8 @@ class RunSettings:
     """The ``[run]`` table: integrator name, step [s] or tolerance, duration [s], the accepted
     relative energy error and what to do when finite-size bodies touch (``contact``:
     ``"stop"``, the default, or ``"ignore"`` for scenes that declare overlapping bodies
-    meaningful)."""
+    meaningful), and the most fixed steps the run may take (``max_steps``; ``None``: no
+    limit)."""
 
     duration: float
     method: str = "splitting4"
@@ -66,6 +68,7 @@ class RunSettings:
     save_every: int = 1
     energy_tol: float = 1e-6
     contact: str = "stop"
+    max_steps: int | None = None
 
 
 @dataclass(frozen=True)
@@ -268,7 +271,9 @@ def _run(raw: Any) -> RunSettings:
     contact = _string(table.get("contact", "stop"), "run.contact")
     if contact not in ("stop", "ignore"):
         raise SceneError(f"run.contact: must be \"stop\" or \"ignore\", got {contact!r}")
-    return RunSettings(duration, method, step, tol, save_every, energy_tol, contact)
+    max_steps = (_integer(table["max_steps"], "run.max_steps") if "max_steps" in table
+                 else None)
+    return RunSettings(duration, method, step, tol, save_every, energy_tol, contact, max_steps)
 
 
 def _planner(raw: Any) -> PlannerSpec:
