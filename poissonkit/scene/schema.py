@@ -24,6 +24,9 @@ ASSEMBLY_KEYS = ("name", "params", "overrides")
 RUN_KEYS = ("method", "step", "tol", "duration", "save_every", "energy_tol", "contact",
             "max_steps")
 PLANNER_KEYS = ("tol", "models", "replan_every", "hysteresis", "cutoff")
+#: More bodies than any memory holds: refused before the memory estimate (which counts in
+#: floats and would overflow for ``n = 1e300``).
+MAX_COUNT = 10**15
 #: Integer assembly parameters that count bodies (their product is the assembly's size).
 _COUNT_PARAMS = ("n", "nx", "ny", "nz")
 
@@ -303,7 +306,19 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
     SceneError
         Naming the offending field: unknown keys, wrong types, negative masses, missing axes,
         unknown potentials / integrators / assemblies, overlapping bodies at t = 0, ...
+        Huge values (``1e308``) overflow inside the geometric checks without numpy warnings;
+        the checks refuse the non-finite results.
     """
+    import numpy as np
+
+    try:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
+            return _scene_from_mapping(data, source)
+    except ArithmeticError as exc:  # ZeroDivisionError, OverflowError of huge Python numbers
+        raise SceneError(f"a value is out of floating-point range ({exc})") from None
+
+
+def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
     data = _table(data, "scene")
     _keys(data, TOP_KEYS, "")
     name = _string(data.get("name", "scene"), "name")
@@ -343,11 +358,16 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
             resolved = entry.resolve_params(aparams)
         except PoissonkitError as exc:
             raise SceneError(f"assembly.params: {exc}") from None
+        except ArithmeticError as exc:  # n = 10**400: beyond float range
+            raise SceneError(f"assembly.params: a value is out of range ({exc})") from None
         size = 1
         for key in _COUNT_PARAMS:
             value = resolved.get(key)
             if isinstance(value, int) and not isinstance(value, bool) and value > 0:
                 size *= value
+        if size > MAX_COUNT:  # beyond any memory, and beyond float range in the estimate
+            raise SceneError(f"assembly.params: {len(str(size))}-digit body count, more than "
+                             f"{MAX_COUNT:.0e} bodies")
         # an assembly may join every pair: count them all (the graph holds each edge)
         check_size(size, size * (size - 1) // 2, "assembly.params")
         assembly = (aname, aparams)
