@@ -155,3 +155,31 @@ def test_bad_values_are_typed_errors(every, limit):
     spec = build_run(loads_scene(TWO))
     with pytest.raises(InputError):
         plan_run(spec, every, limit, step_seconds_bound=0.0)
+
+
+def test_all_fixed_sweep_point_is_bounded_without_warnings(tmp_path):
+    # the sweep path took the spread of the moving bodies: with none, np.max of an empty array
+    from poissonkit.sweeps.scenes import TomlScene
+
+    scene = TomlScene.from_file(_scene(tmp_path, """name = "still"
+[[bodies]]
+name = "a"
+mass = 1.0
+r = [0, 0, 0]
+fixed = true
+[[bodies]]
+name = "b"
+mass = 2.0
+r = [1, 0, 0]
+fixed = true
+[interactions]
+potential = "gravity"
+[run]
+step = 0.01
+duration = 0.2
+"""))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        rec = scene.run(scene.prepare(), {"bodies.a.mass": 3.0})
+    assert rec.fate == "bounded"
+    assert np.all(rec.distance == 1.0)  # the two fixed bodies stay 1 m apart
