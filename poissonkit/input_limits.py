@@ -23,6 +23,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from poissonkit.errors import InputError
 
 #: Largest JSON / TOML text accepted, in bytes (a 10⁵-body scene file is ~10 MB).
@@ -35,12 +37,10 @@ MAX_NUMBER_DIGITS = 1000
 __all__ = ["MAX_DEPTH", "MAX_NUMBER_DIGITS", "MAX_TEXT_BYTES", "check_strings", "loads_json",
            "loads_toml", "read_text"]
 
-# Tokens that can hide brackets or digits (strings, comments) and the ones we count.
-_NUMBER = rf"[0-9][0-9_]{{{MAX_NUMBER_DIGITS},}}"
-_JSON_TOKENS = re.compile(rf'"(?:[^"\\]|\\.)*"|[\[\]{{}}]|{_NUMBER}')
-_TOML_TOKENS = re.compile(
-    rf'"""[\s\S]*?"""|\'\'\'[\s\S]*?\'\'\'|"(?:[^"\\\n]|\\.)*"|\'[^\'\n]*\'|#[^\n]*'
-    rf'|[\[\]{{}}]|{_NUMBER}')
+# What can hide brackets or digits: strings (and TOML comments), replaced by a blank first.
+_JSON_TEXT = re.compile(r'"(?:[^"\\]|\\.)*"')
+_TOML_TEXT = re.compile(r'"""[\s\S]*?"""|\'\'\'[\s\S]*?\'\'\'|"(?:[^"\\\n]|\\.)*"|\'[^\'\n]*\'|#[^\n]*')
+_LONG_NUMBER = re.compile(rf"[0-9][0-9_]{{{MAX_NUMBER_DIGITS},}}")
 _SURROGATE = re.compile("[\ud800-\udfff]")
 
 ErrorType = Callable[[str], InputError]
@@ -70,7 +70,7 @@ def read_text(path: str | Path, what: str, error: ErrorType = InputError) -> str
                     f"{exc.start})") from None
 
 
-def _scan(text: str, tokens: re.Pattern[str], what: str, error: ErrorType) -> None:
+def _scan(text: str, hiding: re.Pattern[str], what: str, error: ErrorType) -> None:
     """Refuse ``text`` past the size, depth and number-length limits, or with surrogates."""
     if len(text) > MAX_TEXT_BYTES:
         raise error(f"{what}: {len(text)} characters, more than the limit of {MAX_TEXT_BYTES}")
@@ -78,19 +78,16 @@ def _scan(text: str, tokens: re.Pattern[str], what: str, error: ErrorType) -> No
     if bad is not None:
         raise error(f"{what}: invalid character U+{ord(bad.group()):04X} (a lone surrogate) "
                     f"at offset {bad.start()}")
-    depth = 0
-    for m in tokens.finditer(text):
-        c = m.group()
-        if c in "[{":
-            depth += 1
-            if depth > MAX_DEPTH:
-                raise error(f"{what}: nested deeper than the limit of {MAX_DEPTH} levels "
-                            f"(at offset {m.start()})")
-        elif c in "]}":
-            depth -= 1
-        elif c[0].isdigit():
-            raise error(f"{what}: a number with {len(c)} digits at offset {m.start()}, more "
-                        f"than the limit of {MAX_NUMBER_DIGITS}")
+    code = hiding.sub(" ", text)  # an unterminated string stays: the parser refuses it
+    long = _LONG_NUMBER.search(code)
+    if long is not None:
+        raise error(f"{what}: a number with {len(long.group())} digits, more than the limit "
+                    f"of {MAX_NUMBER_DIGITS}")
+    raw = np.frombuffer(code.encode("utf-8"), dtype=np.uint8)
+    step = ((raw == 91) | (raw == 123)).astype(np.int32)  # [ {
+    step -= (raw == 93) | (raw == 125)                    # ] }
+    if step.size and int(np.cumsum(step).max()) > MAX_DEPTH:
+        raise error(f"{what}: nested deeper than the limit of {MAX_DEPTH} levels")
 
 
 def check_strings(data: Any, what: str, error: ErrorType = InputError) -> None:
@@ -135,7 +132,7 @@ def loads_json(text: str, what: str, error: ErrorType = InputError) -> Any:
     InputError
         (or ``error``) Invalid JSON, or a limit exceeded (the message names it).
     """
-    _scan(text, _JSON_TOKENS, what, error)
+    _scan(text, _JSON_TEXT, what, error)
     try:
         data = json.loads(text, parse_int=_parse_int)
     except json.JSONDecodeError as exc:
@@ -154,7 +151,7 @@ def loads_toml(text: str, what: str, error: ErrorType = InputError) -> dict[str,
     InputError
         (or ``error``) Invalid TOML, or a limit exceeded (the message names it).
     """
-    _scan(text, _TOML_TOKENS, what, error)
+    _scan(text, _TOML_TEXT, what, error)
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
