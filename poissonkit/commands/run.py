@@ -335,6 +335,8 @@ def _main(args: argparse.Namespace) -> int:
     from poissonkit.numerics.workload import plan_run
     from poissonkit.report import atomic
 
+    if args.save_every is not None and args.save_every < 1:
+        raise InputError(f"--save-every must be >= 1, got {args.save_every}")
     every = getattr(args, "checkpoint_every", None)
     if every is not None and every < 1:
         raise InputError(f"--checkpoint-every must be >= 1, got {every}")
@@ -348,6 +350,9 @@ def _main(args: argparse.Namespace) -> int:
         spec = _replace(spec, events=())
     else:
         spec = _with_contact(spec)
+    # steps beyond --max-steps / run.max_steps are refused before any output is touched
+    args.save_every = plan_run(spec, args.save_every, getattr(args, "max_steps", None),
+                               measure=False).save_every
     out = Path(args.out)
     if resume:
         if not (out / "checkpoints").is_dir():
@@ -369,10 +374,9 @@ def _main(args: argparse.Namespace) -> int:
                    events=())
     _solve(warm, progress=False, save_every=1)
     compile_time = time.perf_counter() - tc
-    args.save_every = plan_run(spec, args.save_every, getattr(args, "max_steps", None),
-                               step_seconds_bound=compile_time,
-                               report=lambda m: print(f"warning: {m}", file=sys.stderr)
-                               ).save_every
+    plan_run(spec, args.save_every, getattr(args, "max_steps", None),
+             step_seconds_bound=compile_time,
+             report=lambda m: print(f"warning: {m}", file=sys.stderr))
     parts = out / "trajectory.parts"
     checkpoint = Checkpoint(out / "checkpoints", every) if every is not None else None
     t0 = time.perf_counter()

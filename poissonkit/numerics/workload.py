@@ -133,7 +133,7 @@ def _measure(spec: RunSpec, steps: int) -> float:
 
 def plan_run(spec: RunSpec, save_every: int | None = None, max_steps: int | None = None, *,
              step_seconds_bound: float | None = None, warn_seconds: float = WARN_SECONDS,
-             report: Callable[[str], None] | None = None) -> RunPlan:
+             report: Callable[[str], None] | None = None, measure: bool = True) -> RunPlan:
     """Check a run against its step limit and estimate its wall time, before it starts.
 
     Parameters
@@ -150,6 +150,9 @@ def plan_run(spec: RunSpec, save_every: int | None = None, max_steps: int | None
     report
         Called with the warning text; default: :func:`warnings.warn` with
         :class:`WorkloadWarning`.
+    measure
+        ``False``: only resolve ``save_every`` and check the step limit (nothing runs; e.g.
+        before output folders are touched); the estimate is then left out.
 
     Returns
     -------
@@ -171,6 +174,8 @@ def plan_run(spec: RunSpec, save_every: int | None = None, max_steps: int | None
         raise StepLimitError(
             f"the run takes {steps} steps (duration / step), more than max_steps = {limit}; "
             "use a longer step or a shorter duration, or raise --max-steps / run.max_steps")
+    if not measure:
+        return RunPlan(every, steps)
     if step_seconds_bound is not None and steps * step_seconds_bound <= warn_seconds:
         return RunPlan(every, steps, step_seconds_bound, steps * step_seconds_bound)
     per = _measure(spec, steps)

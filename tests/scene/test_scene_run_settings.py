@@ -108,6 +108,14 @@ def test_max_steps_flag_refuses_before_the_run(tmp_path, capsys):
     assert code == 0 and summary["steps"] == 500
 
 
+def test_a_refused_run_leaves_earlier_outputs_alone(tmp_path):
+    scene = _scene(tmp_path, TWO)
+    code, first, _ = _run(tmp_path, scene)
+    assert code == 0
+    code, again, npz = _run(tmp_path, scene, "--max-steps", "10")  # with --overwrite
+    assert code == 1 and again == first and npz["t"].shape == (501,)
+
+
 def test_scene_max_steps_refuses_and_the_flag_overrides(tmp_path):
     scene = _scene(tmp_path, TWO.replace("duration = 0.05", "duration = 0.05\nmax_steps = 100"))
     code, summary, _ = _run(tmp_path, scene)
