@@ -24,7 +24,7 @@ before. The cache folder is ``$POISSONKIT_CACHE_DIR`` or ``~/.cache/poissonkit``
 respected), one sub-folder per numba and Python version; ``POISSONKIT_CACHE_DIR=off`` disables it.
 A read-only folder is used for reading only, an unreadable one not at all; a corrupt or unreadable
 entry is deleted if possible and compiled again. Every data file records the key (signature,
-target, token) it was stored under and is checked against it before numba loads it: a file that
+target, token) it was stored under and a checksum, both checked before numba loads it: a file that
 holds another kernel's valid entry is a miss (logged at debug level), compiled again and
 overwritten — the cache can make things faster, never wrong or failing.
 """
@@ -37,6 +37,7 @@ import json
 import logging
 import math
 import os
+import pickle
 import secrets
 import sys
 import types
@@ -250,19 +251,22 @@ class _CheckedFile(caching.IndexDataCacheFile):
     The index is already tied to the token (its stamp), but a data file is found by name only:
     a folder whose files hold other kernels' valid entries (copied, renamed, a shared folder
     mixed up) would load foreign machine code — a wrong result or a numba ``TypingError``.
-    The tag is checked before numba rebuilds anything.
+    The tag is checked before numba rebuilds anything, and so is a checksum of the entry: a
+    flipped byte inside the object code still unpickles, and LLVM aborts the process on it.
     """
 
     def save(self, key: tuple, data: Any) -> None:
-        super().save(key, (_key_digest(key), data))
+        payload = self._dump(data)
+        super().save(key, (_key_digest(key), _sha(payload), payload))
 
     def load(self, key: tuple) -> Any:
         got = super().load(key)
         if got is None:
             return None
-        if not (isinstance(got, tuple) and len(got) == 2 and got[0] == _key_digest(key)):
+        if not (isinstance(got, tuple) and len(got) == 3 and got[0] == _key_digest(key)
+                and isinstance(got[2], bytes) and got[1] == _sha(got[2])):
             raise _EntryMismatch(self._index_path)
-        return got[1]
+        return pickle.loads(got[2])  # noqa: S301 - our own cache folder, checksum verified
 
 
 class _TokenCache(caching.Cache):

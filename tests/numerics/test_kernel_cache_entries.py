@@ -235,3 +235,37 @@ def test_unreadable_cache_runs_without_caching(unprivileged, shared_tmp, mode):
     assert got["values"] == [3.0, 4.5, 3.0]
     assert all(s == [0, 1] for s in got["stats"][:2])
     assert len(got["warnings"]) <= 1
+
+
+_FLIP_CHILD = """
+import os, sys, tempfile
+from pathlib import Path
+from poissonkit.numerics.jit import cache_stats, jit
+
+def scaled(k):
+    @jit
+    def f(x):
+        return k * x
+    return f
+
+for frac in (0.2, 0.35, 0.5, 0.65, 0.8):
+    with tempfile.TemporaryDirectory() as d:
+        os.environ["POISSONKIT_CACHE_DIR"] = d
+        assert scaled(2.0)(1.5) == 3.0
+        data = next(Path(d).rglob("*.nbc"))
+        raw = bytearray(data.read_bytes())
+        for i in range(int(frac * len(raw)), int(frac * len(raw)) + 64, 8):
+            raw[i] ^= 0xFF
+        data.write_bytes(bytes(raw))
+        f = scaled(2.0)
+        assert f(1.5) == 3.0 and cache_stats(f) == (0, 1), (frac, cache_stats(f))
+print("ok")
+"""
+
+
+def test_flipped_bytes_inside_an_entry_are_a_miss_not_an_abort(tmp_path):
+    # a flipped byte in the object code still unpickles; LLVM then aborted the process
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), str(ROOT / "plugins")]))
+    out = subprocess.run([sys.executable, "-c", _FLIP_CHILD], env=env, capture_output=True,
+                         text=True, timeout=300, cwd=tmp_path)
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr[-3000:]
