@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from poissonkit.numerics import jit as jitmod
-from poissonkit.numerics.jit import cache_dir, cache_stats, jit
+from poissonkit.numerics.jit import cache_stats, jit
 
 ROOT = Path(__file__).resolve().parents[2]
 NOBODY = 65534
@@ -36,14 +36,6 @@ def _pair(k: float):
         return k * x + y
 
     return f
-
-
-def _entries(folder: Path, qualname: str) -> dict[str, list[Path]]:
-    """Data files (``.nbc``) by index file stem, for the kernels named ``qualname``."""
-    out: dict[str, list[Path]] = {}
-    for idx in folder.rglob(f"*{qualname}*.nbi"):
-        out[idx.name[:-4]] = sorted(idx.parent.glob(idx.name[:-4] + ".*.nbc"))
-    return out
 
 
 def _data_file(folder: Path, before: set[Path]) -> Path:

@@ -50,7 +50,7 @@ def test_huge_values_are_one_typed_error_without_warnings(scene, path, value, wo
 
 
 @pytest.mark.parametrize("field", ["r", "p", "m"])
-def test_overflowing_state_is_refused_by_the_run_without_warnings(tmp_path, capfd, field):
+def test_overflowing_state_is_refused_by_the_run_without_warnings(field):
     body = 0 if field == "r" else 1
     data = _mutated("two_magnets", ("bodies", body, field, 0), 1e308)
     with warnings.catch_warnings():
