@@ -69,6 +69,8 @@ _LAZY: dict[str, str] = {
     "NBodySystem": "poissonkit.numerics.nbody",
     "Body": "poissonkit.numerics.nbody",
     "RunSpec": "poissonkit.numerics.runspec",
+    "plan_run": "poissonkit.numerics.workload",
+    "RunPlan": "poissonkit.numerics.workload",
     # magnets
     "pair_interaction": "poissonkit.interaction",
     "PairInteraction": "poissonkit.interaction",

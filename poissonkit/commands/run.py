@@ -99,7 +99,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "the tilted orbit is unstable)")
     parser.add_argument("--out", default=DEFAULT_OUT,
                         help=f"output folder (default ./{DEFAULT_OUT})")
-    parser.add_argument("--save-every", type=int, default=1, help="keep every k-th step")
+    parser.add_argument("--save-every", type=int, default=None,
+                        help="keep every k-th step (default: the scene's run.save_every, else 1)")
+    parser.add_argument("--max-steps", type=int, default=None, metavar="N",
+                        help="refuse, before it starts, a run of more than N fixed steps "
+                        "(default: the scene's run.max_steps, else no limit); runs estimated "
+                        "to take more than 10 min are warned about")
     parser.add_argument("--save-dt", type=float, default=None, metavar="SECONDS",
                         help="save the state every SECONDS of physical time instead, reached "
                         "exactly by every method (not with --save-every or checkpoints)")
@@ -348,9 +353,10 @@ def _main(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
+    from poissonkit.numerics.workload import plan_run
     from poissonkit.report import atomic
 
-    if args.save_every < 1:
+    if args.save_every is not None and args.save_every < 1:
         raise InputError(f"--save-every must be >= 1, got {args.save_every}")
     every = getattr(args, "checkpoint_every", None)
     if every is not None and every < 1:
@@ -358,7 +364,7 @@ def _main(args: argparse.Namespace) -> int:
     resume = bool(getattr(args, "resume", False))
     save_dt = getattr(args, "save_dt", None)
     _positive("save-dt", save_dt)
-    if save_dt is not None and (args.save_every != 1 or every is not None or resume):
+    if save_dt is not None and (args.save_every is not None or every is not None or resume):
         raise InputError("--save-dt chooses the saved states itself: not with --save-every, "
                          "--checkpoint-every or --resume")
     energy_tol = getattr(args, "energy_tol", None)
@@ -370,6 +376,11 @@ def _main(args: argparse.Namespace) -> int:
         spec = _replace(spec, events=())
     else:
         spec = _with_contact(spec)
+    # steps beyond --max-steps / run.max_steps are refused before any output is touched
+    args.save_every = plan_run(spec, args.save_every, getattr(args, "max_steps", None),
+                               measure=False).save_every
+    if save_dt is not None:  # the sample times replace the scene's run.save_every
+        args.save_every = 1
     out = Path(args.out)
     if resume:  # refuses a finished run; clears the interrupted attempt's files
         from poissonkit.report.resume import prepare_resume
@@ -388,6 +399,9 @@ def _main(args: argparse.Namespace) -> int:
                    events=())
     _solve(warm, progress=False, save_every=1)
     compile_time = time.perf_counter() - tc
+    plan_run(spec, args.save_every, getattr(args, "max_steps", None),
+             step_seconds_bound=compile_time,
+             report=lambda m: print(f"warning: {m}", file=sys.stderr))
     parts = out / "trajectory.parts"
     checkpoint = Checkpoint(out / "checkpoints", every) if every is not None else None
     t0 = time.perf_counter()

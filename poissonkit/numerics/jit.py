@@ -22,8 +22,11 @@ of everything its machine code depends on:
 Anything without a token (an object we cannot fingerprint) keeps in-memory compilation only, as
 before. The cache folder is ``$POISSONKIT_CACHE_DIR`` or ``~/.cache/poissonkit`` (``$XDG_CACHE_HOME``
 respected), one sub-folder per numba and Python version; ``POISSONKIT_CACHE_DIR=off`` disables it.
-A read-only folder is used for reading only; a corrupt or unreadable entry is deleted if possible
-and compiled again — the cache can make things faster, never wrong or failing.
+A read-only folder is used for reading only, an unreadable one not at all; a corrupt or unreadable
+entry is deleted if possible and compiled again. Every data file records the key (signature,
+target, token) it was stored under and a checksum, both checked before numba loads it: a file that
+holds another kernel's valid entry is a miss (logged at debug level), compiled again and
+overwritten — the cache can make things faster, never wrong or failing.
 """
 
 from __future__ import annotations
@@ -31,8 +34,10 @@ from __future__ import annotations
 import hashlib
 import itertools
 import json
+import logging
 import math
 import os
+import pickle
 import secrets
 import sys
 import types
@@ -44,6 +49,8 @@ import numba
 import numpy as np
 from numba.core import caching
 from numba.core.dispatcher import Dispatcher
+
+_log = logging.getLogger(__name__)
 
 #: Environment variable naming the cache folder (``off``, ``0`` or ``none`` disables the cache).
 CACHE_ENV = "POISSONKIT_CACHE_DIR"
@@ -227,6 +234,41 @@ class _Impl(caching.CompileResultCacheImpl):
                                                      getattr(sys, "abiflags", ""))
 
 
+def _key_digest(key: tuple) -> str:
+    """What a data file records of the index key it was stored under: signature, target
+    (codegen magic tuple) and token."""
+    sig, magic, token = key
+    return _sha("entry-v1", str(sig), repr(magic), token)
+
+
+class _EntryMismatch(Exception):
+    """A data file that does not hold the entry of its index key (a miss, not an error)."""
+
+
+class _CheckedFile(caching.IndexDataCacheFile):
+    """numba's index + data files, each data file tagged with the key it was stored under.
+
+    The index is already tied to the token (its stamp), but a data file is found by name only:
+    a folder whose files hold other kernels' valid entries (copied, renamed, a shared folder
+    mixed up) would load foreign machine code — a wrong result or a numba ``TypingError``.
+    The tag is checked before numba rebuilds anything, and so is a checksum of the entry: a
+    flipped byte inside the object code still unpickles, and LLVM aborts the process on it.
+    """
+
+    def save(self, key: tuple, data: Any) -> None:
+        payload = self._dump(data)
+        super().save(key, (_key_digest(key), _sha(payload), payload))
+
+    def load(self, key: tuple) -> Any:
+        got = super().load(key)
+        if got is None:
+            return None
+        if not (isinstance(got, tuple) and len(got) == 3 and got[0] == _key_digest(key)
+                and isinstance(got[2], bytes) and got[1] == _sha(got[2])):
+            raise _EntryMismatch(self._index_path)
+        return pickle.loads(got[2])  # noqa: S301 - our own cache folder, checksum verified
+
+
 class _TokenCache(caching.Cache):
     """numba's per-function file cache, keyed by our token instead of pickled closures."""
 
@@ -236,7 +278,7 @@ class _TokenCache(caching.Cache):
         self._token = token
         self._impl = _Impl(py_func, path, token)
         self._cache_path = self._impl.locator.get_cache_path()
-        self._cache_file = caching.IndexDataCacheFile(
+        self._cache_file = _CheckedFile(
             cache_path=self._cache_path, filename_base=self._impl.filename_base,
             source_stamp=token)
         self.enable()
@@ -286,7 +328,13 @@ class _DiskCache(caching.NullCache):
             return None
         try:
             return inner.load_overload(sig, target_context)
-        except Exception:  # noqa: BLE001 - corrupt or unreadable entry: drop it, compile
+        except _EntryMismatch as exc:  # the recompile overwrites it
+            _log.debug("kernel cache: %s is not the entry stored under this key; compiling",
+                       exc)
+            return None
+        except Exception as exc:  # noqa: BLE001 - corrupt or unreadable entry: drop it, compile
+            _log.debug("kernel cache: unreadable entry for %s (%s: %s); compiling",
+                       self._py_func.__qualname__, type(exc).__name__, exc)
             self._discard(inner)
             return None
 
@@ -296,8 +344,8 @@ class _DiskCache(caching.NullCache):
             return
         try:
             inner.save_overload(sig, data)
-        except Exception:  # noqa: BLE001 - read-only or full disk: keep the compiled code
-            pass
+        except Exception as exc:  # noqa: BLE001 - read-only or full disk: keep the compiled code
+            _log.debug("kernel cache: not stored (%s: %s)", type(exc).__name__, exc)
 
     @staticmethod
     def _discard(inner: _TokenCache) -> None:
@@ -368,7 +416,7 @@ def load_sources(key: str) -> dict[str, str] | None:
         data = json.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
         return None
-    except (OSError, ValueError):
+    except (OSError, ValueError, RecursionError):  # RecursionError: a nested damaged file
         _unlink(path)
         return None
     if (not isinstance(data, dict) or data.get("key") != key

@@ -41,6 +41,12 @@ class RunSpec:
     energy_tol
         Largest acceptable relative energy error ``max |ΔH|/|H(0)|``; ``poissonkit run`` warns
         and exits non-zero above it. ``None``: the run command's default.
+    save_every
+        Keep every ``save_every``-th step (a scene's ``run.save_every``); ``None``: every
+        step unless the caller says otherwise (``--save-every``).
+    max_steps
+        Refuse a run of more fixed steps than this before it starts (a scene's
+        ``run.max_steps``, :func:`poissonkit.numerics.workload.plan_run`); ``None``: no limit.
     """
 
     name: str
@@ -53,3 +59,5 @@ class RunSpec:
     metadata: Mapping[str, Any] = field(default_factory=dict)
     events: tuple[Event, ...] = ()
     energy_tol: float | None = None
+    save_every: int | None = None
+    max_steps: int | None = None

@@ -148,13 +148,26 @@ class BuiltScene:
 
 @contextmanager
 def _named_errors(scene: Scene) -> Iterator[None]:
-    """Re-raise any typed error while building ``scene`` as a :class:`SceneError` naming it."""
+    """Re-raise any typed error while building ``scene`` as a :class:`SceneError` naming it.
+
+    Floating-point overflow of huge values (``1e308`` m) is not printed as numpy warnings:
+    the checks that follow refuse the non-finite results with typed errors, and an
+    ``ArithmeticError`` of Python numbers becomes one too.
+    """
     try:
-        yield
+        with _quiet_floats():
+            yield
     except SceneError:
         raise
     except PoissonkitError as exc:
         raise SceneError(f"scene {scene.name!r}: {exc}") from None
+    except ArithmeticError as exc:  # ZeroDivisionError, OverflowError of huge values
+        raise SceneError(f"scene {scene.name!r}: a value is out of floating-point range "
+                         f"({exc})") from None
+
+
+def _quiet_floats() -> np.errstate:
+    return np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore")
 
 
 def build_scene(scene: Scene, scales: Scales | str | None = "auto") -> BuiltScene:
@@ -184,7 +197,8 @@ def build_scene(scene: Scene, scales: Scales | str | None = "auto") -> BuiltScen
     direct = _all_pairs_direct(scene, scales)
     if direct is not None:
         return direct
-    G = scene_graph(scene)
+    with _quiet_floats():  # positions of huge assemblies overflow; checked as they are built
+        G = scene_graph(scene)
     plan = None
     with _named_errors(scene):
         bodies = bodies_of(G)
@@ -262,7 +276,8 @@ def build_run(scene: Scene) -> RunSpec:
     return RunSpec(
         name=scene.name, system=system, y0=built.y0, t_end=built.t_end,
         method=scene.run.method, step=built.step,
-        tol=scene.run.tol, metadata=metadata, events=events, energy_tol=scene.run.energy_tol)
+        tol=scene.run.tol, metadata=metadata, events=events, energy_tol=scene.run.energy_tol,
+        save_every=scene.run.save_every, max_steps=scene.run.max_steps)
 
 
 def contact_events(bodies: Sequence[BodyModel], length_unit: float = 1.0

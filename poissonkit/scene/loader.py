@@ -6,9 +6,8 @@ from __future__ import annotations
 from importlib import resources
 from pathlib import Path
 
-import tomllib
-
-from poissonkit.errors import SceneError, UnknownNameError
+from poissonkit.errors import InputError, SceneError, UnknownNameError
+from poissonkit.input_limits import loads_toml, read_text
 from poissonkit.scene.schema import Scene, scene_from_mapping
 
 
@@ -32,22 +31,16 @@ def load_scene(path: str | Path) -> Scene:
         the field, e.g. ``bodies[1].mass: must be > 0``).
     """
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise SceneError(f"scene file {str(p)!r} does not exist") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SceneError(f"cannot read scene file {str(p)!r}: {exc}") from None
-    return loads_scene(text, source=str(p))
+    return loads_scene(read_text(p, "scene file", SceneError), source=str(p))
 
 
 def loads_scene(text: str, source: str = "") -> Scene:
-    """Validate a scene given as TOML text (see :func:`load_scene`)."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        where = f" in {source!r}" if source else ""
-        raise SceneError(f"invalid TOML{where}: {exc}") from None
+    """Validate a scene given as TOML text (see :func:`load_scene`).
+
+    The text is parsed within the limits of :mod:`poissonkit.input_limits` (size, nesting
+    depth, digits per number, valid Unicode); past them a :class:`SceneError` names the limit.
+    """
+    data = loads_toml(text, repr(source) if source else "scene", SceneError)
     return scene_from_mapping(data, source=source)
 
 
@@ -87,8 +80,8 @@ def scene_description(path: str | Path) -> str:
     Only the TOML is parsed (no validation), so listing scenes stays cheap.
     """
     try:
-        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        data = loads_toml(read_text(path, "scene file"), str(path))
+    except InputError:
         return ""
     text = data.get("description", "")
     return text.strip().splitlines()[0] if isinstance(text, str) and text.strip() else ""

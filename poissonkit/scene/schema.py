@@ -22,8 +22,12 @@ BODY_KEYS = ("name", "mass", "alpha", "inertia", "r", "p", "nu", "m", "fixed", "
 INTERACTION_KEYS = ("potential", "params", "pairs", "cutoff", "pair")
 PAIR_KEYS = ("bodies", "potential", "params")
 ASSEMBLY_KEYS = ("name", "params", "overrides")
-RUN_KEYS = ("method", "step", "tol", "duration", "save_every", "energy_tol", "contact")
+RUN_KEYS = ("method", "step", "tol", "duration", "save_every", "energy_tol", "contact",
+            "max_steps")
 PLANNER_KEYS = ("tol", "models", "replan_every", "hysteresis", "cutoff")
+#: More bodies than any memory holds: refused before the memory estimate (which counts in
+#: floats and would overflow for ``n = 1e300``).
+MAX_COUNT = 10**15
 #: Integer assembly parameters that count bodies (their product is the assembly's size).
 _COUNT_PARAMS = ("n", "nx", "ny", "nz")
 
@@ -58,7 +62,8 @@ class RunSettings:
     """The ``[run]`` table: integrator name, step [s] or tolerance, duration [s], the accepted
     relative energy error and what to do when finite-size bodies touch (``contact``:
     ``"stop"``, the default, or ``"ignore"`` for scenes that declare overlapping bodies
-    meaningful)."""
+    meaningful), and the most fixed steps the run may take (``max_steps``; ``None``: no
+    limit)."""
 
     duration: float
     method: str = "splitting4"
@@ -67,6 +72,7 @@ class RunSettings:
     save_every: int = 1
     energy_tol: float = 1e-6
     contact: str = "stop"
+    max_steps: int | None = None
 
 
 @dataclass(frozen=True)
@@ -269,7 +275,9 @@ def _run(raw: Any) -> RunSettings:
     contact = _string(table.get("contact", "stop"), "run.contact")
     if contact not in ("stop", "ignore"):
         raise SceneError(f"run.contact: must be \"stop\" or \"ignore\", got {contact!r}")
-    return RunSettings(duration, method, step, tol, save_every, energy_tol, contact)
+    max_steps = (_integer(table["max_steps"], "run.max_steps") if "max_steps" in table
+                 else None)
+    return RunSettings(duration, method, step, tol, save_every, energy_tol, contact, max_steps)
 
 
 def _planner(raw: Any) -> PlannerSpec:
@@ -299,7 +307,19 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
     SceneError
         Naming the offending field: unknown keys, wrong types, negative masses, missing axes,
         unknown potentials / integrators / assemblies, overlapping bodies at t = 0, ...
+        Huge values (``1e308``) overflow inside the geometric checks without numpy warnings;
+        the checks refuse the non-finite results.
     """
+    import numpy as np
+
+    try:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore", under="ignore"):
+            return _scene_from_mapping(data, source)
+    except ArithmeticError as exc:  # ZeroDivisionError, OverflowError of huge Python numbers
+        raise SceneError(f"a value is out of floating-point range ({exc})") from None
+
+
+def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
     data = _table(data, "scene")
     _keys(data, TOP_KEYS, "")
     name = _string(data.get("name", "scene"), "name")
@@ -339,11 +359,16 @@ def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
             resolved = entry.resolve_params(aparams)
         except PoissonkitError as exc:
             raise SceneError(f"assembly.params: {exc}") from None
+        except ArithmeticError as exc:  # n = 10**400: beyond float range
+            raise SceneError(f"assembly.params: a value is out of range ({exc})") from None
         size = 1
         for key in _COUNT_PARAMS:
             value = resolved.get(key)
             if isinstance(value, int) and not isinstance(value, bool) and value > 0:
                 size *= value
+        if size > MAX_COUNT:  # beyond any memory, and beyond float range in the estimate
+            raise SceneError(f"assembly.params: {len(str(size))}-digit body count, more than "
+                             f"{MAX_COUNT:.0e} bodies")
         check_size(size, held_pairs(size, data, assembly=resolved), "assembly.params")
         assembly = (aname, aparams)
         overrides = dict(_table(table.get("overrides", {}), "assembly.overrides"))

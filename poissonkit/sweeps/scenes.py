@@ -333,9 +333,10 @@ class TomlScene:
                                            built.bodies)
         L = system.scales.length if system.scales is not None else 1.0
         moving = [b for b in models if not b.fixed]
-        r0 = np.array([b.r for b in moving], dtype=float) / L
-        size = max([float(np.max(np.linalg.norm(r0 - r0.mean(axis=0), axis=1)))] +
-                   [b.bounding_radius / L for b in models])
+        r0 = np.array([b.r for b in moving], dtype=float).reshape(-1, 3) / L
+        spread = [float(np.max(np.linalg.norm(r0 - r0.mean(axis=0), axis=1)))] if len(r0) \
+            else []  # every body fixed: nothing moves, nothing escapes
+        size = max(spread + [b.bounding_radius / L for b in models])
         events = (Escape(self.escape * size),) if len(moving) > 1 else ()
         fate, fate_t = "bounded", math.nan
         # an integration that breaks down raises: the point is recorded as failed, with the

@@ -13,7 +13,6 @@ exact rationals their texts mean (:func:`exact_number`).
 
 from __future__ import annotations
 
-import json
 import re
 from collections.abc import Sequence
 from decimal import Decimal
@@ -24,6 +23,7 @@ from typing import TYPE_CHECKING, Union
 import sympy as sp
 
 from poissonkit.errors import InputError, ParseError
+from poissonkit.input_limits import check_strings, loads_json, read_text
 
 if TYPE_CHECKING:
     from poissonkit.plugin import SystemEntry
@@ -70,10 +70,17 @@ def load_structure_json(source: str | Path | dict) -> tuple[str, Bivector]:
     -------
     (name, Bivector)
 
+    The file is read within the limits of :mod:`poissonkit.input_limits`:
+    at most :data:`~poissonkit.input_limits.MAX_TEXT_BYTES` bytes, nesting
+    :data:`~poissonkit.input_limits.MAX_DEPTH` levels deep,
+    :data:`~poissonkit.input_limits.MAX_NUMBER_DIGITS` digits per number, valid Unicode
+    (no lone surrogates such as ``"\\ud800"``).
+
     Raises
     ------
     InputError, ParseError, DimensionError
-        Malformed file, unknown keys, unknown symbols or unsafe expressions.
+        Malformed file, unknown keys, unknown symbols or unsafe expressions; a limit above
+        exceeded (:class:`~poissonkit.errors.ParseError` naming the limit).
     """
     from poissonkit.structure.bivector import Bivector
     from poissonkit.structure.parsing import declare_parameters, parse_expression
@@ -82,15 +89,11 @@ def load_structure_json(source: str | Path | dict) -> tuple[str, Bivector]:
         data, name = source, str(source.get("name", "structure"))
     else:
         path = Path(source)
-        try:
-            data = json.loads(path.read_text())
-        except OSError as exc:
-            raise InputError(f"cannot read {path}: {exc.strerror}") from None
-        except json.JSONDecodeError as exc:
-            raise ParseError(f"{path}: invalid JSON ({exc.msg}, line {exc.lineno})") from None
+        data = loads_json(read_text(path, "structure file"), str(path), ParseError)
         name = path.name
     if not isinstance(data, dict):
         raise InputError("structure file must hold a JSON object")
+    check_strings(data, "structure", ParseError)  # a dict from Python skipped loads_json
     unknown = set(data) - set(JSON_KEYS)
     if unknown:
         raise InputError(f"unknown key(s) {sorted(unknown)}; allowed: {', '.join(JSON_KEYS)}")
