@@ -54,6 +54,16 @@ def _fsync_dir(folder: Path) -> None:
         os.close(fd)
 
 
+def _file_mode() -> int:
+    """0666 minus the process's umask (read once: setting it back is not thread-safe)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+_FILE_MODE = _file_mode()
+
+
 @contextlib.contextmanager
 def atomic_path(path: str | Path, suffix: str | None = None, phase: str | None = None
                 ) -> Iterator[Path]:
@@ -81,6 +91,9 @@ def atomic_path(path: str | Path, suffix: str | None = None, phase: str | None =
                                suffix=".tmp" + (suffix if suffix is not None else path.suffix),
                                dir=path.parent)
     os.close(fd)
+    # mkstemp makes the file private (0600); the result is an ordinary output file, with the
+    # mode any file the user creates gets (0666 minus the umask), so colleagues can read it
+    os.chmod(tmp, _FILE_MODE)
     tmp_path = Path(tmp)
     try:
         yield tmp_path
