@@ -261,9 +261,14 @@ def test_potential_rejects_non_expressions():
         suslov_potential(U=object())
 
 
-def test_system_validation_still_refuses_strings_for_expressions():
+def test_system_validation_parses_text_with_the_allow_list_only():
     s = suslov_potential()
+    # text names the coordinates (parsed, never evaluated) ...
+    gx = s.structure.coords[0]
+    assert HamiltonianSystem(structure=s.structure, hamiltonian="gamma_x").hamiltonian == gx
+    # ... and nothing else
     with pytest.raises(ParseError):
-        HamiltonianSystem(structure=s.structure, hamiltonian="gamma_x")
+        HamiltonianSystem(structure=s.structure, hamiltonian="gamma_w")
     with pytest.raises(ParseError):
-        HamiltonianSystem(structure=s.structure, hamiltonian=0, casimirs={"C": "gamma_x"})
+        HamiltonianSystem(structure=s.structure, hamiltonian=0,
+                          casimirs={"C": "__import__('os')"})
