@@ -159,7 +159,6 @@ def horizontal_87(system) -> tuple[bool, str, str]:
                          ("gamma2/gamma1", dphi)):
             out[f"V1({name})"] = V1.dot(df)
             out[f"V2({name})"] = V2.dot(df)
-        # rank 2: V1, V2 independent (a 2x2 minor of [V1 V2] nonzero) -- recorded as a zero test
         # rank 2: V1 has a non-zero gamma part (g1^2 + g2^2 != 0), V2 a non-zero M part
         out["rank 2 (V2 = 0)"] = sp.Integer(1) if _zero(V2.dot(V2)) else sp.Integer(0)
         rem = d["X"] - d["b"] * d["PbdH"] - d["mu1"] * d["XS"]
