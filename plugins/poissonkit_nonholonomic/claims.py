@@ -20,6 +20,7 @@ from poissonkit_nonholonomic.paraboloid import proposition7
 from poissonkit_nonholonomic.reduction import CHAPLYGIN_REDUCTION_CLAIMS, VESELOVA_REDUCTION_CLAIMS
 from poissonkit_nonholonomic.routh import RANK4_CLAIMS as ROUTH_RANK4_CLAIMS
 from poissonkit_nonholonomic.routh_gyrostat import GYROSTAT_RANK4_CLAIMS
+from poissonkit_nonholonomic.routh_horizontal import HORIZONTAL_CLAIMS as ROUTH_HORIZONTAL_CLAIMS
 from poissonkit_nonholonomic.separation import SEPARATION_CLAIMS, SPHEROCONICAL_CLAIMS
 from poissonkit_nonholonomic.suslov import suslov_prop9, suslov_rank4_casimirs, suslov_rank4_jacobi
 
@@ -162,7 +163,7 @@ CLAIMS: dict[str, tuple[Claim, ...]] = {
     + VESELOVA_REDUCTION_CLAIMS,
     "nh.chaplygin_ball": (chaplygin_remark6,) + CHAPLYGIN_REDUCTION_CLAIMS + SEPARATION_CLAIMS,
     "nh.chaplygin_spheroconical": SPHEROCONICAL_CLAIMS,
-    "nh.routh_sphere_rank4": ROUTH_RANK4_CLAIMS,
+    "nh.routh_sphere_rank4": ROUTH_RANK4_CLAIMS + ROUTH_HORIZONTAL_CLAIMS,
     "nh.routh_gyrostat_rank4": GYROSTAT_RANK4_CLAIMS,
     "nh.ball_on_paraboloid_rank4": (proposition7,),
     "nh.suslov_rank4": (suslov_rank4_jacobi, suslov_rank4_casimirs, suslov_prop9),
