@@ -107,6 +107,7 @@ def test_parallel_magnet_forces_torques_and_energy_equal_the_serial_loop_bitwise
     assert_bitwise(p1, s)
 
 
+@pytest.mark.slow  # 12-15 s on a cold kernel cache; the default run keeps a smaller sibling
 @needs_two
 def test_parallel_point_mass_fast_path_equals_the_serial_loop_bitwise():
     serial, y, _ = planets(False)

@@ -10,6 +10,7 @@ import math
 
 import mpmath
 import numpy as np
+import pytest
 import sympy as sp
 
 from poissonkit.numerics import AllPairs, Body, Interaction, NBodySystem, solve
@@ -34,6 +35,7 @@ def mixed_scene(fast_path: bool) -> tuple[NBodySystem, np.ndarray]:
     return system, y
 
 
+@pytest.mark.slow  # 12-15 s on a cold kernel cache; the default run keeps a smaller sibling
 def test_fast_path_equals_general_path_on_a_mixed_magnet_and_point_mass_scene():
     fast, y = mixed_scene(True)
     slow, y2 = mixed_scene(False)

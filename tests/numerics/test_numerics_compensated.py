@@ -240,6 +240,7 @@ def test_compensated_stream_interrupt_and_terminal_event(tmp_path):
     assert final_state_error(hit_c.y[-1], hit_p.y[-1]) < 1e-9
 
 
+@pytest.mark.slow  # 12-15 s on a cold kernel cache; the default run keeps a smaller sibling
 def test_compensated_nbody_passes_the_round_off_floor():
     # the close encounter as a general N-body system (two tops, lab frame), against heyoka
     seed = _seed()
@@ -264,6 +265,7 @@ def test_compensated_nbody_passes_the_round_off_floor():
     assert np.max(np.linalg.norm(j - j[0], axis=-1)) <= 1e-13 * np.linalg.norm(j[0])
 
 
+@pytest.mark.slow  # 12-15 s on a cold kernel cache; the default run keeps a smaller sibling
 def test_compensated_nbody_cluster_parallel_loop_equals_serial():
     # a cell-listed cluster on the parallel pair loop: the compensated kick uses the same
     # (bit-for-bit reproducible) forces, so serial and parallel runs agree bit for bit
