@@ -9,8 +9,8 @@ SI units), so ``poissonkit view`` can also rebuild the page from a ``trajectory.
 The two-body centre-of-mass form of the seed scene has only the relative position: the view
 shows it in the frame of the first body (first body at the origin), and says so in its title.
 
-Large scenes stay bounded: meshes for at most :data:`MESH_BODIES` bodies (markers beyond),
-at most :data:`MAX_POINTS` body positions over all frames.
+Large scenes stay bounded: meshes and axes for at most :data:`MESH_BODIES` bodies (markers
+beyond), at most :data:`MAX_POINTS` body positions over all frames.
 """
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ if TYPE_CHECKING:
 MESH_BODIES = 40
 #: Most animation frames.
 MAX_FRAMES = 150
-#: Most body positions over all frames (bounds the file size for large N: about 25 bytes each).
+#: Most body positions over all frames (bounds the file size for large N: about 16 bytes each).
 MAX_POINTS = 400_000
 #: Mesh resolution: points around a cylinder, latitude × longitude bands of a sphere.
 RING = 16
@@ -162,6 +162,8 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     times = np.asarray(dataset["time"].values, dtype=float)
     pick = _frames_index(len(times), len(names), max_frames)
     pos, axis, times = pos[pick], axis[pick], times[pick]
+    # what is drawn needs no more than single precision; it halves the file
+    shown = pos.astype(np.float32)
     lo, hi = np.nanmin(pos, axis=(0, 1)), np.nanmax(pos, axis=(0, 1))
     shapes = dict(shapes) if shapes is not None else _dataset_shapes(dataset, names)
     extent = float(np.max(hi - lo)) or max((max(s) for s in shapes.values()), default=1.0)
@@ -194,6 +196,8 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
 
     def axes_segments(f: int) -> np.ndarray:
         seg = []
+        if not meshes:  # markers only: an axis per body would triple the file for nothing
+            return np.empty((0, 3))
         for k, n in enumerate(names):
             a = axis[f, k]
             if np.all(np.isfinite(a)):
@@ -226,10 +230,10 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
                                    name="axes", line={"color": "black", "width": 4},
                                    hoverinfo="skip", showlegend=bool(len(seg))))
         if not full:
-            traces.append(go.Scatter3d(x=pos[f, :, 0], y=pos[f, :, 1], z=pos[f, :, 2]))
+            traces.append(go.Scatter3d(x=shown[f, :, 0], y=shown[f, :, 1], z=shown[f, :, 2]))
             return traces
         traces.append(go.Scatter3d(
-            x=pos[f, :, 0], y=pos[f, :, 1], z=pos[f, :, 2], mode="markers", name="bodies",
+            x=shown[f, :, 0], y=shown[f, :, 1], z=shown[f, :, 2], mode="markers", name="bodies",
             text=notes, hovertemplate="%{text}<br>x=%{x:.4g} m<br>y=%{y:.4g} m"
                                       "<br>z=%{z:.4g} m<extra></extra>",
             marker={"size": 3 if meshes else 2, "color": "black" if meshes else "steelblue"},
