@@ -333,16 +333,11 @@ def main(args: argparse.Namespace) -> int:
 
 def _apply_summary(args: argparse.Namespace, source: Path, scene_dir: Path) -> None:
     """Set the run options of ``args`` to those recorded in the summary ``source``."""
-    import json
-
+    from poissonkit.input_limits import loads_json, read_text
     from poissonkit.report.provenance import rerun_options
 
-    try:
-        summary = json.loads(source.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise InputError(f"--from-summary: {str(source)!r} does not exist") from None
-    except (OSError, ValueError) as exc:
-        raise InputError(f"--from-summary: cannot read {str(source)!r}: {exc}") from None
+    # a hand-edited summary is user input: size, depth, digits and encoding are bounded
+    summary = loads_json(read_text(source, "--from-summary:"), f"--from-summary {str(source)!r}")
     if not isinstance(summary, dict):
         raise InputError(f"--from-summary: {str(source)!r} is not a run summary")
     for key, value in rerun_options(summary, scene_dir).items():
@@ -370,6 +365,11 @@ def _main(args: argparse.Namespace) -> int:
     energy_tol = getattr(args, "energy_tol", None)
     _positive("energy-tol", energy_tol)
     spec = build_spec(args)
+    if save_dt is None and spec.save_dt is not None and args.save_every is None:
+        if every is not None or resume:  # the scene's run.save_dt, unless the options say else
+            raise InputError("the scene saves states at run.save_dt: checkpoints need saving "
+                             "by steps (pass --save-every N to use them)")
+        save_dt = float(spec.save_dt) * _time_unit(spec)
     if getattr(args, "no_contact", False):
         from dataclasses import replace as _replace
 

@@ -47,6 +47,9 @@ class RunSpec:
     max_steps
         Refuse a run of more fixed steps than this before it starts (a scene's
         ``run.max_steps``, :func:`poissonkit.numerics.workload.plan_run`); ``None``: no limit.
+    save_dt
+        Save the state at multiples of this interval (internal time unit) instead of every
+        ``save_every``-th step (a scene's ``run.save_dt``; ``solve(t_eval=...)``).
     """
 
     name: str
@@ -61,3 +64,4 @@ class RunSpec:
     energy_tol: float | None = None
     save_every: int | None = None
     max_steps: int | None = None
+    save_dt: float | None = None

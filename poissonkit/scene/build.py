@@ -277,7 +277,8 @@ def build_run(scene: Scene) -> RunSpec:
         name=scene.name, system=system, y0=built.y0, t_end=built.t_end,
         method=scene.run.method, step=built.step,
         tol=scene.run.tol, metadata=metadata, events=events, energy_tol=scene.run.energy_tol,
-        save_every=scene.run.save_every, max_steps=scene.run.max_steps)
+        save_every=scene.run.save_every, max_steps=scene.run.max_steps,
+        save_dt=None if scene.run.save_dt is None else scene.run.save_dt / built.time_unit)
 
 
 def contact_events(bodies: Sequence[BodyModel], length_unit: float = 1.0

@@ -23,7 +23,7 @@ INTERACTION_KEYS = ("potential", "params", "pairs", "cutoff", "pair")
 PAIR_KEYS = ("bodies", "potential", "params")
 ASSEMBLY_KEYS = ("name", "params", "overrides")
 RUN_KEYS = ("method", "step", "tol", "duration", "save_every", "energy_tol", "contact",
-            "max_steps")
+            "max_steps", "save_dt")
 PLANNER_KEYS = ("tol", "models", "replan_every", "hysteresis", "cutoff")
 #: More bodies than any memory holds: refused before the memory estimate (which counts in
 #: floats and would overflow for ``n = 1e300``).
@@ -62,8 +62,9 @@ class RunSettings:
     """The ``[run]`` table: integrator name, step [s] or tolerance, duration [s], the accepted
     relative energy error and what to do when finite-size bodies touch (``contact``:
     ``"stop"``, the default, or ``"ignore"`` for scenes that declare overlapping bodies
-    meaningful), and the most fixed steps the run may take (``max_steps``; ``None``: no
-    limit)."""
+    meaningful), the most fixed steps the run may take (``max_steps``; ``None``: no
+    limit), and the interval [s] at which states are saved instead of every ``save_every``-th
+    step (``save_dt``; reached exactly by every method)."""
 
     duration: float
     method: str = "splitting4"
@@ -73,6 +74,7 @@ class RunSettings:
     energy_tol: float = 1e-6
     contact: str = "stop"
     max_steps: int | None = None
+    save_dt: float | None = None
 
 
 @dataclass(frozen=True)
@@ -277,7 +279,12 @@ def _run(raw: Any) -> RunSettings:
         raise SceneError(f"run.contact: must be \"stop\" or \"ignore\", got {contact!r}")
     max_steps = (_integer(table["max_steps"], "run.max_steps") if "max_steps" in table
                  else None)
-    return RunSettings(duration, method, step, tol, save_every, energy_tol, contact, max_steps)
+    save_dt = (_number(table["save_dt"], "run.save_dt", positive=True) if "save_dt" in table
+               else None)
+    if save_dt is not None and "save_every" in table:
+        raise SceneError("run.save_dt and run.save_every both choose the saved states: give one")
+    return RunSettings(duration, method, step, tol, save_every, energy_tol, contact, max_steps,
+                       save_dt)
 
 
 def _planner(raw: Any) -> PlannerSpec:

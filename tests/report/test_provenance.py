@@ -169,3 +169,15 @@ def test_solution_to_xarray_carries_the_internal_scales():
                                rtol=1e-15)
     assert ds["t_si"].values[-1] == pytest.approx(5e-4)  # the scene's step is 1e-4 s
     assert ds["t_si"].attrs["units"] == "s"
+
+
+def test_a_malformed_summary_is_a_one_line_error(tmp_path, monkeypatch, capsys):
+    deep = tmp_path / "deep.json"
+    deep.write_text("[" * 10_000 + "]" * 10_000)
+    huge = tmp_path / "huge.json"
+    huge.write_text('{"options": ' + "9" * 100_000 + "}")
+    for bad in (deep, huge):
+        assert _run(monkeypatch, "--from-summary", str(bad), "--out", str(tmp_path / "o"),
+                    *QUIET) == 1
+        err = capsys.readouterr().err
+        assert "--from-summary" in err and "Traceback" not in err

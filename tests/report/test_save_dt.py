@@ -45,3 +45,31 @@ def test_save_dt_refuses_options_that_choose_rows_themselves(tmp_path, monkeypat
     assert "--save-dt" in capsys.readouterr().err
     assert _run(monkeypatch, "two_magnets", "--save-dt", "-1", "--out",
                 str(tmp_path / "p"), *QUIET) == 1
+
+
+def test_a_scene_file_saves_at_its_run_save_dt(tmp_path, monkeypatch):
+    import tomllib
+
+    scene = (ROOT / "poissonkit" / "scenes" / "two_magnets.toml").read_text()
+    text = scene.replace("[run]", "[run]\nsave_dt = 0.0004", 1)
+    assert tomllib.loads(text)["run"]["save_dt"] == 0.0004
+    path = tmp_path / "sampled.toml"
+    path.write_text(text)
+    out = tmp_path / "out"
+    assert _run(monkeypatch, str(path), "--duration", "0.002", "--out", str(out), *QUIET) == 0
+    times = open_trajectory(out / "trajectory.nc")["time"].values
+    np.testing.assert_allclose(times, np.arange(6) * 0.0004, rtol=1e-12, atol=1e-18)
+    # the command line's --save-every wins over the scene's save_dt
+    out2 = tmp_path / "out2"
+    assert _run(monkeypatch, str(path), "--duration", "0.002", "--save-every", "5", "--out",
+                str(out2), *QUIET) == 0
+    assert len(open_trajectory(out2 / "trajectory.nc")["time"]) == 5
+
+
+def test_save_dt_and_save_every_in_one_scene_are_refused():
+    from poissonkit.errors import SceneError
+    from poissonkit.scene import loads_scene
+
+    text = (ROOT / "poissonkit" / "scenes" / "two_magnets.toml").read_text()
+    with pytest.raises(SceneError, match="give one"):
+        loads_scene(text.replace("[run]", "[run]\nsave_dt = 0.0004\nsave_every = 2", 1))
