@@ -163,23 +163,45 @@ class Contact:
                 shape = shape_of(pos[k], None, math.hypot(s.radius, s.half_length))
             placed.append((k, s, shape))
         best = math.inf
-        for i in range(len(placed)):
-            for j in range(i + 1, len(placed)):
-                (ki, si, a), (kj, sj, b) = placed[i], placed[j]
-                if fixed[ki] and fixed[kj]:
-                    continue
-                centre = float(np.linalg.norm(pos[ki] - pos[kj]))
-                reach = a.bounding_radius + b.bounding_radius
-                if centre > reach:
-                    best = min(best, centre - reach)  # a lower bound is enough far away
-                    continue
-                bound = _capsule_gap(a, b)
-                if bound > 0:  # the capsules around the cylinders are apart: so are they
-                    best = min(best, bound)
-                    continue
-                d = distance(a, b)
-                best = min(best, d if d > 0 else centre - reach)
+        if len(placed) > TREE_SHAPES:
+            candidates, best = _near_pairs(placed, pos)
+        else:
+            candidates = ((i, j) for i in range(len(placed)) for j in range(i + 1, len(placed)))
+        for i, j in candidates:
+            (ki, si, a), (kj, sj, b) = placed[i], placed[j]
+            if fixed[ki] and fixed[kj]:
+                continue
+            centre = float(np.linalg.norm(pos[ki] - pos[kj]))
+            reach = a.bounding_radius + b.bounding_radius
+            if centre > reach:
+                best = min(best, centre - reach)  # a lower bound is enough far away
+                continue
+            bound = _capsule_gap(a, b)
+            if bound > 0:  # the capsules around the cylinders are apart: so are they
+                best = min(best, bound)
+                continue
+            d = distance(a, b)
+            best = min(best, d if d > 0 else centre - reach)
         return best
+
+
+#: Shapes beyond which :meth:`Contact.value` finds candidate pairs with a k-d tree (O(N log N))
+#: instead of looking at every pair.
+TREE_SHAPES = 64
+
+
+def _near_pairs(placed: list[tuple[int, BodyShape, Shape]], pos: np.ndarray
+                ) -> tuple[list[tuple[int, int]], float]:
+    """Pairs of ``placed`` whose bounding spheres may be within ``margin`` of each other, and
+    ``margin``: a lower bound of the gap of every other pair (the largest bounding radius)."""
+    from scipy.spatial import cKDTree
+
+    reach = max(shape.bounding_radius for _, _, shape in placed)
+    margin = reach
+    centres = pos[[k for k, _, _ in placed]]
+    # every pair left out is more than 3 reach apart: its gap exceeds 3 reach - 2 reach
+    pairs = cKDTree(centres).query_pairs(2 * reach + margin, output_type="ndarray")
+    return [(int(i), int(j)) for i, j in pairs], margin
 
 
 @dataclass(frozen=True)
