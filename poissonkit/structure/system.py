@@ -40,7 +40,7 @@ def _param_value(name: str, value: Any) -> Any:
     return value
 
 
-def _text_names(structure: Bivector, params: Any) -> dict[str, sp.Symbol]:
+def _text_names(structure: Bivector, params: Mapping[str, object]) -> dict[str, sp.Symbol]:
     """Names a text expression of a system may use: coordinates, then the bivector's own
     parameters (so ``"a"`` in ``H`` is the ``a`` of the bracket), then the keys of ``params``."""
     names = {str(c): c for c in structure.coords}
