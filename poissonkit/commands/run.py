@@ -524,7 +524,7 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
     problems = _problems(energy_error, sol.message, tol, interrupted, touching, tunit)
     summary["warnings"] = problems
     write_summary(out / "summary.json", summary)  # the commit record (report/resume.py)
-    from poissonkit.report.killpoints import kill_point
+    from poissonkit.killpoints import kill_point
     from poissonkit.report.resume import finish_parts
 
     kill_point("summary-written")

@@ -26,7 +26,7 @@ first spills the held rows as a part, then is written itself (its ``stream_parts
 ``stream_rows`` point just past that part), then older checkpoints are pruned. A resume checks
 that parts ``0 .. stream_parts - 1`` hold rows ``0 .. stream_rows - 1`` exactly (else
 :class:`~poissonkit.numerics.parts.PartsError`) and only then removes later parts, the newest
-first. Kill points (:mod:`poissonkit.report.killpoints`) mark each boundary for the tests.
+first. Kill points (:mod:`poissonkit.killpoints`) mark each boundary for the tests.
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ import numpy as np
 from poissonkit.errors import InputError
 from poissonkit.numerics.parts import iter_parts, part_files, part_number, verify_parts
 from poissonkit.report import atomic
-from poissonkit.report.killpoints import kill_point
+from poissonkit.killpoints import kill_point
 
 MAGIC = b"POISSONKIT-CHECKPOINT 1\n"
 _NAME = re.compile(r"^checkpoint-(\d{12})\.pkcp$")

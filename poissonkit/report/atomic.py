@@ -30,7 +30,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from poissonkit.errors import InputError
-from poissonkit.report.killpoints import kill_point
+from poissonkit.killpoints import kill_point
 
 #: The temporary files :func:`atomic_path` makes: ``.<name>.<8 random chars>.tmp<suffix>``.
 _TEMP = re.compile(r"^\.(?P<name>.+)\.[a-z0-9_]{8}\.tmp[^/]*$")
@@ -77,7 +77,7 @@ def atomic_path(path: str | Path, suffix: str | None = None, phase: str | None =
         Suffix of the temporary file (default: ``path``'s, so that libraries choosing a format
         from the extension, e.g. ``savefig``, see the right one).
     phase
-        Kill point (:mod:`poissonkit.report.killpoints`) reached once the temporary file is
+        Kill point (:mod:`poissonkit.killpoints`) reached once the temporary file is
         written, before it is renamed (tests only).
 
     Notes

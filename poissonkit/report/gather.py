@@ -25,7 +25,7 @@ import numpy as np
 
 from poissonkit.numerics.parts import PartInfo, iter_parts, verify_parts
 from poissonkit.report.atomic import atomic_path
-from poissonkit.report.killpoints import kill_point
+from poissonkit.killpoints import kill_point
 
 if TYPE_CHECKING:
     import xarray as xr

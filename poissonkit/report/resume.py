@@ -138,7 +138,7 @@ def finish_parts(out: str | Path, keep: bool) -> None:
     """After the summary is written: remove ``trajectory.parts/`` unless ``keep`` (a stopped,
     checkpointed run keeps it for ``--resume``). Removes the newest part first."""
     from poissonkit.numerics.parts import part_files
-    from poissonkit.report.killpoints import kill_point
+    from poissonkit.killpoints import kill_point
 
     folder = Path(out) / PARTS
     if keep or not folder.is_dir():

@@ -1,5 +1,5 @@
 """Fuzzing kills: ``poissonkit run`` killed at a drawn phase boundary (injected kill point,
-:mod:`poissonkit.report.killpoints`), at a drawn occurrence within the run's reach, with drawn
+:mod:`poissonkit.killpoints`), at a drawn occurrence within the run's reach, with drawn
 checkpoint and save intervals, its first resume possibly killed again (``truncate`` included);
 then resumed until it ends.
 
@@ -27,7 +27,7 @@ from hypothesis import strategies as st
 
 from fuzzkit import COUNTS, slow
 from poissonkit.numerics.checkpoint import checkpoints
-from poissonkit.report.killpoints import ENV, PHASES
+from poissonkit.killpoints import ENV, PHASES
 
 ROOT = Path(__file__).resolve().parents[2]
 TWO = ROOT / "poissonkit" / "scenes" / "two_magnets.toml"

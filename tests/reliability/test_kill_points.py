@@ -1,5 +1,5 @@
 """Kill a checkpointed ``poissonkit run`` at every phase boundary (injected kill points,
-:mod:`poissonkit.report.killpoints`), resume it, and compare the trajectory with an
+:mod:`poissonkit.killpoints`), resume it, and compare the trajectory with an
 uninterrupted run's, bit for bit; a kill after the commit record (``summary.json``) leaves a
 finished run that ``--resume`` refuses, untouched."""
 
@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from poissonkit.report.killpoints import ENV, PHASES
+from poissonkit.killpoints import ENV, PHASES
 
 ROOT = Path(__file__).resolve().parents[2]
 TWO = ROOT / "poissonkit" / "scenes" / "two_magnets.toml"
