@@ -58,6 +58,10 @@ class PairInteraction:
     estimated_error: float | None = None
 
 
+#: Largest vector component accepted (SI): squares beyond this overflow a double.
+MAX_COMPONENT = 1e150
+
+
 def _vector(name: str, value: object) -> np.ndarray:
     try:
         v = np.asarray(value, dtype=float).reshape(-1)
@@ -67,6 +71,9 @@ def _vector(name: str, value: object) -> np.ndarray:
         raise InputError(f"{name} must be a 3-vector, got shape {np.shape(value)}")
     if not np.all(np.isfinite(v)):
         raise InputError(f"{name} must be finite, got {value!r}")
+    if np.max(np.abs(v)) > MAX_COMPONENT:  # its square would overflow in every norm below
+        raise InputError(f"{name} has a component of magnitude {np.max(np.abs(v)):.3g}, more "
+                         f"than {MAX_COMPONENT:.0e}")
     return v
 
 

@@ -72,6 +72,7 @@ def _pair(case):
 
 
 @pytest.mark.timeout(600)
+@pytest.mark.filterwarnings("error::RuntimeWarning")  # no numpy warning leaks to the user
 @FAST
 @given(_pair_case())
 def test_pair_interaction_arguments(case):
