@@ -130,6 +130,15 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
             capabilities=caps.SPLITTING)
         for name, (p, doc) in _RKN_DOCS.items()
     ]
+    from poissonkit.numerics.integrators.compositions import TABLES  # pure data, no numba
+
+    out += [
+        IntegratorEntry(
+            name=t.name, doc=t.doc + " Exact sub-flows as splitting2–8, so the same invariants "
+            "hold to round-off.", params=_SPLIT_PARAMS, factory=_splitting(t.order, t.name),
+            order=t.order, family="splitting", capabilities=caps.SPLITTING)
+        for t in TABLES.values()
+    ]
     out.extend(
         IntegratorEntry(
             name=f"logh{p}",

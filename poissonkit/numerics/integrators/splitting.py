@@ -75,6 +75,10 @@ from poissonkit.numerics.integrators.base import (
     step_end_kernels,
 )
 from poissonkit.numerics.integrators.capabilities import SPLITTING
+from poissonkit.numerics.integrators.compositions import (
+    TABLES as HIGH_ORDER_TABLES,
+    HighOrderTable,
+)
 from poissonkit.numerics.integrators.driver import Control, LoopState, drive
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import (
@@ -225,6 +229,16 @@ SCHEMES: dict[str, Scheme] = {s.name: s for s in (
             *reversed(_SRKN14A_B)),
            _BLANES_MOAN + ", SRKN_14^a", nystrom=True),
 )}
+
+
+def _high_order(t: HighOrderTable) -> Scheme:
+    a, b = drift_kick_coefficients(list(t.weights)) if t.weights else (t.a, t.b)
+    return Scheme(t.name, t.order, tuple(map(float, a)), tuple(map(float, b)), t.reference,
+                  t.nystrom)
+
+
+# orders 8 and 10 beyond the Blanes–Moan tables (Sofroniou–Spaletta, Blanes–Casas–Escorihuela)
+SCHEMES.update((t.name, _high_order(t)) for t in HIGH_ORDER_TABLES.values())
 
 
 # --------------------------------------------------------------------------- compiled loop
