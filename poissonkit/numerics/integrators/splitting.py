@@ -66,6 +66,7 @@ from poissonkit.contracts import (
 from poissonkit.errors import InputError
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
+    HasLoopKernels,
     RawResult,
     SaveBuffer,
     StepFn,
@@ -228,6 +229,10 @@ SCHEMES: dict[str, Scheme] = {s.name: s for s in (
 
 
 # --------------------------------------------------------------------------- compiled loop
+#: the NaN check of every step, inlined (a call per step costs as much as a small system's
+#: force evaluation)
+_all_finite = jit(inline="always")(all_finite.py_func)
+
 _runners: dict[tuple[int, bool], tuple[CompiledFunction, CompiledKernels]] = {}
 
 
@@ -258,7 +263,7 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
             plain_kick(y, h, data, work)
     comp = bool(compensated)  # a compile-time constant of the closures below
 
-    @jit
+    @jit(inline="always")
     def one_step(y, c, h, a, b, data, work):
         nb = b.shape[0]
         for s in range(nb):
@@ -266,7 +271,7 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
             kick(y, c, b[s] * h, data, work)
         drift(y, c, a[nb] * h, data)
 
-    @jit
+    @jit(inline="always")
     def fsal_step(y, c, h, a, b, data, work, pending, merge):
         # kick-first table (a_0 = a_s = 0): `pending` = this step's first kick was already
         # applied (merged into the previous step's last kick); `merge` = do the same now
@@ -354,9 +359,12 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
                 last = gstep >= n_total
                 t = t_end if last else t_orig + gstep * h
             k += 1
-            if not all_finite(y):
+            if not _all_finite(y):
                 return 1, t, k, nsave, 0.0
-            flag, value = check(y, data, work, contact, escape, watch, hist)
+            flag = 0
+            value = 0.0
+            if track:  # (the check's calls cost even when skipped: keep them off the plain loop)
+                flag, value = check(y, data, work, contact, escape, watch, hist)
             if last or gstep % save_every == 0:
                 out_t[nsave] = t
                 if comp:
@@ -459,7 +467,13 @@ class Splitting:
             raise InputError(f"{self.name} needs a system with exact kinetic/potential flows "
                              f"(NBodySystem, TwoBodySystem); {type(system).__name__} has none — "
                              "use 'midpoint' or a scipy method")
-        kernels = system.kernels
+        kernels, data, work = system.kernels, system.data, None
+        if isinstance(system, HasLoopKernels):  # a leaner form, same numbers
+            lean = system.loop_kernels()
+            if lean is not None:
+                kernels, data, work = lean
+        if work is None:
+            work = system.work()
         comp = self.compensated
         if comp and kernels.kick_compensated is None:
             raise InputError(f"{self.name}: compensated=True needs compensated drift/kick kernels, "
@@ -476,7 +490,6 @@ class Splitting:
         run = _runner(kernels, comp)
         fsal = self.fsal and not self.adaptive
         y = np.array(y0, dtype=float)
-        data, work = system.data, system.work()
         trial = np.empty_like(y)
         # compensation arrays (state = y − c); empty and unused in the plain loop
         ctrial = np.zeros_like(y) if comp else np.empty(0)

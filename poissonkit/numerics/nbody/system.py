@@ -14,6 +14,7 @@ import numpy.typing as npt
 from numba.core.dispatcher import Dispatcher
 
 from poissonkit.errors import DimensionError, InputError
+from poissonkit.numerics.integrators.base import LoopKernels
 from poissonkit.numerics.kernels import Kernels
 from poissonkit.numerics.nbody.bodies import (
     AllPairs,
@@ -272,6 +273,10 @@ class NBodySystem:
                           and any(coffs[g + 1] - coffs[g] >= max(2, self.parallel_min_bodies)
                                   for g in range(len(cgid))))
         self._kernels: Kernels | None = None
+        # the direct-sum form (nbody/direct.py): moving point masses, orientation-free
+        # all-pairs sets, no cutoff, no listed pairs
+        self._direct = (self.cutoff is None and not pairs and not rpairs and not tops
+                        and len(moving) == len(bodies) and all(ccentral))
 
     # ------------------------------------------------------------------ structure
     def gravity_constant(self) -> float:
@@ -326,6 +331,25 @@ class NBodySystem:
         """Fresh scratch arrays ``(pos, nu, F, T)`` for the kernels."""
         n = len(self.bodies)
         return (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
+
+    def loop_kernels(self) -> LoopKernels | None:
+        """Direct-sum kernels for the compiled time loops, or ``None``.
+
+        For moving point masses whose interactions are all orientation-free
+        :class:`AllPairs` sets without cutoff (gravity, ``U(r)``), the kernels of
+        :mod:`~poissonkit.numerics.nbody.direct` with their short data: the same numbers bit
+        for bit as :attr:`kernels`, with less fixed work per step. ``None`` for any other
+        system (tops, fixed bodies, a cutoff, listed pairs, orientation-dependent potentials).
+        """
+        if not self._direct:
+            return None
+        from poissonkit.numerics.nbody.direct import direct_kernels
+
+        d = self.data
+        n = len(self.bodies)
+        return LoopKernels(direct_kernels(*_dispatcher(self._kerns, self._rkerns)),
+                           (d[0], d[7], d[8], d[9], d[11]),
+                           (np.zeros((n, 3)), np.zeros((n, 3))))
 
     def _state(self, y: npt.ArrayLike) -> np.ndarray:
         y = np.asarray(y, dtype=float)
