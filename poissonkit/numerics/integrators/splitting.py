@@ -64,6 +64,7 @@ from poissonkit.contracts import (
     System,
 )
 from poissonkit.errors import InputError
+from poissonkit.numerics.conforms import conforms
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
     HasLoopKernels,
@@ -463,12 +464,12 @@ class Splitting:
                   control: Control | None = None) -> RawResult:
         """Integrate from ``t0`` to ``t_end`` with the compiled loop (see :func:`drive` for
         ``control``: checkpoints, streaming, stop requests)."""
-        if not isinstance(system, HasCompiledKernels) or not system.kernels.splittable:
+        if not conforms(system, HasCompiledKernels) or not system.kernels.splittable:
             raise InputError(f"{self.name} needs a system with exact kinetic/potential flows "
                              f"(NBodySystem, TwoBodySystem); {type(system).__name__} has none — "
                              "use 'midpoint' or a scipy method")
         kernels, data, work = system.kernels, system.data, None
-        if isinstance(system, HasLoopKernels):  # a leaner form, same numbers
+        if conforms(system, HasLoopKernels):  # a leaner form, same numbers
             lean = system.loop_kernels()
             if lean is not None:
                 kernels, data, work = lean
@@ -479,7 +480,7 @@ class Splitting:
             raise InputError(f"{self.name}: compensated=True needs compensated drift/kick kernels, "
                              f"which {type(system).__name__} does not have (TwoBodySystem and "
                              "NBodySystem have them); use compensated=False")
-        if isinstance(system, HasStateCheck):
+        if conforms(system, HasStateCheck):
             system.check_state(y0)
         h = check_step(step, t_end - t0, self.name)
         span = t_end - t0

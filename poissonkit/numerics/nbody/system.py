@@ -273,6 +273,10 @@ class NBodySystem:
                           and any(coffs[g + 1] - coffs[g] >= max(2, self.parallel_min_bodies)
                                   for g in range(len(cgid))))
         self._kernels: Kernels | None = None
+        self._fixed = np.array([b.fixed for b in bodies], dtype=bool)
+        # the state that last passed check_overlap, and the axis tolerance it then passed
+        # check_state with (None: not checked): solve and the integrator check one state twice
+        self._cleared: tuple[bytes | None, float | None] = (None, None)
         # the direct-sum form (nbody/direct.py): moving point masses, orientation-free
         # all-pairs sets, no cutoff, no listed pairs
         self._direct = (self.cutoff is None and not pairs and not rpairs and not tops
@@ -486,10 +490,12 @@ class NBodySystem:
 
     def _check_positions(self, r: np.ndarray) -> None:
         """:class:`OverlapError` if two bodies (moving rows ``r``, internal units) coincide."""
-        pos = self.data[4].copy()
-        pos[list(self._moving)] = r
-        fixed = np.array([b.fixed for b in self.bodies], dtype=bool)
-        hit = coincident_pair(pos, fixed)
+        if len(self._moving) == len(self.bodies):
+            pos = r
+        else:
+            pos = self.data[4].copy()
+            pos[list(self._moving)] = r
+        hit = coincident_pair(pos, self._fixed)
         if hit is not None:
             a, b = (self.bodies[k].name for k in hit)
             raise OverlapError(f"bodies {a!r} and {b!r} are at the same position "
@@ -499,19 +505,29 @@ class NBodySystem:
     def check_overlap(self, y: npt.ArrayLike) -> None:
         """Raise :class:`OverlapError` if two bodies of state ``y`` sit at the same place."""
         y = self._state(y)
+        key = y.tobytes()
+        if key == self._cleared[0]:  # the state last checked (solve, then the integrator)
+            return
         self._check_positions(self._split(y)[0])
+        self._cleared = (key, None)
 
     def check_state(self, y: npt.ArrayLike, tol: float = 1e-10) -> None:
         """Raise :class:`NonUnitAxisError` if some axis of ``y`` is not a unit vector and
         :class:`OverlapError` if two bodies coincide."""
+        y = self._state(y)
+        key = y.tobytes()
+        if self._cleared == (key, tol):
+            return
         self.check_overlap(y)
-        c = self.casimirs(self._state(y))[0::2]
-        bad = np.nonzero(np.abs(c - 1.0) > tol)[0]
-        if bad.size:
-            names = [self.bodies[self._tops[k]].name for k in bad]
-            shown = ", ".join(f"{v:.3g} (off by {v - 1:.1e})" for v in c[bad])
-            raise NonUnitAxisError(f"axes of {names} are not unit vectors (|ν|² = {shown}); "
-                                   "normalise them (pack(..., normalize=True))")
+        if self.n_tops:
+            c = self.casimirs(y)[0::2]
+            bad = np.nonzero(np.abs(c - 1.0) > tol)[0]
+            if bad.size:
+                names = [self.bodies[self._tops[k]].name for k in bad]
+                shown = ", ".join(f"{v:.3g} (off by {v - 1:.1e})" for v in c[bad])
+                raise NonUnitAxisError(f"axes of {names} are not unit vectors (|ν|² = {shown}); "
+                                       "normalise them (pack(..., normalize=True))")
+        self._cleared = (key, tol)
 
     # ------------------------------------------------------------------ symbolic
     def to_structure(self) -> Bivector:
