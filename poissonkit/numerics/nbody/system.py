@@ -278,9 +278,11 @@ class NBodySystem:
         # check_state with (None: not checked): solve and the integrator check one state twice
         self._cleared: tuple[bytes | None, float | None] = (None, None)
         # the direct-sum form (nbody/direct.py): moving point masses, orientation-free
-        # all-pairs sets, no cutoff, no listed pairs
+        # all-pairs sets, no cutoff, no listed pairs. Anything else the general kernels
+        # compute (a new kind of term) must turn it off, or loop_kernels would drop it.
         self._direct = (self.cutoff is None and not pairs and not rpairs and not tops
                         and len(moving) == len(bodies) and all(ccentral))
+        self._loop: tuple[Kernels, tuple[np.ndarray, ...]] | None = None
 
     # ------------------------------------------------------------------ structure
     def gravity_constant(self) -> float:
@@ -347,13 +349,14 @@ class NBodySystem:
         """
         if not self._direct:
             return None
-        from poissonkit.numerics.nbody.direct import direct_kernels
+        if self._loop is None:
+            from poissonkit.numerics.nbody.direct import direct_kernels
 
-        d = self.data
+            d = self.data
+            self._loop = (direct_kernels(*_dispatcher(self._kerns, self._rkerns)),
+                          (d[0], d[7], d[8], d[9], d[11]))
         n = len(self.bodies)
-        return LoopKernels(direct_kernels(*_dispatcher(self._kerns, self._rkerns)),
-                           (d[0], d[7], d[8], d[9], d[11]),
-                           (np.zeros((n, 3)), np.zeros((n, 3))))
+        return LoopKernels(*self._loop, (np.zeros((n, 3)), np.zeros((n, 3))))
 
     def _state(self, y: npt.ArrayLike) -> np.ndarray:
         y = np.asarray(y, dtype=float)
