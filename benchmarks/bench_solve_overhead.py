@@ -54,7 +54,8 @@ def _cum(stats: pstats.Stats, suffix: str, name: str, caller: str | None = None)
     """Cumulative seconds of function ``name`` in a file ending in ``suffix`` (only the calls
     from functions named ``caller`` if given)."""
     total = 0.0
-    for (file, _, func), (_, _, _, ct, callers) in stats.stats.items():  # type: ignore[attr-defined]
+    table = stats.stats  # type: ignore[attr-defined]  # pstats keeps it undeclared
+    for (file, _, func), (_, _, _, ct, callers) in table.items():
         if func != name or not file.endswith(suffix):
             continue
         if caller is None:

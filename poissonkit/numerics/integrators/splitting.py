@@ -33,11 +33,15 @@ which every splittable system here is. Kick-first tables (``a_0 = a_s = 0``) mer
 last kick of a step with the first of the next ("first same as last"), so a step costs one
 force evaluation less than its number of kicks whenever no state has to be saved in between.
 
-The whole time loop is compiled (numba). With ``adaptive=True`` the step is
-``h_n = h · (g(y_n) + g(y_{n+1}))/2`` with ``g = min(1, (d_min/d_ref)^{3/2})`` (``d_min`` the
-smallest pair distance; the time-symmetrised criterion of Hut, Makino & McMillan, ApJ 443
-(1995) L93, solved by fixed-point iteration), which refines close encounters; invariants are
-still kept to round-off.
+The whole time loop is compiled (numba). A system that offers
+:class:`~poissonkit.numerics.integrators.base.LoopKernels` (e.g. moving point masses with
+central all-pairs potentials, :mod:`poissonkit.numerics.nbody.direct`) is integrated with
+those: the same numbers, with the kick inlined into the loop.
+
+With ``adaptive=True`` the step is ``h_n = h · (g(y_n) + g(y_{n+1}))/2`` with
+``g = min(1, (d_min/d_ref)^{3/2})`` (``d_min`` the smallest pair distance; the time-symmetrised
+criterion of Hut, Makino & McMillan, ApJ 443 (1995) L93, solved by fixed-point iteration),
+which refines close encounters; invariants are still kept to round-off.
 
 With ``compensated=True`` every increment of the drift and the kick (``r``, ``p``, ``m`` and the
 rotation of ``ν`` written as an increment) is added by Kahan's compensated summation
@@ -468,13 +472,10 @@ class Splitting:
             raise InputError(f"{self.name} needs a system with exact kinetic/potential flows "
                              f"(NBodySystem, TwoBodySystem); {type(system).__name__} has none — "
                              "use 'midpoint' or a scipy method")
-        kernels, data, work = system.kernels, system.data, None
-        if conforms(system, HasLoopKernels):  # a leaner form, same numbers
-            lean = system.loop_kernels()
-            if lean is not None:
-                kernels, data, work = lean
-        if work is None:
-            work = system.work()
+        # a leaner form of the kernels for the loop (same numbers), if the system has one
+        lean = system.loop_kernels() if conforms(system, HasLoopKernels) else None
+        kernels, data, work = (lean if lean is not None
+                               else (system.kernels, system.data, system.work()))
         comp = self.compensated
         if comp and kernels.kick_compensated is None:
             raise InputError(f"{self.name}: compensated=True needs compensated drift/kick kernels, "
