@@ -7,11 +7,11 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
-from poissonkit.contracts import CompiledFunction, CompiledKernels
+from poissonkit.contracts import CompiledFunction, CompiledKernels, KernelData
 from poissonkit.errors import (
     InputError,
     IntegrationError,
@@ -29,6 +29,30 @@ StepFn = Callable[[np.ndarray, float, int], tuple[int, float]]
 
 if TYPE_CHECKING:
     from poissonkit.numerics.checkpoint import TrajectoryStream
+
+
+class LoopKernels(NamedTuple):
+    """Kernels specialised for the compiled time loops, with their own data and scratch.
+
+    A system may offer a leaner form of its kernels for the loops (e.g. the direct-sum kernels
+    of :mod:`poissonkit.numerics.nbody.direct`): the same flows with the same numbers bit for
+    bit, taking a shorter ``data`` tuple and ``work`` scratch than the system's own.
+    """
+
+    #: drift, kick, min_distance, max_radius (and the compensated flows) on ``data``/``work``
+    kernels: CompiledKernels
+    #: the constant tuple those kernels read
+    data: KernelData
+    #: fresh scratch arrays for one run
+    work: tuple[np.ndarray, ...]
+
+
+@runtime_checkable
+class HasLoopKernels(Protocol):
+    """``loop_kernels()``: the system's :class:`LoopKernels`, or ``None`` when it has no
+    leaner form than its general kernels."""
+
+    def loop_kernels(self) -> LoopKernels | None: ...
 
 
 class ProgressBar(Protocol):

@@ -33,11 +33,15 @@ which every splittable system here is. Kick-first tables (``a_0 = a_s = 0``) mer
 last kick of a step with the first of the next ("first same as last"), so a step costs one
 force evaluation less than its number of kicks whenever no state has to be saved in between.
 
-The whole time loop is compiled (numba). With ``adaptive=True`` the step is
-``h_n = h · (g(y_n) + g(y_{n+1}))/2`` with ``g = min(1, (d_min/d_ref)^{3/2})`` (``d_min`` the
-smallest pair distance; the time-symmetrised criterion of Hut, Makino & McMillan, ApJ 443
-(1995) L93, solved by fixed-point iteration), which refines close encounters; invariants are
-still kept to round-off.
+The whole time loop is compiled (numba). A system that offers
+:class:`~poissonkit.numerics.integrators.base.LoopKernels` (e.g. moving point masses with
+central all-pairs potentials, :mod:`poissonkit.numerics.nbody.direct`) is integrated with
+those: the same numbers, with the kick inlined into the loop.
+
+With ``adaptive=True`` the step is ``h_n = h · (g(y_n) + g(y_{n+1}))/2`` with
+``g = min(1, (d_min/d_ref)^{3/2})`` (``d_min`` the smallest pair distance; the time-symmetrised
+criterion of Hut, Makino & McMillan, ApJ 443 (1995) L93, solved by fixed-point iteration),
+which refines close encounters; invariants are still kept to round-off.
 
 With ``compensated=True`` every increment of the drift and the kick (``r``, ``p``, ``m`` and the
 rotation of ``ν`` written as an increment) is added by Kahan's compensated summation
@@ -64,8 +68,10 @@ from poissonkit.contracts import (
     System,
 )
 from poissonkit.errors import InputError
+from poissonkit.numerics.conforms import conforms
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
+    HasLoopKernels,
     RawResult,
     SaveBuffer,
     StepFn,
@@ -242,6 +248,10 @@ SCHEMES.update((t.name, _high_order(t)) for t in HIGH_ORDER_TABLES.values())
 
 
 # --------------------------------------------------------------------------- compiled loop
+#: the NaN check of every step, inlined (a call per step costs as much as a small system's
+#: force evaluation)
+_all_finite = jit(inline="always")(all_finite.py_func)
+
 _runners: dict[tuple[int, bool], tuple[CompiledFunction, CompiledKernels]] = {}
 
 
@@ -272,7 +282,7 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
             plain_kick(y, h, data, work)
     comp = bool(compensated)  # a compile-time constant of the closures below
 
-    @jit
+    @jit(inline="always")
     def one_step(y, c, h, a, b, data, work):
         nb = b.shape[0]
         for s in range(nb):
@@ -280,7 +290,7 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
             kick(y, c, b[s] * h, data, work)
         drift(y, c, a[nb] * h, data)
 
-    @jit
+    @jit(inline="always")
     def fsal_step(y, c, h, a, b, data, work, pending, merge):
         # kick-first table (a_0 = a_s = 0): `pending` = this step's first kick was already
         # applied (merged into the previous step's last kick); `merge` = do the same now
@@ -368,9 +378,12 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
                 last = gstep >= n_total
                 t = t_end if last else t_orig + gstep * h
             k += 1
-            if not all_finite(y):
+            if not _all_finite(y):
                 return 1, t, k, nsave, 0.0
-            flag, value = check(y, data, work, contact, escape, watch, hist)
+            flag = 0
+            value = 0.0
+            if track:  # (the check's calls cost even when skipped: keep them off the plain loop)
+                flag, value = check(y, data, work, contact, escape, watch, hist)
             if last or gstep % save_every == 0:
                 out_t[nsave] = t
                 if comp:
@@ -469,17 +482,20 @@ class Splitting:
                   control: Control | None = None) -> RawResult:
         """Integrate from ``t0`` to ``t_end`` with the compiled loop (see :func:`drive` for
         ``control``: checkpoints, streaming, stop requests)."""
-        if not isinstance(system, HasCompiledKernels) or not system.kernels.splittable:
+        if not conforms(system, HasCompiledKernels) or not system.kernels.splittable:
             raise InputError(f"{self.name} needs a system with exact kinetic/potential flows "
                              f"(NBodySystem, TwoBodySystem); {type(system).__name__} has none — "
                              "use 'midpoint' or a scipy method")
-        kernels = system.kernels
+        # a leaner form of the kernels for the loop (same numbers), if the system has one
+        lean = system.loop_kernels() if conforms(system, HasLoopKernels) else None
+        kernels, data, work = (lean if lean is not None
+                               else (system.kernels, system.data, system.work()))
         comp = self.compensated
         if comp and kernels.kick_compensated is None:
             raise InputError(f"{self.name}: compensated=True needs compensated drift/kick kernels, "
                              f"which {type(system).__name__} does not have (TwoBodySystem and "
                              "NBodySystem have them); use compensated=False")
-        if isinstance(system, HasStateCheck):
+        if conforms(system, HasStateCheck):
             system.check_state(y0)
         h = check_step(step, t_end - t0, self.name)
         span = t_end - t0
@@ -490,7 +506,6 @@ class Splitting:
         run = _runner(kernels, comp)
         fsal = self.fsal and not self.adaptive
         y = np.array(y0, dtype=float)
-        data, work = system.data, system.work()
         trial = np.empty_like(y)
         # compensation arrays (state = y − c); empty and unused in the plain loop
         ctrial = np.zeros_like(y) if comp else np.empty(0)

@@ -14,6 +14,7 @@ import numpy.typing as npt
 from numba.core.dispatcher import Dispatcher
 
 from poissonkit.errors import DimensionError, InputError
+from poissonkit.numerics.integrators.base import LoopKernels
 from poissonkit.numerics.kernels import Kernels
 from poissonkit.numerics.nbody.bodies import (
     AllPairs,
@@ -272,6 +273,16 @@ class NBodySystem:
                           and any(coffs[g + 1] - coffs[g] >= max(2, self.parallel_min_bodies)
                                   for g in range(len(cgid))))
         self._kernels: Kernels | None = None
+        self._fixed = np.array([b.fixed for b in bodies], dtype=bool)
+        # the state that last passed check_overlap, and the axis tolerance it then passed
+        # check_state with (None: not checked): solve and the integrator check one state twice
+        self._cleared: tuple[bytes | None, float | None] = (None, None)
+        # the direct-sum form (nbody/direct.py): moving point masses, orientation-free
+        # all-pairs sets, no cutoff, no listed pairs. Anything else the general kernels
+        # compute (a new kind of term) must turn it off, or loop_kernels would drop it.
+        self._direct = (self.cutoff is None and not pairs and not rpairs and not tops
+                        and len(moving) == len(bodies) and all(ccentral))
+        self._loop: tuple[Kernels, tuple[np.ndarray, ...]] | None = None
 
     # ------------------------------------------------------------------ structure
     def gravity_constant(self) -> float:
@@ -326,6 +337,26 @@ class NBodySystem:
         """Fresh scratch arrays ``(pos, nu, F, T)`` for the kernels."""
         n = len(self.bodies)
         return (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
+
+    def loop_kernels(self) -> LoopKernels | None:
+        """Direct-sum kernels for the compiled time loops, or ``None``.
+
+        For moving point masses whose interactions are all orientation-free
+        :class:`AllPairs` sets without cutoff (gravity, ``U(r)``), the kernels of
+        :mod:`~poissonkit.numerics.nbody.direct` with their short data: the same numbers bit
+        for bit as :attr:`kernels`, with less fixed work per step. ``None`` for any other
+        system (tops, fixed bodies, a cutoff, listed pairs, orientation-dependent potentials).
+        """
+        if not self._direct:
+            return None
+        if self._loop is None:
+            from poissonkit.numerics.nbody.direct import direct_kernels
+
+            d = self.data
+            self._loop = (direct_kernels(*_dispatcher(self._kerns, self._rkerns)),
+                          (d[0], d[7], d[8], d[9], d[11]))
+        n = len(self.bodies)
+        return LoopKernels(*self._loop, (np.zeros((n, 3)), np.zeros((n, 3))))
 
     def _state(self, y: npt.ArrayLike) -> np.ndarray:
         y = np.asarray(y, dtype=float)
@@ -462,10 +493,12 @@ class NBodySystem:
 
     def _check_positions(self, r: np.ndarray) -> None:
         """:class:`OverlapError` if two bodies (moving rows ``r``, internal units) coincide."""
-        pos = self.data[4].copy()
-        pos[list(self._moving)] = r
-        fixed = np.array([b.fixed for b in self.bodies], dtype=bool)
-        hit = coincident_pair(pos, fixed)
+        if len(self._moving) == len(self.bodies):
+            pos = r
+        else:
+            pos = self.data[4].copy()
+            pos[list(self._moving)] = r
+        hit = coincident_pair(pos, self._fixed)
         if hit is not None:
             a, b = (self.bodies[k].name for k in hit)
             raise OverlapError(f"bodies {a!r} and {b!r} are at the same position "
@@ -475,19 +508,29 @@ class NBodySystem:
     def check_overlap(self, y: npt.ArrayLike) -> None:
         """Raise :class:`OverlapError` if two bodies of state ``y`` sit at the same place."""
         y = self._state(y)
+        key = y.tobytes()
+        if key == self._cleared[0]:  # the state last checked (solve, then the integrator)
+            return
         self._check_positions(self._split(y)[0])
+        self._cleared = (key, None)
 
     def check_state(self, y: npt.ArrayLike, tol: float = 1e-10) -> None:
         """Raise :class:`NonUnitAxisError` if some axis of ``y`` is not a unit vector and
         :class:`OverlapError` if two bodies coincide."""
+        y = self._state(y)
+        key = y.tobytes()
+        if self._cleared == (key, tol):
+            return
         self.check_overlap(y)
-        c = self.casimirs(self._state(y))[0::2]
-        bad = np.nonzero(np.abs(c - 1.0) > tol)[0]
-        if bad.size:
-            names = [self.bodies[self._tops[k]].name for k in bad]
-            shown = ", ".join(f"{v:.3g} (off by {v - 1:.1e})" for v in c[bad])
-            raise NonUnitAxisError(f"axes of {names} are not unit vectors (|ν|² = {shown}); "
-                                   "normalise them (pack(..., normalize=True))")
+        if self.n_tops:
+            c = self.casimirs(y)[0::2]
+            bad = np.nonzero(np.abs(c - 1.0) > tol)[0]
+            if bad.size:
+                names = [self.bodies[self._tops[k]].name for k in bad]
+                shown = ", ".join(f"{v:.3g} (off by {v - 1:.1e})" for v in c[bad])
+                raise NonUnitAxisError(f"axes of {names} are not unit vectors (|ν|² = {shown}); "
+                                       "normalise them (pack(..., normalize=True))")
+        self._cleared = (key, tol)
 
     # ------------------------------------------------------------------ symbolic
     def to_structure(self) -> Bivector:

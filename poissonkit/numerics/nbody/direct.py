@@ -1,0 +1,137 @@
+"""Direct-sum kernels: the lean form of a system of moving point masses.
+
+When every body moves, none is a top, there is no cutoff and every interaction is an
+orientation-free :class:`~poissonkit.numerics.nbody.AllPairs` set (gravity, any ``U(r)``), a
+step needs little of the general N-body machinery: no fixed bodies to gather, no axes or
+torques, no listed pairs, no cell list. The kernels here take a short ``data`` tuple
+
+    ``(mass, members, offsets, kernel ids, B)``
+
+(masses of the bodies, the members of each all-pairs set, where each set starts in
+``members``, which potential each set uses and the per-body attribute table) and the scratch
+``(pos, F)``. The kick is inlined into the compiled time loop that calls it, so the loop reads
+the arrays once per chunk of steps instead of copying the general 17-entry tuple and its
+reference counts at every kick.
+
+The arithmetic is the general kernels' (:mod:`~poissonkit.numerics.nbody.loops`) operation for
+operation — the same all-pairs loop of the same pair terms, the same order of sums — so a run
+gives the same numbers bit for bit; a test compares both on every kernel.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba.core.dispatcher import Dispatcher
+
+from poissonkit.numerics.jit import jit
+from poissonkit.numerics.kernels import Kernels, kahan_add
+from poissonkit.numerics.nbody.pairterms import pair_terms
+from poissonkit.numerics.nbody.state import max_radius
+
+
+@jit(inline="always")
+def _drift(y, h, data):
+    mass = data[0]
+    for s in range(mass.shape[0]):
+        c = h / mass[s]
+        for d in range(3):
+            y[6 * s + d] += c * y[6 * s + 3 + d]
+
+
+@jit(inline="always")
+def _drift_compensated(y, c, h, data):
+    mass = data[0]
+    for s in range(mass.shape[0]):
+        cc = h / mass[s]
+        for d in range(3):
+            kahan_add(y, c, 6 * s + d, cc * y[6 * s + 3 + d])
+
+
+@jit
+def _min_distance(y, data, work):
+    n = data[0].shape[0]
+    best = math.inf
+    for a in range(n):
+        for b in range(a + 1, n):
+            d2 = ((y[6 * a] - y[6 * b]) ** 2 + (y[6 * a + 1] - y[6 * b + 1]) ** 2
+                  + (y[6 * a + 2] - y[6 * b + 2]) ** 2)
+            best = min(best, d2)
+    return math.sqrt(best)
+
+
+#: id of the radial dispatcher -> (kernels, dispatchers kept alive so the id stays unique)
+_cache: dict[int, tuple[Kernels, Dispatcher, Dispatcher]] = {}
+
+
+def direct_kernels(kern_any: Dispatcher, kern_r: Dispatcher) -> Kernels:
+    """The direct-sum kernels around a system's potential dispatchers (cached).
+
+    ``kern_any``/``kern_r`` are the dispatchers of
+    :func:`~poissonkit.numerics.nbody.pairkernels._dispatcher`; only the orientation-free
+    ``kern_r`` is evaluated. Signatures are those of :mod:`poissonkit.numerics.kernels`, with
+    the short ``data`` and ``work`` of the module docstring.
+    """
+    hit = _cache.get(id(kern_r))
+    if hit is not None:
+        return hit[0]
+    all_pairs_r = pair_terms(kern_any, kern_r).all_radial
+
+    @jit(inline="always")
+    def forces_of(y, data, work):
+        """Forces into ``work[1]`` (rows: bodies); returns U. ``work[0]`` gets the positions."""
+        members = data[1]
+        offs = data[2]
+        gids = data[3]
+        B = data[4]
+        pos = work[0]
+        F = work[1]
+        for b in range(pos.shape[0]):
+            for d in range(3):
+                pos[b, d] = y[6 * b + d]
+                F[b, d] = 0.0
+        u = 0.0
+        for g in range(gids.shape[0]):
+            u += all_pairs_r(gids[g], members, offs[g], offs[g + 1], pos, F, B)
+        return u
+
+    @jit(inline="always")
+    def kick(y, h, data, work):
+        forces_of(y, data, work)
+        F = work[1]
+        for b in range(F.shape[0]):
+            for d in range(3):
+                y[6 * b + 3 + d] += h * F[b, d]
+
+    @jit(inline="always")
+    def kick_compensated(y, c, h, data, work):
+        forces_of(y, data, work)
+        F = work[1]
+        for b in range(F.shape[0]):
+            for d in range(3):
+                kahan_add(y, c, 6 * b + 3 + d, h * F[b, d])
+
+    @jit
+    def energy(y, data, work):
+        mass = data[0]
+        e = forces_of(y, data, work)
+        for s in range(mass.shape[0]):
+            p2 = y[6 * s + 3] ** 2 + y[6 * s + 4] ** 2 + y[6 * s + 5] ** 2
+            e += 0.5 * p2 / mass[s]
+        return e
+
+    @jit
+    def rhs(y, data, work, out):
+        mass = data[0]
+        forces_of(y, data, work)
+        F = work[1]
+        for s in range(mass.shape[0]):
+            for d in range(3):
+                out[6 * s + d] = y[6 * s + 3 + d] / mass[s]
+                out[6 * s + 3 + d] = F[s, d]
+
+    out = Kernels(rhs=rhs, drift=_drift, kick=kick, energy=energy, min_distance=_min_distance,
+                  max_radius=max_radius, jac=None, splittable=True, forces=forces_of,
+                  drift_compensated=_drift_compensated, kick_compensated=kick_compensated)
+    _cache[id(kern_r)] = (out, kern_any, kern_r)
+    return out
