@@ -1,0 +1,256 @@
+"""Verlet neighbour lists: the cell-list pairs kept between force evaluations.
+
+A system built with ``NBodySystem(..., skin=s)`` lists, once, every pair of an
+:class:`~poissonkit.numerics.nbody.AllPairs` set closer than ``cutoff + s`` (found with a cell
+list of side ``cutoff + s``, :func:`verlet_build`), and later evaluations walk that list instead
+of testing the 27-cell neighbourhood of every body again. Every evaluation first compares each
+body's position with its position when the list was built; if any body has moved more than
+``s/2`` the list is rebuilt before it is used, so a pair closer than the cutoff is always on the
+list (two bodies that each moved at most ``s/2`` were at most ``s`` farther apart at the build).
+The walk still tests every listed pair against the cutoff itself: the pairs evaluated, and so
+the forces (the exact gradient of the same potential), are those of the cell-list loop.
+
+The list keeps the cell loop's order and its x-slabs (:mod:`~poissonkit.numerics.nbody.celllists`):
+pairs whose first slot lies in slab ``x`` have their second slot in slab ``x`` or ``x + 1``, so
+the slabs can run on any threads with the same two accumulators per body and the same numbers
+bit for bit, serial or parallel. The order is the one of the list's last build, so the last bits
+of a force depend on when the list was built (a run and the same run resumed from its middle
+may differ in round-off); a fresh list (``system.forces``, ``system.energy``) sums in the order
+of a cell list of side ``cutoff + s`` at the current positions.
+
+The list lives in the scratch tuple of a system (``work()[4]``): ``(ints, refs, skin)``, per
+all-pairs set ``k`` the integer arrays ``ints[4k : 4k + 4]`` = slot → body, CSR offsets,
+neighbour slots, first slot of each slab, and ``refs[k]`` the positions at the build (slot order).
+"""
+
+from __future__ import annotations
+
+import os
+
+import numba
+import numpy as np
+from numba.core.dispatcher import Dispatcher
+from numba.typed import List
+from numba.types import ListType
+
+from poissonkit.numerics.jit import jit
+from poissonkit.numerics.nbody.celllists import cell_list, forward_cells
+
+#: One system's neighbour lists: ``(ints, refs, skin)`` (see the module docstring).
+VerletState = tuple[ListType, ListType, float]
+
+
+@numba.njit(cache=True)
+def _empty_lists(nsets):
+    ints = List()
+    refs = List()
+    for _ in range(nsets):
+        for _ in range(4):
+            ints.append(np.zeros(0, dtype=np.int64))
+        refs.append(np.zeros((0, 3)))
+    return ints, refs
+
+
+def new_verlet_state(nsets: int, skin: float) -> VerletState:
+    """An empty neighbour-list state for ``nsets`` all-pairs sets and skin ``skin``.
+
+    The lists are built on the first force evaluation that uses them.
+    """
+    ints, refs = _empty_lists(nsets)
+    return ints, refs, float(skin)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def verlet_build(members, pos, radius):
+    """The pairs of ``members`` closer than ``radius``, in the cell loop's order.
+
+    Returns ``(body, start, nbr, slab_first, ref)``: the body of each slot (slots sorted by
+    cell of side ≥ ``radius``), the CSR offsets ``start[q]:start[q + 1]`` into ``nbr`` of the
+    later slots listed for slot ``q`` (its own cell's later slots, then the 13 forward cells in
+    increasing index), the first slot of each x-slab (one more entry than slabs) and the
+    positions of the slots.
+    """
+    n = members.shape[0]
+    nc, count, _, sp_, _, body = cell_list(members, pos, pos, radius)
+    r2 = radius * radius
+    fwd = np.empty(13, dtype=np.int64)
+    ncell = nc[0] * nc[1] * nc[2]
+    # room for every candidate pair (an upper bound), so the list never grows in the loop
+    cap = 0
+    for c in range(ncell):
+        k_c = count[c + 1] - count[c]
+        if k_c == 0:
+            continue
+        nf = forward_cells(c, nc, fwd)
+        around = 0
+        for k in range(nf):
+            around += count[fwd[k] + 1] - count[fwd[k]]
+        cap += k_c * (k_c - 1) // 2 + k_c * around
+    nbr = np.empty(cap + 1, dtype=np.int64)
+    start = np.empty(n + 1, dtype=np.int64)
+    m = 0
+    for c in range(ncell):
+        if count[c] == count[c + 1]:
+            continue
+        nf = forward_cells(c, nc, fwd)
+        for qa in range(count[c], count[c + 1]):
+            start[qa] = m
+            xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
+            for k in range(-1, nf):
+                c2 = c if k < 0 else fwd[k]
+                for qb in range(qa + 1 if k < 0 else count[c2], count[c2 + 1]):
+                    dx = sp_[qb, 0] - xa
+                    dy = sp_[qb, 1] - ya
+                    dz = sp_[qb, 2] - za
+                    # branch-free: about one candidate in six is kept, a branch mispredicts
+                    nbr[m] = qb
+                    m += 1 if dx * dx + dy * dy + dz * dz <= r2 else 0
+    start[n] = m
+    per_slab = nc[1] * nc[2]
+    slab_first = np.empty(nc[0] + 1, dtype=np.int64)
+    for x in range(nc[0] + 1):
+        slab_first[x] = count[x * per_slab]
+    return body, start, nbr[:m].copy(), slab_first, sp_
+
+
+def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> Dispatcher:
+    """The neighbour-list pair loop around the pair terms ``pair_one`` and ``pair_r_one``.
+
+    Returns ``listed(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, state, s) -> U``,
+    the drop-in counterpart of :func:`~poissonkit.numerics.nbody.celllists.cell_loops`'s
+    ``cells`` for all-pairs set ``s`` of a system with neighbour lists ``state``. With
+    ``parallel`` the slabs run on numba's threads once there are ``min_n`` members.
+    """
+    if parallel:
+        # see cell_loops: OpenMP's spinning wait costs dearly on a shared machine
+        os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+    @jit(inline="always")
+    def slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body, W, V, cut, B, cut2):
+        """The listed pairs whose first slot lies in slab ``x``, as ``slab_pairs`` of the cell
+        loop: one evaluation per pair, a body's share to ``W[q, 0]`` / ``V[q, 0]`` from its own
+        slab and to ``W[q, 1]`` / ``V[q, 1]`` from the slab before."""
+        first_next = slab_first[x + 1]
+        u = 0.0
+        for qa in range(slab_first[x], first_next):
+            xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
+            ua = 0.0
+            for k in range(start[qa], start[qa + 1]):
+                qb = nbr[k]
+                dx = sp_[qb, 0] - xa
+                dy = sp_[qb, 1] - ya
+                dz = sp_[qb, 2] - za
+                if dx * dx + dy * dy + dz * dz > cut2:
+                    continue
+                h = 1 if qb >= first_next else 0
+                if central:
+                    uu, g0, g1, g2 = pair_r_one(g, qa, qb, sp_, cut, B, body[qa], body[qb])
+                    W[qa, 0, 0] += g0
+                    W[qa, 0, 1] += g1
+                    W[qa, 0, 2] += g2
+                    W[qb, h, 0] -= g0
+                    W[qb, h, 1] -= g1
+                    W[qb, h, 2] -= g2
+                else:
+                    (uu, f0, f1, f2, ti0, ti1, ti2,
+                     tj0, tj1, tj2) = pair_one(g, qa, qb, sp_, sn_, cut, B, body[qa], body[qb])
+                    W[qa, 0, 0] -= f0
+                    W[qa, 0, 1] -= f1
+                    W[qa, 0, 2] -= f2
+                    W[qb, h, 0] += f0
+                    W[qb, h, 1] += f1
+                    W[qb, h, 2] += f2
+                    V[qa, 0, 0] += ti0
+                    V[qa, 0, 1] += ti1
+                    V[qa, 0, 2] += ti2
+                    V[qb, h, 0] += tj0
+                    V[qb, h, 1] += tj1
+                    V[qb, h, 2] += tj2
+                ua += uu
+            u += ua
+        return u
+
+    def listed_py(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s):
+        n = members.shape[0]
+        if n < 2:
+            return 0.0
+        ints, refs, skin = state
+        sp_ = np.empty((n, 3))
+        sn_ = np.empty((n, 3))
+        W = np.empty((n, 2, 3))
+        V = np.empty((n, 2, 3))
+        fresh = refs[s].shape[0] != n
+        if fresh:
+            body, start, nbr, slab_first, ref = verlet_build(members, pos, cutoff + skin)
+        else:
+            body = ints[4 * s]
+            start = ints[4 * s + 1]
+            nbr = ints[4 * s + 2]
+            slab_first = ints[4 * s + 3]
+            ref = refs[s]
+        # gather in slot order and measure how far each body moved since the build
+        far = 0.0
+        for q in numba.prange(n):
+            b = body[q]
+            d2 = 0.0
+            for d in range(3):
+                v = pos[b, d]
+                sp_[q, d] = v
+                sn_[q, d] = nu[b, d]
+                d2 += (v - ref[q, d]) ** 2
+                W[q, 0, d] = 0.0
+                W[q, 1, d] = 0.0
+                V[q, 0, d] = 0.0
+                V[q, 1, d] = 0.0
+            far = max(far, d2)
+        if far > 0.25 * skin * skin * (1.0 - 1e-9):  # a body moved more than skin / 2: rebuild
+            body, start, nbr, slab_first, ref = verlet_build(members, pos, cutoff + skin)
+            fresh = True
+            for q in numba.prange(n):
+                b = body[q]
+                for d in range(3):
+                    sp_[q, d] = pos[b, d]
+                    sn_[q, d] = nu[b, d]
+        if fresh:
+            ints[4 * s] = body
+            ints[4 * s + 1] = start
+            ints[4 * s + 2] = nbr
+            ints[4 * s + 3] = slab_first
+            refs[s] = ref
+        ns = slab_first.shape[0] - 1
+        us = np.empty(ns)
+        half = (ns + 1) // 2
+        cut2 = cutoff * cutoff
+        for k in numba.prange(ns):
+            # even slabs, then odd ones (see cell_pairs_par); any order, same numbers
+            x = 2 * k if k < half else 2 * (k - half) + 1
+            us[x] = slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body, W, V,
+                              cut, B, cut2)
+        for q in numba.prange(n):
+            b = body[q]
+            for d in range(3):
+                F[b, d] += W[q, 1, d] + W[q, 0, d]
+                T[b, d] += V[q, 1, d] + V[q, 0, d]
+        u = 0.0
+        for x in range(ns):
+            u += us[x]
+        return u
+
+    # one source, two compilations: numba.prange is range in the serial one
+    serial = jit(listed_py)
+    if parallel:
+        par = jit(parallel=True)(listed_py)
+
+        @jit
+        def listed(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, state, s):
+            """The listed pairs on numba's threads once there are ``min_n`` members (the
+            thread count is numba's, not read here: see ``cell_loops``)."""
+            if members.shape[0] >= min_n:
+                return par(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s)
+            return serial(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s)
+    else:
+        @jit(inline="always")
+        def listed(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, state, s):
+            return serial(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s)
+
+    return listed
