@@ -26,6 +26,7 @@ neighbour slots, first slot of each slab, and ``refs[k]`` the positions at the b
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 
 import numba
 import numpy as np
@@ -60,57 +61,82 @@ def new_verlet_state(nsets: int, skin: float) -> VerletState:
     return ints, refs, float(skin)
 
 
-@numba.njit(cache=True, error_model="numpy")
-def verlet_build(members, pos, radius):
+def _build_py(members, pos, radius):
     """The pairs of ``members`` closer than ``radius``, in the cell loop's order.
 
     Returns ``(body, start, nbr, slab_first, ref)``: the body of each slot (slots sorted by
     cell of side ≥ ``radius``), the CSR offsets ``start[q]:start[q + 1]`` into ``nbr`` of the
     later slots listed for slot ``q`` (its own cell's later slots, then the 13 forward cells in
     increasing index), the first slot of each x-slab (one more entry than slabs) and the
-    positions of the slots.
+    positions of the slots. Slabs are listed independently (on threads in the parallel
+    compilation) into segments sized for every candidate pair, then packed in slab order: the
+    list is the same whoever builds it.
     """
     n = members.shape[0]
     nc, count, _, sp_, _, body = cell_list(members, pos, pos, radius)
     r2 = radius * radius
-    fwd = np.empty(13, dtype=np.int64)
-    ncell = nc[0] * nc[1] * nc[2]
-    # room for every candidate pair (an upper bound), so the list never grows in the loop
-    cap = 0
-    for c in range(ncell):
-        k_c = count[c + 1] - count[c]
-        if k_c == 0:
-            continue
-        nf = forward_cells(c, nc, fwd)
-        around = 0
-        for k in range(nf):
-            around += count[fwd[k] + 1] - count[fwd[k]]
-        cap += k_c * (k_c - 1) // 2 + k_c * around
-    nbr = np.empty(cap + 1, dtype=np.int64)
-    start = np.empty(n + 1, dtype=np.int64)
-    m = 0
-    for c in range(ncell):
-        if count[c] == count[c + 1]:
-            continue
-        nf = forward_cells(c, nc, fwd)
-        for qa in range(count[c], count[c + 1]):
-            start[qa] = m
-            xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
-            for k in range(-1, nf):
-                c2 = c if k < 0 else fwd[k]
-                for qb in range(qa + 1 if k < 0 else count[c2], count[c2 + 1]):
-                    dx = sp_[qb, 0] - xa
-                    dy = sp_[qb, 1] - ya
-                    dz = sp_[qb, 2] - za
-                    # branch-free: about one candidate in six is kept, a branch mispredicts
-                    nbr[m] = qb
-                    m += 1 if dx * dx + dy * dy + dz * dz <= r2 else 0
-    start[n] = m
     per_slab = nc[1] * nc[2]
-    slab_first = np.empty(nc[0] + 1, dtype=np.int64)
-    for x in range(nc[0] + 1):
+    ns = nc[0]
+    slab_first = np.empty(ns + 1, dtype=np.int64)
+    for x in range(ns + 1):
         slab_first[x] = count[x * per_slab]
-    return body, start, nbr[:m].copy(), slab_first, sp_
+    # room for every candidate pair of each slab (an upper bound), so no list grows
+    room = np.zeros(ns + 1, dtype=np.int64)
+    for x in numba.prange(ns):
+        fwd = np.empty(13, dtype=np.int64)
+        cap = 0
+        for c in range(x * per_slab, (x + 1) * per_slab):
+            k_c = count[c + 1] - count[c]
+            if k_c == 0:
+                continue
+            nf = forward_cells(c, nc, fwd)
+            around = 0
+            for k in range(nf):
+                around += count[fwd[k] + 1] - count[fwd[k]]
+            cap += k_c * (k_c - 1) // 2 + k_c * around
+        room[x + 1] = cap
+    for x in range(ns):
+        room[x + 1] += room[x]
+    buf = np.empty(room[ns] + 1, dtype=np.int64)
+    start = np.empty(n + 1, dtype=np.int64)
+    kept = np.zeros(ns + 1, dtype=np.int64)
+    for x in numba.prange(ns):
+        fwd = np.empty(13, dtype=np.int64)
+        m = room[x]
+        for c in range(x * per_slab, (x + 1) * per_slab):
+            if count[c] == count[c + 1]:
+                continue
+            nf = forward_cells(c, nc, fwd)
+            for qa in range(count[c], count[c + 1]):
+                start[qa] = m
+                xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
+                for k in range(-1, nf):
+                    c2 = c if k < 0 else fwd[k]
+                    for qb in range(qa + 1 if k < 0 else count[c2], count[c2 + 1]):
+                        dx = sp_[qb, 0] - xa
+                        dy = sp_[qb, 1] - ya
+                        dz = sp_[qb, 2] - za
+                        # branch-free: about one candidate in six is kept, a branch mispredicts
+                        buf[m] = qb
+                        m += 1 if dx * dx + dy * dy + dz * dz <= r2 else 0
+        kept[x + 1] = m - room[x]
+    for x in range(ns):
+        kept[x + 1] += kept[x]
+    nbr = np.empty(kept[ns], dtype=np.int64)
+    for x in numba.prange(ns):
+        shift = room[x] - kept[x]
+        for k in range(kept[x], kept[x + 1]):
+            nbr[k] = buf[k + shift]
+        for q in range(slab_first[x], slab_first[x + 1]):
+            start[q] -= shift
+    start[n] = kept[ns]
+    return body, start, nbr, slab_first, sp_
+
+
+#: the list builder, one thread (numba.prange is range here)
+verlet_build = jit(_build_py)
+#: the list builder, slabs on numba's threads; the same list
+verlet_build_par = jit(parallel=True)(_build_py)
 
 
 def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> Dispatcher:
@@ -170,76 +196,79 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
             u += ua
         return u
 
-    def listed_py(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s):
-        n = members.shape[0]
-        if n < 2:
-            return 0.0
-        ints, refs, skin = state
-        sp_ = np.empty((n, 3))
-        sn_ = np.empty((n, 3))
-        W = np.empty((n, 2, 3))
-        V = np.empty((n, 2, 3))
-        fresh = refs[s].shape[0] != n
-        if fresh:
-            body, start, nbr, slab_first, ref = verlet_build(members, pos, cutoff + skin)
-        else:
-            body = ints[4 * s]
-            start = ints[4 * s + 1]
-            nbr = ints[4 * s + 2]
-            slab_first = ints[4 * s + 3]
-            ref = refs[s]
-        # gather in slot order and measure how far each body moved since the build
-        far = 0.0
-        for q in numba.prange(n):
-            b = body[q]
-            d2 = 0.0
-            for d in range(3):
-                v = pos[b, d]
-                sp_[q, d] = v
-                sn_[q, d] = nu[b, d]
-                d2 += (v - ref[q, d]) ** 2
-                W[q, 0, d] = 0.0
-                W[q, 1, d] = 0.0
-                V[q, 0, d] = 0.0
-                V[q, 1, d] = 0.0
-            far = max(far, d2)
-        if far > 0.25 * skin * skin * (1.0 - 1e-9):  # a body moved more than skin / 2: rebuild
-            body, start, nbr, slab_first, ref = verlet_build(members, pos, cutoff + skin)
-            fresh = True
+    def make(build: Dispatcher) -> Callable:
+        def listed_py(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s):
+            n = members.shape[0]
+            if n < 2:
+                return 0.0
+            ints, refs, skin = state
+            sp_ = np.empty((n, 3))
+            sn_ = np.empty((n, 3))
+            W = np.empty((n, 2, 3))
+            V = np.empty((n, 2, 3))
+            fresh = refs[s].shape[0] != n
+            if fresh:
+                body, start, nbr, slab_first, ref = build(members, pos, cutoff + skin)
+            else:
+                body = ints[4 * s]
+                start = ints[4 * s + 1]
+                nbr = ints[4 * s + 2]
+                slab_first = ints[4 * s + 3]
+                ref = refs[s]
+            # gather in slot order and measure how far each body moved since the build
+            far = 0.0
+            for q in numba.prange(n):
+                b = body[q]
+                d2 = 0.0
+                for d in range(3):
+                    v = pos[b, d]
+                    sp_[q, d] = v
+                    sn_[q, d] = nu[b, d]
+                    d2 += (v - ref[q, d]) ** 2
+                    W[q, 0, d] = 0.0
+                    W[q, 1, d] = 0.0
+                    V[q, 0, d] = 0.0
+                    V[q, 1, d] = 0.0
+                far = max(far, d2)
+            if far > 0.25 * skin * skin * (1.0 - 1e-9):  # a body moved more than skin / 2: rebuild
+                body, start, nbr, slab_first, ref = build(members, pos, cutoff + skin)
+                fresh = True
+                for q in numba.prange(n):
+                    b = body[q]
+                    for d in range(3):
+                        sp_[q, d] = pos[b, d]
+                        sn_[q, d] = nu[b, d]
+            if fresh:
+                ints[4 * s] = body
+                ints[4 * s + 1] = start
+                ints[4 * s + 2] = nbr
+                ints[4 * s + 3] = slab_first
+                refs[s] = ref
+            ns = slab_first.shape[0] - 1
+            us = np.empty(ns)
+            half = (ns + 1) // 2
+            cut2 = cutoff * cutoff
+            for k in numba.prange(ns):
+                # even slabs, then odd ones (see cell_pairs_par); any order, same numbers
+                x = 2 * k if k < half else 2 * (k - half) + 1
+                us[x] = slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body, W, V,
+                                  cut, B, cut2)
             for q in numba.prange(n):
                 b = body[q]
                 for d in range(3):
-                    sp_[q, d] = pos[b, d]
-                    sn_[q, d] = nu[b, d]
-        if fresh:
-            ints[4 * s] = body
-            ints[4 * s + 1] = start
-            ints[4 * s + 2] = nbr
-            ints[4 * s + 3] = slab_first
-            refs[s] = ref
-        ns = slab_first.shape[0] - 1
-        us = np.empty(ns)
-        half = (ns + 1) // 2
-        cut2 = cutoff * cutoff
-        for k in numba.prange(ns):
-            # even slabs, then odd ones (see cell_pairs_par); any order, same numbers
-            x = 2 * k if k < half else 2 * (k - half) + 1
-            us[x] = slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body, W, V,
-                              cut, B, cut2)
-        for q in numba.prange(n):
-            b = body[q]
-            for d in range(3):
-                F[b, d] += W[q, 1, d] + W[q, 0, d]
-                T[b, d] += V[q, 1, d] + V[q, 0, d]
-        u = 0.0
-        for x in range(ns):
-            u += us[x]
-        return u
+                    F[b, d] += W[q, 1, d] + W[q, 0, d]
+                    T[b, d] += V[q, 1, d] + V[q, 0, d]
+            u = 0.0
+            for x in range(ns):
+                u += us[x]
+            return u
+
+        return listed_py
 
     # one source, two compilations: numba.prange is range in the serial one
-    serial = jit(listed_py)
+    serial = jit(make(verlet_build))
     if parallel:
-        par = jit(parallel=True)(listed_py)
+        par = jit(parallel=True)(make(verlet_build_par))
 
         @jit
         def listed(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, state, s):
