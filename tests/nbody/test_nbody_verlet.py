@@ -108,7 +108,7 @@ def test_a_body_that_moved_more_than_half_the_skin_is_found_through_a_rebuilt_li
     np.testing.assert_allclose(F, f_ref, rtol=0, atol=1e-13 * np.abs(f_ref).max())
     np.testing.assert_allclose(T, t_ref, rtol=0, atol=1e-13 * np.abs(t_ref).max())
     assert U == pytest.approx(u_ref, rel=1e-13)
-    assert work[4][1][0][:, 0].max() == pos[2, 0]  # the list was rebuilt at these positions
+    assert work[4][2][0][:, 0].max() == pos[2, 0]  # the list was rebuilt at these positions
 
 
 def test_a_kept_list_finds_pairs_that_entered_the_cutoff_within_half_the_skin():
@@ -116,13 +116,13 @@ def test_a_kept_list_finds_pairs_that_entered_the_cutoff_within_half_the_skin():
     work = s.work()
     y0 = s.pack(pos, np.zeros((3, 3)), nu, np.zeros((3, 3)))
     _, _, u0 = evaluate(s, y0, work)
-    ref0 = np.array(work[4][1][0])
+    ref0 = np.array(work[4][2][0])
     pos[1, 0] += 0.13  # every body moves less than skin / 2 = 0.15; 1 and 2 towards
     pos[2, 0] -= 0.14  # each other, into the cutoff
     pos[0, 1] += 0.1
     y1 = s.pack(pos, np.zeros((3, 3)), nu, np.zeros((3, 3)))
     F, T, U = evaluate(s, y1, work)
-    np.testing.assert_array_equal(np.array(work[4][1][0]), ref0)  # the list was kept
+    np.testing.assert_array_equal(np.array(work[4][2][0]), ref0)  # the list was kept
     f_ref, t_ref, u_ref = truth(pos, nu)
     assert np.linalg.norm(pos[2] - pos[1]) < CUTOFF and abs(f_ref[2]).max() > 1e-4
     np.testing.assert_allclose(F, f_ref, rtol=0, atol=1e-13 * np.abs(f_ref).max())

@@ -18,9 +18,10 @@ of a force depend on when the list was built (a run and the same run resumed fro
 may differ in round-off); a fresh list (``system.forces``, ``system.energy``) sums in the order
 of a cell list of side ``cutoff + s`` at the current positions.
 
-The list lives in the scratch tuple of a system (``work()[4]``): ``(ints, refs, skin)``, per
-all-pairs set ``k`` the integer arrays ``ints[4k : 4k + 4]`` = slot → body, CSR offsets,
-neighbour slots, first slot of each slab, and ``refs[k]`` the positions at the build (slot order).
+The list lives in the scratch tuple of a system (``work()[4]``): ``(ints, nbrs, refs, skin)``,
+per all-pairs set ``k`` the arrays ``ints[3k : 3k + 3]`` = slot → body, CSR offsets and first
+slot of each slab, ``nbrs[k]`` the neighbour slots (32-bit: the list is the largest array a
+walk reads) and ``refs[k]`` the positions at the build (slot order).
 """
 
 from __future__ import annotations
@@ -35,21 +36,23 @@ from numba.typed import List
 from numba.types import ListType
 
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.nbody.celllists import cell_list, forward_cells
+from poissonkit.numerics.nbody.celllists import cell_list, cell_list_par, forward_cells
 
-#: One system's neighbour lists: ``(ints, refs, skin)`` (see the module docstring).
-VerletState = tuple[ListType, ListType, float]
+#: One system's neighbour lists: ``(ints, nbrs, refs, skin)`` (see the module docstring).
+VerletState = tuple[ListType, ListType, ListType, float]
 
 
 @numba.njit(cache=True)
 def _empty_lists(nsets):
     ints = List()
+    nbrs = List()
     refs = List()
     for _ in range(nsets):
-        for _ in range(4):
+        for _ in range(3):
             ints.append(np.zeros(0, dtype=np.int64))
+        nbrs.append(np.zeros(0, dtype=np.uint32))
         refs.append(np.zeros((0, 3)))
-    return ints, refs
+    return ints, nbrs, refs
 
 
 def new_verlet_state(nsets: int, skin: float) -> VerletState:
@@ -57,86 +60,91 @@ def new_verlet_state(nsets: int, skin: float) -> VerletState:
 
     The lists are built on the first force evaluation that uses them.
     """
-    ints, refs = _empty_lists(nsets)
-    return ints, refs, float(skin)
+    ints, nbrs, refs = _empty_lists(nsets)
+    return ints, nbrs, refs, float(skin)
 
 
-def _build_py(members, pos, radius):
-    """The pairs of ``members`` closer than ``radius``, in the cell loop's order.
+def _builder(cells: Dispatcher) -> Callable:
+    """The list builder around the cell-list builder ``cells`` (serial or parallel)."""
 
-    Returns ``(body, start, nbr, slab_first, ref)``: the body of each slot (slots sorted by
-    cell of side ≥ ``radius``), the CSR offsets ``start[q]:start[q + 1]`` into ``nbr`` of the
-    later slots listed for slot ``q`` (its own cell's later slots, then the 13 forward cells in
-    increasing index), the first slot of each x-slab (one more entry than slabs) and the
-    positions of the slots. Slabs are listed independently (on threads in the parallel
-    compilation) into segments sized for every candidate pair, then packed in slab order: the
-    list is the same whoever builds it.
-    """
-    n = members.shape[0]
-    nc, count, _, sp_, _, body = cell_list(members, pos, pos, radius)
-    r2 = radius * radius
-    per_slab = nc[1] * nc[2]
-    ns = nc[0]
-    slab_first = np.empty(ns + 1, dtype=np.int64)
-    for x in range(ns + 1):
-        slab_first[x] = count[x * per_slab]
-    # room for every candidate pair of each slab (an upper bound), so no list grows
-    room = np.zeros(ns + 1, dtype=np.int64)
-    for x in numba.prange(ns):
-        fwd = np.empty(13, dtype=np.int64)
-        cap = 0
-        for c in range(x * per_slab, (x + 1) * per_slab):
-            k_c = count[c + 1] - count[c]
-            if k_c == 0:
-                continue
-            nf = forward_cells(c, nc, fwd)
-            around = 0
-            for k in range(nf):
-                around += count[fwd[k] + 1] - count[fwd[k]]
-            cap += k_c * (k_c - 1) // 2 + k_c * around
-        room[x + 1] = cap
-    for x in range(ns):
-        room[x + 1] += room[x]
-    buf = np.empty(room[ns] + 1, dtype=np.int64)
-    start = np.empty(n + 1, dtype=np.int64)
-    kept = np.zeros(ns + 1, dtype=np.int64)
-    for x in numba.prange(ns):
-        fwd = np.empty(13, dtype=np.int64)
-        m = room[x]
-        for c in range(x * per_slab, (x + 1) * per_slab):
-            if count[c] == count[c + 1]:
-                continue
-            nf = forward_cells(c, nc, fwd)
-            for qa in range(count[c], count[c + 1]):
-                start[qa] = m
-                xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
-                for k in range(-1, nf):
-                    c2 = c if k < 0 else fwd[k]
-                    for qb in range(qa + 1 if k < 0 else count[c2], count[c2 + 1]):
-                        dx = sp_[qb, 0] - xa
-                        dy = sp_[qb, 1] - ya
-                        dz = sp_[qb, 2] - za
-                        # branch-free: about one candidate in six is kept, a branch mispredicts
-                        buf[m] = qb
-                        m += 1 if dx * dx + dy * dy + dz * dz <= r2 else 0
-        kept[x + 1] = m - room[x]
-    for x in range(ns):
-        kept[x + 1] += kept[x]
-    nbr = np.empty(kept[ns], dtype=np.int64)
-    for x in numba.prange(ns):
-        shift = room[x] - kept[x]
-        for k in range(kept[x], kept[x + 1]):
-            nbr[k] = buf[k + shift]
-        for q in range(slab_first[x], slab_first[x + 1]):
-            start[q] -= shift
-    start[n] = kept[ns]
-    return body, start, nbr, slab_first, sp_
+    def _build_py(members, pos, radius):
+        """The pairs of ``members`` closer than ``radius``, in the cell loop's order.
+
+        Returns ``(body, start, nbr, slab_first, ref)``: the body of each slot (slots sorted by
+        cell of side ≥ ``radius``), the CSR offsets ``start[q]:start[q + 1]`` into ``nbr`` of the
+        later slots listed for slot ``q`` (its own cell's later slots, then the 13 forward cells in
+        increasing index), the first slot of each x-slab (one more entry than slabs) and the
+        positions of the slots. Slabs are listed independently (on threads in the parallel
+        compilation) into segments sized for every candidate pair, then packed in slab order: the
+        list is the same whoever builds it.
+        """
+        n = members.shape[0]
+        nc, count, _, sp_, _, body = cells(members, pos, pos, radius)
+        r2 = radius * radius
+        per_slab = nc[1] * nc[2]
+        ns = nc[0]
+        slab_first = np.empty(ns + 1, dtype=np.int64)
+        for x in range(ns + 1):
+            slab_first[x] = count[x * per_slab]
+        # room for every candidate pair of each slab (an upper bound), so no list grows
+        room = np.zeros(ns + 1, dtype=np.int64)
+        for x in numba.prange(ns):
+            fwd = np.empty(13, dtype=np.int64)
+            cap = 0
+            for c in range(x * per_slab, (x + 1) * per_slab):
+                k_c = count[c + 1] - count[c]
+                if k_c == 0:
+                    continue
+                nf = forward_cells(c, nc, fwd)
+                around = 0
+                for k in range(nf):
+                    around += count[fwd[k] + 1] - count[fwd[k]]
+                cap += k_c * (k_c - 1) // 2 + k_c * around
+            room[x + 1] = cap
+        for x in range(ns):
+            room[x + 1] += room[x]
+        buf = np.empty(room[ns] + 1, dtype=np.uint32)
+        start = np.empty(n + 1, dtype=np.int64)
+        kept = np.zeros(ns + 1, dtype=np.int64)
+        for x in numba.prange(ns):
+            fwd = np.empty(13, dtype=np.int64)
+            m = room[x]
+            for c in range(x * per_slab, (x + 1) * per_slab):
+                if count[c] == count[c + 1]:
+                    continue
+                nf = forward_cells(c, nc, fwd)
+                for qa in range(count[c], count[c + 1]):
+                    start[qa] = m
+                    xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
+                    for k in range(-1, nf):
+                        c2 = c if k < 0 else fwd[k]
+                        for qb in range(qa + 1 if k < 0 else count[c2], count[c2 + 1]):
+                            dx = sp_[qb, 0] - xa
+                            dy = sp_[qb, 1] - ya
+                            dz = sp_[qb, 2] - za
+                            # branch-free: about one candidate in six is kept, a branch mispredicts
+                            buf[m] = qb
+                            m += 1 if dx * dx + dy * dy + dz * dz <= r2 else 0
+            kept[x + 1] = m - room[x]
+        for x in range(ns):
+            kept[x + 1] += kept[x]
+        nbr = np.empty(kept[ns], dtype=np.uint32)
+        for x in numba.prange(ns):
+            shift = room[x] - kept[x]
+            for k in range(kept[x], kept[x + 1]):
+                nbr[k] = buf[k + shift]
+            for q in range(slab_first[x], slab_first[x + 1]):
+                start[q] -= shift
+        start[n] = kept[ns]
+        return body, start, nbr, slab_first, sp_
+
+    return _build_py
 
 
 #: the list builder, one thread (numba.prange is range here)
-verlet_build = jit(_build_py)
+verlet_build = jit(_builder(cell_list))
 #: the list builder, slabs on numba's threads; the same list
-verlet_build_par = jit(parallel=True)(_build_py)
+verlet_build_par = jit(parallel=True)(_builder(cell_list_par))
 
 
 def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> Dispatcher:
@@ -207,11 +215,13 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
         return u
 
     def make(build: Dispatcher) -> Callable:
+        """The loop around the list builder ``build`` (compiled serial and parallel)."""
+
         def listed_py(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s):
             n = members.shape[0]
             if n < 2:
                 return 0.0
-            ints, refs, skin = state
+            ints, nbrs, refs, skin = state
             sp_ = np.empty((n, 3))
             sn_ = np.empty((n, 3))
             W = np.empty((n, 2, 3))
@@ -220,10 +230,10 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
             if fresh:
                 body, start, nbr, slab_first, ref = build(members, pos, cutoff + skin)
             else:
-                body = ints[4 * s]
-                start = ints[4 * s + 1]
-                nbr = ints[4 * s + 2]
-                slab_first = ints[4 * s + 3]
+                body = ints[3 * s]
+                start = ints[3 * s + 1]
+                nbr = nbrs[s]
+                slab_first = ints[3 * s + 2]
                 ref = refs[s]
             # gather in slot order and measure how far each body moved since the build
             far = 0.0
@@ -249,10 +259,10 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
                         sp_[q, d] = pos[b, d]
                         sn_[q, d] = nu[b, d]
             if fresh:
-                ints[4 * s] = body
-                ints[4 * s + 1] = start
-                ints[4 * s + 2] = nbr
-                ints[4 * s + 3] = slab_first
+                ints[3 * s] = body
+                ints[3 * s + 1] = start
+                nbrs[s] = nbr
+                ints[3 * s + 2] = slab_first
                 refs[s] = ref
             ns = slab_first.shape[0] - 1
             us = np.empty(ns)
