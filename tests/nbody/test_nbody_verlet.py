@@ -11,6 +11,8 @@ Claims checked here:
   a kept one after the bodies moved;
 * a run with a skin conserves energy and momentum like the cell-list run of the same system
   and follows it to round-off amplified by the dynamics;
+* the orientation-free fast path through the list, in SI units with scales (the skin in
+  metres), matches a direct sum of Newtonian gravity, serial and parallel bitwise;
 * a bad skin is refused naming the option.
 """
 
@@ -187,3 +189,48 @@ def test_a_bad_skin_is_refused_naming_the_option(bad):
     with pytest.raises(InputError, match="skin"):
         NBodySystem([Body("a", 1.0), Body("b", 1.0)], [AllPairs("gravity", {"G": 1.0})],
                     cutoff=1.0, skin=bad)
+
+
+@needs_two
+def test_listed_gravity_in_si_units_matches_a_direct_sum_serial_and_parallel_bitwise():
+    """The orientation-free fast path through the list, with scales: the skin is given in
+    metres like the cutoff (here 300 m = 0.3 internal lengths)."""
+    from poissonkit.numerics import Scales
+
+    rng = np.random.default_rng(5)
+    L = 1000.0
+    pos = cluster(side=5)[0] * L
+    n = len(pos)
+    masses = rng.uniform(0.5, 2.0, size=n)
+    bodies = [Body(f"p{k}", float(m)) for k, m in enumerate(masses)]
+    scales = Scales(length=L)
+
+    def planets(parallel: bool) -> NBodySystem:
+        return NBodySystem(bodies, [AllPairs("gravity", {"G": 1.0})], cutoff=CUTOFF * L,
+                           scales=scales, skin=SKIN * L, parallel=parallel,
+                           parallel_min_bodies=0)
+
+    serial, par = planets(False), planets(True)
+    assert serial.data[13].tolist() == [1]  # the fast path
+    assert serial.work()[4][3] == pytest.approx(SKIN)  # internal units
+    y = serial.pack(pos, np.zeros((n, 3)), si=True)
+    F, _, U = serial.forces(y)
+    before = numba.get_num_threads()
+    numba.set_num_threads(2)
+    try:
+        F2, _, U2 = par.forces(y)
+    finally:
+        numba.set_num_threads(before)
+    np.testing.assert_array_equal(F2, F)
+    assert U2 == U
+    r = pos / L
+    d = r[None, :, :] - r[:, None, :]
+    dist = np.linalg.norm(d, axis=-1)
+    np.fill_diagonal(dist, np.inf)
+    mm = masses[:, None] * masses[None, :]
+    w = np.where(dist <= CUTOFF, mm / dist**3, 0.0)
+    f_ref = -(w[..., None] * d).sum(axis=0)
+    u_ref = -0.5 * np.sum(np.where(dist <= CUTOFF, mm / dist, 0.0))
+    # internal units: G = 1 m³/(kg s²) becomes 1/L³ with the unit mass and time
+    np.testing.assert_allclose(F * L**3, f_ref, rtol=0, atol=1e-12 * np.abs(f_ref).max())
+    assert U * L**3 == pytest.approx(u_ref, rel=1e-12)
