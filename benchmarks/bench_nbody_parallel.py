@@ -35,8 +35,8 @@ energy):
 Then (unless ``--run-steps 0``) a 200-step ``splitting2`` run of the first size with and
 without a skin on one thread, where the list is rebuilt on the way (wall time, energy error,
 agreement of the final states), and (unless ``--no-crossover``) the serial vs parallel time
-for small clusters, which sets ``nbody.PARALLEL_MIN_BODIES``. The machine may be shared: the load average is printed; the
-ratios are what we record.
+for small clusters, which sets ``nbody.PARALLEL_MIN_BODIES``. The machine may be shared: the
+load average is printed; the ratios are what we record.
 """
 
 from __future__ import annotations
