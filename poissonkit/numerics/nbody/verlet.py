@@ -33,13 +33,12 @@ import numba
 import numpy as np
 from numba.core.dispatcher import Dispatcher
 from numba.typed import List
-from numba.types import ListType
 
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.nbody.celllists import cell_list, cell_list_par, forward_cells
 
 #: One system's neighbour lists: ``(ints, nbrs, refs, skin)`` (see the module docstring).
-VerletState = tuple[ListType, ListType, ListType, float]
+VerletState = tuple[List, List, List, float]
 
 
 @numba.njit(cache=True)
