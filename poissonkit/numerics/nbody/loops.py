@@ -12,7 +12,8 @@ share one compilation.
 each all-pairs set, ``data[10]`` the cutoff, ``data[11]`` the per-body attribute table,
 ``data[12]`` the listed orientation-free pairs, ``data[13]`` which sets are orientation-free,
 ``data[14]`` whether any body is a top, ``data[15]`` the start of the smooth cutoff and
-``data[16]`` the fewest members for the parallel loop.
+``data[16]`` the fewest members for the parallel loop. ``work`` is ``(pos, nu, F, T)``, and
+for a system with a skin also its neighbour lists (:mod:`~poissonkit.numerics.nbody.verlet`).
 """
 
 from __future__ import annotations
@@ -41,7 +42,7 @@ from poissonkit.numerics.nbody.verlet import verlet_loops
 class ForceLoops(NamedTuple):
     """One force loop compiled twice (see :func:`force_loops`)."""
 
-    #: ``forces(pos, nu, data, F, T) -> U``, a separate compiled function
+    #: ``forces(pos, nu, data, F, T, lists) -> U``, a separate compiled function
     plain: Dispatcher
     #: the same, inlined into its callers (the hot kick)
     inline: Dispatcher
