@@ -123,10 +123,12 @@ def forward_cells(c, nc, out):
 
 @jit(inline="always")
 def cell_setup(members, pos, nu, cutoff):
-    """The cell list of ``members`` and zeroed per-slab accumulators (see ``slab_pairs``)."""
+    """The cell list of ``members`` and zeroed accumulators ``(2, n, 3)`` (see ``slab_pairs``:
+    a body's shares from its own slab and from the slab before in separate halves, so that
+    threads on neighbouring slabs do not write the same cache lines)."""
     n = members.shape[0]
     nc, count, cell_of, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
-    return (nc, count, sp_, sn_, body, np.zeros((n, 2, 3)), np.zeros((n, 2, 3)),
+    return (nc, count, sp_, sn_, body, np.zeros((2, n, 3)), np.zeros((2, n, 3)),
             np.empty(nc[0]))
 
 
@@ -135,14 +137,14 @@ def cell_setup_par(members, pos, nu, cutoff):
     """:func:`cell_setup` with the cell list's O(n) passes and the zeroing on threads."""
     n = members.shape[0]
     nc, count, cell_of, sp_, sn_, body = cell_list_par(members, pos, nu, cutoff)
-    W = np.empty((n, 2, 3))
-    V = np.empty((n, 2, 3))
+    W = np.empty((2, n, 3))
+    V = np.empty((2, n, 3))
     for q in numba.prange(n):
         for d in range(3):
-            W[q, 0, d] = 0.0
-            W[q, 1, d] = 0.0
-            V[q, 0, d] = 0.0
-            V[q, 1, d] = 0.0
+            W[0, q, d] = 0.0
+            W[1, q, d] = 0.0
+            V[0, q, d] = 0.0
+            V[1, q, d] = 0.0
     return nc, count, sp_, sn_, body, W, V, np.empty(nc[0])
 
 
@@ -152,8 +154,8 @@ def cell_gather(n, body, W, V, us, F, T):
     for q in range(n):
         b = body[q]
         for d in range(3):
-            F[b, d] += W[q, 1, d] + W[q, 0, d]
-            T[b, d] += V[q, 1, d] + V[q, 0, d]
+            F[b, d] += W[1, q, d] + W[0, q, d]
+            T[b, d] += V[1, q, d] + V[0, q, d]
     u = 0.0
     for x in range(us.shape[0]):
         u += us[x]
@@ -183,8 +185,8 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
         Newton's third law: each pair is evaluated once and added to both bodies, the lower
         slot as ``i``. Slots are visited in cell order; for each slot its own cell's later
         slots, then the 13 "forward" neighbour cells in increasing index. A body's share goes
-        to ``W[q, 0]`` (forces) / ``V[q, 0]`` (torques) when the pair's first cell is in the
-        body's own slab and to ``W[q, 1]`` / ``V[q, 1]`` when it is in the slab before, so
+        to ``W[0, q]`` (forces) / ``V[0, q]`` (torques) when the pair's first cell is in the
+        body's own slab and to ``W[1, q]`` / ``V[1, q]`` when it is in the slab before, so
         two slabs never write the same numbers: the slabs can run on any threads, in any
         order, and every sum is still formed in one fixed order.
         """
@@ -199,9 +201,9 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
             for qa in range(count[c], count[c + 1]):
                 xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
                 # slot qa's own share in registers: no later slot of its loop writes
-                # W[qa, 0] (every qb > qa), so the sums are the same with fewer stores
-                wa0, wa1, wa2 = W[qa, 0, 0], W[qa, 0, 1], W[qa, 0, 2]
-                va0, va1, va2 = V[qa, 0, 0], V[qa, 0, 1], V[qa, 0, 2]
+                # W[0, qa] (every qb > qa), so the sums are the same with fewer stores
+                wa0, wa1, wa2 = W[0, qa, 0], W[0, qa, 1], W[0, qa, 2]
+                va0, va1, va2 = V[0, qa, 0], V[0, qa, 1], V[0, qa, 2]
                 ua = 0.0
                 for k in range(-1, nf):
                     c2 = c if k < 0 else fwd[k]
@@ -219,9 +221,9 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
                             wa0 += g0
                             wa1 += g1
                             wa2 += g2
-                            W[qb, h, 0] -= g0
-                            W[qb, h, 1] -= g1
-                            W[qb, h, 2] -= g2
+                            W[h, qb, 0] -= g0
+                            W[h, qb, 1] -= g1
+                            W[h, qb, 2] -= g2
                         else:
                             (uu, f0, f1, f2, ti0, ti1, ti2,
                              tj0, tj1, tj2) = pair_one(g, qa, qb, sp_, sn_, cut, B,
@@ -229,22 +231,22 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
                             wa0 -= f0
                             wa1 -= f1
                             wa2 -= f2
-                            W[qb, h, 0] += f0
-                            W[qb, h, 1] += f1
-                            W[qb, h, 2] += f2
+                            W[h, qb, 0] += f0
+                            W[h, qb, 1] += f1
+                            W[h, qb, 2] += f2
                             va0 += ti0
                             va1 += ti1
                             va2 += ti2
-                            V[qb, h, 0] += tj0
-                            V[qb, h, 1] += tj1
-                            V[qb, h, 2] += tj2
+                            V[h, qb, 0] += tj0
+                            V[h, qb, 1] += tj1
+                            V[h, qb, 2] += tj2
                         ua += uu
-                W[qa, 0, 0] = wa0
-                W[qa, 0, 1] = wa1
-                W[qa, 0, 2] = wa2
-                V[qa, 0, 0] = va0
-                V[qa, 0, 1] = va1
-                V[qa, 0, 2] = va2
+                W[0, qa, 0] = wa0
+                W[0, qa, 1] = wa1
+                W[0, qa, 2] = wa2
+                V[0, qa, 0] = va0
+                V[0, qa, 1] = va1
+                V[0, qa, 2] = va2
                 u += ua
         return u
 
@@ -278,8 +280,8 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
         for q in numba.prange(members.shape[0]):  # cell_gather's sums, slots on threads
             b = body[q]
             for d in range(3):
-                F[b, d] += W[q, 1, d] + W[q, 0, d]
-                T[b, d] += V[q, 1, d] + V[q, 0, d]
+                F[b, d] += W[1, q, d] + W[0, q, d]
+                T[b, d] += V[1, q, d] + V[0, q, d]
         u = 0.0
         for x in range(nc[0]):
             u += us[x]

@@ -161,16 +161,16 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
     @jit(inline="always")
     def slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body, W, V, cut, B, cut2):
         """The listed pairs whose first slot lies in slab ``x``, as ``slab_pairs`` of the cell
-        loop: one evaluation per pair, a body's share to ``W[q, 0]`` / ``V[q, 0]`` from its own
-        slab and to ``W[q, 1]`` / ``V[q, 1]`` from the slab before."""
+        loop: one evaluation per pair, a body's share to ``W[0, q]`` / ``V[0, q]`` from its own
+        slab and to ``W[1, q]`` / ``V[1, q]`` from the slab before."""
         first_next = slab_first[x + 1]
         u = 0.0
         for qa in range(slab_first[x], first_next):
             xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
-            # slot qa's own share in registers: no later slot of its loop writes W[qa, 0]
+            # slot qa's own share in registers: no later slot of its loop writes W[0, qa]
             # (every listed qb > qa), so the sums are the same, with fewer loads and stores
-            wa0, wa1, wa2 = W[qa, 0, 0], W[qa, 0, 1], W[qa, 0, 2]
-            va0, va1, va2 = V[qa, 0, 0], V[qa, 0, 1], V[qa, 0, 2]
+            wa0, wa1, wa2 = W[0, qa, 0], W[0, qa, 1], W[0, qa, 2]
+            va0, va1, va2 = V[0, qa, 0], V[0, qa, 1], V[0, qa, 2]
             ua = 0.0
             for k in range(start[qa], start[qa + 1]):
                 qb = nbr[k]
@@ -185,31 +185,31 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
                     wa0 += g0
                     wa1 += g1
                     wa2 += g2
-                    W[qb, h, 0] -= g0
-                    W[qb, h, 1] -= g1
-                    W[qb, h, 2] -= g2
+                    W[h, qb, 0] -= g0
+                    W[h, qb, 1] -= g1
+                    W[h, qb, 2] -= g2
                 else:
                     (uu, f0, f1, f2, ti0, ti1, ti2,
                      tj0, tj1, tj2) = pair_one(g, qa, qb, sp_, sn_, cut, B, body[qa], body[qb])
                     wa0 -= f0
                     wa1 -= f1
                     wa2 -= f2
-                    W[qb, h, 0] += f0
-                    W[qb, h, 1] += f1
-                    W[qb, h, 2] += f2
+                    W[h, qb, 0] += f0
+                    W[h, qb, 1] += f1
+                    W[h, qb, 2] += f2
                     va0 += ti0
                     va1 += ti1
                     va2 += ti2
-                    V[qb, h, 0] += tj0
-                    V[qb, h, 1] += tj1
-                    V[qb, h, 2] += tj2
+                    V[h, qb, 0] += tj0
+                    V[h, qb, 1] += tj1
+                    V[h, qb, 2] += tj2
                 ua += uu
-            W[qa, 0, 0] = wa0
-            W[qa, 0, 1] = wa1
-            W[qa, 0, 2] = wa2
-            V[qa, 0, 0] = va0
-            V[qa, 0, 1] = va1
-            V[qa, 0, 2] = va2
+            W[0, qa, 0] = wa0
+            W[0, qa, 1] = wa1
+            W[0, qa, 2] = wa2
+            V[0, qa, 0] = va0
+            V[0, qa, 1] = va1
+            V[0, qa, 2] = va2
             u += ua
         return u
 
@@ -223,8 +223,11 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
             ints, nbrs, refs, skin = state
             sp_ = np.empty((n, 3))
             sn_ = np.empty((n, 3))
-            W = np.empty((n, 2, 3))
-            V = np.empty((n, 2, 3))
+            # a body's shares from its own slab and from the slab before in two separate halves:
+            # threads on neighbouring slabs write different halves of the same body, which
+            # side by side would share cache lines
+            W = np.empty((2, n, 3))
+            V = np.empty((2, n, 3))
             fresh = refs[s].shape[0] != n
             if fresh:
                 body, start, nbr, slab_first, ref = build(members, pos, cutoff + skin)
@@ -244,10 +247,10 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
                     sp_[q, d] = v
                     sn_[q, d] = nu[b, d]
                     d2 += (v - ref[q, d]) ** 2
-                    W[q, 0, d] = 0.0
-                    W[q, 1, d] = 0.0
-                    V[q, 0, d] = 0.0
-                    V[q, 1, d] = 0.0
+                    W[0, q, d] = 0.0
+                    W[1, q, d] = 0.0
+                    V[0, q, d] = 0.0
+                    V[1, q, d] = 0.0
                 far = max(far, d2)
             if far > 0.25 * skin * skin * (1.0 - 1e-9):  # a body moved more than skin / 2: rebuild
                 body, start, nbr, slab_first, ref = build(members, pos, cutoff + skin)
@@ -275,8 +278,8 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
             for q in numba.prange(n):
                 b = body[q]
                 for d in range(3):
-                    F[b, d] += W[q, 1, d] + W[q, 0, d]
-                    T[b, d] += V[q, 1, d] + V[q, 0, d]
+                    F[b, d] += W[1, q, d] + W[0, q, d]
+                    T[b, d] += V[1, q, d] + V[0, q, d]
             u = 0.0
             for x in range(ns):
                 u += us[x]
