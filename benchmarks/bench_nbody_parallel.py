@@ -17,7 +17,9 @@ energy):
 * the same with a Verlet neighbour list (``NBodySystem(..., skin=0.3)``): the list is built
   at the first evaluation and walked by the later ones (the bodies do not move here, so it is
   never rebuilt; the build time is printed on its own) — serial, parallel loop on 1 and on 2
-  threads, speed-up of 2 threads over the serial walk (target ≥ 1.8×), bitwise equality;
+  threads, speed-up of 2 threads over the serial walk (target ≥ 1.8×), bitwise equality, and
+  two bounds that hold without a free core: the slab balance of the list and the CPU time of
+  both threads over the serial walk's;
 * a plain compiled loop written here over the same cell list (``nbody.cell_list``): the
   potential's closed form inlined, one pass over each pair, no dispatch, no switch — the
   per-pair cost ratio poissonkit / plain (target ≤ 1.5×);
@@ -56,6 +58,7 @@ from bench_smooth_cutoff import systems  # noqa: E402  (the 10⁴-magnet cluster
 
 from poissonkit.numerics import NBodySystem  # noqa: E402
 from poissonkit.numerics.nbody import cell_list, forward_cells  # noqa: E402
+from poissonkit.numerics.nbody.verlet import verlet_build  # noqa: E402
 
 CUTOFF = 2.0
 
@@ -148,6 +151,16 @@ def count_pairs(pos: np.ndarray, radius: float = CUTOFF) -> int:
     from scipy.spatial import cKDTree
 
     return len(cKDTree(pos).query_pairs(radius))
+
+
+def slab_ceiling(pos: np.ndarray, members: np.ndarray, skin: float) -> str:
+    """The most 2 threads can gain on the Verlet walk: listed pairs of the even slabs and of
+    the odd ones (the parallel loop hands out even slabs, then odd ones)."""
+    _, start, _, first, _ = verlet_build(members, pos, CUTOFF + skin)
+    per_slab = start[first[1:]] - start[first[:-1]]
+    even, odd = per_slab[0::2].sum(), per_slab[1::2].sum()
+    return (f"{len(per_slab)} slabs, listed pairs even / odd {even} / {odd}: at most "
+            f"{per_slab.sum() / max(even, odd):.2f}x")
 
 
 def best_times(calls: dict[str, callable], repeat: int, cpu: dict | None = None
@@ -313,6 +326,7 @@ def main() -> None:
                   np.abs(w1[3] - Tp).max() / np.abs(Tp).max(), abs(u1 - up) / abs(up))
         vdev = max(np.abs(v1[2] - w1[2]).max() / np.abs(w1[2]).max(),
                    np.abs(v1[3] - w1[3]).max() / np.abs(w1[3]).max(), abs(g1 - u1) / abs(u1))
+        cpu2: dict[str, float] = {}
         t = best_times({"serial": lambda: k1(y, one.data, w1),
                         "parallel": on_threads(2, lambda: k2(y, two.data, w2)),
                         "parallel1": on_threads(1, lambda: k2(y, two.data, w3)),
@@ -322,7 +336,7 @@ def main() -> None:
                         # a fresh neighbour list at every call: build + walk
                         "vbuild": lambda: q1(y, vone.data, vone.work()),
                         "plain": lambda: plain_forces(members, pos, nu, CUTOFF, Fp, Tp)},
-                       args.repeat)
+                       args.repeat, cpu2)
 
         def row(label: str, key: str, extra: str = "") -> None:
             print(f"  {label:34s} {1e3 * t[key]:8.2f} ms  {1e9 * t[key] / pairs:6.1f} ns/pair"
@@ -345,6 +359,9 @@ def main() -> None:
             f"   speed-up {t['vserial'] / t['vparallel']:.2f}x over serial, "
             f"{t['vparallel1'] / t['vparallel']:.2f}x over 1 thread (target >= 1.8x); all three "
             f"bitwise equal: {vsame}")
+        print(f"    bounds on 2 threads without a free core: {slab_ceiling(pos, members, args.skin)}"
+              f"; CPU time of both threads / serial walk "
+              f"{cpu2['vparallel'] / cpu2['vserial']:.3f} (threading overhead)")
         row("Verlet list built + walked, serial", "vbuild",
             f"   build alone ~{1e3 * (t['vbuild'] - t['vserial']):.2f} ms "
             f"= {(t['vbuild'] - t['vserial']) / t['vserial']:.2f} walks")
