@@ -30,6 +30,8 @@ Modules, one job each:
 * :mod:`~poissonkit.numerics.nbody.pairterms` — energy, force and torques of one pair;
 * :mod:`~poissonkit.numerics.nbody.celllists` — cell lists and the serial / parallel pair loop
   over them;
+* :mod:`~poissonkit.numerics.nbody.verlet` — Verlet neighbour lists (``skin``) kept between
+  evaluations and the pair loop that walks them;
 * :mod:`~poissonkit.numerics.nbody.state` — compiled pieces independent of the potentials
   (gather, kick by stored forces, drift, distances);
 * :mod:`~poissonkit.numerics.nbody.loops` — the force loop and the kernels built on it;

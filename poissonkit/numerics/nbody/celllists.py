@@ -17,27 +17,32 @@ from numba.core.dispatcher import Dispatcher
 from poissonkit.numerics.jit import jit
 
 
-@numba.njit(cache=True, error_model="numpy")
-def cell_list(members, pos, nu, cutoff):
+def _cell_list_py(members, pos, nu, cutoff):
     """Bin ``members`` into cubic cells of side ≥ ``cutoff``.
 
     Returns ``(nc, start, cell, p, n, body)``: cells per axis, slot offsets of each cell
     (``start[c]:start[c + 1]``, cells numbered row-major ``(cx·nc_y + cy)·nc_z + cz``), the
     cell of each slot, positions and axes copied in slot order (neighbours sit next to each
-    other in memory) and the original body index of each slot.
+    other in memory) and the original body index of each slot. The O(n) passes that do not
+    decide the order run on numba's threads in the parallel compilation (the same result).
     """
     n = members.shape[0]
-    lo = np.empty(3)
-    hi = np.empty(3)
-    for d in range(3):
-        lo[d] = np.inf
-        hi[d] = -np.inf
-    for a in range(n):
+    lo0 = np.inf
+    lo1 = np.inf
+    lo2 = np.inf
+    hi0 = -np.inf
+    hi1 = -np.inf
+    hi2 = -np.inf
+    for a in numba.prange(n):  # min / max: exact, in any order
         b = members[a]
-        for d in range(3):
-            v = pos[b, d]
-            lo[d] = min(lo[d], v)
-            hi[d] = max(hi[d], v)
+        lo0 = min(lo0, pos[b, 0])
+        lo1 = min(lo1, pos[b, 1])
+        lo2 = min(lo2, pos[b, 2])
+        hi0 = max(hi0, pos[b, 0])
+        hi1 = max(hi1, pos[b, 1])
+        hi2 = max(hi2, pos[b, 2])
+    lo = np.array([lo0, lo1, lo2])
+    hi = np.array([hi0, hi1, hi2])
     side = cutoff
     nc = np.empty(3, dtype=np.int64)
     while True:
@@ -51,14 +56,14 @@ def cell_list(members, pos, nu, cutoff):
     ncell = nc[0] * nc[1] * nc[2]
     cell_of = np.empty(n, dtype=np.int64)
     count = np.zeros(ncell + 1, dtype=np.int64)
-    for a in range(n):
+    for a in numba.prange(n):
         b = members[a]
         cx = min(int((pos[b, 0] - lo[0]) / side), nc[0] - 1)
         cy = min(int((pos[b, 1] - lo[1]) / side), nc[1] - 1)
         cz = min(int((pos[b, 2] - lo[2]) / side), nc[2] - 1)
-        c = (cx * nc[1] + cy) * nc[2] + cz
-        cell_of[a] = c
-        count[c + 1] += 1
+        cell_of[a] = (cx * nc[1] + cy) * nc[2] + cz
+    for a in range(n):
+        count[cell_of[a] + 1] += 1
     for c in range(ncell):
         count[c + 1] += count[c]
     start = count.copy()
@@ -71,7 +76,7 @@ def cell_list(members, pos, nu, cutoff):
     sn_ = np.empty((n, 3))
     body = np.empty(n, dtype=np.int64)
     cell = np.empty(n, dtype=np.int64)
-    for q in range(n):
+    for q in numba.prange(n):
         b = members[order[q]]
         body[q] = b
         cell[q] = cell_of[order[q]]
@@ -79,6 +84,12 @@ def cell_list(members, pos, nu, cutoff):
             sp_[q, d] = pos[b, d]
             sn_[q, d] = nu[b, d]
     return nc, count, cell, sp_, sn_, body
+
+
+#: the cell list, one thread (numba.prange is range here)
+cell_list = jit(_cell_list_py)
+#: the cell list with its order-free passes on numba's threads; the same result
+cell_list_par = jit(parallel=True)(_cell_list_py)
 
 
 @numba.njit(cache=True, error_model="numpy")
@@ -112,11 +123,29 @@ def forward_cells(c, nc, out):
 
 @jit(inline="always")
 def cell_setup(members, pos, nu, cutoff):
-    """The cell list of ``members`` and zeroed per-slab accumulators (see ``slab_pairs``)."""
+    """The cell list of ``members`` and zeroed accumulators ``(2, n, 3)`` (see ``slab_pairs``:
+    a body's shares from its own slab and from the slab before in separate halves, so that
+    threads on neighbouring slabs do not write the same cache lines)."""
     n = members.shape[0]
     nc, count, cell_of, sp_, sn_, body = cell_list(members, pos, nu, cutoff)
-    return (nc, count, sp_, sn_, body, np.zeros((n, 2, 3)), np.zeros((n, 2, 3)),
+    return (nc, count, sp_, sn_, body, np.zeros((2, n, 3)), np.zeros((2, n, 3)),
             np.empty(nc[0]))
+
+
+@jit(inline="always")
+def cell_setup_par(members, pos, nu, cutoff):
+    """:func:`cell_setup` with the cell list's O(n) passes and the zeroing on threads."""
+    n = members.shape[0]
+    nc, count, cell_of, sp_, sn_, body = cell_list_par(members, pos, nu, cutoff)
+    W = np.empty((2, n, 3))
+    V = np.empty((2, n, 3))
+    for q in numba.prange(n):
+        for d in range(3):
+            W[0, q, d] = 0.0
+            W[1, q, d] = 0.0
+            V[0, q, d] = 0.0
+            V[1, q, d] = 0.0
+    return nc, count, sp_, sn_, body, W, V, np.empty(nc[0])
 
 
 @jit(inline="always")
@@ -125,8 +154,8 @@ def cell_gather(n, body, W, V, us, F, T):
     for q in range(n):
         b = body[q]
         for d in range(3):
-            F[b, d] += W[q, 1, d] + W[q, 0, d]
-            T[b, d] += V[q, 1, d] + V[q, 0, d]
+            F[b, d] += W[1, q, d] + W[0, q, d]
+            T[b, d] += V[1, q, d] + V[0, q, d]
     u = 0.0
     for x in range(us.shape[0]):
         u += us[x]
@@ -156,8 +185,8 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
         Newton's third law: each pair is evaluated once and added to both bodies, the lower
         slot as ``i``. Slots are visited in cell order; for each slot its own cell's later
         slots, then the 13 "forward" neighbour cells in increasing index. A body's share goes
-        to ``W[q, 0]`` (forces) / ``V[q, 0]`` (torques) when the pair's first cell is in the
-        body's own slab and to ``W[q, 1]`` / ``V[q, 1]`` when it is in the slab before, so
+        to ``W[0, q]`` (forces) / ``V[0, q]`` (torques) when the pair's first cell is in the
+        body's own slab and to ``W[1, q]`` / ``V[1, q]`` when it is in the slab before, so
         two slabs never write the same numbers: the slabs can run on any threads, in any
         order, and every sum is still formed in one fixed order.
         """
@@ -171,6 +200,10 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
             nf = forward_cells(c, nc, fwd)
             for qa in range(count[c], count[c + 1]):
                 xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
+                # slot qa's own share in registers: no later slot of its loop writes
+                # W[0, qa] (every qb > qa), so the sums are the same with fewer stores
+                wa0, wa1, wa2 = W[0, qa, 0], W[0, qa, 1], W[0, qa, 2]
+                va0, va1, va2 = V[0, qa, 0], V[0, qa, 1], V[0, qa, 2]
                 ua = 0.0
                 for k in range(-1, nf):
                     c2 = c if k < 0 else fwd[k]
@@ -185,29 +218,35 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
                         if central:
                             uu, g0, g1, g2 = pair_r_one(g, qa, qb, sp_, cut, B,
                                                         body[qa], body[qb])
-                            W[qa, 0, 0] += g0
-                            W[qa, 0, 1] += g1
-                            W[qa, 0, 2] += g2
-                            W[qb, h, 0] -= g0
-                            W[qb, h, 1] -= g1
-                            W[qb, h, 2] -= g2
+                            wa0 += g0
+                            wa1 += g1
+                            wa2 += g2
+                            W[h, qb, 0] -= g0
+                            W[h, qb, 1] -= g1
+                            W[h, qb, 2] -= g2
                         else:
                             (uu, f0, f1, f2, ti0, ti1, ti2,
                              tj0, tj1, tj2) = pair_one(g, qa, qb, sp_, sn_, cut, B,
                                                        body[qa], body[qb])
-                            W[qa, 0, 0] -= f0
-                            W[qa, 0, 1] -= f1
-                            W[qa, 0, 2] -= f2
-                            W[qb, h, 0] += f0
-                            W[qb, h, 1] += f1
-                            W[qb, h, 2] += f2
-                            V[qa, 0, 0] += ti0
-                            V[qa, 0, 1] += ti1
-                            V[qa, 0, 2] += ti2
-                            V[qb, h, 0] += tj0
-                            V[qb, h, 1] += tj1
-                            V[qb, h, 2] += tj2
+                            wa0 -= f0
+                            wa1 -= f1
+                            wa2 -= f2
+                            W[h, qb, 0] += f0
+                            W[h, qb, 1] += f1
+                            W[h, qb, 2] += f2
+                            va0 += ti0
+                            va1 += ti1
+                            va2 += ti2
+                            V[h, qb, 0] += tj0
+                            V[h, qb, 1] += tj1
+                            V[h, qb, 2] += tj2
                         ua += uu
+                W[0, qa, 0] = wa0
+                W[0, qa, 1] = wa1
+                W[0, qa, 2] = wa2
+                V[0, qa, 0] = va0
+                V[0, qa, 1] = va1
+                V[0, qa, 2] = va2
                 u += ua
         return u
 
@@ -229,7 +268,7 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
         sum, no atomics, no reduction whose order depends on the threads)."""
         if members.shape[0] < 2:
             return 0.0
-        nc, count, sp_, sn_, body, W, V, us = cell_setup(members, pos, nu, cutoff)
+        nc, count, sp_, sn_, body, W, V, us = cell_setup_par(members, pos, nu, cutoff)
         half = (nc[0] + 1) // 2
         for k in numba.prange(nc[0]):
             # even slabs first, then odd ones: prange hands out contiguous blocks of
@@ -238,7 +277,15 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
             x = 2 * k if k < half else 2 * (k - half) + 1
             us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
                                cutoff * cutoff)
-        return cell_gather(members.shape[0], body, W, V, us, F, T)
+        for q in numba.prange(members.shape[0]):  # cell_gather's sums, slots on threads
+            b = body[q]
+            for d in range(3):
+                F[b, d] += W[1, q, d] + W[0, q, d]
+                T[b, d] += V[1, q, d] + V[0, q, d]
+        u = 0.0
+        for x in range(nc[0]):
+            u += us[x]
+        return u
 
     if parallel:
         @jit

@@ -12,7 +12,8 @@ share one compilation.
 each all-pairs set, ``data[10]`` the cutoff, ``data[11]`` the per-body attribute table,
 ``data[12]`` the listed orientation-free pairs, ``data[13]`` which sets are orientation-free,
 ``data[14]`` whether any body is a top, ``data[15]`` the start of the smooth cutoff and
-``data[16]`` the fewest members for the parallel loop.
+``data[16]`` the fewest members for the parallel loop. ``work`` is ``(pos, nu, F, T)``, and
+for a system with a skin also its neighbour lists (:mod:`~poissonkit.numerics.nbody.verlet`).
 """
 
 from __future__ import annotations
@@ -35,23 +36,29 @@ from poissonkit.numerics.nbody.state import (
     max_radius,
     min_distance,
 )
+from poissonkit.numerics.nbody.verlet import verlet_loops
 
 
 class ForceLoops(NamedTuple):
     """One force loop compiled twice (see :func:`force_loops`)."""
 
-    #: ``forces(pos, nu, data, F, T) -> U``, a separate compiled function
+    #: ``forces(pos, nu, data, F, T, lists) -> U``, a separate compiled function
     plain: Dispatcher
     #: the same, inlined into its callers (the hot kick)
     inline: Dispatcher
 
 
 def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatcher,
-                cells: Dispatcher) -> ForceLoops:
-    """``forces(pos, nu, data, F, T) -> U``: every pair of the system, forces into ``F`` and
-    torques into ``T`` (rows: all bodies; ``T`` untouched for point masses only)."""
+                set_pairs: Dispatcher) -> ForceLoops:
+    """``forces(pos, nu, data, F, T, lists) -> U``: every pair of the system, forces into ``F``
+    and torques into ``T`` (rows: all bodies; ``T`` untouched for point masses only).
 
-    def forces_py(pos, nu, data, F, T):
+    ``set_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, lists, s)`` is the
+    pair loop of all-pairs set ``s`` with a cutoff: the cell loop (``lists`` is ``None``) or
+    the neighbour-list loop (``lists``: the system's Verlet state, ``work[4]``).
+    """
+
+    def forces_py(pos, nu, data, F, T, lists):
         pairs = data[6]
         cmembers = data[7]
         coffs = data[8]
@@ -86,8 +93,8 @@ def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatch
             lo = coffs[g]
             hi = coffs[g + 1]
             if np.isfinite(cutoff):
-                u += cells(gid, central, cmembers[lo:hi], pos, nu, F, T, cutoff, B, cut,
-                           data[16])
+                u += set_pairs(gid, central, cmembers[lo:hi], pos, nu, F, T, cutoff, B, cut,
+                               data[16], lists, g)
             elif central:
                 u += all_pairs_r(gid, cmembers, lo, hi, pos, F, B)
             else:
@@ -103,33 +110,58 @@ def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatch
     return ForceLoops(plain=jit(forces_py), inline=jit(inline="always")(forces_py))
 
 
-#: (id of kern_any, parallel) -> kernels
-_kernel_cache: dict[tuple[int, bool], Kernels] = {}
+#: (id of kern_any, parallel, verlet) -> kernels
+_kernel_cache: dict[tuple[int, bool, bool], Kernels] = {}
 
 
-def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = False) -> Kernels:
+@jit(inline="always")
+def _no_lists(work):
+    """Systems without neighbour lists: scratch ``(pos, nu, F, T)``, no list state."""
+    return None
+
+
+@jit(inline="always")
+def _lists(work):
+    """Systems with neighbour lists: their state is ``work[4]`` (see ``nbody.verlet``)."""
+    return work[4]
+
+
+def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = False,
+                   verlet: bool = False) -> Kernels:
     """Compile the N-body kernels around one pair of potential dispatchers (cached).
 
-    ``parallel`` adds the multi-threaded cell-list loop (chosen at run time by the number of
-    members, ``data[16]``); without it only the serial loop exists.
+    ``parallel`` adds the multi-threaded pair loop (chosen at run time by the number of
+    members, ``data[16]``); without it only the serial loop exists. ``verlet`` walks
+    neighbour lists kept in ``work[4]`` (:mod:`~poissonkit.numerics.nbody.verlet`) instead of
+    building a cell list at every evaluation.
     """
-    hit = _kernel_cache.get((id(kern_any), parallel))
+    hit = _kernel_cache.get((id(kern_any), parallel, verlet))
     if hit is not None:
         return hit
     terms = pair_terms(kern_any, kern_r)
-    cells = cell_loops(terms.one, terms.radial_one, parallel)
-    forces, forces_inl = force_loops(terms.term, terms.radial, terms.all_radial, cells)
+    if verlet:
+        set_pairs = verlet_loops(terms.one, terms.radial_one, parallel)
+        lists_of = _lists
+    else:
+        cells = cell_loops(terms.one, terms.radial_one, parallel)
+
+        @jit(inline="always")
+        def set_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, lists, s):
+            return cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n)
+
+        lists_of = _no_lists
+    forces, forces_inl = force_loops(terms.term, terms.radial, terms.all_radial, set_pairs)
 
     @jit
     def rhs(y, data, work, out):
-        pos, nu, F, T = work
+        pos, nu, F, T = work[0], work[1], work[2], work[3]
         mass = data[0]
         alpha = data[1]
         bslot = data[2]
         tslot = data[3]
         nm = mass.shape[0]
         gather(y, data, pos, nu)
-        forces(pos, nu, data, F, T)
+        forces(pos, nu, data, F, T, lists_of(work))
         for b in range(bslot.shape[0]):
             s = bslot[b]
             if s >= 0:
@@ -150,21 +182,21 @@ def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = Fa
 
     @jit
     def kick(y, h, data, work):
-        pos, nu, F, T = work
+        pos, nu, F, T = work[0], work[1], work[2], work[3]
         gather_inl(y, data, pos, nu)
-        forces_inl(pos, nu, data, F, T)
+        forces_inl(pos, nu, data, F, T, lists_of(work))
         apply_forces(y, h, data, work)
 
     @jit
     def kick_compensated(y, c, h, data, work):
         # as kick, every increment added with Kahan summation (c: rounding errors so far)
-        pos, nu, F, T = work
+        pos, nu, F, T = work[0], work[1], work[2], work[3]
         mass = data[0]
         bslot = data[2]
         tslot = data[3]
         nm = mass.shape[0]
         gather_inl(y, data, pos, nu)
-        forces_inl(pos, nu, data, F, T)
+        forces_inl(pos, nu, data, F, T, lists_of(work))
         for b in range(bslot.shape[0]):
             s = bslot[b]
             if s >= 0:
@@ -178,12 +210,12 @@ def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = Fa
 
     @jit
     def energy(y, data, work):
-        pos, nu, F, T = work
+        pos, nu, F, T = work[0], work[1], work[2], work[3]
         mass = data[0]
         alpha = data[1]
         nm = mass.shape[0]
         gather(y, data, pos, nu)
-        e = forces(pos, nu, data, F, T)
+        e = forces(pos, nu, data, F, T, lists_of(work))
         for s in range(nm):
             p2 = y[6 * s + 3] ** 2 + y[6 * s + 4] ** 2 + y[6 * s + 5] ** 2
             e += 0.5 * p2 / mass[s]
@@ -195,12 +227,12 @@ def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = Fa
     @jit(inline="always")
     def forces_of(y, data, work):
         """Forces and torques into ``work[2]``, ``work[3]`` (rows: all bodies); returns U."""
-        pos, nu, F, T = work
+        pos, nu, F, T = work[0], work[1], work[2], work[3]
         gather_inl(y, data, pos, nu)
-        return forces_inl(pos, nu, data, F, T)
+        return forces_inl(pos, nu, data, F, T, lists_of(work))
 
     out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
                   max_radius=max_radius, jac=None, splittable=True, forces=forces_of,
                   drift_compensated=drift_compensated, kick_compensated=kick_compensated)
-    _kernel_cache[(id(kern_any), parallel)] = out
+    _kernel_cache[(id(kern_any), parallel, verlet)] = out
     return out

@@ -37,6 +37,7 @@ from poissonkit.numerics.nbody.pairkernels import (
     _wrapped,
     _wrapped_radial,
 )
+from poissonkit.numerics.nbody.verlet import VerletState, new_verlet_state
 from poissonkit.numerics.units import Scales
 from poissonkit.plugin.contributions import PairPotential
 
@@ -102,6 +103,14 @@ class NBodySystem:
     parallel_min_bodies
         Fewest members of an :class:`AllPairs` for which the parallel loop is used
         (default :data:`PARALLEL_MIN_BODIES`); smaller sets run the serial loop.
+    skin
+        Optional Verlet skin ``s > 0`` [m] (needs ``cutoff``): the pairs of each
+        :class:`AllPairs` closer than ``cutoff + s`` are listed once and later force
+        evaluations of a run walk that list instead of building a cell list; it is rebuilt as
+        soon as a body has moved more than ``s/2`` since (checked at every evaluation), so no
+        pair within the cutoff is ever missed (:mod:`~poissonkit.numerics.nbody.verlet`).
+        Serial and parallel stay bitwise equal; the last bits depend on when the list was
+        built. ``None`` (default) builds a cell list at every evaluation.
 
     Notes
     -----
@@ -113,7 +122,8 @@ class NBodySystem:
                  cutoff: float | None = None, scales: Scales | None = None,
                  fast_path: bool = True, smooth_cutoff: float | None = None,
                  parallel: bool = True,
-                 parallel_min_bodies: int | None = None) -> None:
+                 parallel_min_bodies: int | None = None,
+                 skin: float | None = None) -> None:
         bodies = tuple(bodies)
         if not bodies:
             raise InputError("NBodySystem needs at least one body")
@@ -136,6 +146,15 @@ class NBodySystem:
                 raise InputError(f"smooth_cutoff must be in (0, cutoff = {self.cutoff}), got "
                                  f"{smooth_cutoff!r}")
         self.smooth_cutoff = None if smooth_cutoff is None else float(smooth_cutoff)
+        if skin is not None:
+            if self.cutoff is None:
+                raise InputError("skin needs a cutoff")
+            if isinstance(skin, bool) or not isinstance(skin, (int, float, np.floating,
+                                                               np.integer)):
+                raise InputError(f"skin must be a positive number, got {skin!r}")
+            if not (math.isfinite(float(skin)) and float(skin) > 0):
+                raise InputError(f"skin must be positive and finite, got {skin!r}")
+        self.skin = None if skin is None else float(skin)
         if not isinstance(parallel, (bool, np.bool_)):
             raise InputError(f"parallel must be True or False, got {parallel!r}")
         self.parallel = bool(parallel)
@@ -330,13 +349,19 @@ class NBodySystem:
         """The compiled kernels (compiled on first access)."""
         if self._kernels is None:
             self._kernels = _build_kernels(*_dispatcher(self._kerns, self._rkerns),
-                                           parallel=self._parallel)
+                                           parallel=self._parallel,
+                                           verlet=self.skin is not None)
         return self._kernels
 
-    def work(self) -> tuple[np.ndarray, ...]:
-        """Fresh scratch arrays ``(pos, nu, F, T)`` for the kernels."""
+    def work(self) -> tuple[np.ndarray | VerletState, ...]:
+        """Fresh scratch arrays ``(pos, nu, F, T)`` for the kernels, with a system's empty
+        neighbour lists (see ``skin``) as a fifth entry."""
         n = len(self.bodies)
-        return (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
+        arrays = (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
+        if self.skin is None:
+            return arrays
+        L = self.scales.length if self.scales else 1.0
+        return arrays + (new_verlet_state(self.data[9].shape[0], self.skin / L),)
 
     def loop_kernels(self) -> LoopKernels | None:
         """Direct-sum kernels for the compiled time loops, or ``None``.
