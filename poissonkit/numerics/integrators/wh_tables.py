@@ -162,8 +162,8 @@ def corrector_operators(order: int) -> np.ndarray:
                          f"{', '.join(map(str, CORRECTOR_ORDERS))}, got {order!r}")
     bs = _B[order]
     k = len(bs)
-    if order == 3:  # a single operator Z(a_1, b_31)
-        return np.array([[_A1, bs[0]]])
+    if order == 3:  # Z(a_1, b_31) Z(−a_1, −b_31)
+        return np.array([[_A1, bs[0]], [-_A1, -bs[0]]])
     # Z(−a_k, b_{k1}) … Z(−a_1, b_{kk}), then Z(a_1, −b_{kk}) … Z(a_k, −b_{k1})
     rows = [(-(k - j) * _A1, bs[j]) for j in range(k)]
     rows += [((j + 1) * _A1, -bs[k - 1 - j]) for j in range(k)]

@@ -579,6 +579,13 @@ class WisdomHolman:
         else:
             self.c, self.d = saba_coefficients(self.stages)
             self.order = 4 if (self.corrector and self.stages >= 2) else 2
+        # corrector kick τ = g h³ on each side of a step (SABAC_n: g = −g_n/2). With the
+        # symplectic corrector, the ε² h² term left by the conjugation is half the kernel's:
+        # half the kick cancels both (as WHFast's modified kick, h²/12 of the jerk per step,
+        # against SABACM_1's h²/6)
+        self.g = -CORRECTOR_G[self.stages] / 2.0 if self.corrector else 0.0
+        if self.corrector and self.correctors:
+            self.g /= 2.0
         self.proc = np.zeros((0, 2))
         if self.correctors:
             if self.table or self.stages != 1:
@@ -626,7 +633,7 @@ class WisdomHolman:
         xj, uj = _jacobi_of(y, m)
         if proc.shape[0]:  # physical → processed coordinates
             process(xj, uj, proc, -1.0, h, m, mfrac, inv_eta, gm, gmass, data, work)
-        tau = -CORRECTOR_G[self.stages] * h ** 3 / 2.0 if self.corrector else 0.0
+        tau = self.g * h ** 3
         c, dk = self.c, self.d
         per_step = dk.shape[0] + (3 if self.corrector else 0)
         scratch = SaveBuffer(y.size, 4)
@@ -659,7 +666,7 @@ class WisdomHolman:
             xs, us = _jacobi_of(yc, m)
             if proc.shape[0]:
                 process(xs, us, proc, -1.0, s, m, mfrac, inv_eta, gm, gmass, data, work)
-            ts = -CORRECTOR_G[self.stages] * s ** 3 / 2.0 if self.corrector else 0.0
+            ts = self.g * s ** 3
             run(yc, xs, us, np.zeros(2), m, mfrac, inv_eta, gm, gmass, 0.0, s, 1, c, dk, ts, proc, data,
                 work, 1, 0, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, yc, yc, no_hist)
             return yc
