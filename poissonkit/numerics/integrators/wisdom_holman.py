@@ -95,7 +95,7 @@ _C2 = tuple((-1.0) ** k / math.factorial(2 * k + 2) for k in range(9))
 _C3 = tuple((-1.0) ** k / math.factorial(2 * k + 3) for k in range(9))
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def stumpff(z):
     """Stumpff functions ``c0 … c3`` of ``z`` (argument quartered until ``|z| ≤ 1/2``, series
     to ``z⁸`` by Horner's rule — the next term is below 1e-19 — then doubled back)."""
@@ -131,7 +131,7 @@ def _kepler_time(s, r0, eta0, mu, beta):
     return t, r, dr
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def kepler_drift(x, v, i, mu, dt):
     """Advance row ``i`` of positions ``x`` and velocities ``v`` along a Kepler orbit.
 
@@ -156,19 +156,30 @@ def kepler_drift(x, v, i, mu, dt):
     corr = tau * (-0.5 * eta0 * r0i + tau * (0.5 * eta0 * eta0 * r0i * r0i - zeta0 * r0i / 6.0))
     s = tau * (1.0 + corr) if abs(corr) < 0.2 else tau
     ok = False
+    g0 = g1 = g2 = g3 = 0.0
     for _ in range(30):  # Halley's iteration: cubic convergence
         c0, c1, c2, c3 = stumpff(beta * s * s)
+        g0 = c0
         g1 = s * c1
         g2 = s * s * c2
         g3 = s * s * c3 * s
         f = r0 * g1 + eta0 * g2 + mu * g3 - dt
-        r = r0 * c0 + eta0 * g1 + mu * g2
-        dr = eta0 * c0 + zeta0 * g1
+        r = r0 * g0 + eta0 * g1 + mu * g2
+        dr = eta0 * g0 + zeta0 * g1
         den = r - 0.5 * f * dr / r
         ds = -f / (den if den != 0.0 else r)
         s += ds
-        # the error left after a correction δ is O(δ³): below round-off once δ < 1e-9
-        if abs(ds) <= 1e-9 * abs(s) or f == 0.0:
+        if abs(ds) <= 1e-6 * abs(s) or f == 0.0:
+            # the root is now within O(ds³) ≈ 1e-18 (relative); move the g-functions to it by
+            # their Taylor series (g0' = −β g1, g_k' = g_{k−1}; error O(ds⁴)) instead of a
+            # fresh Stumpff evaluation
+            d2 = 0.5 * ds * ds
+            d3 = d2 * ds / 3.0
+            n3 = g3 + g2 * ds + g1 * d2 + g0 * d3
+            n2 = g2 + g1 * ds + g0 * d2 - beta * g1 * d3
+            n1 = g1 + g0 * ds - beta * (g1 * d2 + g0 * d3)
+            g0 = g0 - beta * (g1 * ds + g0 * d2 - beta * g1 * d3)
+            g1, g2, g3 = n1, n2, n3
             ok = True
             break
     if not ok:
@@ -187,11 +198,12 @@ def kepler_drift(x, v, i, mu, dt):
             else:
                 hi = mid
         s = 0.5 * (lo + hi)
-    c0, c1, c2, c3 = stumpff(beta * s * s)
-    g1 = s * c1
-    g2 = s * s * c2
-    g3 = s * s * c3 * s
-    ri = 1.0 / (r0 * c0 + eta0 * g1 + mu * g2)
+        c0, c1, c2, c3 = stumpff(beta * s * s)
+        g0 = c0
+        g1 = s * c1
+        g2 = s * s * c2
+        g3 = s * s * c3 * s
+    ri = 1.0 / (r0 * g0 + eta0 * g1 + mu * g2)
     fm1 = -mu * g2 * r0i  # f − 1
     g = dt - mu * g3
     fd = -mu * g1 * r0i * ri
@@ -226,7 +238,7 @@ def to_jacobi(r, u, m, xj, uj):
         uj[0, d] = su / eta
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def from_jacobi(xj, mfrac, r):
     """Jacobi rows ``xj`` (row 0 = centre of mass) → inertial rows ``r`` (positions or
     velocities alike); ``mfrac[i] = m_i / η_i``.
@@ -243,7 +255,7 @@ def from_jacobi(xj, mfrac, r):
         r[0, d] = R
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def jacobi_of_inertial(a, m, inv_eta, aj):
     """Jacobi transform of inertial accelerations (row 0, the centre of mass's, set to 0);
     ``inv_eta[i] = 1/η_i``."""
@@ -257,7 +269,7 @@ def jacobi_of_inertial(a, m, inv_eta, aj):
 
 
 # --------------------------------------------------------------------------- pure gravity kick
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj):
     """Jacobi kick accelerations of ``H_I`` for Newtonian gravity alone (no other potential).
 
@@ -296,7 +308,49 @@ def gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj):
         aj[i, 2] += c * xj[i, 2]
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
+def gravity_kick_jerk(xj, w, m, mfrac, inv_eta, gm, gmass, r, dr, da, jerk):
+    """Derivative of :func:`gravity_kick_accel` along the Jacobi displacement ``w`` (row 0
+    zero) into ``jerk``; ``r`` holds the inertial positions of ``xj`` (as the kick leaves
+    them). For each pair, ``∂/∂d (d/|d|³) δd = δd/|d|³ − 3 d (d·δd)/|d|⁵``."""
+    n = m.shape[0]
+    from_jacobi(w, mfrac, dr)
+    for i in range(n):
+        da[i, 0] = 0.0
+        da[i, 1] = 0.0
+        da[i, 2] = 0.0
+    for i in range(n):
+        for j in range(2 if i == 0 else i + 1, n):
+            dx = r[j, 0] - r[i, 0]
+            dy = r[j, 1] - r[i, 1]
+            dz = r[j, 2] - r[i, 2]
+            ex = dr[j, 0] - dr[i, 0]
+            ey = dr[j, 1] - dr[i, 1]
+            ez = dr[j, 2] - dr[i, 2]
+            q2 = dx * dx + dy * dy + dz * dz
+            s = 1.0 / (q2 * math.sqrt(q2))
+            t = 3.0 * (dx * ex + dy * ey + dz * ez) / q2
+            tx = s * (ex - t * dx)
+            ty = s * (ey - t * dy)
+            tz = s * (ez - t * dz)
+            da[i, 0] += gmass[j] * tx
+            da[i, 1] += gmass[j] * ty
+            da[i, 2] += gmass[j] * tz
+            da[j, 0] -= gmass[i] * tx
+            da[j, 1] -= gmass[i] * ty
+            da[j, 2] -= gmass[i] * tz
+    jacobi_of_inertial(da, m, inv_eta, jerk)
+    for i in range(2, n):  # the Kepler parts' derivative
+        x0, x1, x2 = xj[i, 0], xj[i, 1], xj[i, 2]
+        q2 = x0 * x0 + x1 * x1 + x2 * x2
+        c = gm[i] / (q2 * math.sqrt(q2))
+        t = 3.0 * (x0 * w[i, 0] + x1 * w[i, 1] + x2 * w[i, 2]) / q2
+        jerk[i, 0] += c * (w[i, 0] - t * x0)
+        jerk[i, 1] += c * (w[i, 1] - t * x1)
+        jerk[i, 2] += c * (w[i, 2] - t * x2)
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
 def drift_planets(xj, uj, gm, dt):
     """Kepler drift of every Jacobi row ``i ≥ 1`` by ``dt``; False if one is degenerate."""
     ok = True
@@ -305,7 +359,7 @@ def drift_planets(xj, uj, gm, dt):
     return ok
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", inline="always")
 def drift_all(xj, uj, gm, dt):
     """Kepler drifts and the free motion of the centre of mass (row 0) by ``dt``."""
     for d in range(3):
@@ -364,37 +418,74 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
             uj[i, 1] += hk * aj[i, 1]
             uj[i, 2] += hk * aj[i, 2]
 
-    @jit
-    def correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus, data, work):
-        """Kick of the corrector potential ``τ Σ |∂H_I/∂x'_i|²/m'_i``.
+    if pure_gravity:
+        @jit(inline="always")
+        def corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                           a_plus, data, work):
+            """Kick ``2 τ (∂a/∂x') w``, ``w = −a`` (``aj`` holds ``a`` at ``xj``, ``r`` its
+            inertial positions): the analytic jerk of the gravity-only kick. Overwrites
+            ``aj``."""
+            n = m.shape[0]
+            for i in range(n):
+                for d in range(3):
+                    xt[i, d] = -aj[i, d]
+            gravity_kick_jerk(xj, xt, m, mfrac, inv_eta, gm, gmass, r, a, a_plus, aj)
+            f = 2.0 * tau
+            for i in range(1, n):
+                for d in range(3):
+                    uj[i, d] += f * aj[i, d]
+    else:
+        @jit(inline="always")
+        def corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                           a_plus, data, work):
+            """Kick ``2 τ (∂a/∂x') w``, ``w = −a`` (``aj`` holds ``a`` at ``xj``), the
+            Hessian-vector product taken as a central difference of ``a`` along ``w``. Central,
+            not forward: the angular momentum it changes is ``O(τ δ²)`` instead of ``O(τ δ)``
+            (``w_i ∥ a_i`` cancels the first order), i.e. below round-off. Overwrites ``aj``."""
+            n = m.shape[0]
+            big = 0.0  # δ makes the largest relative displacement 1e-5
+            for i in range(1, n):
+                q = math.sqrt(xj[i, 0] ** 2 + xj[i, 1] ** 2 + xj[i, 2] ** 2)
+                w = math.sqrt(aj[i, 0] ** 2 + aj[i, 1] ** 2 + aj[i, 2] ** 2)
+                big = max(big, w / q)
+            if big == 0.0:
+                return
+            delta = 1e-5 / big
+            for i in range(n):
+                for d in range(3):
+                    xt[i, d] = xj[i, d] - delta * aj[i, d]
+            accel(xt, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, a_plus, data, work)
+            for i in range(n):
+                for d in range(3):
+                    xt[i, d] = 2.0 * xj[i, d] - xt[i, d]  # x − δw
+            accel(xt, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
+            f = tau / delta
+            for i in range(1, n):
+                for d in range(3):
+                    uj[i, d] += f * (a_plus[i, d] - aj[i, d])
 
-        Its acceleration is ``2 τ (∂a/∂x') w`` with ``a`` the kick acceleration and ``w = −a``
-        (a Hessian-vector product of ``H_I``), taken as a central difference of ``a`` along
-        ``w``. Central, not forward: the angular momentum it changes is ``O(τ δ²)`` instead of
-        ``O(τ δ)`` (``w_i ∥ a_i`` cancels the first order), i.e. below round-off.
-        """
-        n = m.shape[0]
+    @jit
+    def correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus, data,
+                work):
+        """Kick of the corrector potential ``τ Σ |∂H_I/∂x'_i|²/m'_i``: its acceleration is
+        ``2 τ (∂a/∂x') w`` with ``a`` the kick acceleration and ``w = −a`` (a Hessian-vector
+        product of ``H_I``)."""
         accel(xj, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
-        big = 0.0  # δ makes the largest relative displacement 1e-5
-        for i in range(1, n):
-            q = math.sqrt(xj[i, 0] ** 2 + xj[i, 1] ** 2 + xj[i, 2] ** 2)
-            w = math.sqrt(aj[i, 0] ** 2 + aj[i, 1] ** 2 + aj[i, 2] ** 2)
-            big = max(big, w / q)
-        if big == 0.0:
-            return
-        delta = 1e-5 / big
-        for i in range(n):
-            for d in range(3):
-                xt[i, d] = xj[i, d] - delta * aj[i, d]
-        accel(xt, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, a_plus, data, work)
-        for i in range(n):
-            for d in range(3):
-                xt[i, d] = 2.0 * xj[i, d] - xt[i, d]  # x − δw
-        accel(xt, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
-        f = tau / delta
-        for i in range(1, n):
-            for d in range(3):
-                uj[i, d] += f * (a_plus[i, d] - aj[i, d])
+        corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus,
+                       data, work)
+
+    @jit
+    def modified_kick(xj, uj, hk, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                      a_plus, data, work):
+        """Kick by ``hk`` and the corrector kick ``τ`` at the same positions (one force
+        evaluation shared): Wisdom, Holman & Touma's modified kick."""
+        accel(xj, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
+        for i in range(1, m.shape[0]):
+            uj[i, 0] += hk * aj[i, 0]
+            uj[i, 1] += hk * aj[i, 1]
+            uj[i, 2] += hk * aj[i, 2]
+        corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus,
+                       data, work)
 
     @jit
     def process(xj, uj, proc, sign, h, m, mfrac, inv_eta, gm, gmass, data, work):
@@ -474,6 +565,10 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
         pending = carried[0]
         opened = carried[1] != 0.0
         track = contact > 0.0 or escape > 0.0 or watch > 0.0
+        # the corrector kick: with a symplectic corrector in the middle of the (one-stage)
+        # step, sharing the kick's force evaluation; else on both ends (SABAC_n)
+        mid = tau != 0.0 and proc.shape[0] > 0
+        ends = tau != 0.0 and not mid
         ok = True
         t = t_orig + step0 * h
         k = 0
@@ -481,19 +576,25 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
             gstep = step0 + k + 1
             if track:
                 remember(y, prev, prev2, hist, t)
-            if tau != 0.0 and not opened:
-                correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus, data, work)
+            if ends and not opened:
+                correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus,
+                        data, work)
             ok = drift_all(xj, uj, gm, pending + c[0] * h) and ok
             pending = 0.0
             for s in range(ns):
-                kick(xj, uj, dk[s] * h, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
+                if mid:
+                    modified_kick(xj, uj, dk[s] * h, 2.0 * tau, m, mfrac, inv_eta, gm, gmass,
+                                  ybuf, r, a, aj, xt, a_plus, data, work)
+                else:
+                    kick(xj, uj, dk[s] * h, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data,
+                         work)
                 if s + 1 < ns:
                     ok = drift_all(xj, uj, gm, c[s + 1] * h) and ok
             last = gstep >= n_total
             k += 1
             t = t_orig + gstep * h
             need = last or gstep % save_every == 0 or track
-            if tau != 0.0:
+            if ends:
                 ok = drift_all(xj, uj, gm, c[ns] * h) and ok
                 correct(xj, uj, tau if need else 2.0 * tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj,
                         xt, a_plus, data, work)
