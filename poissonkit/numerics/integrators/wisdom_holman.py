@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import lru_cache
 
 import numba
 import numpy as np
@@ -83,10 +84,16 @@ def saba_coefficients(n: int) -> tuple[np.ndarray, np.ndarray]:
     """
     if n not in CORRECTOR_G:
         raise InputError(f"Wisdom–Holman stages must be 1 … 4, got {n!r}")
-    x, w = np.polynomial.legendre.leggauss(n)
+    c, d = _saba_table(n)
+    return np.array(c), np.array(d)
+
+
+@lru_cache(maxsize=None)
+def _saba_table(n: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    x, w = np.polynomial.legendre.leggauss(n)  # costly next to a short run: computed once
     x = 0.5 * (x + 1.0)
     c = np.diff(np.concatenate([[0.0], x, [1.0]]))
-    return c, 0.5 * w
+    return tuple(c.tolist()), tuple((0.5 * w).tolist())
 
 
 # --------------------------------------------------------------------------- Kepler flow
@@ -350,6 +357,47 @@ def gravity_kick_jerk(xj, w, m, mfrac, inv_eta, gm, gmass, r, dr, da, jerk):
         jerk[i, 2] += c * (w[i, 2] - t * x2)
 
 
+@numba.njit(cache=True, error_model="numpy")
+def gravity_corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da):
+    """Kick ``2 τ (∂a/∂x') w`` with ``w = −a``, ``aj`` holding the gravity-only kick
+    acceleration ``a`` at ``xj`` and ``r`` its inertial positions (overwrites ``aj``)."""
+    n = m.shape[0]
+    for d in range(3):
+        w[0, d] = 0.0
+    for i in range(1, n):
+        for d in range(3):
+            w[i, d] = -aj[i, d]
+    gravity_kick_jerk(xj, w, m, mfrac, inv_eta, gm, gmass, r, a, da, aj)
+    f = 2.0 * tau
+    for i in range(1, n):
+        for d in range(3):
+            uj[i, d] += f * aj[i, d]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def gravity_kick(xj, uj, hk, m, mfrac, inv_eta, gm, gmass, r, a, aj):
+    """Kick the Jacobi velocities by ``hk`` times the gravity-only kick acceleration."""
+    gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+    for i in range(1, m.shape[0]):
+        uj[i, 0] += hk * aj[i, 0]
+        uj[i, 1] += hk * aj[i, 1]
+        uj[i, 2] += hk * aj[i, 2]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def gravity_modified_kick(xj, uj, hk, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da):
+    """:func:`gravity_kick` and :func:`gravity_corrector_kick` at the same positions."""
+    gravity_kick(xj, uj, hk, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+    gravity_corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def gravity_correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da):
+    """The corrector kick ``τ`` alone (the SABAC_n ends), gravity only."""
+    gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+    gravity_corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da)
+
+
 @numba.njit(cache=True, error_model="numpy", inline="always")
 def drift_planets(xj, uj, gm, dt):
     """Kepler drift of every Jacobi row ``i ≥ 1`` by ``dt``; False if one is degenerate."""
@@ -425,15 +473,8 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
             """Kick ``2 τ (∂a/∂x') w``, ``w = −a`` (``aj`` holds ``a`` at ``xj``, ``r`` its
             inertial positions): the analytic jerk of the gravity-only kick. Overwrites
             ``aj``."""
-            n = m.shape[0]
-            for i in range(n):
-                for d in range(3):
-                    xt[i, d] = -aj[i, d]
-            gravity_kick_jerk(xj, xt, m, mfrac, inv_eta, gm, gmass, r, a, a_plus, aj)
-            f = 2.0 * tau
-            for i in range(1, n):
-                for d in range(3):
-                    uj[i, d] += f * aj[i, d]
+            gravity_corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, xt,
+                                   a_plus)
     else:
         @jit(inline="always")
         def corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
@@ -571,18 +612,30 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
         ends = tau != 0.0 and not mid
         ok = True
         t = t_orig + step0 * h
+        next_save = (step0 // save_every + 1) * save_every
         k = 0
         while k < max_steps:
             gstep = step0 + k + 1
             if track:
                 remember(y, prev, prev2, hist, t)
             if ends and not opened:
-                correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus,
-                        data, work)
+                if pure_gravity:
+                    gravity_correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, xt,
+                                    a_plus)
+                else:
+                    correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                            a_plus, data, work)
             ok = drift_all(xj, uj, gm, pending + c[0] * h) and ok
             pending = 0.0
             for s in range(ns):
-                if mid:
+                # (the gravity-only calls take no force-kernel tuple: passing it, even to an
+                # inlined function, costs reference counting at every call)
+                if pure_gravity and mid:
+                    gravity_modified_kick(xj, uj, dk[s] * h, 2.0 * tau, m, mfrac, inv_eta, gm,
+                                          gmass, r, a, aj, xt, a_plus)
+                elif pure_gravity:
+                    gravity_kick(xj, uj, dk[s] * h, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+                elif mid:
                     modified_kick(xj, uj, dk[s] * h, 2.0 * tau, m, mfrac, inv_eta, gm, gmass,
                                   ybuf, r, a, aj, xt, a_plus, data, work)
                 else:
@@ -593,11 +646,19 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
             last = gstep >= n_total
             k += 1
             t = t_orig + gstep * h
-            need = last or gstep % save_every == 0 or track
+            saving = gstep == next_save  # (a counter: no integer division per step)
+            if saving:
+                next_save += save_every
+            need = last or saving or track
             if ends:
                 ok = drift_all(xj, uj, gm, c[ns] * h) and ok
-                correct(xj, uj, tau if need else 2.0 * tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj,
-                        xt, a_plus, data, work)
+                tau_end = tau if need else 2.0 * tau
+                if pure_gravity:
+                    gravity_correct(xj, uj, tau_end, m, mfrac, inv_eta, gm, gmass, r, a, aj, xt,
+                                    a_plus)
+                else:
+                    correct(xj, uj, tau_end, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                            a_plus, data, work)
                 opened = not need
             elif need:
                 ok = drift_all(xj, uj, gm, c[ns] * h) and ok
@@ -611,7 +672,7 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
                 carried[1] = 1.0 if opened else 0.0
                 return 1, t, k, nsave, 0.0
             flag, value = check(y, data, work, contact, escape, watch, hist)
-            if last or gstep % save_every == 0:
+            if last or saving:
                 out_t[nsave] = t
                 copy_row(y, out_y, nsave)
                 nsave += 1
@@ -708,8 +769,12 @@ class WisdomHolman:
         """Integrate from ``t0`` to ``t_end`` with fixed step ``step`` on the shared driver
         (:func:`~poissonkit.numerics.integrators.driver.drive`: located events, checkpoints,
         streaming, stop requests)."""
-        if not (isinstance(system, HasGravity) and isinstance(system, HasBodies)
-                and isinstance(system, HasCompiledKernels)) or system.kernels.forces is None:
+        from poissonkit.numerics.nbody.system import NBodySystem
+
+        # (an NBodySystem has all three; the Protocol checks are slow next to a short run)
+        if not (isinstance(system, NBodySystem) or (
+                isinstance(system, HasGravity) and isinstance(system, HasBodies)
+                and isinstance(system, HasCompiledKernels))) or system.kernels.forces is None:
             raise InputError(f"{self.name} needs an NBodySystem of point masses with gravity; "
                              f"{type(system).__name__} is not one — use a splitting instead")
         G = system.gravity_constant()  # raises a typed error naming what is missing
