@@ -276,7 +276,7 @@ def jacobi_of_inertial(a, m, inv_eta, aj):
 
 
 # --------------------------------------------------------------------------- pure gravity kick
-@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"}, inline="always")
 def gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj):
     """Jacobi kick accelerations of ``H_I`` for Newtonian gravity alone (no other potential).
 
@@ -315,7 +315,7 @@ def gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj):
         aj[i, 2] += c * xj[i, 2]
 
 
-@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"}, inline="always")
 def gravity_kick_jerk(xj, w, m, mfrac, inv_eta, gm, gmass, r, dr, da, jerk):
     """Derivative of :func:`gravity_kick_accel` along the Jacobi displacement ``w`` (row 0
     zero) into ``jerk``; ``r`` holds the inertial positions of ``xj`` (as the kick leaves
@@ -357,7 +357,7 @@ def gravity_kick_jerk(xj, w, m, mfrac, inv_eta, gm, gmass, r, dr, da, jerk):
         jerk[i, 2] += c * (w[i, 2] - t * x2)
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", inline="always")
 def gravity_corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da):
     """Kick ``2 τ (∂a/∂x') w`` with ``w = −a``, ``aj`` holding the gravity-only kick
     acceleration ``a`` at ``xj`` and ``r`` its inertial positions (overwrites ``aj``)."""
@@ -374,7 +374,7 @@ def gravity_corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, 
             uj[i, d] += f * aj[i, d]
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", inline="always")
 def gravity_kick(xj, uj, hk, m, mfrac, inv_eta, gm, gmass, r, a, aj):
     """Kick the Jacobi velocities by ``hk`` times the gravity-only kick acceleration."""
     gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj)
@@ -384,14 +384,14 @@ def gravity_kick(xj, uj, hk, m, mfrac, inv_eta, gm, gmass, r, a, aj):
         uj[i, 2] += hk * aj[i, 2]
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", inline="always")
 def gravity_modified_kick(xj, uj, hk, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da):
     """:func:`gravity_kick` and :func:`gravity_corrector_kick` at the same positions."""
     gravity_kick(xj, uj, hk, m, mfrac, inv_eta, gm, gmass, r, a, aj)
     gravity_corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da)
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", inline="always")
 def gravity_correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da):
     """The corrector kick ``τ`` alone (the SABAC_n ends), gravity only."""
     gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj)
@@ -413,6 +413,29 @@ def drift_all(xj, uj, gm, dt):
     for d in range(3):
         xj[0, d] += dt * uj[0, d]
     return drift_planets(xj, uj, gm, dt)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def gravity_steps(xj, uj, count, pending, c, dk, h, tau_mid, m, mfrac, inv_eta, gm, gmass, r, a,
+                  aj, w, da):
+    """``count`` whole gravity-only steps with nothing to write out between them: the hot loop
+    of :func:`_runner`'s ``run``, kept small so the compiler keeps it tight. Same arithmetic as
+    ``run`` (the last drift of a step merged into the next one's first), so where a stretch
+    starts or ends never changes the result. Returns (pending drift, no degenerate drift)."""
+    ok = True
+    ns = dk.shape[0]
+    for _ in range(count):
+        ok = drift_all(xj, uj, gm, pending + c[0] * h) and ok
+        for s in range(ns):
+            if tau_mid != 0.0:
+                gravity_modified_kick(xj, uj, dk[s] * h, tau_mid, m, mfrac, inv_eta, gm, gmass,
+                                      r, a, aj, w, da)
+            else:
+                gravity_kick(xj, uj, dk[s] * h, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+            if s + 1 < ns:
+                ok = drift_all(xj, uj, gm, c[s + 1] * h) and ok
+        pending = c[ns] * h
+    return pending, ok
 
 
 # --------------------------------------------------------------------------- compiled loop
@@ -615,6 +638,18 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
         next_save = (step0 // save_every + 1) * save_every
         k = 0
         while k < max_steps:
+            if pure_gravity and not track and not ends:
+                # the steps before the next one that writes out, in one tight call
+                free = min(max_steps - k, next_save - (step0 + k) - 1,
+                           n_total - (step0 + k) - 1)
+                if free > 0:
+                    pending, fine = gravity_steps(xj, uj, free, pending, c, dk, h,
+                                                  2.0 * tau if mid else 0.0, m, mfrac, inv_eta,
+                                                  gm, gmass, r, a, aj, xt, a_plus)
+                    ok = fine and ok
+                    k += free
+                    t = t_orig + (step0 + k) * h
+                    continue
             gstep = step0 + k + 1
             if track:
                 remember(y, prev, prev2, hist, t)
