@@ -173,6 +173,7 @@ def test_momenta_to_roundoff_and_bounded_energy(options, method):
     assert np.abs(E / E0 - 1).max() < 1e-3
 
 
+@pytest.mark.slow  # compiles the general-kernel loop and a cutoff force kernel (~1-2 min cold)
 def test_gravity_only_kick_matches_the_general_force_kernel():
     """A (never reached) cutoff sends the same system through the general pair kernel."""
     fast, y0, *_ = two_planets(1e-2)

@@ -18,10 +18,21 @@ P. Robutel, Celest. Mech. Dyn. Astron. 80 (2001) 39: Kepler drifts between the G
 nodes of ``[0, h]`` and kicks with the Gauss weights, error ``O(ε h^{2n} + ε² h²)``; ``n = 1`` is
 the classical Wisdom–Holman map. With ``corrector=True`` the ``ε² h²`` term is removed by the
 kick of ``−g_n h³ ε² {{A,B},B}/2`` on both sides of each step (``SABAC_n``, same paper;
-consecutive steps share one), whose force is a Hessian-vector product of ``H_I`` taken by a
-central difference of the kick acceleration (three force evaluations; its relative error
-~1e-10 multiplies a term that is already ``O(ε² h²)``, and the angular momentum it changes is
-``O(δ²)``, below round-off).
+consecutive steps share one), whose force is a Hessian-vector product of ``H_I``: for gravity
+alone the analytic derivative of the kick (the "jerk"), otherwise a central difference of the
+kick acceleration (three force evaluations; its relative error ~1e-10 multiplies a term that
+is already ``O(ε² h²)``, and the angular momentum it changes is ``O(δ²)``, below round-off).
+
+Further tables (:mod:`~poissonkit.numerics.integrators.wh_tables`): the ``ABA``/``ABAH``
+methods of Blanes, Casas, Farrés, Laskar, Makazaga & Murua (2013), and the symplectic
+correctors of Wisdom, Holman & Touma (1996) as in WHFast: the state is carried in processed
+coordinates and corrected where it is written out; with the corrector kick the one-stage step
+becomes WHT96's modified-kick kernel (the kick in the middle of the step, half SABAC₁'s
+coefficient, which removes the ``ε² h²`` term left by the conjugation).
+
+When Newtonian gravity is the system's only interaction, the kick is a dedicated pair loop
+that leaves out the star–first-planet pair (it cancels the first Kepler term exactly, as in
+WHFast), and the steps between two write-outs run in one tight compiled loop.
 
 Every sub-flow is the exact flow of a rotation- and translation-invariant Hamiltonian, so
 total linear and angular momentum are kept to round-off and the map is symplectic; the energy
@@ -570,9 +581,15 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
             da = proc[k, 0] * h
             db = sign * proc[k, 1] * h
             ok = drift_planets(xj, uj, gm, da) and ok
-            kick(xj, uj, -db, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
+            if pure_gravity:
+                gravity_kick(xj, uj, -db, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+            else:
+                kick(xj, uj, -db, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
             ok = drift_planets(xj, uj, gm, -2.0 * da) and ok
-            kick(xj, uj, db, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
+            if pure_gravity:
+                gravity_kick(xj, uj, db, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+            else:
+                kick(xj, uj, db, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
             ok = drift_planets(xj, uj, gm, da) and ok
         return ok
 
@@ -599,9 +616,9 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
         return ok
 
     @jit
-    def run(y, xj, uj, carried, m, mfrac, inv_eta, gm, gmass, t_orig, h, n_total, c, dk, tau, proc, data,
-            work, save_every, step0, max_steps, out_t, out_y, contact, escape, watch, prev,
-            prev2, hist):
+    def run(y, xj, uj, carried, m, mfrac, inv_eta, gm, gmass, t_orig, h, n_total, c, dk, tau,
+            proc, data, work, save_every, step0, max_steps, out_t, out_y, contact, escape,
+            watch, prev, prev2, hist):
         """Advance the Jacobi state ``xj, uj`` (written to ``y`` at every save and on return).
 
         Returns (status, t, steps done, saved, value). Without corrector the last drift of a
@@ -701,7 +718,8 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
                 pending = c[ns] * h
             if not need:
                 continue
-            ok = sync_processed(xj, uj, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y, r, u) and ok
+            ok = sync_processed(xj, uj, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y, r,
+                                u) and ok
             if not ok or not all_finite(y):
                 carried[0] = pending
                 carried[1] = 1.0 if opened else 0.0
@@ -724,8 +742,10 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
         uc = uj.copy()
         ok = drift_all(xc, uc, gm, pending) and ok
         if opened:
-            correct(xc, uc, -tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus, data, work)
-        ok = sync_processed(xc, uc, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y, r, u) and ok
+            correct(xc, uc, -tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus, data,
+                    work)
+        ok = sync_processed(xc, uc, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y, r,
+                            u) and ok
         return 0 if ok else 1, t, k, nsave, 0.0
 
     _runners[key] = (run, process, kernels)
@@ -845,19 +865,19 @@ class WisdomHolman:
             start = {key: arr.copy() for key, arr in st.carry.items()}
             try:
                 status, t_new, k, nsave, value = run(
-                    st.y, st.carry["xj"], st.carry["uj"], st.carry["merge"], m, mfrac, inv_eta, gm, gmass,
-                    t0, h, n_total, c, dk, tau, proc, data, work, save_every, st.steps,
-                    max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, st.prev, st.prev2,
-                    st.hist)
+                    st.y, st.carry["xj"], st.carry["uj"], st.carry["merge"], m, mfrac, inv_eta,
+                    gm, gmass, t0, h, n_total, c, dk, tau, proc, data, work, save_every,
+                    st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, st.prev,
+                    st.prev2, st.hist)
             except ZeroDivisionError:
                 raise locate_division(self.name, _replay(start), st.y, st.t, st.steps) from None
             return status, t_new, k, nsave, k * per_step, value
 
         def _replay(start: dict[str, np.ndarray]) -> StepFn:
             def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
-                out = run(ys, start["xj"], start["uj"], start["merge"], m, mfrac, inv_eta, gm, gmass, t0, h,
-                          n_total, c, dk, tau, proc, data, work, save_every, done, 1,
-                          scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, ys, ys, no_hist)
+                out = run(ys, start["xj"], start["uj"], start["merge"], m, mfrac, inv_eta, gm,
+                          gmass, t0, h, n_total, c, dk, tau, proc, data, work, save_every, done,
+                          1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, ys, ys, no_hist)
                 return out[0], out[1]
             return one_step
 
@@ -868,8 +888,9 @@ class WisdomHolman:
             if proc.shape[0]:
                 process(xs, us, proc, -1.0, s, m, mfrac, inv_eta, gm, gmass, data, work)
             ts = self.g * s ** 3
-            run(yc, xs, us, np.zeros(2), m, mfrac, inv_eta, gm, gmass, 0.0, s, 1, c, dk, ts, proc, data,
-                work, 1, 0, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, yc, yc, no_hist)
+            run(yc, xs, us, np.zeros(2), m, mfrac, inv_eta, gm, gmass, 0.0, s, 1, c, dk, ts,
+                proc, data, work, 1, 0, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, yc, yc,
+                no_hist)
             return yc
 
         problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
