@@ -116,7 +116,12 @@ _C3 = tuple((-1.0) ** k / math.factorial(2 * k + 3) for k in range(9))
 @numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def stumpff(z):
     """Stumpff functions ``c0 … c3`` of ``z`` (argument quartered until ``|z| ≤ 1/2``, series
-    to ``z⁸`` by Horner's rule — the next term is below 1e-19 — then doubled back)."""
+    to ``z⁸`` by Horner's rule — the next term is below 1e-19 — then doubled back; for
+    ``|z| ≤ 0.1``, the usual case of a planetary step, the series to ``z⁵`` is as exact)."""
+    if abs(z) <= 0.1:
+        c3 = _C3[0] + z * (_C3[1] + z * (_C3[2] + z * (_C3[3] + z * (_C3[4] + z * _C3[5]))))
+        c2 = _C2[0] + z * (_C2[1] + z * (_C2[2] + z * (_C2[3] + z * (_C2[4] + z * _C2[5]))))
+        return 1.0 - z * c2, 1.0 - z * c3, c2, c3
     n = 0
     while abs(z) > 0.5:
         z *= 0.25
