@@ -146,7 +146,9 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
               "kicks; SABA_n of Laskar & Robutel 2001) for point masses around one dominant "
               "body 0, with AllPairs('gravity'). Fixed step; symplectic; total momenta to "
               "round-off; energy error O(eps h^2n + eps^2 h^2), eps = planet/star mass ratio. "
-              "Compiled loop on the shared driver: located events, checkpoints, streaming.")
+              "Compiled loop on the shared driver: located events, checkpoints, streaming. "
+              "table= picks a Blanes et al. (2013) method (e.g. 10_6_4), correctors= a "
+              "Wisdom-Holman-Touma symplectic corrector (as WHFast).")
     out.append(IntegratorEntry(
         name="wisdom_holman", doc=wh_doc + " stages=1 is the classical WH map (as WHFast).",
         params=(Param("stages", "int", "kicks per step n = 1 ... 4 (SABA_n)", 1, positive=True),
