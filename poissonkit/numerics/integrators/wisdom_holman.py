@@ -174,9 +174,13 @@ def kepler_drift(x, v, i, mu, dt):
     beta = 2.0 * mu * r0i - (v0 * v0 + v1 * v1 + v2 * v2)
     zeta0 = mu - beta * r0
     tau = dt * r0i
-    # third-order series solution of t(s) = r0 s + η0 s²/2 + ζ0 s³/6 + … (error O(dt⁴)),
-    # unless the step is too long for the series
-    corr = tau * (-0.5 * eta0 * r0i + tau * (0.5 * eta0 * eta0 * r0i * r0i - zeta0 * r0i / 6.0))
+    # fourth-order series solution (reversion) of dt/r0 = s + p1 s² + p2 s³ + p3 s⁴ + …, from
+    # t(s) = r0 s + η0 s²/2 + ζ0 s³/6 − β η0 s⁴/24 + … (error O(dt⁵): one Halley iteration
+    # for the outer planets' steps), unless the step is too long for the series
+    p1 = 0.5 * eta0 * r0i
+    p2 = zeta0 * r0i / 6.0
+    p3 = -beta * eta0 * r0i / 24.0
+    corr = tau * (-p1 + tau * (2.0 * p1 * p1 - p2 + tau * (p1 * (5.0 * p2 - 5.0 * p1 * p1) - p3)))
     s = tau * (1.0 + corr) if abs(corr) < 0.2 else tau
     ok = False
     g0 = g1 = g2 = g3 = 0.0
