@@ -220,3 +220,53 @@ def test_kepler_drift_is_accurate_to_roundoff_against_a_40_digit_solution():
         worst = max(worst, np.abs(x[0] - xr).max() / np.abs(xr).max(),
                     np.abs(v[0] - vr).max() / np.abs(vr).max())
     assert worst < 2e-15
+
+
+SAME_MAPS = [
+    ("saba10_6_4", {}, "wisdom_holman", {"table": "10_6_4"}),
+    ("saba8_6_4", {}, "wisdom_holman", {"table": "8_6_4"}),
+    ("saba10_4", {}, "wisdom_holman", {"table": "10_4"}),
+    ("sabah_8_4_4", {}, "wisdom_holman", {"table": "h8_4_4"}),
+    ("sabah_8_6_4", {}, "wisdom_holman", {"table": "h8_6_4"}),
+    ("sabah_10_6_4", {}, "wisdom_holman", {"table": "h10_6_4"}),
+    ("saba4", {}, "wisdom_holman", {"stages": 4}),
+    ("sabacm_2", {}, "wisdom_holman_corrected", {"stages": 2}),
+    ("sabacm_4", {}, "wisdom_holman_corrected", {"stages": 4}),
+    ("whfast", {"corrector": 3}, "wisdom_holman", {"correctors": 3}),
+    ("whfast", {"corrector": 11}, "wisdom_holman", {"correctors": 11}),
+    ("whfast", {"corrector": 17, "kernel": "modifiedkick"}, "wisdom_holman_corrected",
+     {"stages": 1, "correctors": 17}),
+]
+
+
+def _outer_solar_system():
+    from importlib import util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "bench_vs_rebound.py"
+    spec = util.spec_from_file_location("bench_vs_rebound", path)
+    bench = util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    return bench
+
+
+@pytest.mark.parametrize("name,settings,method,options", SAME_MAPS)
+def test_same_map_as_rebound(name, settings, method, options):
+    """The same method in REBOUND (an independent implementation of the published tables)
+    gives the same state after 100 steps of 0.75 yr on the outer Solar System, to round-off;
+    a different table of similar accuracy is 100 × farther off (so the comparison can fail)."""
+    bench = _outer_solar_system()
+    m, x, v = bench.outer_solar_system()
+    system, y0 = bench.poissonkit_system(m, x, v)
+    h = 0.75 * bench.YEAR
+    sim = bench.rebound_sim(m, x, v, name, {"safe_mode": 0} | settings, h)
+    sim.integrate(99.5 * h, exact_finish_time=0)  # exactly 100 steps
+    assert sim.t == pytest.approx(100 * h, rel=1e-12)
+    ref = np.array([[p.x, p.y, p.z] for p in sim.particles])
+    sol = solve(system, y0, 100 * h, method, step=h, options=options)
+    assert np.abs(system.unpack(sol.y[-1])["r"] - ref).max() < 2e-11  # AU, positions ~5-30
+    if "table" in options:
+        other = {"table": "h8_4_4" if options["table"] != "h8_4_4" else "10_4"}
+        sol = solve(system, y0, 100 * h, "wisdom_holman", step=h, options=other)
+        # another accurate table already differs by 100 × the tolerance
+        assert np.abs(system.unpack(sol.y[-1])["r"] - ref).max() > 2e-9
