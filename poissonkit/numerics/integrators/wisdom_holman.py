@@ -586,10 +586,11 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
         a = np.empty((n, 3))
         aj = np.empty((n, 3))
         ok = True
+        pend = 0.0  # the closing drift of one Z merged into the opening drift of the next
         for k in range(proc.shape[0]):
             da = proc[k, 0] * h
             db = sign * proc[k, 1] * h
-            ok = drift_planets(xj, uj, gm, da) and ok
+            ok = drift_planets(xj, uj, gm, pend + da) and ok
             if pure_gravity:
                 gravity_kick(xj, uj, -db, m, mfrac, inv_eta, gm, gmass, r, a, aj)
             else:
@@ -599,7 +600,8 @@ def _runner(kernels: CompiledKernels, pure_gravity: bool
                 gravity_kick(xj, uj, db, m, mfrac, inv_eta, gm, gmass, r, a, aj)
             else:
                 kick(xj, uj, db, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
-            ok = drift_planets(xj, uj, gm, da) and ok
+            pend = da
+        ok = drift_planets(xj, uj, gm, pend) and ok
         return ok
 
     @jit
