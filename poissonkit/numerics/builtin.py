@@ -155,17 +155,25 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
               "kicks; SABA_n of Laskar & Robutel 2001) for point masses around one dominant "
               "body 0, with AllPairs('gravity'). Fixed step; symplectic; total momenta to "
               "round-off; energy error O(eps h^2n + eps^2 h^2), eps = planet/star mass ratio. "
-              "Compiled loop on the shared driver: located events, checkpoints, streaming.")
+              "Compiled loop on the shared driver: located events, checkpoints, streaming. "
+              "table= picks a Blanes et al. (2013) method (e.g. 10_6_4), correctors= a "
+              "Wisdom-Holman-Touma symplectic corrector (as WHFast).")
     out.append(IntegratorEntry(
         name="wisdom_holman", doc=wh_doc + " stages=1 is the classical WH map (as WHFast).",
-        params=(Param("stages", "int", "kicks per step n = 1 ... 4 (SABA_n)", 1, positive=True),),
+        params=(Param("stages", "int", "kicks per step n = 1 ... 4 (SABA_n)", 1, positive=True),
+                Param("table", "str", "Blanes et al. 2013 method instead of SABA_n: 10_4, "
+                      "8_6_4, 10_6_4, h8_4_4, h8_6_4, h10_6_4 ('' = SABA_n)", ""),
+                Param("correctors", "int", "order 3, 5, 7, 11 or 17 of the Wisdom-Holman-Touma "
+                      "symplectic corrector (stages=1, as WHFast; 0 = none)", 0)),
         factory=_wisdom_holman(False), order=2, family="hierarchical",
         capabilities=caps.WISDOM_HOLMAN))
     out.append(IntegratorEntry(
         name="wisdom_holman_corrected", doc=wh_doc + " With the SABAC_n corrector: error "
         "O(eps h^2n + eps^2 h^4), 3 extra force evaluations per step.",
         params=(Param("stages", "int", "kicks per step n = 2 ... 4 (SABAC_n)", 4,
-                      positive=True),),
+                      positive=True),
+                Param("correctors", "int", "order 3, 5, 7, 11 or 17 of the Wisdom-Holman-Touma "
+                      "symplectic corrector (stages=1; 0 = none)", 0)),
         factory=_wisdom_holman(True), order=4, family="hierarchical",
         capabilities=caps.WISDOM_HOLMAN))
     out.append(IntegratorEntry(

@@ -16,7 +16,9 @@ from poissonkit.numerics import AllPairs, Body, NBodySystem, solve
 from poissonkit.numerics.checkpoint import Checkpoint, checkpoints, read_trajectory
 from poissonkit.numerics.events import ClosestApproach, Collision, Escape
 
-METHODS = [("wisdom_holman", 2), ("wisdom_holman_corrected", 3)]
+METHODS = [("wisdom_holman", {"stages": 2}), ("wisdom_holman_corrected", {"stages": 3}),
+           ("wisdom_holman", {"table": "10_6_4"}), ("wisdom_holman", {"correctors": 11}),
+           ("wisdom_holman_corrected", {"stages": 1, "correctors": 5})]
 
 
 def three_body(eps: float = 1e-2):
@@ -48,10 +50,9 @@ class StopAfter:
         return self.looks >= self.n
 
 
-@pytest.mark.parametrize("method,stages", METHODS)
-def test_stop_then_resume_is_bit_identical(tmp_path, method, stages):
+@pytest.mark.parametrize("method,opts", METHODS)
+def test_stop_then_resume_is_bit_identical(tmp_path, method, opts):
     system, y0 = three_body()
-    opts = {"stages": stages}
     # save_every and checkpoint spacing are coprime: chunks end between saves, where the
     # merged drift / corrector of consecutive steps is carried over (not flushed)
     ref = solve(system, y0, 20.0, method, step=0.05, save_every=7, options=opts)
@@ -67,10 +68,9 @@ def test_stop_then_resume_is_bit_identical(tmp_path, method, stages):
     assert np.array_equal(done.t, ref.t) and np.array_equal(done.y, ref.y)
 
 
-@pytest.mark.parametrize("method,stages", METHODS)
-def test_resume_from_an_early_checkpoint_is_bit_identical(tmp_path, method, stages):
+@pytest.mark.parametrize("method,opts", METHODS)
+def test_resume_from_an_early_checkpoint_is_bit_identical(tmp_path, method, opts):
     system, y0 = three_body()
-    opts = {"stages": stages}
     ck = Checkpoint(tmp_path / "ck", 50, keep=100)
     ref = solve(system, y0, 20.0, method, step=0.05, save_every=3, options=opts, checkpoint=ck)
     files = checkpoints(ck.folder)
@@ -92,14 +92,17 @@ def test_checkpoint_of_another_wisdom_holman_run_is_refused(tmp_path):
     solve(system, y0, 5.0, "wisdom_holman", step=0.05, checkpoint=ck)
     with pytest.raises(CheckpointError, match="differs"):
         solve(system, y0, 5.0, "wisdom_holman_corrected", step=0.05, checkpoint=ck, resume=True)
+    for other in ({"table": "10_6_4"}, {"correctors": 11}):  # same method name, other scheme
+        with pytest.raises(CheckpointError, match="differs"):
+            solve(system, y0, 5.0, "wisdom_holman", step=0.05, checkpoint=ck, resume=True,
+                  options=other)
 
 
-@pytest.mark.parametrize("method,stages", METHODS)
-def test_streamed_rows_are_the_in_memory_rows(tmp_path, method, stages):
+@pytest.mark.parametrize("method,opts", METHODS)
+def test_streamed_rows_are_the_in_memory_rows(tmp_path, method, opts):
     from poissonkit.numerics.checkpoint import TrajectoryStream
 
     system, y0 = three_body()
-    opts = {"stages": stages}
     ref = solve(system, y0, 20.0, method, step=0.05, save_every=3, options=opts)
     # parts of 16 rows: the compiled chunks end many times between the 135 saved rows
     sol = solve(system, y0, 20.0, method, step=0.05, save_every=3, options=opts,
@@ -120,14 +123,15 @@ def test_progress_chunks_do_not_change_the_trajectory():
     assert np.array_equal(shown.y, ref.y)
 
 
-def test_collision_is_located_at_the_time_of_keplers_equation():
+@pytest.mark.parametrize("method,opts", [("wisdom_holman", {})] + METHODS[2:])
+def test_collision_is_located_at_the_time_of_keplers_equation(method, opts):
     """e = 0.9 ellipse from apocentre: the separation reaches 0.2 at the eccentric anomaly
     E with 1 - e cos E = 0.2, at time (E - e sin E - pi)/n."""
     mu, a, e, h = 2.0, 1.0, 0.9, 0.01
     ra = a * (1 + e)
     system, y0 = pair(np.array([-ra, 0.0, 0.0]),
                       np.array([0.0, -math.sqrt(mu / a * (1 - e) / (1 + e)), 0.0]))
-    sol = solve(system, y0, 10.0, "wisdom_holman", step=h, events=(Collision(0.2),))
+    sol = solve(system, y0, 10.0, method, step=h, events=(Collision(0.2),), options=opts)
     (ev,) = sol.events
     E = 2 * math.pi - math.acos((1 - 0.2 / a) / e)
     t_true = (E - e * math.sin(E) - math.pi) / math.sqrt(mu / a**3)

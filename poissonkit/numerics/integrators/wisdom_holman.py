@@ -18,10 +18,21 @@ P. Robutel, Celest. Mech. Dyn. Astron. 80 (2001) 39: Kepler drifts between the G
 nodes of ``[0, h]`` and kicks with the Gauss weights, error ``O(ε h^{2n} + ε² h²)``; ``n = 1`` is
 the classical Wisdom–Holman map. With ``corrector=True`` the ``ε² h²`` term is removed by the
 kick of ``−g_n h³ ε² {{A,B},B}/2`` on both sides of each step (``SABAC_n``, same paper;
-consecutive steps share one), whose force is a Hessian-vector product of ``H_I`` taken by a
-central difference of the kick acceleration (three force evaluations; its relative error
-~1e-10 multiplies a term that is already ``O(ε² h²)``, and the angular momentum it changes is
-``O(δ²)``, below round-off).
+consecutive steps share one), whose force is a Hessian-vector product of ``H_I``: for gravity
+alone the analytic derivative of the kick (the "jerk"), otherwise a central difference of the
+kick acceleration (three force evaluations; its relative error ~1e-10 multiplies a term that
+is already ``O(ε² h²)``, and the angular momentum it changes is ``O(δ²)``, below round-off).
+
+Further tables (:mod:`~poissonkit.numerics.integrators.wh_tables`): the ``ABA``/``ABAH``
+methods of Blanes, Casas, Farrés, Laskar, Makazaga & Murua (2013), and the symplectic
+correctors of Wisdom, Holman & Touma (1996) as in WHFast: the state is carried in processed
+coordinates and corrected where it is written out; with the corrector kick the one-stage step
+becomes WHT96's modified-kick kernel (the kick in the middle of the step, half SABAC₁'s
+coefficient, which removes the ``ε² h²`` term left by the conjugation).
+
+When Newtonian gravity is the system's only interaction, the kick is a dedicated pair loop
+that leaves out the star–first-planet pair (it cancels the first Kepler term exactly, as in
+WHFast), and the steps between two write-outs run in one tight compiled loop.
 
 Every sub-flow is the exact flow of a rotation- and translation-invariant Hamiltonian, so
 total linear and angular momentum are kept to round-off and the map is symplectic; the energy
@@ -32,6 +43,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import lru_cache
 
 import numba
 import numpy as np
@@ -58,6 +70,11 @@ from poissonkit.numerics.integrators.base import (
 )
 from poissonkit.numerics.integrators.capabilities import WISDOM_HOLMAN
 from poissonkit.numerics.integrators.driver import Control, LoopState, drive
+from poissonkit.numerics.integrators.wh_tables import (
+    TABLE_ORDERS,
+    blanes_coefficients,
+    corrector_operators,
+)
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import all_finite, copy_row
 
@@ -78,24 +95,42 @@ def saba_coefficients(n: int) -> tuple[np.ndarray, np.ndarray]:
     """
     if n not in CORRECTOR_G:
         raise InputError(f"Wisdom–Holman stages must be 1 … 4, got {n!r}")
-    x, w = np.polynomial.legendre.leggauss(n)
+    c, d = _saba_table(n)
+    return np.array(c), np.array(d)
+
+
+@lru_cache(maxsize=None)
+def _saba_table(n: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    x, w = np.polynomial.legendre.leggauss(n)  # costly next to a short run: computed once
     x = 0.5 * (x + 1.0)
     c = np.diff(np.concatenate([[0.0], x, [1.0]]))
-    return c, 0.5 * w
+    return tuple(c.tolist()), tuple((0.5 * w).tolist())
 
 
 # --------------------------------------------------------------------------- Kepler flow
-@numba.njit(cache=True, error_model="numpy")
+# 1/(2k+2)! and 1/(2k+3)! with alternating signs: c2 and c3 as polynomials in z (|z| ≤ 0.5)
+_C2 = tuple((-1.0) ** k / math.factorial(2 * k + 2) for k in range(9))
+_C3 = tuple((-1.0) ** k / math.factorial(2 * k + 3) for k in range(9))
+
+
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def stumpff(z):
-    """Stumpff functions ``c0 … c3`` of ``z`` (argument quartered until small, then doubled)."""
+    """Stumpff functions ``c0 … c3`` of ``z`` (argument quartered until ``|z| ≤ 1/2``, series
+    to ``z⁸`` by Horner's rule — the next term is below 1e-19 — then doubled back; for
+    ``|z| ≤ 0.1``, the usual case of a planetary step, the series to ``z⁵`` is as exact)."""
+    if abs(z) <= 0.1:
+        c3 = _C3[0] + z * (_C3[1] + z * (_C3[2] + z * (_C3[3] + z * (_C3[4] + z * _C3[5]))))
+        c2 = _C2[0] + z * (_C2[1] + z * (_C2[2] + z * (_C2[3] + z * (_C2[4] + z * _C2[5]))))
+        return 1.0 - z * c2, 1.0 - z * c3, c2, c3
     n = 0
-    while abs(z) > 0.1:
+    while abs(z) > 0.5:
         z *= 0.25
         n += 1
-    c3 = (1.0 - z / 20.0 * (1.0 - z / 42.0 * (1.0 - z / 72.0 * (1.0 - z / 110.0 * (
-        1.0 - z / 156.0 * (1.0 - z / 210.0)))))) / 6.0
-    c2 = (1.0 - z / 12.0 * (1.0 - z / 30.0 * (1.0 - z / 56.0 * (1.0 - z / 90.0 * (
-        1.0 - z / 132.0 * (1.0 - z / 182.0)))))) / 2.0
+    c3 = _C3[8]
+    c2 = _C2[8]
+    for k in range(7, -1, -1):  # unrolled by numba: the tuples are compile-time constants
+        c3 = _C3[k] + z * c3
+        c2 = _C2[k] + z * c2
     c1 = 1.0 - z * c3
     c0 = 1.0 - z * c2
     for _ in range(n):
@@ -119,31 +154,59 @@ def _kepler_time(s, r0, eta0, mu, beta):
     return t, r, dr
 
 
-@numba.njit(cache=True, error_model="numpy")
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
 def kepler_drift(x, v, i, mu, dt):
     """Advance row ``i`` of positions ``x`` and velocities ``v`` along a Kepler orbit.
 
-    Universal variables (Danby's f and g functions): Halley's iteration on the universal
-    Kepler equation from ``s = dt / r0``; if it has not converged after 30 iterations, a
-    bracketing bisection finishes (never needed for steps shorter than the period, but it
-    makes the solver total). Returns False only for a degenerate state (``r0 = 0``).
+    Universal variables (Danby's f and g functions): Halley's iteration on the universal Kepler
+    equation from its third-order series solution (two iterations for a planetary step); if it
+    has not converged after 30 iterations, a bracketing bisection finishes (never needed for
+    steps shorter than the period, but it makes the solver total). Returns False only for a
+    degenerate state (``r0 = 0``).
     """
     x0, x1, x2 = x[i, 0], x[i, 1], x[i, 2]
     v0, v1, v2 = v[i, 0], v[i, 1], v[i, 2]
     r0 = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
     if r0 == 0.0 or dt == 0.0:
         return r0 != 0.0
+    r0i = 1.0 / r0
     eta0 = x0 * v0 + x1 * v1 + x2 * v2
-    beta = 2.0 * mu / r0 - (v0 * v0 + v1 * v1 + v2 * v2)
-    s = dt / r0
+    beta = 2.0 * mu * r0i - (v0 * v0 + v1 * v1 + v2 * v2)
+    zeta0 = mu - beta * r0
+    tau = dt * r0i
+    # fourth-order series solution (reversion) of dt/r0 = s + p1 s² + p2 s³ + p3 s⁴ + …, from
+    # t(s) = r0 s + η0 s²/2 + ζ0 s³/6 − β η0 s⁴/24 + … (error O(dt⁵): one Halley iteration
+    # for the outer planets' steps), unless the step is too long for the series
+    p1 = 0.5 * eta0 * r0i
+    p2 = zeta0 * r0i / 6.0
+    p3 = -beta * eta0 * r0i / 24.0
+    corr = tau * (-p1 + tau * (2.0 * p1 * p1 - p2 + tau * (p1 * (5.0 * p2 - 5.0 * p1 * p1) - p3)))
+    s = tau * (1.0 + corr) if abs(corr) < 0.2 else tau
     ok = False
-    for _ in range(30):
-        t, r, dr = _kepler_time(s, r0, eta0, mu, beta)
-        f = t - dt
+    g0 = g1 = g2 = g3 = 0.0
+    for _ in range(30):  # Halley's iteration: cubic convergence
+        c0, c1, c2, c3 = stumpff(beta * s * s)
+        g0 = c0
+        g1 = s * c1
+        g2 = s * s * c2
+        g3 = s * s * c3 * s
+        f = r0 * g1 + eta0 * g2 + mu * g3 - dt
+        r = r0 * g0 + eta0 * g1 + mu * g2
+        dr = eta0 * g0 + zeta0 * g1
         den = r - 0.5 * f * dr / r
         ds = -f / (den if den != 0.0 else r)
         s += ds
-        if abs(ds) <= 2e-16 * abs(s) or f == 0.0:
+        if abs(ds) <= 1e-6 * abs(s) or f == 0.0:
+            # the root is now within O(ds³) ≈ 1e-18 (relative); move the g-functions to it by
+            # their Taylor series (g0' = −β g1, g_k' = g_{k−1}; error O(ds⁴)) instead of a
+            # fresh Stumpff evaluation
+            d2 = 0.5 * ds * ds
+            d3 = d2 * ds / 3.0
+            n3 = g3 + g2 * ds + g1 * d2 + g0 * d3
+            n2 = g2 + g1 * ds + g0 * d2 - beta * g1 * d3
+            n1 = g1 + g0 * ds - beta * (g1 * d2 + g0 * d3)
+            g0 = g0 - beta * (g1 * ds + g0 * d2 - beta * g1 * d3)
+            g1, g2, g3 = n1, n2, n3
             ok = True
             break
     if not ok:
@@ -162,15 +225,16 @@ def kepler_drift(x, v, i, mu, dt):
             else:
                 hi = mid
         s = 0.5 * (lo + hi)
-    c0, c1, c2, c3 = stumpff(beta * s * s)
-    g1 = s * c1
-    g2 = s * s * c2
-    g3 = s * s * s * c3
-    r = r0 * c0 + eta0 * g1 + mu * g2
-    fm1 = -mu * g2 / r0  # f − 1
+        c0, c1, c2, c3 = stumpff(beta * s * s)
+        g0 = c0
+        g1 = s * c1
+        g2 = s * s * c2
+        g3 = s * s * c3 * s
+    ri = 1.0 / (r0 * g0 + eta0 * g1 + mu * g2)
+    fm1 = -mu * g2 * r0i  # f − 1
     g = dt - mu * g3
-    fd = -mu * g1 / (r * r0)
-    gdm1 = -mu * g2 / r  # ġ − 1
+    fd = -mu * g1 * r0i * ri
+    gdm1 = -mu * g2 * ri  # ġ − 1
     x[i, 0] = x0 + fm1 * x0 + g * v0
     x[i, 1] = x1 + fm1 * x1 + g * v1
     x[i, 2] = x2 + fm1 * x2 + g * v2
@@ -201,120 +265,371 @@ def to_jacobi(r, u, m, xj, uj):
         uj[0, d] = su / eta
 
 
-@numba.njit(cache=True, error_model="numpy")
-def from_jacobi(xj, m, eta, r):
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
+def from_jacobi(xj, mfrac, r):
     """Jacobi rows ``xj`` (row 0 = centre of mass) → inertial rows ``r`` (positions or
-    velocities alike); ``eta[i] = m_0 + … + m_i``."""
-    n = m.shape[0]
+    velocities alike); ``mfrac[i] = m_i / η_i``.
+
+    With ``R_i`` the centre of mass of bodies ``0 … i``: ``R_{i−1} = R_i − (m_i/η_i) x'_i`` and
+    ``r_i = x'_i + R_{i−1}``, from ``R_{n−1}`` = row 0 down (multiplications only).
+    """
+    n = xj.shape[0]
     for d in range(3):
-        s = eta[n - 1] * xj[0, d]  # Σ_{k≤i} m_k r_k, from i = n−1 down
+        R = xj[0, d]
         for i in range(n - 1, 0, -1):
-            prev = (s - m[i] * xj[i, d]) * eta[i - 1] / eta[i]  # Σ_{k≤i−1} m_k r_k
-            r[i, d] = xj[i, d] + prev / eta[i - 1]
-            s = prev
-        r[0, d] = s / m[0]
+            R -= mfrac[i] * xj[i, d]
+            r[i, d] = xj[i, d] + R
+        r[0, d] = R
 
 
-@numba.njit(cache=True, error_model="numpy")
-def jacobi_of_inertial(a, m, eta, aj):
-    """Jacobi transform of inertial accelerations (row 0, the centre of mass's, set to 0)."""
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"})
+def jacobi_of_inertial(a, m, inv_eta, aj):
+    """Jacobi transform of inertial accelerations (row 0, the centre of mass's, set to 0);
+    ``inv_eta[i] = 1/η_i``."""
     n = m.shape[0]
     for d in range(3):
         s = m[0] * a[0, d]
         for i in range(1, n):
-            aj[i, d] = a[i, d] - s / eta[i - 1]
+            aj[i, d] = a[i, d] - s * inv_eta[i - 1]
             s += m[i] * a[i, d]
         aj[0, d] = 0.0  # internal forces: the centre of mass is not accelerated
 
 
+# --------------------------------------------------------------------------- pure gravity kick
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"}, inline="always")
+def gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj):
+    """Jacobi kick accelerations of ``H_I`` for Newtonian gravity alone (no other potential).
+
+    The pair (0, 1) is left out and so is the Kepler term of planet 1: both are
+    ``−G m_0 m_1/|x'_1|`` (``m'_1 η_1 = m_0 m_1``), so they cancel exactly in ``H_I`` — as in
+    WHFast (``REB_GRAVITY_IGNORE_TERMS_BETWEEN_0_AND_1``). ``gmass[i] = G m_i``.
+    """
+    n = m.shape[0]
+    from_jacobi(xj, mfrac, r)
+    for i in range(n):
+        a[i, 0] = 0.0
+        a[i, 1] = 0.0
+        a[i, 2] = 0.0
+    for i in range(n):
+        xi0, xi1, xi2 = r[i, 0], r[i, 1], r[i, 2]
+        for j in range(2 if i == 0 else i + 1, n):
+            dx = r[j, 0] - xi0
+            dy = r[j, 1] - xi1
+            dz = r[j, 2] - xi2
+            q2 = dx * dx + dy * dy + dz * dz
+            s = 1.0 / (q2 * math.sqrt(q2))
+            si = s * gmass[j]
+            sj = s * gmass[i]
+            a[i, 0] += si * dx
+            a[i, 1] += si * dy
+            a[i, 2] += si * dz
+            a[j, 0] -= sj * dx
+            a[j, 1] -= sj * dy
+            a[j, 2] -= sj * dz
+    jacobi_of_inertial(a, m, inv_eta, aj)
+    for i in range(2, n):  # remove the Kepler parts: + G η_i x'_i / |x'_i|³
+        q2 = xj[i, 0] * xj[i, 0] + xj[i, 1] * xj[i, 1] + xj[i, 2] * xj[i, 2]
+        c = gm[i] / (q2 * math.sqrt(q2))
+        aj[i, 0] += c * xj[i, 0]
+        aj[i, 1] += c * xj[i, 1]
+        aj[i, 2] += c * xj[i, 2]
+
+
+@numba.njit(cache=True, error_model="numpy", fastmath={"contract"}, inline="always")
+def gravity_kick_jerk(xj, w, m, mfrac, inv_eta, gm, gmass, r, dr, da, jerk):
+    """Derivative of :func:`gravity_kick_accel` along the Jacobi displacement ``w`` (row 0
+    zero) into ``jerk``; ``r`` holds the inertial positions of ``xj`` (as the kick leaves
+    them). For each pair, ``∂/∂d (d/|d|³) δd = δd/|d|³ − 3 d (d·δd)/|d|⁵``."""
+    n = m.shape[0]
+    from_jacobi(w, mfrac, dr)
+    for i in range(n):
+        da[i, 0] = 0.0
+        da[i, 1] = 0.0
+        da[i, 2] = 0.0
+    for i in range(n):
+        for j in range(2 if i == 0 else i + 1, n):
+            dx = r[j, 0] - r[i, 0]
+            dy = r[j, 1] - r[i, 1]
+            dz = r[j, 2] - r[i, 2]
+            ex = dr[j, 0] - dr[i, 0]
+            ey = dr[j, 1] - dr[i, 1]
+            ez = dr[j, 2] - dr[i, 2]
+            q2 = dx * dx + dy * dy + dz * dz
+            s = 1.0 / (q2 * math.sqrt(q2))
+            t = 3.0 * (dx * ex + dy * ey + dz * ez) / q2
+            tx = s * (ex - t * dx)
+            ty = s * (ey - t * dy)
+            tz = s * (ez - t * dz)
+            da[i, 0] += gmass[j] * tx
+            da[i, 1] += gmass[j] * ty
+            da[i, 2] += gmass[j] * tz
+            da[j, 0] -= gmass[i] * tx
+            da[j, 1] -= gmass[i] * ty
+            da[j, 2] -= gmass[i] * tz
+    jacobi_of_inertial(da, m, inv_eta, jerk)
+    for i in range(2, n):  # the Kepler parts' derivative
+        x0, x1, x2 = xj[i, 0], xj[i, 1], xj[i, 2]
+        q2 = x0 * x0 + x1 * x1 + x2 * x2
+        c = gm[i] / (q2 * math.sqrt(q2))
+        t = 3.0 * (x0 * w[i, 0] + x1 * w[i, 1] + x2 * w[i, 2]) / q2
+        jerk[i, 0] += c * (w[i, 0] - t * x0)
+        jerk[i, 1] += c * (w[i, 1] - t * x1)
+        jerk[i, 2] += c * (w[i, 2] - t * x2)
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def gravity_corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da):
+    """Kick ``2 τ (∂a/∂x') w`` with ``w = −a``, ``aj`` holding the gravity-only kick
+    acceleration ``a`` at ``xj`` and ``r`` its inertial positions (overwrites ``aj``)."""
+    n = m.shape[0]
+    for d in range(3):
+        w[0, d] = 0.0
+    for i in range(1, n):
+        for d in range(3):
+            w[i, d] = -aj[i, d]
+    gravity_kick_jerk(xj, w, m, mfrac, inv_eta, gm, gmass, r, a, da, aj)
+    f = 2.0 * tau
+    for i in range(1, n):
+        for d in range(3):
+            uj[i, d] += f * aj[i, d]
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def gravity_kick(xj, uj, hk, m, mfrac, inv_eta, gm, gmass, r, a, aj):
+    """Kick the Jacobi velocities by ``hk`` times the gravity-only kick acceleration."""
+    gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+    for i in range(1, m.shape[0]):
+        uj[i, 0] += hk * aj[i, 0]
+        uj[i, 1] += hk * aj[i, 1]
+        uj[i, 2] += hk * aj[i, 2]
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def gravity_modified_kick(xj, uj, hk, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da):
+    """:func:`gravity_kick` and :func:`gravity_corrector_kick` at the same positions."""
+    gravity_kick(xj, uj, hk, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+    gravity_corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da)
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def gravity_correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da):
+    """The corrector kick ``τ`` alone (the SABAC_n ends), gravity only."""
+    gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+    gravity_corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, w, da)
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def drift_planets(xj, uj, gm, dt):
+    """Kepler drift of every Jacobi row ``i ≥ 1`` by ``dt``; False if one is degenerate."""
+    ok = True
+    for i in range(1, xj.shape[0]):
+        ok = kepler_drift(xj, uj, i, gm[i], dt) and ok
+    return ok
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def drift_all(xj, uj, gm, dt):
+    """Kepler drifts and the free motion of the centre of mass (row 0) by ``dt``."""
+    for d in range(3):
+        xj[0, d] += dt * uj[0, d]
+    return drift_planets(xj, uj, gm, dt)
+
+
+@numba.njit(cache=True, error_model="numpy")
+def gravity_steps(xj, uj, count, pending, c, dk, h, tau_mid, m, mfrac, inv_eta, gm, gmass, r, a,
+                  aj, w, da):
+    """``count`` whole gravity-only steps with nothing to write out between them: the hot loop
+    of :func:`_runner`'s ``run``, kept small so the compiler keeps it tight. Same arithmetic as
+    ``run`` (the last drift of a step merged into the next one's first), so where a stretch
+    starts or ends never changes the result. Returns (pending drift, no degenerate drift)."""
+    ok = True
+    ns = dk.shape[0]
+    for _ in range(count):
+        ok = drift_all(xj, uj, gm, pending + c[0] * h) and ok
+        for s in range(ns):
+            if tau_mid != 0.0:
+                gravity_modified_kick(xj, uj, dk[s] * h, tau_mid, m, mfrac, inv_eta, gm, gmass,
+                                      r, a, aj, w, da)
+            else:
+                gravity_kick(xj, uj, dk[s] * h, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+            if s + 1 < ns:
+                ok = drift_all(xj, uj, gm, c[s + 1] * h) and ok
+        pending = c[ns] * h
+    return pending, ok
+
+
 # --------------------------------------------------------------------------- compiled loop
-_runners: dict[int, tuple[CompiledFunction, CompiledKernels]] = {}
+_runners: dict[tuple[int, bool], tuple[CompiledFunction, CompiledFunction, CompiledKernels]] = {}
 
 
-def _runner(kernels: CompiledKernels) -> CompiledFunction:
-    """The compiled Wisdom–Holman loop around one system's force kernel (cached)."""
-    key = id(kernels.forces)
+def _runner(kernels: CompiledKernels, pure_gravity: bool
+            ) -> tuple[CompiledFunction, CompiledFunction]:
+    """The compiled Wisdom–Holman loop and corrector around one system's kernels (cached).
+
+    ``pure_gravity``: the interaction is Newtonian gravity alone, so the kick is the dedicated
+    pair loop :func:`gravity_kick_accel` instead of the system's general force kernel.
+    """
+    key = (id(kernels.forces), pure_gravity)
     hit = _runners.get(key)
     if hit is not None:
-        return hit[0]
+        return hit[0], hit[1]
     forces = kernels.forces
     remember, check = step_end_kernels(kernels)
 
-    @jit
-    def accel(xj, m, eta, gm, ybuf, r, a, aj, data, work):
-        """Jacobi kick accelerations of ``H_I`` at Jacobi positions ``xj`` into ``aj``."""
-        n = m.shape[0]
-        from_jacobi(xj, m, eta, r)
-        for i in range(n):
-            for d in range(3):
-                ybuf[6 * i + d] = r[i, d]
-        forces(ybuf, data, work)
-        F = work[2]
-        for i in range(n):
-            for d in range(3):
-                a[i, d] = F[i, d] / m[i]
-        jacobi_of_inertial(a, m, eta, aj)
-        for i in range(1, n):  # remove the Kepler parts: + G η_i x'_i / |x'_i|³
-            q2 = xj[i, 0] ** 2 + xj[i, 1] ** 2 + xj[i, 2] ** 2
-            c = gm[i] / (q2 * math.sqrt(q2))
-            for d in range(3):
-                aj[i, d] += c * xj[i, d]
+    if pure_gravity:
+        @jit(inline="always")
+        def accel(xj, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work):
+            gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+    else:
+        @jit(inline="always")
+        def accel(xj, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work):
+            """Jacobi kick accelerations of ``H_I`` at Jacobi positions ``xj`` into ``aj``."""
+            n = m.shape[0]
+            from_jacobi(xj, mfrac, r)
+            for i in range(n):
+                for d in range(3):
+                    ybuf[6 * i + d] = r[i, d]
+            forces(ybuf, data, work)
+            F = work[2]
+            for i in range(n):
+                for d in range(3):
+                    a[i, d] = F[i, d] / m[i]
+            jacobi_of_inertial(a, m, inv_eta, aj)
+            for i in range(1, n):  # remove the Kepler parts: + G η_i x'_i / |x'_i|³
+                q2 = xj[i, 0] ** 2 + xj[i, 1] ** 2 + xj[i, 2] ** 2
+                c = gm[i] / (q2 * math.sqrt(q2))
+                for d in range(3):
+                    aj[i, d] += c * xj[i, d]
+
+    @jit(inline="always")
+    def kick(xj, uj, hk, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work):
+        accel(xj, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
+        for i in range(1, m.shape[0]):
+            uj[i, 0] += hk * aj[i, 0]
+            uj[i, 1] += hk * aj[i, 1]
+            uj[i, 2] += hk * aj[i, 2]
+
+    if pure_gravity:
+        @jit(inline="always")
+        def corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                           a_plus, data, work):
+            """Kick ``2 τ (∂a/∂x') w``, ``w = −a`` (``aj`` holds ``a`` at ``xj``, ``r`` its
+            inertial positions): the analytic jerk of the gravity-only kick. Overwrites
+            ``aj``."""
+            gravity_corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, xt,
+                                   a_plus)
+    else:
+        @jit(inline="always")
+        def corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                           a_plus, data, work):
+            """Kick ``2 τ (∂a/∂x') w``, ``w = −a`` (``aj`` holds ``a`` at ``xj``), the
+            Hessian-vector product taken as a central difference of ``a`` along ``w``. Central,
+            not forward: the angular momentum it changes is ``O(τ δ²)`` instead of ``O(τ δ)``
+            (``w_i ∥ a_i`` cancels the first order), i.e. below round-off. Overwrites ``aj``."""
+            n = m.shape[0]
+            big = 0.0  # δ makes the largest relative displacement 1e-5
+            for i in range(1, n):
+                q = math.sqrt(xj[i, 0] ** 2 + xj[i, 1] ** 2 + xj[i, 2] ** 2)
+                w = math.sqrt(aj[i, 0] ** 2 + aj[i, 1] ** 2 + aj[i, 2] ** 2)
+                big = max(big, w / q)
+            if big == 0.0:
+                return
+            delta = 1e-5 / big
+            for i in range(n):
+                for d in range(3):
+                    xt[i, d] = xj[i, d] - delta * aj[i, d]
+            accel(xt, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, a_plus, data, work)
+            for i in range(n):
+                for d in range(3):
+                    xt[i, d] = 2.0 * xj[i, d] - xt[i, d]  # x − δw
+            accel(xt, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
+            f = tau / delta
+            for i in range(1, n):
+                for d in range(3):
+                    uj[i, d] += f * (a_plus[i, d] - aj[i, d])
 
     @jit
-    def drift_all(xj, uj, gm, dt):
-        for d in range(3):
-            xj[0, d] += dt * uj[0, d]
+    def correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus, data,
+                work):
+        """Kick of the corrector potential ``τ Σ |∂H_I/∂x'_i|²/m'_i``: its acceleration is
+        ``2 τ (∂a/∂x') w`` with ``a`` the kick acceleration and ``w = −a`` (a Hessian-vector
+        product of ``H_I``)."""
+        accel(xj, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
+        corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus,
+                       data, work)
+
+    @jit
+    def modified_kick(xj, uj, hk, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                      a_plus, data, work):
+        """Kick by ``hk`` and the corrector kick ``τ`` at the same positions (one force
+        evaluation shared): Wisdom, Holman & Touma's modified kick."""
+        accel(xj, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
+        for i in range(1, m.shape[0]):
+            uj[i, 0] += hk * aj[i, 0]
+            uj[i, 1] += hk * aj[i, 1]
+            uj[i, 2] += hk * aj[i, 2]
+        corrector_kick(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus,
+                       data, work)
+
+    @jit
+    def process(xj, uj, proc, sign, h, m, mfrac, inv_eta, gm, gmass, data, work):
+        """Apply the symplectic corrector ``proc`` (rows ``(a, b)`` of ``Z`` operators, step
+        units) with kicks of sign ``sign``: ``+1`` processed → physical, ``−1`` the start.
+
+        ``Z(a, b) = e^{aA} e^{−bB} e^{−2aA} e^{bB} e^{aA}`` (Wisdom, Holman & Touma 1996; as
+        ``reb_whfast_corrector_Z``). The centre of mass does not move (its drifts cancel).
+        Returns False for a degenerate Kepler state.
+        """
+        n = m.shape[0]
+        ybuf = np.empty(6 * n)
+        r = np.empty((n, 3))
+        a = np.empty((n, 3))
+        aj = np.empty((n, 3))
         ok = True
-        for i in range(1, xj.shape[0]):
-            ok = kepler_drift(xj, uj, i, gm[i], dt) and ok
+        pend = 0.0  # the closing drift of one Z merged into the opening drift of the next
+        for k in range(proc.shape[0]):
+            da = proc[k, 0] * h
+            db = sign * proc[k, 1] * h
+            ok = drift_planets(xj, uj, gm, pend + da) and ok
+            if pure_gravity:
+                gravity_kick(xj, uj, -db, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+            else:
+                kick(xj, uj, -db, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
+            ok = drift_planets(xj, uj, gm, -2.0 * da) and ok
+            if pure_gravity:
+                gravity_kick(xj, uj, db, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+            else:
+                kick(xj, uj, db, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data, work)
+            pend = da
+        ok = drift_planets(xj, uj, gm, pend) and ok
         return ok
 
     @jit
-    def correct(xj, uj, tau, m, eta, gm, ybuf, r, a, aj, xt, a_plus, data, work):
-        """Kick of the corrector potential ``τ Σ |∂H_I/∂x'_i|²/m'_i``.
-
-        Its acceleration is ``2 τ (∂a/∂x') w`` with ``a`` the kick acceleration and ``w = −a``
-        (a Hessian-vector product of ``H_I``), taken as a central difference of ``a`` along
-        ``w``. Central, not forward: the angular momentum it changes is ``O(τ δ²)`` instead of
-        ``O(τ δ)`` (``w_i ∥ a_i`` cancels the first order), i.e. below round-off.
-        """
-        n = m.shape[0]
-        accel(xj, m, eta, gm, ybuf, r, a, aj, data, work)
-        big = 0.0  # δ makes the largest relative displacement 1e-5
-        for i in range(1, n):
-            q = math.sqrt(xj[i, 0] ** 2 + xj[i, 1] ** 2 + xj[i, 2] ** 2)
-            w = math.sqrt(aj[i, 0] ** 2 + aj[i, 1] ** 2 + aj[i, 2] ** 2)
-            big = max(big, w / q)
-        if big == 0.0:
-            return
-        delta = 1e-5 / big
-        for i in range(n):
-            for d in range(3):
-                xt[i, d] = xj[i, d] - delta * aj[i, d]
-        accel(xt, m, eta, gm, ybuf, r, a, a_plus, data, work)
-        for i in range(n):
-            for d in range(3):
-                xt[i, d] = 2.0 * xj[i, d] - xt[i, d]  # x − δw
-        accel(xt, m, eta, gm, ybuf, r, a, aj, data, work)
-        f = tau / delta
-        for i in range(1, n):
-            for d in range(3):
-                uj[i, d] += f * (a_plus[i, d] - aj[i, d])
-
-    @jit
-    def sync(xj, uj, m, eta, y, r, u):
+    def sync(xj, uj, m, mfrac, inv_eta, y, r, u):
         """Write the inertial state ``(r, p)`` of Jacobi ``xj, uj`` into ``y``."""
-        from_jacobi(xj, m, eta, r)
-        from_jacobi(uj, m, eta, u)
+        from_jacobi(xj, mfrac, r)
+        from_jacobi(uj, mfrac, u)
         for i in range(m.shape[0]):
             for d in range(3):
                 y[6 * i + d] = r[i, d]
                 y[6 * i + 3 + d] = m[i] * u[i, d]
 
     @jit
-    def run(y, xj, uj, carried, m, eta, gm, t_orig, h, n_total, c, dk, tau, data, work,
-            save_every, step0, max_steps, out_t, out_y, contact, escape, watch, prev, prev2,
-            hist):
+    def sync_processed(xj, uj, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y, r, u):
+        """:func:`sync` of the physical state: the corrector applied to copies of ``xj, uj``."""
+        if proc.shape[0] == 0:
+            sync(xj, uj, m, mfrac, inv_eta, y, r, u)
+            return True
+        xc = xj.copy()
+        uc = uj.copy()
+        ok = process(xc, uc, proc, 1.0, h, m, mfrac, inv_eta, gm, gmass, data, work)
+        sync(xc, uc, m, mfrac, inv_eta, y, r, u)
+        return ok
+
+    @jit
+    def run(y, xj, uj, carried, m, mfrac, inv_eta, gm, gmass, t_orig, h, n_total, c, dk, tau,
+            proc, data, work, save_every, step0, max_steps, out_t, out_y, contact, escape,
+            watch, prev, prev2, hist):
         """Advance the Jacobi state ``xj, uj`` (written to ``y`` at every save and on return).
 
         Returns (status, t, steps done, saved, value). Without corrector the last drift of a
@@ -322,7 +637,9 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
         step and the opening one of the next are one kick (both depend on positions only).
         ``carried = [pending drift, corrector opened]`` is that merge's state between calls:
         a call ends by writing into ``y`` the state at ``t`` computed from *copies*, so where
-        a chunk ends never changes the arithmetic (resumed runs are bit-identical).
+        a chunk ends never changes the arithmetic (resumed runs are bit-identical). With a
+        symplectic corrector ``proc`` (rows of ``Z`` operators), ``xj, uj`` are the processed
+        coordinates and every state written to ``y`` is corrected first.
 
         With events, every step end is synchronised into ``y`` and checked; ``prev``, ``prev2``
         and ``hist`` are the event-search memory (see :mod:`poissonkit.numerics.locate`).
@@ -340,33 +657,71 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
         pending = carried[0]
         opened = carried[1] != 0.0
         track = contact > 0.0 or escape > 0.0 or watch > 0.0
+        # the corrector kick: with a symplectic corrector in the middle of the (one-stage)
+        # step, sharing the kick's force evaluation; else on both ends (SABAC_n)
+        mid = tau != 0.0 and proc.shape[0] > 0
+        ends = tau != 0.0 and not mid
         ok = True
         t = t_orig + step0 * h
+        next_save = (step0 // save_every + 1) * save_every
         k = 0
         while k < max_steps:
+            if pure_gravity and not track and not ends:
+                # the steps before the next one that writes out, in one tight call
+                free = min(max_steps - k, next_save - (step0 + k) - 1,
+                           n_total - (step0 + k) - 1)
+                if free > 0:
+                    pending, fine = gravity_steps(xj, uj, free, pending, c, dk, h,
+                                                  2.0 * tau if mid else 0.0, m, mfrac, inv_eta,
+                                                  gm, gmass, r, a, aj, xt, a_plus)
+                    ok = fine and ok
+                    k += free
+                    t = t_orig + (step0 + k) * h
+                    continue
             gstep = step0 + k + 1
             if track:
                 remember(y, prev, prev2, hist, t)
-            if tau != 0.0 and not opened:
-                correct(xj, uj, tau, m, eta, gm, ybuf, r, a, aj, xt, a_plus, data, work)
+            if ends and not opened:
+                if pure_gravity:
+                    gravity_correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, xt,
+                                    a_plus)
+                else:
+                    correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                            a_plus, data, work)
             ok = drift_all(xj, uj, gm, pending + c[0] * h) and ok
             pending = 0.0
             for s in range(ns):
-                accel(xj, m, eta, gm, ybuf, r, a, aj, data, work)
-                hk = dk[s] * h
-                for i in range(1, n):
-                    for d in range(3):
-                        uj[i, d] += hk * aj[i, d]
+                # (the gravity-only calls take no force-kernel tuple: passing it, even to an
+                # inlined function, costs reference counting at every call)
+                if pure_gravity and mid:
+                    gravity_modified_kick(xj, uj, dk[s] * h, 2.0 * tau, m, mfrac, inv_eta, gm,
+                                          gmass, r, a, aj, xt, a_plus)
+                elif pure_gravity:
+                    gravity_kick(xj, uj, dk[s] * h, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+                elif mid:
+                    modified_kick(xj, uj, dk[s] * h, 2.0 * tau, m, mfrac, inv_eta, gm, gmass,
+                                  ybuf, r, a, aj, xt, a_plus, data, work)
+                else:
+                    kick(xj, uj, dk[s] * h, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data,
+                         work)
                 if s + 1 < ns:
                     ok = drift_all(xj, uj, gm, c[s + 1] * h) and ok
             last = gstep >= n_total
             k += 1
             t = t_orig + gstep * h
-            need = last or gstep % save_every == 0 or track
-            if tau != 0.0:
+            saving = gstep == next_save  # (a counter: no integer division per step)
+            if saving:
+                next_save += save_every
+            need = last or saving or track
+            if ends:
                 ok = drift_all(xj, uj, gm, c[ns] * h) and ok
-                correct(xj, uj, tau if need else 2.0 * tau, m, eta, gm, ybuf, r, a, aj, xt,
-                        a_plus, data, work)
+                tau_end = tau if need else 2.0 * tau
+                if pure_gravity:
+                    gravity_correct(xj, uj, tau_end, m, mfrac, inv_eta, gm, gmass, r, a, aj, xt,
+                                    a_plus)
+                else:
+                    correct(xj, uj, tau_end, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                            a_plus, data, work)
                 opened = not need
             elif need:
                 ok = drift_all(xj, uj, gm, c[ns] * h) and ok
@@ -374,13 +729,14 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
                 pending = c[ns] * h
             if not need:
                 continue
-            sync(xj, uj, m, eta, y, r, u)
+            ok = sync_processed(xj, uj, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y, r,
+                                u) and ok
             if not ok or not all_finite(y):
                 carried[0] = pending
                 carried[1] = 1.0 if opened else 0.0
                 return 1, t, k, nsave, 0.0
             flag, value = check(y, data, work, contact, escape, watch, hist)
-            if last or gstep % save_every == 0:
+            if last or saving:
                 out_t[nsave] = t
                 copy_row(y, out_y, nsave)
                 nsave += 1
@@ -397,42 +753,80 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
         uc = uj.copy()
         ok = drift_all(xc, uc, gm, pending) and ok
         if opened:
-            correct(xc, uc, -tau, m, eta, gm, ybuf, r, a, aj, xt, a_plus, data, work)
-        sync(xc, uc, m, eta, y, r, u)
+            correct(xc, uc, -tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus, data,
+                    work)
+        ok = sync_processed(xc, uc, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y, r,
+                            u) and ok
         return 0 if ok else 1, t, k, nsave, 0.0
 
-    _runners[key] = (run, kernels)
-    return run
+    _runners[key] = (run, process, kernels)
+    return run, process
 
 
 class WisdomHolman:
-    """Wisdom–Holman ``SABA_n`` splitting in Jacobi coordinates (see the module docstring).
+    """Wisdom–Holman splittings in Jacobi coordinates (see the module docstring).
 
     Parameters
     ----------
     stages
-        ``n`` = 1 … 4 kicks per step (``n = 1``: the classical Wisdom–Holman map).
+        ``n`` = 1 … 4 kicks per step of ``SABA_n`` (``n = 1``: the classical Wisdom–Holman map).
     corrector
         Add the ``SABAC_n`` corrector (removes the ``ε² h²`` error term; 3 extra force
         evaluations per step).
+    table
+        ``""`` for ``SABA_n``, else one of the Blanes et al. (2013) methods ``"10_4"``,
+        ``"8_6_4"``, ``"10_6_4"``, ``"h8_4_4"``, ``"h8_6_4"``, ``"h10_6_4"`` (see
+        :mod:`~poissonkit.numerics.integrators.wh_tables`; ``stages`` is then ignored).
+    correctors
+        Order 3, 5, 7, 11 or 17 of the Wisdom–Holman–Touma symplectic corrector applied to the
+        map with ``stages = 1`` (as WHFast's ``corrector``), 0 for none: the state is carried in
+        processed coordinates and corrected only where it is written out.
 
     Notes
     -----
     Needs an :class:`~poissonkit.numerics.nbody.NBodySystem` of moving point masses (no tops, no
     fixed bodies) with orientation-free potentials including Newtonian gravity between every
-    pair (``AllPairs("gravity")``); body 0 is the central mass.
+    pair (``AllPairs("gravity")``); body 0 is the central mass. When gravity is the only
+    interaction (and there is no cutoff) the kick is a dedicated pair loop.
     """
 
     family = "hierarchical"
     capabilities = WISDOM_HOLMAN
 
-    def __init__(self, stages: int = 1, corrector: bool = False) -> None:
-        self.c, self.d = saba_coefficients(int(stages))
+    def __init__(self, stages: int = 1, corrector: bool = False, table: str = "",
+                 correctors: int = 0) -> None:
+        self.table = str(table)
+        self.correctors = int(correctors)
         self.stages = int(stages)
         self.corrector = bool(corrector)
-        self.order = 4 if (self.corrector and self.stages >= 2) else 2
-        self.name = f"wisdom_holman{'_corrected' if corrector else ''}" + (
-            f"{self.stages}" if self.stages != 1 else "")
+        if self.table:
+            if self.corrector or self.correctors:
+                raise InputError("the Blanes et al. tables take no corrector")
+            self.c, self.d = blanes_coefficients(self.table)
+            self.order = min(TABLE_ORDERS[self.table])
+        else:
+            self.c, self.d = saba_coefficients(self.stages)
+            self.order = 4 if (self.corrector and self.stages >= 2) else 2
+        # corrector kick τ = g h³ on each side of a step (SABAC_n: g = −g_n/2). With the
+        # symplectic corrector, the ε² h² term left by the conjugation is half the kernel's:
+        # half the kick cancels both (as WHFast's modified kick, h²/12 of the jerk per step,
+        # against SABACM_1's h²/6)
+        self.g = -CORRECTOR_G[self.stages] / 2.0 if self.corrector else 0.0
+        if self.corrector and self.correctors:
+            self.g /= 2.0
+        self.proc = np.zeros((0, 2))
+        if self.correctors:
+            if self.table or self.stages != 1:
+                raise InputError("symplectic correctors (correctors=k) apply to the Wisdom–Holman"
+                                 f" map, stages=1; got stages={self.stages}")
+            self.proc = corrector_operators(self.correctors)
+        base = "wisdom_holman" + ("_corrected" if corrector else "")
+        if self.table:
+            self.name = f"{base}_{self.table}"
+        else:
+            self.name = base + (f"{self.stages}" if self.stages != 1 else "")
+        if self.correctors:
+            self.name += f"_c{self.correctors}"
 
     def integrate(self, system: System, y0: np.ndarray, t_end: float, *,
                   step: float | None, tol: float | None, events: Sequence[Event] = (),
@@ -441,8 +835,12 @@ class WisdomHolman:
         """Integrate from ``t0`` to ``t_end`` with fixed step ``step`` on the shared driver
         (:func:`~poissonkit.numerics.integrators.driver.drive`: located events, checkpoints,
         streaming, stop requests)."""
-        if not (isinstance(system, HasGravity) and isinstance(system, HasBodies)
-                and isinstance(system, HasCompiledKernels)) or system.kernels.forces is None:
+        from poissonkit.numerics.nbody.system import NBodySystem
+
+        # (an NBodySystem has all three; the Protocol checks are slow next to a short run)
+        if not (isinstance(system, NBodySystem) or (
+                isinstance(system, HasGravity) and isinstance(system, HasBodies)
+                and isinstance(system, HasCompiledKernels))) or system.kernels.forces is None:
             raise InputError(f"{self.name} needs an NBodySystem of point masses with gravity; "
                              f"{type(system).__name__} is not one — use a splitting instead")
         G = system.gravity_constant()  # raises a typed error naming what is missing
@@ -455,16 +853,21 @@ class WisdomHolman:
         n_total = max(1, math.ceil(span / h - 1e-12))
         h = span / n_total
         contact, escape, watch = event_thresholds(events)
-        run = _runner(kernels)
+        run, process = _runner(kernels, _gravity_only(system))
         y = np.array(y0, dtype=float)
         m = np.ascontiguousarray(system.data[0], dtype=float)
         eta = np.cumsum(m)
+        mfrac, inv_eta = m / eta, 1.0 / eta
         gm = G * eta
-        xj, uj = _jacobi_of(y, m)
-        tau = -CORRECTOR_G[self.stages] * h ** 3 / 2.0 if self.corrector else 0.0
+        gmass = G * m
         data, work = system.data, system.work()
+        proc = self.proc
+        xj, uj = _jacobi_of(y, m)
+        if proc.shape[0]:  # physical → processed coordinates
+            process(xj, uj, proc, -1.0, h, m, mfrac, inv_eta, gm, gmass, data, work)
+        tau = self.g * h ** 3
         c, dk = self.c, self.d
-        per_step = self.stages + (3 if self.corrector else 0)
+        per_step = dk.shape[0] + (3 if self.corrector else 0)
         scratch = SaveBuffer(y.size, 4)
         no_hist = np.zeros(5)
 
@@ -473,18 +876,19 @@ class WisdomHolman:
             start = {key: arr.copy() for key, arr in st.carry.items()}
             try:
                 status, t_new, k, nsave, value = run(
-                    st.y, st.carry["xj"], st.carry["uj"], st.carry["merge"], m, eta, gm, t0, h,
-                    n_total, c, dk, tau, data, work, save_every, st.steps, max_steps, buf.cur_t,
-                    buf.cur_y, contact, escape, watch, st.prev, st.prev2, st.hist)
+                    st.y, st.carry["xj"], st.carry["uj"], st.carry["merge"], m, mfrac, inv_eta,
+                    gm, gmass, t0, h, n_total, c, dk, tau, proc, data, work, save_every,
+                    st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, st.prev,
+                    st.prev2, st.hist)
             except ZeroDivisionError:
                 raise locate_division(self.name, _replay(start), st.y, st.t, st.steps) from None
             return status, t_new, k, nsave, k * per_step, value
 
         def _replay(start: dict[str, np.ndarray]) -> StepFn:
             def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
-                out = run(ys, start["xj"], start["uj"], start["merge"], m, eta, gm, t0, h,
-                          n_total, c, dk, tau, data, work, save_every, done, 1, scratch.cur_t,
-                          scratch.cur_y, 0.0, 0.0, 0.0, ys, ys, no_hist)
+                out = run(ys, start["xj"], start["uj"], start["merge"], m, mfrac, inv_eta, gm,
+                          gmass, t0, h, n_total, c, dk, tau, proc, data, work, save_every, done,
+                          1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, ys, ys, no_hist)
                 return out[0], out[1]
             return one_step
 
@@ -492,9 +896,12 @@ class WisdomHolman:
             # one whole step of length s from a state (event location)
             yc = np.array(ys, dtype=float)
             xs, us = _jacobi_of(yc, m)
-            ts = -CORRECTOR_G[self.stages] * s ** 3 / 2.0 if self.corrector else 0.0
-            run(yc, xs, us, np.zeros(2), m, eta, gm, 0.0, s, 1, c, dk, ts, data, work, 1, 0, 1,
-                scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, yc, yc, no_hist)
+            if proc.shape[0]:
+                process(xs, us, proc, -1.0, s, m, mfrac, inv_eta, gm, gmass, data, work)
+            ts = self.g * s ** 3
+            run(yc, xs, us, np.zeros(2), m, mfrac, inv_eta, gm, gmass, 0.0, s, 1, c, dk, ts,
+                proc, data, work, 1, 0, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, yc, yc,
+                no_hist)
             return yc
 
         problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
@@ -507,7 +914,20 @@ class WisdomHolman:
                     carry={"xj": xj, "uj": uj, "merge": np.zeros(2)})
         raw.nfev = raw.steps * per_step
         raw.extra.update(step=h, stages=self.stages, corrector=self.corrector)
+        if self.table:
+            raw.extra["table"] = self.table
+        if self.correctors:
+            raw.extra["correctors"] = self.correctors
         return raw
+
+
+def _gravity_only(system: System) -> bool:
+    """True when Newtonian gravity over all bodies is the system's only interaction (and no
+    cutoff applies): the kick can then use :func:`gravity_kick_accel`."""
+    from poissonkit.numerics.nbody.system import NBodySystem
+
+    return (isinstance(system, NBodySystem) and len(system.interactions) == 1
+            and system.cutoff is None)
 
 
 def _jacobi_of(y: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
