@@ -15,9 +15,11 @@ from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
+import numpy as np
+
 from poissonkit.conventions import MU0
 from poissonkit.errors import InputError
-from poissonkit.numerics.jit import jit
+from poissonkit.numerics.jit import compile_generated, jit
 from poissonkit.plugin.contributions import Param
 from poissonkit_magnets import analytic, cylinder, fields, loops
 
@@ -229,6 +231,46 @@ def kernel(name: str, params: Mapping[str, Any]) -> Callable[..., Any]:
         with _lock:
             _kernels[key] = hit
     return hit
+
+
+def _layout(args: tuple) -> tuple[object, ...]:
+    """Which core arguments are run-time floats (``None``) and which integers stay constants
+    (node counts shape the quadrature loops)."""
+    return tuple(a if isinstance(a, (int, np.integer)) and not isinstance(a, bool) else None
+                 for a in args)
+
+
+def param_kernel(name: str, params: Mapping[str, Any]) -> Callable[..., Any]:
+    """Compiled ``f(r, c1, c2, c3, P) -> (U, U_r, U_c1, U_c2, U_c3)`` reading the float
+    arguments of the core from ``P`` (:func:`param_values`); one function per model and
+    integer settings, whatever the float values."""
+    model = BY_NAME[name]
+    layout = _layout(model.args(params))
+    key = ("P", name, layout)
+    with _lock:
+        hit = _kernels.get(key)
+    if hit is None:
+        parts, k = [], 0
+        for a in layout:
+            if a is None:
+                parts.append(f"P[{k}]")
+                k += 1
+            else:
+                parts.append(repr(int(a)))
+        source = (f"def kernel_{name}(r, c1, c2, c3, P):\n"
+                  f"    return core(r, c1, c2, c3, {', '.join(parts)})")
+        hit = compile_generated(source, f"kernel_{name}", {"core": model.core},
+                                error_model="python")
+        with _lock:
+            _kernels[key] = hit
+    return hit
+
+
+def param_values(name: str, params: Mapping[str, Any]) -> tuple[float, ...]:
+    """The float arguments of model ``name``'s core for resolved ``params`` (the array ``P`` of
+    :func:`param_kernel`), derived quantities included (e.g. effective half-lengths)."""
+    args = BY_NAME[name].args(params)
+    return tuple(float(a) for a, slot in zip(args, _layout(args)) if slot is None)
 
 
 def evaluate(name: str, params: Mapping[str, Any], r: float, c1: float, c2: float, c3: float
