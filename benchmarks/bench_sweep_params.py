@@ -19,6 +19,7 @@ warm ones three times, alternating; the ratios use the fastest of each.
 
     python benchmarks/bench_sweep_params.py            # disk cache warm
     python benchmarks/bench_sweep_params.py --cold     # every sweep compiles its kernels
+    python benchmarks/bench_sweep_params.py --per-pair # force loop: run-time vs constants
 """
 
 from __future__ import annotations
@@ -51,10 +52,63 @@ def one_sweep(client, path: str, lo: float, hi: float) -> tuple[float, int]:
     return t, sum(client.run(compilations).values()) - before
 
 
+def per_pair_cost() -> None:
+    """ns per pair of the force loop with parameters as run-time data and compiled in."""
+    import dataclasses
+
+    import numpy as np
+
+    from poissonkit.numerics.nbody import AllPairs, Body, Interaction, NBodySystem
+    from poissonkit.plugin import potential
+
+    rng = np.random.default_rng(0)
+    n = 400
+    pos = rng.uniform(-1.0, 1.0, (n, 3))
+    nu = rng.normal(size=(n, 3))
+    nu /= np.linalg.norm(nu, axis=1)[:, None]
+    zero = np.zeros((n, 3))
+    cases = {
+        "gravity (expression; G)": ("gravity", {"G": 1.0}, False, ("G",)),
+        "dipole (plugin kernel; moments, mu0)": ("dipole", {"moment1": 0.1, "moment2": 0.1},
+                                                  True, None),
+        "dumbbell (plugin kernel; moments, lengths)": (
+            "dumbbell", {"moment1": 0.1, "moment2": 0.1, "half_length1": 0.01,
+                         "half_length2": 0.01}, True, None),
+    }
+    pairs = n * (n - 1) // 2
+    for label, (name, params, tops, constants) in cases.items():
+        entry = potential(name)
+        const = (dataclasses.replace(entry, constant_params=constants) if constants else
+                 dataclasses.replace(entry, param_kernel=None, param_values=None))
+        best = {}
+        for form, e in (("run-time", entry), ("constant", const)):
+            bodies = [Body(f"b{k}", 1.0, alpha=1.0 if tops else None) for k in range(n)]
+            inter = ([Interaction(i, j, e, params) for i in range(n) for j in range(i + 1, n)]
+                     if tops else [AllPairs(e, params)])
+            sys = NBodySystem(bodies, inter, scales=None)
+            y = sys.pack(pos, zero, nu if tops else None, zero if tops else None)
+            sys.forces(y)
+            ts = []
+            for _ in range(7):
+                t0 = time.perf_counter()
+                sys.forces(y)
+                ts.append(time.perf_counter() - t0)
+            best[form] = min(ts) / pairs * 1e9
+        print(f"per pair, {label:44s} run-time {best['run-time']:6.1f} ns, constants "
+              f"{best['constant']:6.1f} ns ({best['run-time'] / best['constant']:.2f}x)")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--cold", action="store_true", help="empty kernel cache for every sweep")
+    ap.add_argument("--per-pair", action="store_true",
+                    help="only the per-pair cost of run-time parameters against constants")
     args = ap.parse_args()
+    if args.per_pair:
+        print(f"load average {os.getloadavg()}")
+        per_pair_cost()
+        print(f"load average {os.getloadavg()}")
+        return
     print(f"{POINTS}-point sweeps of {SCENE.name}, 1 worker; load average {os.getloadavg()}")
     if args.cold:
         os.environ["POISSONKIT_CACHE_DIR"] = "off"
