@@ -187,3 +187,43 @@ def test_expression_that_needs_numbers_falls_back_to_constants():
     rk = runtime_potential(needs_numbers, {"k": 9.0})
     assert rk.values == ()
     assert rk.kernel(2.0, 0.0, 0.0, 0.0)[0] == pytest.approx(1.5)
+
+
+_SECOND_PROCESS = """
+import math, sys
+import sympy as sp
+from poissonkit.numerics.nbody import AllPairs, Body, NBodySystem
+from poissonkit.plugin import PairPotential, Param
+from poissonkit.sweeps.compiles import compilations, count_compilations
+R = sp.Symbol("r", real=True)
+Y = PairPotential(name="yk2", doc="U = -k exp(-r/lam)/r.",
+                  params=(Param("k", default=1.0, positive=True),
+                          Param("lam", default=1.0, positive=True)),
+                  expr=lambda p: -p["k"] * sp.exp(-R / p["lam"]) / R, orientation="none")
+count_compilations()
+s = NBodySystem([Body("a", 1.0), Body("b", 1.0)], [AllPairs(Y, {"lam": float(sys.argv[1])})],
+                parallel=False)
+F, T, U = s.forces(s.pack([[0, 0, 0], [2.0, 0, 0]], [[0, 0, 0], [0, 0, 0]]))
+print(compilations(), repr(U))
+"""
+
+
+@pytest.mark.slow
+def test_second_process_compiles_nothing_for_other_values(tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "POISSONKIT_CACHE_DIR": str(tmp_path / "cache")}
+
+    def run(lam):
+        out = subprocess.run([sys.executable, "-c", _SECOND_PROCESS, str(lam)], env=env,
+                             capture_output=True, text=True, check=True)
+        n, u = out.stdout.split()
+        return int(n), float(u)
+
+    n1, u1 = run(0.5)
+    n2, u2 = run(0.9)  # a new value in a new process: everything from the disk cache
+    assert n1 > 0 and n2 == 0
+    assert u1 == pytest.approx(-math.exp(-4.0) / 2.0, rel=1e-15)
+    assert u2 == pytest.approx(-math.exp(-2.0 / 0.9) / 2.0, rel=1e-15)
