@@ -86,7 +86,7 @@ def kernel_from_expr(expr: sp.Expr, name: str = "pair",
         return hit
     check_free_symbols([expr], (R, C1, C2, C3) + extra, f"potential {name!r}")
     fname = "pair_" + "".join(ch if ch.isalnum() else "_" for ch in name)
-    args = ("r", "c1", "c2", "c3") + tuple(f"_b{k}" for k in range(len(extra)))
+    args = ("r", "c1", "c2", "c3") + _extra_names(extra)
 
     def generate() -> str:
         outs = [expr] + [sp.diff(expr, s) for s in (R, C1, C2, C3)]
@@ -97,6 +97,15 @@ def kernel_from_expr(expr: sp.Expr, name: str = "pair",
         _cache[key] = kern
         _sources[id(kern)] = (expr, name, extra, kern)
     return kern
+
+
+def _extra_names(extra: tuple[sp.Symbol, ...]) -> tuple[str, ...]:
+    """Argument names of the extra symbols: ``_a<k>`` for run-time parameters (symbols named
+    ``_param_*``), ``_b<k>`` for body values. The names order the factors of the printed
+    products: a parameter sorts first, where its number stood when it was a constant, so a
+    product like ``-G m1 m2 / r`` is evaluated in the same order (same bits) either way."""
+    return tuple(f"_a{k}" if s.name.startswith("_param_") else f"_b{k}"
+                 for k, s in enumerate(extra))
 
 
 #: expression behind each kernel compiled from one (kept with the kernel, so ids stay unique)
@@ -121,7 +130,7 @@ def radial_kernel(kern: CompiledFunction) -> CompiledFunction:
     if src is not None and not (src[0].free_symbols & {C1, C2, C3}):
         expr, name, extra, _ = src
         fname = "radial_" + "".join(ch if ch.isalnum() else "_" for ch in name)
-        args = ("q",) + tuple(f"_b{k}" for k in range(len(extra)))
+        args = ("q",) + _extra_names(extra)
 
         def generate() -> str:
             outs = [expr.subs(R, 1 / Q), (sp.diff(expr, R) / R).subs(R, 1 / Q)]
@@ -287,8 +296,9 @@ class RuntimeKernel(NamedTuple):
     values
         The run-time parameter values, in argument order (empty: everything is constant).
     array
-        Whether the values go in as one array (a plugin's :attr:`~poissonkit.plugin.
-        PairPotential.param_kernel`) or as scalars (kernels generated from an ``expr``).
+        Whether the values go in as one array (a plugin's ``param_kernel``, see
+        :class:`~poissonkit.plugin.PairPotential`) or as scalars (kernels generated from an
+        ``expr``).
     """
 
     kernel: CompiledFunction
@@ -300,8 +310,11 @@ class RuntimeKernel(NamedTuple):
 #: the parameter-free kernel of (entry, constant params, run-time names, bound slots)
 _runtime_cache: dict[tuple[object, ...], tuple[CompiledFunction, tuple[tuple[str, int], ...],
                                                 PairPotential]] = {}
-#: entries whose expr failed with symbolic parameters (they use constants)
-_symbolic_failed: set[tuple[object, ...]] = set()
+#: keys whose expr failed with symbolic parameters (they use constants), with the entry kept
+#: alive so its id stays unique
+_symbolic_failed: dict[tuple[object, ...], PairPotential] = {}
+
+
 def runtime_names(entry: PairPotential, resolved: Mapping[str, object],
                   exclude: frozenset[str] | set[str] = frozenset()) -> tuple[str, ...]:
     """The parameters of ``entry`` passed at run time: its float parameters present in
@@ -320,7 +333,7 @@ def runtime_potential(entry: PairPotential, params: Mapping[str, object] | None 
     Parameters
     ----------
     entry
-        The registry entry. A :attr:`~poissonkit.plugin.PairPotential.param_kernel` is used
+        The registry entry. Its ``param_kernel`` is used
         first (values from ``param_values``); an ``expr`` is compiled once with symbols for its
         float parameters; a plain ``kernel`` (or an ``expr`` that cannot take symbols) has
         every parameter compiled in as a constant (:func:`compile_potential`).
@@ -367,7 +380,7 @@ def runtime_potential(entry: PairPotential, params: Mapping[str, object] | None 
             raise
         except Exception:  # noqa: BLE001 - an expr that needs numbers: compile constants
             with _lock:
-                _symbolic_failed.add(key)
+                _symbolic_failed[key] = entry
             return runtime_potential(entry, given, bound)
         with _lock:
             _runtime_cache[key] = hit

@@ -158,21 +158,34 @@ def _extra_args(spec: SlotSpec, pspec: ParamSpec) -> str:
     return extra
 
 
+def unit_values(L: float, inv_e: float) -> tuple[float, float, float, float, float]:
+    """The factors the wrappers multiply by, ``(L, 1/E, L/E, 1/L, L²/E)``, each rounded once
+    exactly as when they were compiled-in constants (so the numbers are the same bits)."""
+    return (L, inv_e, L * inv_e, 1.0 / L, L * L * inv_e)
+
+
 def _wrapped(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float,
-             pspec: ParamSpec = None) -> Dispatcher:
+             pspec: ParamSpec = None, ucol: int | None = None) -> Dispatcher:
     """``w(r, c1, c2, c3, B, i, j)``: the SI kernel in internal units, bound slots read from ``B``.
 
     ``spec`` lists ``(column of B, 1 or 2)`` per extra argument of ``kern``: row ``i`` (first
     body) or ``j`` (second body); ``pspec`` places the run-time parameters in the last row of
     ``B`` (:data:`ParamSpec`). ``U/E`` as a function of ``r/L``: ``U_r`` gains ``L/E``, the
-    angular partials ``1/E``.
+    angular partials ``1/E``. With ``ucol`` the factors :func:`unit_values` are read from the
+    last row of ``B`` from that column on (``L``, ``inv_e`` are then ignored), so systems in
+    other units share the wrapper.
     """
-    key = (id(kern), spec, L, inv_e, pspec)
+    key = (id(kern), spec, L, inv_e, pspec, ucol)
     hit = _wrap_cache.get(key)
     if hit is not None:
         return hit[0]
     extra = _extra_args(spec, pspec)
-    if L == 1.0 and inv_e == 1.0:
+    if ucol is not None:
+        u = [f"B[-1, {ucol + k}]" for k in range(5)]
+        src = ("def wrapped(r, c1, c2, c3, B, i, j):\n"
+               f"    u, ur, u1, u2, u3 = base(r * {u[0]}, c1, c2, c3{extra})\n"
+               f"    return (u * {u[1]}, ur * {u[2]}, u1 * {u[1]}, u2 * {u[1]}, u3 * {u[1]})")
+    elif L == 1.0 and inv_e == 1.0:
         src = ("def wrapped(r, c1, c2, c3, B, i, j):\n"
                f"    return base(r, c1, c2, c3{extra})")
     else:
@@ -186,18 +199,23 @@ def _wrapped(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float,
 
 
 def _wrapped_radial(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float,
-                    pspec: ParamSpec = None) -> Dispatcher:
+                    pspec: ParamSpec = None, ucol: int | None = None) -> Dispatcher:
     """``w(q, B, i, j) -> (U, U_r/r)`` in internal units, ``q = 1/r``: the fast-path kernel.
 
-    With ``r = r_int L``: ``q_SI = q / L``, ``U_int = U/E``, ``(U_r/r)_int = (U_r/r) L²/E``.
+    With ``r = r_int L``: ``q_SI = q / L``, ``U_int = U/E``, ``(U_r/r)_int = (U_r/r) L²/E``;
+    ``ucol`` as in :func:`_wrapped`.
     """
-    key = ("radial", id(kern), spec, L, inv_e, pspec)
+    key = ("radial", id(kern), spec, L, inv_e, pspec, ucol)
     hit = _wrap_cache.get(key)
     if hit is not None:
         return hit[0]
     base = radial_kernel(kern)
     extra = _extra_args(spec, pspec)
-    if L == 1.0 and inv_e == 1.0:
+    if ucol is not None:
+        src = ("def wrapped_r(q, B, i, j):\n"
+               f"    u, f = base(q * B[-1, {ucol + 3}]{extra})\n"
+               f"    return (u * B[-1, {ucol + 1}], f * B[-1, {ucol + 4}])")
+    elif L == 1.0 and inv_e == 1.0:
         src = f"def wrapped_r(q, B, i, j):\n    return base(q{extra})"
     else:
         src = ("def wrapped_r(q, B, i, j):\n"

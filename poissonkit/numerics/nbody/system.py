@@ -35,6 +35,7 @@ from poissonkit.numerics.nbody.pairkernels import (
     _wrapped,
     _wrapped_radial,
     resolve_runtime,
+    unit_values,
 )
 from poissonkit.numerics.units import Scales
 from poissonkit.plugin.contributions import PairPotential
@@ -189,6 +190,7 @@ class NBodySystem:
         rkerns: list[Dispatcher | None] = []
         attr_cols: dict[str, int] = {}
         param_cols: dict[int, float] = {}
+        unit_col: list[int] = []
         inv_e = 1.0 / E
 
         def next_col() -> int:
@@ -208,15 +210,19 @@ class NBodySystem:
             key = (id(kern), spec, tuple(np.float64(v).tobytes() for v in values))
             if key not in kern_ids:
                 kern_ids[key] = len(kerns)
-                lu, eu = (L, inv_e) if scales else (1.0, 1.0)
+                if scales and not unit_col:  # the units are data too (see unit_values)
+                    unit_col.append(next_col())
+                    for v in unit_values(L, inv_e):
+                        param_cols[next_col()] = v
                 pspec = None
                 if values:
                     pspec = (next_col(), len(values), array)
                     for v in values:
                         param_cols[next_col()] = v
-                kerns.append(_wrapped(kern, spec, lu, eu, pspec))
-                rkerns.append(_wrapped_radial(kern, spec, lu, eu, pspec) if orient == "none"
-                              else None)
+                ucol = unit_col[0] if scales else None
+                kerns.append(_wrapped(kern, spec, 1.0, 1.0, pspec, ucol))
+                rkerns.append(_wrapped_radial(kern, spec, 1.0, 1.0, pspec, ucol)
+                              if orient == "none" else None)
             return kern_ids[key], orient
 
         pairs: list[tuple[int, int, int]] = []
