@@ -184,7 +184,8 @@ class NBodySystem:
 
         # kernels: one per distinct (potential, params, bound slots), in internal units;
         # parameters bound to body attributes are read per pair from the table B (SI values),
-        # run-time parameters (SI) from an extra last row of B, so other values compile nothing
+        # run-time parameters (SI) and the unit factors from an extra last row of B, so other
+        # values compile nothing
         kern_ids: dict[tuple, int] = {}
         kerns: list[Dispatcher] = []
         rkerns: list[Dispatcher | None] = []
@@ -264,7 +265,7 @@ class NBodySystem:
             else:
                 raise InputError(f"interactions must be Interaction or AllPairs, got "
                                  f"{type(it).__name__}")
-        # rows: the bodies, then (only with run-time parameters) one row of parameter values
+        # rows: the bodies, then (with run-time parameters or units) one row of their values
         table = np.zeros((len(bodies) + (1 if param_cols else 0), max(1, next_col())))
         for a, c in attr_cols.items():
             for k, b in enumerate(bodies):
