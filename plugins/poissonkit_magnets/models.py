@@ -289,7 +289,7 @@ def param_kernel(name: str, params: Mapping[str, Any]) -> Callable[..., Any]:
 
 def param_values(name: str, params: Mapping[str, Any]) -> tuple[float, ...]:
     """The float arguments of model ``name``'s core (its folded core where it has one) for
-    resolved ``params``: the array ``P`` of :func:`param_kernel`, derived quantities included
+    resolved ``params``: the tuple ``P`` of :func:`param_kernel`, derived quantities included
     (e.g. effective half-lengths)."""
     model = BY_NAME[name]
     args = model.args(params) if model.fold is None else model.fold(params)

@@ -290,7 +290,7 @@ class RuntimeKernel(NamedTuple):
     kernel
         ``f(r, c1, c2, c3, *body values, *params) -> (U, U_r, U_c1, U_c2, U_c3)`` when
         ``array`` is false (one float argument per value of ``values``, after one per body
-        slot), else ``f(r, c1, c2, c3, P)`` with ``P`` the float64 array of ``values``.
+        slot), else ``f(r, c1, c2, c3, P)`` with ``P`` the tuple of ``values``.
     slots
         ``(body attribute, 1 or 2)`` of each body-bound argument (empty for ``array``).
     values

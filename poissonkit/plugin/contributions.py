@@ -182,13 +182,15 @@ class PairPotential(Entry):
         the largest ``|U|`` at that length (:func:`poissonkit.scene.assembly.auto_scales`).
     param_kernel
         Optional ``param_kernel(params) -> f``: a numba ``njit`` function ``f(r, c1, c2, c3, P)
-        -> (U, U_r, U_c1, U_c2, U_c3)`` reading its run-time parameters from the 1-D float64
-        array ``P`` (filled by :attr:`param_values`). It must return the *same* function for
+        -> (U, U_r, U_c1, U_c2, U_c3)`` reading its run-time parameters from ``P``, a tuple of
+        floats indexed like an array (``P[0]``, ``P[1]``, …; filled by :attr:`param_values`;
+        a tuple rather than a view of an array, which would cost two atomic reference counts
+        per call). It must return the *same* function for
         parameter sets that differ only in the values of ``P`` (cache it on the parameters
         that shape the code, e.g. integer node counts): the numerics then compile a system's
         force loops once for every value. Used before :attr:`kernel` when given.
     param_values
-        ``param_values(params) -> sequence of floats``: the array ``P`` of
+        ``param_values(params) -> sequence of floats``: the values of ``P`` of
         :attr:`param_kernel` for resolved parameters (required with it).
     constant_params
         Float parameters of :attr:`expr` compiled in as constants instead of passed at run

@@ -147,12 +147,12 @@ def _compile_wrapper(source: str, name: str, namespace: dict[str, Dispatcher]) -
 
 def _extra_args(spec: SlotSpec, pspec: ParamSpec) -> str:
     """Source of the extra arguments of a kernel: body slots from rows ``i``/``j`` of ``B``,
-    run-time parameters from its last row (scalars, or one array slice)."""
+    run-time parameters from its last row (scalars, or one tuple of floats ``P``)."""
     extra = "".join(f", B[{'i' if w == 1 else 'j'}, {c}]" for c, w in spec)
     if pspec is not None:
         first, count, array = pspec
-        if array:
-            extra += f", B[-1, {first}:{first + count}]"
+        if array:  # a tuple, not a view of B: a view costs two atomic reference counts
+            extra += ", (" + "".join(f"B[-1, {first + k}], " for k in range(count)) + ")"
         else:
             extra += "".join(f", B[-1, {first + k}]" for k in range(count))
     return extra
