@@ -14,11 +14,32 @@ from numba import njit
 R, C1, C2, C3 = sp.symbols("r c1 c2 c3", real=True)
 
 
+def dipole_strength(moment1: float, moment2: float, mu0: float) -> float:
+    """``mu0 m1 m2``, rounded as :func:`dipole_core` rounds it (the folded argument of
+    :func:`dipole_core_k`)."""
+    return mu0 * moment1 * moment2
+
+
+def dumbbell_strength(moment1: float, moment2: float, l1: float, l2: float, mu0: float
+                      ) -> float:
+    """``mu0 (m1/2l1)(m2/2l2)/(4 pi)``, rounded as :func:`dumbbell_core` rounds it (the folded
+    argument of :func:`dumbbell_core_k`)."""
+    return mu0 * (moment1 / (2.0 * l1)) * (moment2 / (2.0 * l2)) / (4.0 * math.pi)
+
+
 @njit(cache=True)
 def dipole_core(r: float, c1: float, c2: float, c3: float, moment1: float, moment2: float,
                 mu0: float) -> tuple[float, float, float, float, float]:
     """Two point dipoles: ``U = mu0 m1 m2 (c3 - 3 c1 c2) / (4 pi r^3)`` and its partials."""
-    k = mu0 * moment1 * moment2 / (4.0 * math.pi * r ** 3)
+    return dipole_core_k(r, c1, c2, c3, mu0 * moment1 * moment2)
+
+
+@njit(cache=True)
+def dipole_core_k(r: float, c1: float, c2: float, c3: float, strength: float
+                  ) -> tuple[float, float, float, float, float]:
+    """:func:`dipole_core` with ``strength = mu0 m1 m2`` computed once per pair of magnets
+    (what a compiled-in constant gave for free: run-time parameters keep the per-pair cost)."""
+    k = strength / (4.0 * math.pi * r ** 3)
     u = k * (c3 - 3.0 * c1 * c2)
     return u, -3.0 * u / r, -3.0 * k * c2, -3.0 * k * c1, k
 
@@ -28,6 +49,14 @@ def dumbbell_core(r: float, c1: float, c2: float, c3: float, moment1: float, mom
                   l1: float, l2: float, mu0: float) -> tuple[float, float, float, float, float]:
     """Two dumbbells, charges ``+-mu/(2l)`` at ``+-l nu`` (seed 000 eq. (16)) and partials."""
     kap = mu0 * (moment1 / (2.0 * l1)) * (moment2 / (2.0 * l2)) / (4.0 * math.pi)
+    return dumbbell_core_k(r, c1, c2, c3, kap, l1, l2)
+
+
+@njit(cache=True)
+def dumbbell_core_k(r: float, c1: float, c2: float, c3: float, kap: float, l1: float,
+                    l2: float) -> tuple[float, float, float, float, float]:
+    """:func:`dumbbell_core` with ``kap`` (:func:`dumbbell_strength`) computed once per pair of
+    magnets instead of three divisions per call."""
     u = 0.0
     ur = 0.0
     u1 = 0.0

@@ -15,9 +15,11 @@ from dataclasses import dataclass
 from functools import partial
 from typing import Any
 
+import numpy as np
+
 from poissonkit.conventions import MU0
 from poissonkit.errors import InputError
-from poissonkit.numerics.jit import jit
+from poissonkit.numerics.jit import compile_generated, jit
 from poissonkit.plugin.contributions import Param
 from poissonkit_magnets import analytic, cylinder, fields, loops
 
@@ -36,6 +38,13 @@ class Model:
         ``args(params) -> tuple`` of the core's extra arguments (SI floats and ints).
     expr
         ``expr(params) -> sympy.Expr`` or ``None`` when U has no closed form.
+    folded
+        Optional core ``folded(r, c1, c2, c3, *fold(params))`` taking the per-pair constants
+        already combined (e.g. ``mu0 m1 m2``): the run-time-parameter kernel
+        (:func:`param_kernel`) then does no more work per call than one with constants
+        compiled in, and gives the same bits.
+    fold
+        ``fold(params) -> tuple`` of floats for ``folded``.
     """
 
     name: str
@@ -44,6 +53,8 @@ class Model:
     core: Callable[..., tuple[float, float, float, float, float]]
     args: Callable[[Mapping[str, Any]], tuple]
     expr: Callable[[Mapping[str, Any]], Any] | None = None
+    folded: Callable[..., tuple[float, float, float, float, float]] | None = None
+    fold: Callable[[Mapping[str, Any]], tuple] | None = None
 
 
 def _p(name: str, doc: str, unit: str, positive: bool = False, default: Any = None,
@@ -81,6 +92,10 @@ def _self_inductances(p: Mapping[str, Any]) -> tuple[float, float]:
         raise InputError(f"superconducting_rings: {exc}") from None
 
 
+def _dumbbell_fold(m1: float, m2: float, l1: float, l2: float, mu0: float) -> tuple:
+    return (analytic.dumbbell_strength(m1, m2, l1, l2, mu0), l1, l2)
+
+
 MODELS: tuple[Model, ...] = (
     Model(
         "dipole",
@@ -90,6 +105,8 @@ MODELS: tuple[Model, ...] = (
         analytic.dipole_core,
         lambda p: (p["moment1"], p["moment2"], p["mu0"]),
         lambda p: analytic.dipole_expr(p["moment1"], p["moment2"], p["mu0"]),
+        analytic.dipole_core_k,
+        lambda p: (analytic.dipole_strength(p["moment1"], p["moment2"], p["mu0"]),),
     ),
     Model(
         "dumbbell",
@@ -103,6 +120,9 @@ MODELS: tuple[Model, ...] = (
         lambda p: (p["moment1"], p["moment2"], p["half_length1"], p["half_length2"], p["mu0"]),
         lambda p: analytic.dumbbell_expr(p["moment1"], p["moment2"], p["half_length1"],
                                          p["half_length2"], p["mu0"]),
+        analytic.dumbbell_core_k,
+        lambda p: _dumbbell_fold(p["moment1"], p["moment2"], p["half_length1"],
+                                 p["half_length2"], p["mu0"]),
     ),
     Model(
         "dumbbell_octupole",
@@ -113,6 +133,8 @@ MODELS: tuple[Model, ...] = (
         analytic.dumbbell_core,
         _octupole_args,
         lambda p: analytic.dumbbell_expr(*_octupole_args(p)),
+        analytic.dumbbell_core_k,
+        lambda p: _dumbbell_fold(*_octupole_args(p)),
     ),
     Model(
         "cylinder",
@@ -229,6 +251,49 @@ def kernel(name: str, params: Mapping[str, Any]) -> Callable[..., Any]:
         with _lock:
             _kernels[key] = hit
     return hit
+
+
+def _layout(args: tuple) -> tuple[object, ...]:
+    """Which core arguments are run-time floats (``None``) and which integers stay constants
+    (node counts shape the quadrature loops)."""
+    return tuple(a if isinstance(a, (int, np.integer)) and not isinstance(a, bool) else None
+                 for a in args)
+
+
+def param_kernel(name: str, params: Mapping[str, Any]) -> Callable[..., Any]:
+    """Compiled ``f(r, c1, c2, c3, P) -> (U, U_r, U_c1, U_c2, U_c3)`` reading the float
+    arguments of the core from ``P`` (:func:`param_values`); one function per model and
+    integer settings, whatever the float values."""
+    model = BY_NAME[name]
+    core = model.core if model.folded is None else model.folded
+    layout = _layout(model.args(params) if model.fold is None else model.fold(params))
+    key = ("P", name, layout)
+    with _lock:
+        hit = _kernels.get(key)
+    if hit is None:
+        parts, k = [], 0
+        for a in layout:
+            if a is None:
+                parts.append(f"P[{k}]")
+                k += 1
+            else:
+                parts.append(repr(int(a)))
+        source = (f"def kernel_{name}(r, c1, c2, c3, P):\n"
+                  f"    return core(r, c1, c2, c3, {', '.join(parts)})")
+        hit = compile_generated(source, f"kernel_{name}", {"core": core},
+                                error_model="python")
+        with _lock:
+            _kernels[key] = hit
+    return hit
+
+
+def param_values(name: str, params: Mapping[str, Any]) -> tuple[float, ...]:
+    """The float arguments of model ``name``'s core (its folded core where it has one) for
+    resolved ``params``: the tuple ``P`` of :func:`param_kernel`, derived quantities included
+    (e.g. effective half-lengths)."""
+    model = BY_NAME[name]
+    args = model.args(params) if model.fold is None else model.fold(params)
+    return tuple(float(a) for a, slot in zip(args, _layout(args)) if slot is None)
 
 
 def evaluate(name: str, params: Mapping[str, Any], r: float, c1: float, c2: float, c3: float

@@ -14,7 +14,7 @@ from functools import partial
 from poissonkit.plugin.contributions import ModelFamily, PairPotential, Param, SceneEntry
 from poissonkit.plugin.hookspecs import hookimpl
 from poissonkit_magnets.family import MAGNET_FAMILY
-from poissonkit_magnets.models import MODELS, evaluator, kernel
+from poissonkit_magnets.models import MODELS, evaluator, kernel, param_kernel, param_values
 from poissonkit_magnets.pair_params import MAGNET_QUANTITIES, complete_params
 
 def _dipole_energy_scale(bodies, length: float) -> float | None:
@@ -35,6 +35,8 @@ def _dipole_energy_scale(bodies, length: float) -> float | None:
 _ENTRIES: tuple[PairPotential, ...] = tuple(
     PairPotential(name=m.name, doc=m.doc, params=m.params, expr=m.expr,
                   kernel=partial(kernel, m.name), orientation="both",
+                  param_kernel=partial(param_kernel, m.name),
+                  param_values=partial(param_values, m.name),
                   evaluate=partial(evaluator, m.name),
                   complete_params=partial(complete_params, tuple(p.name for p in m.params)),
                   body_quantities=MAGNET_QUANTITIES,

@@ -19,6 +19,10 @@ of everything its machine code depends on:
   tuples and arrays by value); for generated source, the source text and the tokens of its
   namespace.
 
+The float parameters of pair potentials and the units of an N-body system are run-time data
+(:func:`poissonkit.numerics.potentials.runtime_potential`), not constants of the generated code,
+so no token depends on their values: a second process with other values loads everything.
+
 Anything without a token (an object we cannot fingerprint) keeps in-memory compilation only, as
 before. The cache folder is ``$POISSONKIT_CACHE_DIR`` or ``~/.cache/poissonkit`` (``$XDG_CACHE_HOME``
 respected), one sub-folder per numba and Python version; ``POISSONKIT_CACHE_DIR=off`` disables it.

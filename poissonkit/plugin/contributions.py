@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 import numbers
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, fields
 from typing import Any
 
@@ -180,6 +180,24 @@ class PairPotential(Entry):
         scene of these bodies (:class:`poissonkit.scene.bodies.BodyModel`) whose length unit is
         ``length`` [m], or ``None`` when it does not apply. Without it the automatic units use
         the largest ``|U|`` at that length (:func:`poissonkit.scene.assembly.auto_scales`).
+    param_kernel
+        Optional ``param_kernel(params) -> f``: a numba ``njit`` function ``f(r, c1, c2, c3, P)
+        -> (U, U_r, U_c1, U_c2, U_c3)`` reading its run-time parameters from ``P``, a tuple of
+        floats indexed like an array (``P[0]``, ``P[1]``, …; filled by :attr:`param_values`;
+        a tuple rather than a view of an array, which would cost two atomic reference counts
+        per call). It must return the *same* function for
+        parameter sets that differ only in the values of ``P`` (cache it on the parameters
+        that shape the code, e.g. integer node counts): the numerics then compile a system's
+        force loops once for every value. Used before :attr:`kernel` when given.
+    param_values
+        ``param_values(params) -> sequence of floats``: the values of ``P`` of
+        :attr:`param_kernel` for resolved parameters (required with it).
+    constant_params
+        Float parameters of :attr:`expr` compiled in as constants instead of passed at run
+        time (a changed value then compiles again). Every other float parameter of an ``expr``
+        is a kernel argument: ``expr(params)`` is called once with real sympy symbols (positive
+        where the :class:`Param` says so) in their place, so it must not branch on their
+        values; an ``expr`` that fails with symbols falls back to constants.
     """
 
     expr: Callable[[dict[str, Any]], Any] | None = None
@@ -199,6 +217,9 @@ class PairPotential(Entry):
     #: parameters, for :attr:`complete_params` or the overlap check (``radius``, ``length``).
     body_quantities: tuple[str, ...] = ()
     energy_scale: Callable[..., float | None] | None = None
+    param_kernel: Callable[[Mapping[str, Any]], Callable[..., Any]] | None = None
+    param_values: Callable[[Mapping[str, Any]], Sequence[float]] | None = None
+    constant_params: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

@@ -62,8 +62,10 @@ def run_batch(scene: SweepScene, points: Sequence[tuple[int, Mapping[str, float]
     a plugin's outcome needs no plugin on the workers). An exception inside one run is that
     point's failure (message kept); it does not stop the batch.
     """
+    from poissonkit.sweeps.compiles import count_compilations
     from poissonkit.sweeps.outcomes import reduce_run
 
+    count_compilations()  # a worker reports its compilations (compiles.compilations)
     prep = _prepared(scene)
     out: list[PointResult] = []
     for idx, values in points:

@@ -1,15 +1,21 @@
 """From a pair potential as given to the compiled kernels the force loops call.
 
 Three steps, each cached: resolve what the user gave (registry entry or name, sympy
-expression, numba kernel) to an SI kernel ``f(r, c1, c2, c3[, body values]) -> (U, U_r, U_c1,
-U_c2, U_c3)``; wrap it in internal units with its per-body parameters read from the attribute
-table ``B``; and generate one dispatcher that calls kernel number ``g`` of a system, so the
-compiled loops take the potential as an integer.
+expression, numba kernel) to an SI kernel ``f(r, c1, c2, c3[, body values][, parameters]) ->
+(U, U_r, U_c1, U_c2, U_c3)``; wrap it in internal units with its per-body parameters read from
+the attribute table ``B``; and generate one dispatcher that calls kernel number ``g`` of a
+system, so the compiled loops take the potential as an integer.
+
+Parameters as data: the float parameters of a registry potential are not compiled in. They sit
+in the last row of ``B`` (one column each, after the body attributes), and the wrapper reads
+them there, so a system with other parameter values reuses every compiled kernel and loop
+(:func:`~poissonkit.numerics.potentials.runtime_potential`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from typing import Union
 
 import numba
 import sympy as sp
@@ -19,10 +25,12 @@ from poissonkit.errors import InputError
 from poissonkit.numerics.jit import compile_generated
 from poissonkit.numerics.nbody.bodies import PotentialLike
 from poissonkit.numerics.potentials import (
+    RuntimeKernel,
     compile_bound_potential,
     compile_potential,
     kernel_from_expr,
     radial_kernel,
+    runtime_potential,
 )
 from poissonkit.plugin.contributions import PairPotential
 
@@ -93,6 +101,28 @@ def _resolve_bound(potential: PotentialLike, params: Mapping[str, object]
     return kern, (), orient
 
 
+#: ``(first column of B's last row, count, as one array)`` of a kernel's run-time parameters;
+#: ``None`` when it has none.
+ParamSpec = Union[tuple[int, int, bool], None]
+
+
+def resolve_runtime(potential: PotentialLike, params: Mapping[str, object]
+                    ) -> tuple[RuntimeKernel, str]:
+    """The SI kernel of one interaction's potential with its parameters as run-time data.
+
+    As :func:`_resolve_bound`, but the float parameters of a registry potential are left out
+    of the compiled code (:func:`~poissonkit.numerics.potentials.runtime_potential`): the
+    kernel is the same for every value, and the values come back with it. Sympy expressions
+    and numba kernels given directly have no parameters and are returned as they are.
+    """
+    entry = _registry_entry(potential)
+    if entry is None:
+        kern, slots, orient = _resolve_bound(potential, params)
+        return RuntimeKernel(kern, slots, (), False), orient
+    bound = {p: (attr, int(w)) for p, attr, w in entry.body_params if p not in params}
+    return runtime_potential(entry, params, bound), entry.orientation
+
+
 #: The former private name of :func:`resolve_kernel`.
 _resolve_kernel = resolve_kernel
 
@@ -115,19 +145,47 @@ def _compile_wrapper(source: str, name: str, namespace: dict[str, Dispatcher]) -
     return compile_generated(source, name, namespace)
 
 
-def _wrapped(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float) -> Dispatcher:
+def _extra_args(spec: SlotSpec, pspec: ParamSpec) -> str:
+    """Source of the extra arguments of a kernel: body slots from rows ``i``/``j`` of ``B``,
+    run-time parameters from its last row (scalars, or one tuple of floats ``P``)."""
+    extra = "".join(f", B[{'i' if w == 1 else 'j'}, {c}]" for c, w in spec)
+    if pspec is not None:
+        first, count, array = pspec
+        if array:  # a tuple, not a view of B: a view costs two atomic reference counts
+            extra += ", (" + "".join(f"B[-1, {first + k}], " for k in range(count)) + ")"
+        else:
+            extra += "".join(f", B[-1, {first + k}]" for k in range(count))
+    return extra
+
+
+def unit_values(L: float, inv_e: float) -> tuple[float, float, float, float, float]:
+    """The factors the wrappers multiply by, ``(L, 1/E, L/E, 1/L, L²/E)``, each rounded once
+    exactly as when they were compiled-in constants (so the numbers are the same bits)."""
+    return (L, inv_e, L * inv_e, 1.0 / L, L * L * inv_e)
+
+
+def _wrapped(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float,
+             pspec: ParamSpec = None, ucol: int | None = None) -> Dispatcher:
     """``w(r, c1, c2, c3, B, i, j)``: the SI kernel in internal units, bound slots read from ``B``.
 
     ``spec`` lists ``(column of B, 1 or 2)`` per extra argument of ``kern``: row ``i`` (first
-    body) or ``j`` (second body). ``U/E`` as a function of ``r/L``: ``U_r`` gains ``L/E``, the
-    angular partials ``1/E``.
+    body) or ``j`` (second body); ``pspec`` places the run-time parameters in the last row of
+    ``B`` (:data:`ParamSpec`). ``U/E`` as a function of ``r/L``: ``U_r`` gains ``L/E``, the
+    angular partials ``1/E``. With ``ucol`` the factors :func:`unit_values` are read from the
+    last row of ``B`` from that column on (``L``, ``inv_e`` are then ignored), so systems in
+    other units share the wrapper.
     """
-    key = (id(kern), spec, L, inv_e)
+    key = (id(kern), spec, L, inv_e, pspec, ucol)
     hit = _wrap_cache.get(key)
     if hit is not None:
         return hit[0]
-    extra = "".join(f", B[{'i' if w == 1 else 'j'}, {c}]" for c, w in spec)
-    if L == 1.0 and inv_e == 1.0:
+    extra = _extra_args(spec, pspec)
+    if ucol is not None:
+        u = [f"B[-1, {ucol + k}]" for k in range(5)]
+        src = ("def wrapped(r, c1, c2, c3, B, i, j):\n"
+               f"    u, ur, u1, u2, u3 = base(r * {u[0]}, c1, c2, c3{extra})\n"
+               f"    return (u * {u[1]}, ur * {u[2]}, u1 * {u[1]}, u2 * {u[1]}, u3 * {u[1]})")
+    elif L == 1.0 and inv_e == 1.0:
         src = ("def wrapped(r, c1, c2, c3, B, i, j):\n"
                f"    return base(r, c1, c2, c3{extra})")
     else:
@@ -140,18 +198,24 @@ def _wrapped(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float) -> Dispat
     return fn
 
 
-def _wrapped_radial(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float) -> Dispatcher:
+def _wrapped_radial(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float,
+                    pspec: ParamSpec = None, ucol: int | None = None) -> Dispatcher:
     """``w(q, B, i, j) -> (U, U_r/r)`` in internal units, ``q = 1/r``: the fast-path kernel.
 
-    With ``r = r_int L``: ``q_SI = q / L``, ``U_int = U/E``, ``(U_r/r)_int = (U_r/r) L²/E``.
+    With ``r = r_int L``: ``q_SI = q / L``, ``U_int = U/E``, ``(U_r/r)_int = (U_r/r) L²/E``;
+    ``ucol`` as in :func:`_wrapped`.
     """
-    key = ("radial", id(kern), spec, L, inv_e)
+    key = ("radial", id(kern), spec, L, inv_e, pspec, ucol)
     hit = _wrap_cache.get(key)
     if hit is not None:
         return hit[0]
     base = radial_kernel(kern)
-    extra = "".join(f", B[{'i' if w == 1 else 'j'}, {c}]" for c, w in spec)
-    if L == 1.0 and inv_e == 1.0:
+    extra = _extra_args(spec, pspec)
+    if ucol is not None:
+        src = ("def wrapped_r(q, B, i, j):\n"
+               f"    u, f = base(q * B[-1, {ucol + 3}]{extra})\n"
+               f"    return (u * B[-1, {ucol + 1}], f * B[-1, {ucol + 4}])")
+    elif L == 1.0 and inv_e == 1.0:
         src = f"def wrapped_r(q, B, i, j):\n    return base(q{extra})"
     else:
         src = ("def wrapped_r(q, B, i, j):\n"

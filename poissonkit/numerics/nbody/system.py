@@ -33,9 +33,10 @@ from poissonkit.numerics.nbody.loops import _build_kernels
 from poissonkit.numerics.nbody.pairkernels import (
     _dispatcher,
     _registry_entry,
-    _resolve_bound,
     _wrapped,
     _wrapped_radial,
+    resolve_runtime,
+    unit_values,
 )
 from poissonkit.numerics.nbody.verlet import VerletState, new_verlet_state
 from poissonkit.numerics.units import Scales
@@ -202,29 +203,47 @@ class NBodySystem:
                     fnu[k] = ax / n
 
         # kernels: one per distinct (potential, params, bound slots), in internal units;
-        # parameters bound to body attributes are read per pair from the table B (SI values)
+        # parameters bound to body attributes are read per pair from the table B (SI values),
+        # run-time parameters (SI) and the unit factors from an extra last row of B, so other
+        # values compile nothing
         kern_ids: dict[tuple, int] = {}
         kerns: list[Dispatcher] = []
         rkerns: list[Dispatcher | None] = []
         attr_cols: dict[str, int] = {}
+        param_cols: dict[int, float] = {}
+        unit_col: list[int] = []
         inv_e = 1.0 / E
+
+        def next_col() -> int:
+            return len(attr_cols) + len(param_cols)
 
         def kernel_id(pot: PotentialLike, params: Mapping[str, object], i: int | None, j: int | None
                       ) -> tuple[int, str]:
-            kern, slots, orient = _resolve_bound(pot, params)
+            (kern, slots, values, array), orient = resolve_runtime(pot, params)
             needs_i = orient in ("both", "first")
             needs_j = orient in ("both", "second")
             for k, need in ((i, needs_i), (j, needs_j)):
                 if k is not None and need and not bodies[k].is_top:
                     raise InputError(f"potential {_label(pot)!s} depends on the "
                                      f"axis of body {bodies[k].name!r}, which is a point mass")
-            spec = tuple((attr_cols.setdefault(a, len(attr_cols)), w) for a, w in slots)
-            key = (id(kern), spec)
+            spec = tuple((attr_cols.setdefault(a, next_col()), w) for a, w in slots)
+            # equal values share a kernel number (by bit pattern: -0.0 is not 0.0)
+            key = (id(kern), spec, tuple(np.float64(v).tobytes() for v in values))
             if key not in kern_ids:
                 kern_ids[key] = len(kerns)
-                lu, eu = (L, inv_e) if scales else (1.0, 1.0)
-                kerns.append(_wrapped(kern, spec, lu, eu))
-                rkerns.append(_wrapped_radial(kern, spec, lu, eu) if orient == "none" else None)
+                if scales and not unit_col:  # the units are data too (see unit_values)
+                    unit_col.append(next_col())
+                    for v in unit_values(L, inv_e):
+                        param_cols[next_col()] = v
+                pspec = None
+                if values:
+                    pspec = (next_col(), len(values), array)
+                    for v in values:
+                        param_cols[next_col()] = v
+                ucol = unit_col[0] if scales else None
+                kerns.append(_wrapped(kern, spec, 1.0, 1.0, pspec, ucol))
+                rkerns.append(_wrapped_radial(kern, spec, 1.0, 1.0, pspec, ucol)
+                              if orient == "none" else None)
             return kern_ids[key], orient
 
         pairs: list[tuple[int, int, int]] = []
@@ -266,10 +285,13 @@ class NBodySystem:
             else:
                 raise InputError(f"interactions must be Interaction or AllPairs, got "
                                  f"{type(it).__name__}")
-        table = np.zeros((len(bodies), max(1, len(attr_cols))))
+        # rows: the bodies, then (with run-time parameters or units) one row of their values
+        table = np.zeros((len(bodies) + (1 if param_cols else 0), max(1, next_col())))
         for a, c in attr_cols.items():
             for k, b in enumerate(bodies):
                 table[k, c] = b.attribute(a)
+        for c, v in param_cols.items():
+            table[-1, c] = v
         self._kerns = tuple(kerns)
         self._rkerns = tuple(rkerns)
         # G in internal units (L³ / (M T²)) of a gravity interaction among all bodies, if any
