@@ -104,7 +104,9 @@ def poissonkit_scenes() -> list[SceneEntry]:
 
 @hookimpl
 def poissonkit_fields() -> list[ExternalField]:
-    """External magnetic fields: magpylib sources (tabulated) and the exact current loop."""
+    """External magnetic fields: magpylib sources (tabulated), the exact current loop and
+    cylinder."""
+    from poissonkit_magnets.exact_fields import CURRENT_LOOP, CYLINDER
     from poissonkit_magnets.magpylib_field import MAGPYLIB
 
-    return [MAGPYLIB]
+    return [MAGPYLIB, CURRENT_LOOP, CYLINDER]

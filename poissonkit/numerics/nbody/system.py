@@ -15,7 +15,7 @@ import numpy.typing as npt
 from numba.core.dispatcher import Dispatcher
 
 from poissonkit.errors import DimensionError, InputError
-from poissonkit.numerics.fields.base import FieldLike, compile_fields
+from poissonkit.numerics.fields.base import CompiledField, FieldLike, compile_fields
 from poissonkit.numerics.fields.compose import field_data, field_kernels
 from poissonkit.numerics.kernels import Kernels
 from poissonkit.numerics.nbody.bodies import (
@@ -302,6 +302,12 @@ class NBodySystem:
             raise InputError("the system needs exactly one AllPairs('gravity', ...) over all "
                              "bodies (the Kepler part of a Wisdom–Holman splitting)")
         return self._gravity
+
+    @property
+    def external_fields(self) -> tuple[CompiledField, ...]:
+        """The system's external fields (empty: a closed system, whose total linear and
+        angular momentum are conserved)."""
+        return self.fields
 
     @property
     def n_moving(self) -> int:
