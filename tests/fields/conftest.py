@@ -4,10 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-#: A cylinder magnet (magpylib keywords, SI) and the box above it the tests tabulate.
-CYLINDER = {"polarization": [0.0, 0.0, 1.0], "dimension": [0.05, 0.01]}
-REGION = (-0.01, -0.01, 0.025, 0.01, 0.01, 0.045)
-TOL = 1e-4
+from field_cases import CYLINDER, REGION, TOL
 
 
 @pytest.fixture

@@ -11,7 +11,7 @@ import poissonkit as pk
 from poissonkit.errors import InputError, PoissonkitError, UnknownNameError
 from poissonkit.numerics.fields import FieldRequest
 
-from conftest import CYLINDER, REGION, TOL
+from field_cases import CYLINDER, REGION, TOL
 
 MU = 0.1  # moment of the probe magnet [A m²]
 
