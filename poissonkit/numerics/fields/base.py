@@ -9,7 +9,8 @@ derivatives of ``U``; ``P`` is the field's data (a float array: a uniform vector
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from dataclasses import field as dc_field
 from typing import Any
 
 import numpy as np
@@ -32,7 +33,7 @@ class FieldRequest:
         Default relative tolerance of a tabulated field (its own ``tol`` parameter wins).
     """
 
-    points: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    points: np.ndarray = dc_field(default_factory=lambda: np.zeros((0, 3)))
     tol: float | None = None
 
 
@@ -61,7 +62,7 @@ class CompiledField:
     data: np.ndarray
     reads: str
     orientation: bool = False
-    info: Mapping[str, Any] = field(default_factory=dict)
+    info: Mapping[str, Any] = dc_field(default_factory=dict)
 
     def energy(self, r: npt.ArrayLike, nu: npt.ArrayLike, coupling: float
                ) -> tuple[float, np.ndarray, np.ndarray]:
@@ -85,7 +86,7 @@ class FieldSpec:
     (e.g. a magpylib source), and its parameters. Build one with :func:`poissonkit.field`."""
 
     source: object
-    params: Mapping[str, Any] = field(default_factory=dict)
+    params: Mapping[str, Any] = dc_field(default_factory=dict)
 
     def compile(self, request: FieldRequest | None = None) -> CompiledField:
         """Build the field (tabulating it if its entry does) for ``request``."""

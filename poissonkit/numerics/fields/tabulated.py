@@ -20,8 +20,8 @@ from poissonkit.numerics.fields.base import CompiledField, FieldRequest
 from poissonkit.numerics.fields.magnetic import magnetic_kernel
 from poissonkit.numerics.fields.tricubic import evaluate, tabulate, tricubic_field
 
-#: Largest number of grid nodes a tolerance may ask for (24 floats each: 190 MB).
-MAX_NODES = 1_000_000
+#: Largest number of grid nodes a tolerance may ask for (24 floats each: 58 MB).
+MAX_NODES = 300_000
 #: Random points at which the interpolation error is measured.
 CHECK_POINTS = 400
 #: Default relative tolerance of a tabulated field.

@@ -28,6 +28,8 @@ import numpy as np
 HEADER = 9
 #: δ / h of the central differences that give the nodal derivatives.
 STENCIL = 1.0 / 200.0
+#: Nodes whose stencils are evaluated in one call of the field.
+CHUNK = 20_000
 
 
 def tabulate(bfun: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.ndarray,
@@ -43,17 +45,19 @@ def tabulate(bfun: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.nd
     delta = STENCIL * h
     offs = np.array([(a, b, c) for a in (-1, 0, 1) for b in (-1, 0, 1) for c in (-1, 0, 1)],
                     dtype=float)
-    pts = nodes[:, None, :] + offs[None, :, :] * delta[None, None, :]
-    vals = np.asarray(bfun(pts.reshape(-1, 3)), dtype=float).reshape(len(nodes), 3, 3, 3, 3)
     # 1-D stencils: value (0, 1, 0), derivative (-1, 0, 1)/(2δ) times h (unit cell)
     w = [np.array([[0.0, 1.0, 0.0], [-0.5, 0.0, 0.5]]) * np.array([[1.0], [h[d] / delta[d]]])
          for d in range(3)]
     table = np.empty((len(nodes), 8, 3))
-    for k in range(2):
-        for j in range(2):
-            for i in range(2):
-                table[:, i + 2 * j + 4 * k, :] = np.einsum(
-                    "a,b,c,nabcq->nq", w[0][i], w[1][j], w[2][k], vals)
+    for start in range(0, len(nodes), CHUNK):  # bounded memory: 27 points per node
+        part = nodes[start:start + CHUNK]
+        pts = part[:, None, :] + offs[None, :, :] * delta[None, None, :]
+        vals = np.asarray(bfun(pts.reshape(-1, 3)), dtype=float).reshape(len(part), 3, 3, 3, 3)
+        for k in range(2):
+            for j in range(2):
+                for i in range(2):
+                    table[start:start + len(part), i + 2 * j + 4 * k, :] = np.einsum(
+                        "a,b,c,nabcq->nq", w[0][i], w[1][j], w[2][k], vals)
     head = np.concatenate([lo, h, n.astype(float)])
     return np.ascontiguousarray(np.concatenate([head, table.ravel()]))
 
