@@ -110,3 +110,9 @@ def test_fields_with_a_planner_are_refused_not_dropped():
     text = SCENE.replace("[run]", "[planner]\ntol = 1e-3\n\n[run]")
     with pytest.raises(SceneError, match="planner"):
         loads_scene(text)
+
+
+def test_a_body_outside_the_declared_region_is_refused_before_the_run():
+    text = SCENE.replace("r = [0.001, 0.0005, 0.035]", "r = [0.001, 0.0005, 0.05]")
+    with pytest.raises(SceneError, match="outside the region"):
+        pk.build_run(loads_scene(text))

@@ -8,16 +8,19 @@ derivatives of ``U``; ``P`` is the field's data (a float array: a uniform vector
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from dataclasses import field as dc_field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
 
 from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import InputError
+
+if TYPE_CHECKING:
+    from poissonkit.plugin.contributions import ExternalField
 
 
 @dataclass(frozen=True)
@@ -88,24 +91,28 @@ class FieldSpec:
     source: object
     params: Mapping[str, Any] = dc_field(default_factory=dict)
 
-    def compile(self, request: FieldRequest | None = None) -> CompiledField:
-        """Build the field (tabulating it if its entry does) for ``request``."""
+    def entry(self) -> ExternalField:
+        """The registered field that builds this one (by name, or the first that accepts the
+        source object)."""
         from poissonkit.plugin.contributions import ExternalField
         from poissonkit.plugin.registry import external_field, external_fields
 
-        request = request or FieldRequest()
         if isinstance(self.source, str):
-            entry = external_field(self.source)
-            obj = None
-        else:
-            found = [e for e in external_fields().values()
-                     if isinstance(e, ExternalField) and e.accepts is not None
-                     and e.accepts(self.source)]
-            if not found:
-                raise InputError(f"no registered field accepts a {type(self.source).__name__}; "
-                                 f"give a field name ({', '.join(sorted(external_fields()))}) "
-                                 "or a source a field plugin accepts (e.g. a magpylib source)")
-            entry, obj = found[0], self.source
+            return external_field(self.source)
+        found = [e for e in external_fields().values()
+                 if isinstance(e, ExternalField) and e.accepts is not None
+                 and e.accepts(self.source)]
+        if not found:
+            raise InputError(f"no registered field accepts a {type(self.source).__name__}; "
+                             f"give a field name ({', '.join(sorted(external_fields()))}) "
+                             "or a source a field plugin accepts (e.g. a magpylib source)")
+        return found[0]
+
+    def compile(self, request: FieldRequest | None = None) -> CompiledField:
+        """Build the field (tabulating it if its entry does) for ``request``."""
+        request = request or FieldRequest()
+        entry = self.entry()
+        obj = None if isinstance(self.source, str) else self.source
         params = entry.resolve_params(self.params)
         built = entry.build(params, request, obj)
         if not isinstance(built, CompiledField):
@@ -145,18 +152,26 @@ def field(source: object, **params: Any) -> FieldSpec:
     return FieldSpec(source, dict(params))
 
 
-def compile_fields(fields: Sequence[FieldLike], points: npt.ArrayLike | None = None,
+def compile_fields(fields: Sequence[FieldLike],
+                   points: npt.ArrayLike | Callable[[str], np.ndarray] | None = None,
                    tol: float | None = None) -> tuple[CompiledField, ...]:
-    """Build every field of ``fields`` (already compiled ones are kept) for bodies at
-    ``points`` (``(n, 3)`` SI positions of the bodies that may read them)."""
-    pts = np.zeros((0, 3)) if points is None else np.asarray(points, dtype=float).reshape(-1, 3)
-    request = FieldRequest(pts, tol)
+    """Build every field of ``fields`` (already compiled ones are kept).
+
+    ``points`` are the ``(n, 3)`` SI positions of the bodies a field acts on, or a function
+    ``points(reads)`` giving those of the bodies that carry the attribute ``reads``.
+    """
+    def where(spec: FieldSpec) -> np.ndarray:
+        if points is None:
+            return np.zeros((0, 3))
+        pts = points(spec.entry().reads) if callable(points) else points
+        return np.asarray(pts, dtype=float).reshape(-1, 3)
+
     out = []
     for f in fields:
         if isinstance(f, CompiledField):
             out.append(f)
         elif isinstance(f, FieldSpec):
-            out.append(f.compile(request))
+            out.append(f.compile(FieldRequest(where(f), tol)))
         else:
             raise InputError(f"fields must be built with pk.field(...), got {type(f).__name__}")
     return tuple(out)

@@ -43,6 +43,12 @@ def field_region(request: FieldRequest, region: Sequence[float] | None,
         if r.shape != (6,) or not np.all(r[3:] > r[:3]):
             raise InputError(f"{name}: region must be [xmin, ymin, zmin, xmax, ymax, zmax] with "
                              f"max > min, got {list(region)!r}")
+        pts = np.asarray(request.points, dtype=float).reshape(-1, 3)
+        outside = [p for p in pts if np.any(p < r[:3]) or np.any(p > r[3:])]
+        if outside:
+            raise InputError(f"{name}: a body that reads the field starts at "
+                             f"{outside[0].tolist()} m, outside the region {list(region)!r}; "
+                             "enlarge the region (the table covers only it)")
         return r[:3], r[3:]
     pts = np.asarray(request.points, dtype=float).reshape(-1, 3)
     if len(pts) == 0:

@@ -367,11 +367,16 @@ class NBodySystem:
         extra = dict(attributes or {})
         bodies = [replace(b, attributes={**dict(b.attributes), **dict(extra.get(b.name, {}))})
                   for b in self.bodies]
-        points = None
-        if y is not None:
-            L = self.scales.length if self.scales else 1.0
-            points = self._split(self._state(y))[0] * L
-        built = self.fields + compile_fields(fields, points, tol)
+        L = self.scales.length if self.scales else 1.0
+        r = None if y is None else self._split(self._state(y))[0] * L
+
+        def carriers(reads: str) -> np.ndarray:
+            """Positions [m] of the moving bodies that carry the attribute a field reads."""
+            if r is None:
+                return np.zeros((0, 3))
+            return r[[k for k, b in enumerate(bodies[i] for i in self._moving)
+                      if reads == "mass" or reads in dict(b.attributes)]]
+        built = self.fields + compile_fields(fields, carriers, tol)
         return NBodySystem(bodies, self.interactions, cutoff=self.cutoff, scales=self.scales,
                            fast_path=self._fast_path, smooth_cutoff=self.smooth_cutoff,
                            parallel=self.parallel, parallel_min_bodies=self.parallel_min_bodies,
