@@ -14,6 +14,7 @@ import numpy as np
 import numpy.typing as npt
 from numba.core.dispatcher import Dispatcher
 
+from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.fields.base import CompiledField, FieldLike, compile_fields
 from poissonkit.numerics.fields.compose import field_data, field_kernels
@@ -279,7 +280,7 @@ class NBodySystem:
                      any(b.is_top for b in bodies), float(rs_int),
                      int(self.parallel_min_bodies))
         self.fields = compile_fields(fields)
-        self._field_kerns: tuple = ()
+        self._field_kerns: tuple[CompiledFunction, ...] = ()
         if self.fields:  # one-body terms: the data gains their tables (numerics/fields)
             fdata, self._field_kerns = field_data(self.fields, bodies, L, E)
             self.data = self.data + (fdata,)
