@@ -71,6 +71,11 @@ _LAZY: dict[str, str] = {
     "RunSpec": "poissonkit.numerics.runspec",
     "plan_run": "poissonkit.numerics.workload",
     "RunPlan": "poissonkit.numerics.workload",
+    # external fields (gravity, magnetic fields; docs/fields.md)
+    "field": "poissonkit.numerics.fields.base",
+    "FieldSpec": "poissonkit.numerics.fields.base",
+    "CompiledField": "poissonkit.numerics.fields.base",
+    "external_fields": "poissonkit.plugin.registry",
     # magnets
     "pair_interaction": "poissonkit.interaction",
     "PairInteraction": "poissonkit.interaction",

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 from pathlib import Path
 
 import pytest
@@ -28,6 +29,9 @@ def example_discoverable(tmp_path, monkeypatch):
         "[poissonkit]\n" + "".join(f"{k} = {v}\n" for k, v in eps.items()))
     monkeypatch.syspath_prepend(str(tmp_path))
     monkeypatch.syspath_prepend(str(EXAMPLE / "src"))
+    # an installed (possibly older) copy imported by an earlier test must not shadow the source
+    for name in [m for m in sys.modules if m == "poissonkit_lj" or m.startswith("poissonkit_lj.")]:
+        monkeypatch.delitem(sys.modules, name)
     monkeypatch.delenv("POISSONKIT_DISABLE_PLUGIN_AUTOLOAD", raising=False)
     monkeypatch.delenv("POISSONKIT_BLOCK_PLUGINS", raising=False)
     return project

@@ -922,12 +922,12 @@ class WisdomHolman:
 
 
 def _gravity_only(system: System) -> bool:
-    """True when Newtonian gravity over all bodies is the system's only interaction (and no
-    cutoff applies): the kick can then use :func:`gravity_kick_accel`."""
+    """True when Newtonian gravity over all bodies is the system's only interaction (no
+    cutoff, no external field): the kick can then use :func:`gravity_kick_accel`."""
     from poissonkit.numerics.nbody.system import NBodySystem
 
     return (isinstance(system, NBodySystem) and len(system.interactions) == 1
-            and system.cutoff is None)
+            and system.cutoff is None and not system.fields)
 
 
 def _jacobi_of(y: np.ndarray, m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
