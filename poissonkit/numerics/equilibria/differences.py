@@ -2,8 +2,9 @@
 
 The energy, Casimirs and momenta of a system are compiled (numba) or numpy functions without
 derivatives, so the equilibrium solver and the stability analysis differentiate them here, in
-one place. Steps are relative to the state's size (``step * max(|x_i|, ‖x‖_∞)``, or ``step`` for
-the zero state), so SI and internal units are treated alike.
+one place. Component ``i`` moves by ``step * scale[i]``, with ``scale`` the typical size of each
+component (:func:`typical_scales`), so SI states whose components differ by orders of magnitude
+(positions of centimetres, angular momenta of 1e-4 kg m²/s) are differentiated alike.
 """
 
 from __future__ import annotations
@@ -21,15 +22,29 @@ ScalarFunction = Callable[[np.ndarray], float]
 VectorFunction = Callable[[np.ndarray], np.ndarray]
 
 
-def steps(x: np.ndarray, step: float) -> np.ndarray:
-    """Per-component step sizes ``step * max(|x_i|, ‖x‖_∞)`` (``step`` where ``x = 0``)."""
+def typical_scales(x: np.ndarray, layout: tuple[str, ...] | None = None) -> np.ndarray:
+    """Typical size of each component of ``x``: the largest ``|x_j|`` over the components of
+    the same vector (names that differ only in a trailing ``_x``/``_y``/``_z``), else the
+    largest ``|x_j|`` of the state (1 for the zero state)."""
     size = float(np.max(np.abs(x))) if x.size else 0.0
-    return step * np.maximum(np.abs(x), size if size > 0 else 1.0)
+    fallback = size if size > 0 else 1.0
+    if layout is None or len(layout) != x.size:
+        return np.full(x.size, fallback)
+    groups: dict[str, list[int]] = {}
+    for i, name in enumerate(layout):
+        stem, _, tail = name.rpartition("_")
+        groups.setdefault(stem if stem and tail in ("x", "y", "z") else name, []).append(i)
+    out = np.empty(x.size)
+    for idx in groups.values():
+        g = float(np.max(np.abs(x[idx])))
+        out[idx] = g if g > 0 else fallback
+    return out
 
 
-def gradient(f: ScalarFunction, x: np.ndarray, step: float = FIRST_STEP) -> np.ndarray:
+def gradient(f: ScalarFunction, x: np.ndarray, scale: np.ndarray,
+             step: float = FIRST_STEP) -> np.ndarray:
     """``∇f(x)`` by central differences."""
-    h = steps(x, step)
+    h = step * scale
     g = np.empty(x.size)
     for i in range(x.size):
         e = np.zeros(x.size)
@@ -38,9 +53,10 @@ def gradient(f: ScalarFunction, x: np.ndarray, step: float = FIRST_STEP) -> np.n
     return g
 
 
-def jacobian(f: VectorFunction, x: np.ndarray, step: float = FIRST_STEP) -> np.ndarray:
+def jacobian(f: VectorFunction, x: np.ndarray, scale: np.ndarray,
+             step: float = FIRST_STEP) -> np.ndarray:
     """``∂f/∂x`` (rows: components of ``f``) by central differences."""
-    h = steps(x, step)
+    h = step * scale
     cols = []
     for i in range(x.size):
         e = np.zeros(x.size)
@@ -49,10 +65,11 @@ def jacobian(f: VectorFunction, x: np.ndarray, step: float = FIRST_STEP) -> np.n
     return np.column_stack(cols) if cols else np.zeros((0, 0))
 
 
-def hessian(f: ScalarFunction, x: np.ndarray, step: float = SECOND_STEP) -> np.ndarray:
+def hessian(f: ScalarFunction, x: np.ndarray, scale: np.ndarray,
+            step: float = SECOND_STEP) -> np.ndarray:
     """Symmetric Hessian of ``f`` at ``x`` by the four-point central formula."""
     n = x.size
-    h = steps(x, step)
+    h = step * scale
     out = np.empty((n, n))
     f0 = f(x)
     for i in range(n):
@@ -67,4 +84,4 @@ def hessian(f: ScalarFunction, x: np.ndarray, step: float = SECOND_STEP) -> np.n
     return out
 
 
-__all__ = ["FIRST_STEP", "SECOND_STEP", "gradient", "hessian", "jacobian", "steps"]
+__all__ = ["FIRST_STEP", "SECOND_STEP", "gradient", "hessian", "jacobian", "typical_scales"]

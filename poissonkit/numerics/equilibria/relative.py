@@ -51,8 +51,8 @@ class RelativeEquilibrium:
     energy
         ``H(x*)``.
     residual
-        ``|X_H − Σ ω X_J|`` at ``x*`` relative to ``‖∂X/∂x‖ ‖x*‖`` (a relative size of the
-        step that would still move the point).
+        Largest component of the Newton step still left at ``x*``, in units of each
+        component's typical size (``scale``): how far the solution may be from the exact one.
     iterations
         Function evaluations of the least-squares solve.
     layout
@@ -78,25 +78,46 @@ class RelativeEquilibrium:
         return {n: float(v) for n, v in zip(names, self.state)}
 
 
-def field_scale(problem: EquilibriumProblem, x: np.ndarray) -> float:
-    """Size against which a vector-field residual at ``x`` is judged: ``‖∂X/∂x‖₂ ‖x‖_∞``
-    (a residual ``tol`` times this moves the root by about ``tol ‖x‖``)."""
-    A = problem.field_jacobian(x)
-    size = float(np.max(np.abs(x))) if x.size else 0.0
-    return max(float(np.linalg.norm(A, 2)) * (size if size > 0 else 1.0), 1.0e-300)
+def newton_step(problem: EquilibriumProblem, x: np.ndarray,
+                leaf: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The least-squares Newton step towards ``X = 0`` (and ``C = leaf``) in units of
+    ``problem.scale``, and the equilibrated residual it leaves."""
+    D = problem.scale
+    k = problem.casimirs(x).size
+    rows = [problem.field_jacobian(x) * D]
+    rhs = [-problem.field(x)]
+    if k and leaf is not None:
+        rows.append(problem.conserved_gradients(x)[:, :k].T * D)
+        rhs.append(leaf - problem.casimirs(x))
+    J, r = np.vstack(rows), np.concatenate(rhs)
+    # the Casimir rows and the field rows live in different units: equilibrate the rows (a row
+    # without derivatives is weighed like the most sensitive one)
+    w = np.linalg.norm(J, axis=1)
+    w = np.where(w > 0, w, max(float(np.max(w)), 1.0))
+    J, r = J / w[:, None], r / w
+    # directions the Jacobian hardly resolves (a symmetry orbit of solutions, differences'
+    # noise) are no part of the distance to the solution set
+    step = np.linalg.lstsq(J, r, rcond=1e-7)[0]
+    return step, r - J @ step
 
 
-def relative_residual(problem: EquilibriumProblem, x: np.ndarray) -> float:
-    """``‖X(x)‖ / field_scale(x)`` (see :class:`RelativeEquilibrium`)."""
-    return float(np.linalg.norm(problem.field(x))) / field_scale(problem, x)
+def relative_residual(problem: EquilibriumProblem, x: np.ndarray,
+                      leaf: np.ndarray | None = None) -> float:
+    """Distance of ``x`` from the relative equilibrium in units of ``problem.scale``: the
+    largest component of the scaled Newton step, or of the part of the residual that no step
+    can remove (a field without a zero nearby)."""
+    if not x.size:
+        return 0.0
+    step, unresolved = newton_step(problem, x, leaf)
+    return float(max(np.max(np.abs(step)), np.max(np.abs(unresolved))))
 
 
 def check_regular(problem: EquilibriumProblem, x: np.ndarray) -> None:
     """Raise :class:`SingularPointError` unless ``rank P(x) + rank dC(x) = dim``."""
-    n = problem.dim
-    rp = rank(problem.poisson(x))
+    n, D = problem.dim, problem.scale
+    rp = rank(problem.poisson(x) / np.outer(D, D))  # in the scaled coordinates x / scale
     k = problem.casimirs(x).size
-    rc = rank(problem.conserved_gradients(x)[:, :k].T) if k else 0
+    rc = rank(problem.conserved_gradients(x)[:, :k].T * D) if k else 0
     if rp + rc < n:
         raise SingularPointError(
             f"at this point the bracket has rank {rp} and the {k} declared Casimir "
@@ -108,10 +129,10 @@ def check_regular(problem: EquilibriumProblem, x: np.ndarray) -> None:
 def multipliers(problem: EquilibriumProblem, x: np.ndarray) -> np.ndarray:
     """``λ`` with ``∇(H − Σ ω J) + Σ λ_i ∇C_i = 0`` (least squares)."""
     k = problem.casimirs(x).size
-    g = fd.gradient(problem.energy, x)
+    g = problem.energy_gradient(x)
     for w, j in zip(problem.omega, problem.momenta):
         if w:
-            g = g - w * fd.gradient(j, x)
+            g = g - w * fd.gradient(j, x, problem.scale)
     if k == 0:
         return np.zeros(0)
     G = problem.conserved_gradients(x)[:, :k]
@@ -134,7 +155,8 @@ def relative_equilibrium(system: NumericsSystem, guess: ArrayLike, *,
                          momenta: Sequence[Momentum] = (),
                          omega: Sequence[float] | float | None = None,
                          casimir_values: ArrayLike | None = None,
-                         tol: float = 1e-10, max_evaluations: int = 2000) -> RelativeEquilibrium:
+                         scale: ArrayLike | None = None, tol: float = 1e-10,
+                         max_evaluations: int = 2000) -> RelativeEquilibrium:
     """Find a relative equilibrium of a compiled system near ``guess``.
 
     Solves ``X_H(x) − Σ ω_k X_{J_k}(x) = 0`` on the leaf ``C(x) = c`` by a Levenberg–Marquardt
@@ -157,8 +179,14 @@ def relative_equilibrium(system: NumericsSystem, guess: ArrayLike, *,
         equilibrium of ``X_H`` itself).
     casimir_values
         The leaf ``C(x) = c`` to stay on (default: the Casimir values of ``guess``).
+    scale
+        Typical size of each state component (a number or one per component); default: the
+        largest magnitude in ``guess`` of each vector the layout names (``top.r_x``,
+        ``top.r_y``, ``top.r_z`` share one), so states mixing centimetres and 1e-4 kg m²/s
+        are solved and differentiated component by component.
     tol
-        Relative residual to reach (see :attr:`RelativeEquilibrium.residual`).
+        Largest Newton step left at the solution, relative to ``scale`` (see
+        :attr:`RelativeEquilibrium.residual`).
     max_evaluations
         Bound on vector-field evaluations of the least-squares solve.
 
@@ -185,7 +213,8 @@ def relative_equilibrium(system: NumericsSystem, guess: ArrayLike, *,
     >>> np.round(eq.state, 12).tolist()
     [0.991261822124, 0.0, 0.0]
     """
-    problem = as_problem(system, momenta, omega)
+    problem = as_problem(system, momenta, omega, state=np.asarray(guess, dtype=float),
+                         scale=scale)
     x0 = problem.state(guess)
     if not (np.isfinite(tol) and tol > 0):
         raise InputError(f"tol must be positive, got {tol!r}")
@@ -195,35 +224,42 @@ def relative_equilibrium(system: NumericsSystem, guess: ArrayLike, *,
         raise DimensionError(f"casimir_values has {c.size} entries, the system declares "
                              f"{c0.size} Casimirs")
     k = c.size
-    # a field without derivatives (no equilibrium anywhere) is scaled by its own size
-    s_field = max(field_scale(problem, x0), float(np.linalg.norm(problem.field(x0))))
-    size = max(float(np.max(np.abs(x0))), 1.0e-300)
-    G0 = problem.conserved_gradients(x0)[:, :k]
-    s_cas = np.maximum(np.linalg.norm(G0, axis=0) * size, np.maximum(np.abs(c), 1.0e-300))
+    D = problem.scale
+    # solve in scaled coordinates ξ = x / scale, rows equilibrated at the guess
+    J0 = problem.field_jacobian(x0) * D
+    w_field = np.linalg.norm(J0, axis=1)
+    w_field = np.where(w_field > 0, w_field, max(float(np.max(w_field)), 1.0))
+    w_field = np.maximum(w_field, np.abs(problem.field(x0)))
+    G0 = problem.conserved_gradients(x0)[:, :k].T * D
+    w_cas = np.linalg.norm(G0, axis=1) if k else np.zeros(0)
+    w_cas = np.where(w_cas > 0, w_cas, 1.0)
 
-    def residual(x: np.ndarray) -> np.ndarray:
-        return np.concatenate([problem.field(x) / s_field, (problem.casimirs(x) - c) / s_cas])
+    def residual(xi: np.ndarray) -> np.ndarray:
+        x = xi * D
+        return np.concatenate([problem.field(x) / w_field, (problem.casimirs(x) - c) / w_cas])
 
-    def jac(x: np.ndarray) -> np.ndarray:
-        G = problem.conserved_gradients(x)[:, :k]
-        return np.vstack([problem.field_jacobian(x) / s_field, (G / s_cas).T])
+    def jac(xi: np.ndarray) -> np.ndarray:
+        x = xi * D
+        G = problem.conserved_gradients(x)[:, :k].T * D
+        return np.vstack([problem.field_jacobian(x) * D / w_field[:, None],
+                          G / w_cas[:, None]])
 
     try:
         with np.errstate(all="raise"):
-            out = least_squares(residual, x0, jac=jac, method="lm", xtol=1e-15, ftol=1e-15,
-                                gtol=1e-15, max_nfev=max_evaluations)
+            out = least_squares(residual, x0 / D, jac=jac, method="lm", xtol=1e-15,
+                                ftol=1e-15, gtol=1e-15, max_nfev=max_evaluations)
     except (FloatingPointError, ValueError, np.linalg.LinAlgError) as exc:
         raise NoConvergenceError(f"the equilibrium solve failed: {exc}", x0) from None
-    x = out.x
-    res = relative_residual(problem, x)
-    leaf = float(np.max(np.abs(problem.casimirs(x) - c) / s_cas)) if k else 0.0
+    x = out.x * D
+    res = relative_residual(problem, x, c)
+    leaf = float(np.max(np.abs(problem.casimirs(x) - c) / (w_cas * 1.0))) if k else 0.0
     if not (res <= tol and leaf <= tol):
         raise NoConvergenceError(
             f"no relative equilibrium within tol={tol:g} after {out.nfev} evaluations "
-            f"(field residual {res:.3g}, leaf residual {leaf:.3g}); try another guess",
-            x, res)
+            f"(Newton step left {res:.3g} of the components' scales, leaf residual "
+            f"{leaf:.3g}); try another guess", x, res)
     return describe(problem, x, res, int(out.nfev))
 
 
-__all__ = ["RelativeEquilibrium", "check_regular", "describe", "field_scale", "multipliers",
+__all__ = ["RelativeEquilibrium", "check_regular", "describe", "multipliers", "newton_step",
            "relative_equilibrium", "relative_residual"]

@@ -29,7 +29,6 @@ from scipy.optimize import minimize
 
 from poissonkit.contracts import NumericsSystem
 from poissonkit.errors import InputError
-from poissonkit.numerics.equilibria import differences as fd
 from poissonkit.numerics.equilibria.errors import NotAnEquilibriumError
 from poissonkit.numerics.equilibria.linalg import RANK_TOL, complement, null_space
 from poissonkit.numerics.equilibria.problem import EquilibriumProblem, Momentum, as_problem
@@ -71,7 +70,8 @@ class LinearStability:
         Best smallest eigenvalue of ``±Hessian`` on the reduced space over the admissible
         multipliers, relative to the Hessian's norm (positive: definite).
     hessian_eigenvalues
-        Eigenvalues of the restricted Hessian at the best multipliers.
+        Eigenvalues of the restricted Hessian at the best multipliers (in the coordinates
+        ``x / scale`` of the analysis).
     energy_casimir_coefficients
         Those multipliers ``c`` (Casimirs then momenta) of ``H + Σ c_i F_i``.
     """
@@ -109,12 +109,14 @@ class LinearStability:
 
 
 def reduced_basis(problem: EquilibriumProblem, x: np.ndarray) -> np.ndarray:
-    """Orthonormal ``W``: ``ker dC ∩ ker dJ`` minus the orbit directions ``P ∇J_k``."""
-    G = problem.conserved_gradients(x)
+    """Orthonormal ``W`` (in the scaled coordinates ``ξ = x / scale``) of
+    ``ker dC ∩ ker dJ`` minus the orbit directions ``P ∇J_k``."""
+    D = problem.scale
+    G = problem.conserved_gradients(x) * D[:, None]
     T = null_space(G.T, problem.dim)
     if problem.momenta:
         k = G.shape[1] - len(problem.momenta)
-        P = problem.poisson(x)
+        P = problem.poisson(x) / np.outer(D, D)
         orbit = P @ G[:, k:]
         # an orbit direction that vanishes (a fixed point of the symmetry) up to the
         # differences' round-off is no direction
@@ -125,11 +127,14 @@ def reduced_basis(problem: EquilibriumProblem, x: np.ndarray) -> np.ndarray:
 
 def _energy_casimir(problem: EquilibriumProblem, x: np.ndarray, W: np.ndarray,
                     tol: float) -> tuple[str, float, np.ndarray, np.ndarray]:
-    """Verdict, margin, restricted Hessian eigenvalues and the best coefficients."""
-    G = problem.conserved_gradients(x)
-    g = fd.gradient(problem.energy, x)
-    hessians = [W.T @ h @ W for h in problem.conserved_hessians(x)]
-    HH = W.T @ fd.hessian(problem.energy, x) @ W
+    """Verdict, margin, restricted Hessian eigenvalues and the best coefficients (all in the
+    scaled coordinates ``ξ = x / scale``, where definiteness is judged)."""
+    D = problem.scale
+    G = problem.conserved_gradients(x) * D[:, None]
+    g = problem.energy_gradient(x) * D
+    DD = np.outer(D, D)
+    hessians = [W.T @ (h * DD) @ W for h in problem.conserved_hessians(x)]
+    HH = W.T @ (problem.energy_hessian(x) * DD) @ W
     if G.shape[1]:
         c0 = np.linalg.lstsq(G, -g, rcond=None)[0]
         free = null_space(G, G.shape[1])
@@ -171,7 +176,8 @@ def _energy_casimir(problem: EquilibriumProblem, x: np.ndarray, W: np.ndarray,
 
 def linear_stability(point: RelativeEquilibrium | NumericsSystem, state: ArrayLike | None = None,
                      *, momenta: Sequence[Momentum] = (),
-                     omega: Sequence[float] | float | None = None, tol: float = 1e-6,
+                     omega: Sequence[float] | float | None = None,
+                     scale: ArrayLike | None = None, tol: float = 1e-6,
                      energy_casimir_tol: float = 1e-6,
                      equilibrium_tol: float = 1e-7) -> LinearStability:
     """Linearise a relative equilibrium on the Poisson manifold and judge its stability.
@@ -183,7 +189,7 @@ def linear_stability(point: RelativeEquilibrium | NumericsSystem, state: ArrayLi
         which case ``state`` (and ``momenta``, ``omega``) describe the point.
     state
         The equilibrium state when ``point`` is a system.
-    momenta, omega
+    momenta, omega, scale
         As in :func:`relative_equilibrium` (only when ``point`` is a system).
     tol
         Spectral verdict: ``"unstable"`` if some eigenvalue has ``Re λ > tol × max |λ|``.
@@ -227,7 +233,7 @@ def linear_stability(point: RelativeEquilibrium | NumericsSystem, state: ArrayLi
     'Lyapunov stable (energy–Casimir)'
     """
     if isinstance(point, RelativeEquilibrium):
-        if state is not None or momenta or omega is not None:
+        if state is not None or momenta or omega is not None or scale is not None:
             raise InputError("give state, momenta and omega only with a system, not with a "
                              "RelativeEquilibrium")
         eq = point
@@ -237,7 +243,8 @@ def linear_stability(point: RelativeEquilibrium | NumericsSystem, state: ArrayLi
     else:
         if state is None:
             raise InputError("linear_stability(system, state): the state is missing")
-        problem = as_problem(point, momenta, omega)
+        problem = as_problem(point, momenta, omega, state=np.asarray(state, dtype=float),
+                             scale=scale)
         x = problem.state(state)
         res = relative_residual(problem, x)
         if not res <= equilibrium_tol:
@@ -251,7 +258,8 @@ def linear_stability(point: RelativeEquilibrium | NumericsSystem, state: ArrayLi
     x = eq.state
     check_regular(problem, x)
     W = reduced_basis(problem, x)
-    A = problem.field_jacobian(x)
+    D = problem.scale
+    A = problem.field_jacobian(x) * D[None, :] / D[:, None]  # ξ = x / scale: D⁻¹ A D
     reduced = W.T @ A @ W
     eig = np.linalg.eigvals(reduced) if reduced.size else np.zeros(0, dtype=complex)
     eig = eig[np.lexsort((eig.imag, eig.real))]
