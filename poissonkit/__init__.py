@@ -79,6 +79,11 @@ _LAZY: dict[str, str] = {
     "NoConvergenceError": "poissonkit.numerics.equilibria.errors",
     "SingularPointError": "poissonkit.numerics.equilibria.errors",
     "NotAnEquilibriumError": "poissonkit.numerics.equilibria.errors",
+    # external fields (gravity, magnetic fields; docs/fields.md)
+    "field": "poissonkit.numerics.fields.base",
+    "FieldSpec": "poissonkit.numerics.fields.base",
+    "CompiledField": "poissonkit.numerics.fields.base",
+    "external_fields": "poissonkit.plugin.registry",
     # magnets
     "pair_interaction": "poissonkit.interaction",
     "PairInteraction": "poissonkit.interaction",

@@ -11,7 +11,13 @@ from __future__ import annotations
 
 from functools import partial
 
-from poissonkit.plugin.contributions import ModelFamily, PairPotential, Param, SceneEntry
+from poissonkit.plugin.contributions import (
+    ExternalField,
+    ModelFamily,
+    PairPotential,
+    Param,
+    SceneEntry,
+)
 from poissonkit.plugin.hookspecs import hookimpl
 from poissonkit_magnets.family import MAGNET_FAMILY
 from poissonkit_magnets.models import MODELS, evaluator, kernel
@@ -94,3 +100,13 @@ SEED_SCENE = SceneEntry(
 def poissonkit_scenes() -> list[SceneEntry]:
     """The built-in seed 000 scene (the default of ``poissonkit run``)."""
     return [SEED_SCENE]
+
+
+@hookimpl
+def poissonkit_fields() -> list[ExternalField]:
+    """External magnetic fields: magpylib sources (tabulated), the exact current loop and
+    cylinder."""
+    from poissonkit_magnets.exact_fields import CURRENT_LOOP, CYLINDER
+    from poissonkit_magnets.magpylib_field import MAGPYLIB
+
+    return [MAGPYLIB, CURRENT_LOOP, CYLINDER]

@@ -4,6 +4,7 @@ from poissonkit.plugin.contributions import (
     Assembly,
     Capabilities,
     Entry,
+    ExternalField,
     IntegratorEntry,
     ModelFamily,
     OutcomeEntry,
@@ -17,6 +18,8 @@ from poissonkit.plugin.manager import entries, plugin_manager, plugin_reports, r
 from poissonkit.plugin.registry import (
     assembly,
     default_scene,
+    external_field,
+    external_fields,
     integrator,
     integrators,
     lookup,
@@ -29,9 +32,9 @@ from poissonkit.plugin.registry import (
 )
 
 __all__ = [
-    "Assembly", "Capabilities", "Entry", "IntegratorEntry", "ModelFamily", "OutcomeEntry",
+    "Assembly", "Capabilities", "Entry", "ExternalField", "IntegratorEntry", "ModelFamily", "OutcomeEntry",
     "PairPotential", "Param", "SceneEntry", "SystemEntry",
-    "assembly", "default_scene", "entries", "hookimpl", "integrator", "integrators", "lookup",
+    "assembly", "default_scene", "entries", "external_field", "external_fields", "hookimpl", "integrator", "integrators", "lookup",
     "model_families", "model_family", "names", "plugin_manager",
     "plugin_reports", "potential", "reset", "scene", "system",
 ]

@@ -393,3 +393,75 @@ class OutcomeEntry(Entry):
     def units(self) -> str:
         """Same as :attr:`unit` (the dataset's attribute name)."""
         return self.unit
+
+
+@dataclass(frozen=True)
+class ExternalField(Entry):
+    """An external field: a one-body energy ``U(r, ν; params)`` acting on every body that has
+    the attribute :attr:`reads` (see ``docs/fields.md``).
+
+    Plugins contribute energies, never forces: the numerics take ``F = −∂U/∂r`` and the torque
+    ``ṁ = ∂U/∂ν × ν`` from the partials the compiled kernel returns, so the kick stays the exact
+    flow of the potential and energy and Casimirs are kept as for pair potentials
+    (:mod:`poissonkit.conventions`).
+
+    Attributes
+    ----------
+    reads
+        The body attribute the energy is proportional to (its *coupling*): ``"mass"`` for
+        gravity, ``"moment"`` [A m²] for a magnetic field, or any attribute a pair potential
+        declares. A body without it does not feel the field.
+    orientation
+        True if ``U`` depends on the body's axis ``ν`` (then every body that reads the field
+        must be a top).
+    build
+        ``build(params, request, source) -> CompiledField``
+        (:class:`poissonkit.numerics.fields.CompiledField`): the compiled SI kernel
+        ``f(x, y, z, ν_x, ν_y, ν_z, c, P) -> (U, U_x, U_y, U_z, U_νx, U_νy, U_νz)`` (``c`` the
+        body's coupling, ``P`` a float array of the field's data) and its data, for the
+        resolved ``params`` and a :class:`poissonkit.numerics.fields.FieldRequest` (the region
+        the scene needs and the tolerance of a tabulated field). ``source`` is the Python object
+        given instead of a name (e.g. a magpylib source), else ``None``.
+    accepts
+        Optional ``accepts(source) -> bool``: this entry builds fields from such Python objects
+        (``pk.field(obj)``).
+    tables
+        Names of parameters whose value is a table of numbers (``params`` of a magpylib
+        source, whose keys the entry checks itself): a mapping of names to numbers or (nested)
+        lists of numbers.
+    """
+
+    reads: str = "mass"
+    orientation: bool = False
+    build: Callable[..., Any] = field(default=lambda params, request, source=None: None)
+    accepts: Callable[[object], bool] | None = None
+    tables: tuple[str, ...] = ()
+
+    def resolve_params(self, given: Mapping[str, Any]) -> dict[str, Any]:
+        """As :meth:`Entry.resolve_params`, with :attr:`tables` checked as tables of numbers."""
+        plain = {k: v for k, v in given.items() if k not in self.tables}
+        out = super().resolve_params(plain)
+        for key in self.tables:
+            if key in given:
+                out[key] = _number_table(given[key], f"{self.name}: parameter {key!r}")
+        return out
+
+
+def _number_table(value: Any, where: str) -> dict[str, Any]:
+    """A mapping of names to finite numbers or (nested) lists of them, else InputError."""
+    if not isinstance(value, Mapping):
+        raise InputError(f"{where} must be a table of numbers, got {value!r}")
+
+    def item(v: Any, path: str) -> Any:
+        if isinstance(v, (list, tuple)):
+            if not v:
+                raise InputError(f"{path} must not be an empty list")
+            return [item(x, f"{path}[{k}]") for k, x in enumerate(v)]
+        if isinstance(v, bool) or not isinstance(v, numbers.Real):
+            raise InputError(f"{path} must be a number or a list of numbers, got {v!r}")
+        x = float(v)
+        if not math.isfinite(x):
+            raise InputError(f"{path} must be finite, got {v!r}")
+        return x
+
+    return {str(k): item(v, f"{where}.{k}") for k, v in value.items()}

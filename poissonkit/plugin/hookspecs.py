@@ -16,6 +16,7 @@ import pluggy
 
 from poissonkit.plugin.contributions import (
     Assembly,
+    ExternalField,
     IntegratorEntry,
     ModelFamily,
     OutcomeEntry,
@@ -109,4 +110,18 @@ def poissonkit_outcomes() -> list[OutcomeEntry]:
         computed, and ``compute(record)`` of the run's
         :class:`~poissonkit.sweeps.scenes.RunRecord`; choose them with
         ``sweep(..., outcomes=[...])`` or ``poissonkit sweep --outcomes``.
+    """
+
+
+@hookspec
+def poissonkit_fields() -> list[ExternalField]:
+    """Return external fields: one-body energies ``U(r, ν)`` (gravity, magnetic fields).
+
+    Returns
+    -------
+    list of ExternalField
+        Each with a name, a doc string, typed parameters, the body attribute it couples to
+        (``reads``: ``"mass"``, ``"moment"``, ...) and ``build(params, request, source)``
+        returning the compiled one-body kernel and its data; the numerics derive forces and
+        torques from its partials (``docs/fields.md``).
     """

@@ -32,6 +32,7 @@ from poissonkit.plugin import hookspecs
 from poissonkit.plugin.contributions import (
     Assembly,
     Entry,
+    ExternalField,
     IntegratorEntry,
     ModelFamily,
     OutcomeEntry,
@@ -44,6 +45,7 @@ from poissonkit.plugin.contributions import (
 BUILTIN_PLUGINS: tuple[tuple[str, str], ...] = (
     ("core-systems", "poissonkit.structure.builtin"),
     ("core-integrators", "poissonkit.numerics.builtin"),
+    ("core-fields", "poissonkit.numerics.fields.builtin"),
     ("magnets", "poissonkit_magnets.plugin"),
     ("nbody", "poissonkit_nbody.plugin"),
     ("nonholonomic", "poissonkit_nonholonomic.plugin"),
@@ -59,6 +61,7 @@ KINDS: dict[str, tuple[str, type]] = {
     "poissonkit_scenes": ("scene", SceneEntry),
     "poissonkit_model_families": ("model_family", ModelFamily),
     "poissonkit_outcomes": ("outcome", OutcomeEntry),
+    "poissonkit_fields": ("field", ExternalField),
 }
 
 ENV_DISABLE = "POISSONKIT_DISABLE_PLUGIN_AUTOLOAD"
@@ -215,7 +218,7 @@ def plugin_reports() -> list[PluginReport]:
 
 def entries(kind: str) -> dict[str, Entry]:
     """All entries of one kind (``"potential"``, ``"assembly"``, ``"system"``, ``"integrator"``,
-    ``"scene"``, ``"model_family"``, ``"outcome"``), by name."""
+    ``"scene"``, ``"model_family"``, ``"outcome"``, ``"field"``), by name."""
     state = _get()
     if kind not in state.entries:
         from poissonkit.errors import UnknownNameError

@@ -6,6 +6,7 @@ from poissonkit.errors import UnknownEntryError
 from poissonkit.plugin.contributions import (
     Assembly,
     Entry,
+    ExternalField,
     IntegratorEntry,
     ModelFamily,
     PairPotential,
@@ -111,3 +112,13 @@ def model_family(name: str) -> ModelFamily:
 def model_families() -> list[ModelFamily]:
     """Every registered model family, in registration order (built-in plugins first)."""
     return list(entries("model_family").values())  # type: ignore[arg-type]
+
+
+def external_field(name: str) -> ExternalField:
+    """The external field registered as ``name`` (``"gravity"``, ``"uniform"``, ...)."""
+    return lookup("field", name)  # type: ignore[return-value]
+
+
+def external_fields() -> dict[str, ExternalField]:
+    """Every registered external field by name (built-in and from plugins)."""
+    return entries("field")  # type: ignore[return-value]

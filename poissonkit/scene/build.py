@@ -247,6 +247,11 @@ def _all_pairs_direct(scene: Scene, scales: Scales | str | None) -> BuiltScene |
 def _built(scene: Scene, system: NBodySystem, y0: np.ndarray, bodies: list[BodyModel],
            plan: Mapping[str, object] | None = None) -> BuiltScene:
     """The built scene, its duration and step converted to the system's time unit."""
+    if scene.fields:
+        from poissonkit.scene.fields import with_scene_fields
+
+        with _named_errors(scene):
+            system = with_scene_fields(system, y0, bodies, scene.fields)
     unit = system.scales.time if system.scales is not None else 1.0
     step = None if scene.run.step is None else scene.run.step / unit
     return BuiltScene(system, y0, bodies, scene.run.duration / unit, step, plan)
@@ -271,6 +276,8 @@ def build_run(scene: Scene) -> RunSpec:
     events = () if scene.run.contact == "ignore" else contact_events(built.bodies,
                                                                      built.length_unit)
     metadata["time_unit_s"] = built.time_unit
+    if system.fields:
+        metadata["fields"] = [{"source": f.name, **dict(f.info)} for f in system.fields]
     metadata["scales"] = None if system.scales is None else {
         "length": system.scales.length, "mass": system.scales.mass, "time": system.scales.time}
     return RunSpec(

@@ -16,7 +16,7 @@ from poissonkit.errors import PoissonkitError, SceneError
 from poissonkit.scene.limits import held_pairs
 
 TOP_KEYS = ("name", "description", "defaults", "bodies", "assembly", "interactions", "run",
-            "planner")
+            "planner", "fields")
 BODY_KEYS = ("name", "mass", "alpha", "inertia", "r", "p", "nu", "m", "fixed", "moment",
              "magnetization", "radius", "length", "half_length")
 INTERACTION_KEYS = ("potential", "params", "pairs", "cutoff", "pair")
@@ -42,6 +42,14 @@ class PairDecl:
 
     bodies: tuple[str, str]
     potential: str
+    params: Mapping[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class FieldDecl:
+    """A ``[[fields]]`` table: a registered external field and its parameters (validated)."""
+
+    source: str
     params: Mapping[str, Any] = field(default_factory=dict)
 
 
@@ -106,6 +114,8 @@ class Scene:
         Model-fidelity planner settings, or ``None``.
     source
         Path the scene was read from ('' for an in-memory scene).
+    fields
+        External fields (``[[fields]]`` tables): gravity, magpylib sources, ...
     """
 
     name: str
@@ -121,6 +131,8 @@ class Scene:
     run: RunSettings
     planner: PlannerSpec | None = None
     source: str = ""
+    #: External fields (``[[fields]]``), see ``docs/fields.md``.
+    fields: tuple[FieldDecl, ...] = ()
 
 
 # ---------------------------------------------------------------- small validators
@@ -306,6 +318,26 @@ def _planner(raw: Any) -> PlannerSpec:
     return PlannerSpec(tol, None if models is None else tuple(models), replan, hyst, cutoff)
 
 
+def _fields(raw: Any) -> tuple[FieldDecl, ...]:
+    """The ``[[fields]]`` tables, each checked against its registered field's parameters."""
+    if not isinstance(raw, list):
+        raise SceneError("fields: must be an array of tables ([[fields]])")
+    out = []
+    for k, item in enumerate(raw):
+        where = f"fields[{k}]"
+        table = dict(_table(item, where))
+        name = _string(table.pop("source", None), f"{where}.source")
+        entry = _lookup("field", name, f"{where}.source")
+        params = {key: tuple(v) if isinstance(v, list) and key not in entry.tables else v
+                  for key, v in table.items()}
+        try:
+            resolved = entry.resolve_params(params)
+        except PoissonkitError as exc:
+            raise SceneError(f"{where}: {exc}") from None
+        out.append(FieldDecl(name, resolved))
+    return tuple(out)
+
+
 def scene_from_mapping(data: Mapping[str, Any], source: str = "") -> Scene:
     """Validate a parsed scene (e.g. from TOML) into a frozen :class:`Scene`.
 
@@ -432,7 +464,7 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
     scene = Scene(name=name, description=description, bodies=bodies, assembly=assembly,
                   assembly_overrides=overrides, potential=potential, potential_params=pot_params,
                   pairs_mode=mode, pairs=tuple(pairs), cutoff=cutoff, run=run, planner=planner,
-                  source=source)
+                  source=source, fields=_fields(data["fields"]) if "fields" in data else ())
     if bodies:
         check_overlaps(bodies, "bodies")
     else:

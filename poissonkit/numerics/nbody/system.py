@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -14,6 +15,8 @@ import numpy.typing as npt
 from numba.core.dispatcher import Dispatcher
 
 from poissonkit.errors import DimensionError, InputError
+from poissonkit.numerics.fields.base import CompiledField, FieldLike, compile_fields
+from poissonkit.numerics.fields.compose import field_data, field_kernels
 from poissonkit.numerics.kernels import Kernels
 from poissonkit.numerics.nbody.bodies import (
     AllPairs,
@@ -101,6 +104,12 @@ class NBodySystem:
     parallel_min_bodies
         Fewest members of an :class:`AllPairs` for which the parallel loop is used
         (default :data:`PARALLEL_MIN_BODIES`); smaller sets run the serial loop.
+    fields
+        External fields (:func:`poissonkit.field`, or built
+        :class:`~poissonkit.numerics.fields.CompiledField`): one-body energies acting on every
+        moving body that has the attribute a field reads (``mass``, ``moment`` in
+        ``attributes``, ...); see ``docs/fields.md``. A tabulated field given by name needs a
+        ``region`` here (or use :meth:`with_fields` with a state).
 
     Notes
     -----
@@ -112,7 +121,8 @@ class NBodySystem:
                  cutoff: float | None = None, scales: Scales | None = None,
                  fast_path: bool = True, smooth_cutoff: float | None = None,
                  parallel: bool = True,
-                 parallel_min_bodies: int | None = None) -> None:
+                 parallel_min_bodies: int | None = None,
+                 fields: Sequence[FieldLike] = ()) -> None:
         bodies = tuple(bodies)
         if not bodies:
             raise InputError("NBodySystem needs at least one body")
@@ -142,6 +152,7 @@ class NBodySystem:
             PARALLEL_MIN_BODIES if parallel_min_bodies is None else parallel_min_bodies,
             "parallel_min_bodies", 0)
         self.scales = scales
+        self._fast_path = bool(fast_path)
         index = {b.name: k for k, b in enumerate(bodies)}
 
         def idx(v: int | str) -> int:
@@ -267,6 +278,11 @@ class NBodySystem:
                      np.array(ccentral, dtype=np.int64),
                      any(b.is_top for b in bodies), float(rs_int),
                      int(self.parallel_min_bodies))
+        self.fields = compile_fields(fields)
+        self._field_kerns: tuple = ()
+        if self.fields:  # one-body terms: the data gains their tables (numerics/fields)
+            fdata, self._field_kerns = field_data(self.fields, bodies, L, E)
+            self.data = self.data + (fdata,)
         # compile the parallel loop only for a system that may use it
         self._parallel = (self.cutoff is not None and self.parallel
                           and any(coffs[g + 1] - coffs[g] >= max(2, self.parallel_min_bodies)
@@ -286,6 +302,12 @@ class NBodySystem:
             raise InputError("the system needs exactly one AllPairs('gravity', ...) over all "
                              "bodies (the Kepler part of a Wisdom–Holman splitting)")
         return self._gravity
+
+    @property
+    def external_fields(self) -> tuple[CompiledField, ...]:
+        """The system's external fields (empty: a closed system, whose total linear and
+        angular momentum are conserved)."""
+        return self.fields
 
     @property
     def n_moving(self) -> int:
@@ -320,7 +342,40 @@ class NBodySystem:
         if self._kernels is None:
             self._kernels = _build_kernels(*_dispatcher(self._kerns, self._rkerns),
                                            parallel=self._parallel)
+            if self.fields:
+                self._kernels = field_kernels(self._kernels, self._field_kerns)
         return self._kernels
+
+    def with_fields(self, fields: Sequence[FieldLike], y: npt.ArrayLike | None = None,
+                    attributes: Mapping[str, Mapping[str, float]] | None = None,
+                    tol: float | None = None) -> NBodySystem:
+        """A copy of this system with the external ``fields`` added to its own.
+
+        Parameters
+        ----------
+        fields
+            :func:`poissonkit.field` specs or built fields.
+        y
+            A state (internal units): a tabulated field without a ``region`` covers the
+            positions of its moving bodies.
+        attributes
+            Per-body attributes to add, by body name (e.g. ``{"top": {"moment": 0.6}}``), for
+            the fields to read.
+        tol
+            Default relative tolerance of tabulated fields.
+        """
+        extra = dict(attributes or {})
+        bodies = [replace(b, attributes={**dict(b.attributes), **dict(extra.get(b.name, {}))})
+                  for b in self.bodies]
+        points = None
+        if y is not None:
+            L = self.scales.length if self.scales else 1.0
+            points = self._split(self._state(y))[0] * L
+        built = self.fields + compile_fields(fields, points, tol)
+        return NBodySystem(bodies, self.interactions, cutoff=self.cutoff, scales=self.scales,
+                           fast_path=self._fast_path, smooth_cutoff=self.smooth_cutoff,
+                           parallel=self.parallel, parallel_min_bodies=self.parallel_min_bodies,
+                           fields=built)
 
     def work(self) -> tuple[np.ndarray, ...]:
         """Fresh scratch arrays ``(pos, nu, F, T)`` for the kernels."""

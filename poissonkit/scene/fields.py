@@ -1,0 +1,31 @@
+"""A scene's ``[[fields]]`` attached to its built system."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from poissonkit.numerics.fields.base import FieldSpec
+from poissonkit.scene.bodies import BodyModel
+from poissonkit.scene.schema import FieldDecl
+
+if TYPE_CHECKING:
+    from poissonkit.numerics.nbody import NBodySystem
+
+
+def with_scene_fields(system: NBodySystem, y0: np.ndarray, bodies: Sequence[BodyModel],
+                      fields: Sequence[FieldDecl]) -> NBodySystem:
+    """``system`` with the scene's fields; every body's ``moment`` (and any other attribute a
+    field reads) is passed to the numerics, and tabulated fields cover the bodies' initial
+    positions unless given a region."""
+    from poissonkit.plugin.registry import external_field
+
+    reads = {external_field(f.source).reads for f in fields} - {"mass"}
+    attributes = {}
+    for b in bodies:
+        values = {a: b.attr(a) for a in reads}
+        attributes[b.name] = {a: float(v) for a, v in values.items() if isinstance(v, float)}
+    specs = [FieldSpec(f.source, dict(f.params)) for f in fields]
+    return system.with_fields(specs, y=y0, attributes=attributes)
