@@ -24,8 +24,9 @@ VectorFunction = Callable[[np.ndarray], np.ndarray]
 
 def typical_scales(x: np.ndarray, layout: tuple[str, ...] | None = None) -> np.ndarray:
     """Typical size of each component of ``x``: the largest ``|x_j|`` over the components of
-    the same vector (names that differ only in a trailing ``_x``/``_y``/``_z``), else the
-    largest ``|x_j|`` of the state (1 for the zero state)."""
+    the same vector (names that differ only in a trailing ``_x``/``_y``/``_z``), or, for a
+    vector that is zero (below ``1e-6`` of the largest ``|x_j|``: the round-off of a solve),
+    the largest ``|x_j|`` of the state (1 for the zero state)."""
     size = float(np.max(np.abs(x))) if x.size else 0.0
     fallback = size if size > 0 else 1.0
     if layout is None or len(layout) != x.size:
@@ -37,7 +38,7 @@ def typical_scales(x: np.ndarray, layout: tuple[str, ...] | None = None) -> np.n
     out = np.empty(x.size)
     for idx in groups.values():
         g = float(np.max(np.abs(x[idx])))
-        out[idx] = g if g > 0 else fallback
+        out[idx] = g if g > 1e-6 * fallback else fallback
     return out
 
 
