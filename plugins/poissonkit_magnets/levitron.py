@@ -19,14 +19,21 @@ its linear stability against the spin rate is :func:`stability_window`.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from poissonkit.errors import InputError
+
+if TYPE_CHECKING:
+    from poissonkit.numerics.equilibria import LinearStability
+    from poissonkit.numerics.fields.base import FieldSpec
+    from poissonkit.numerics.nbody import NBodySystem
+    from poissonkit.numerics.runspec import RunSpec
 
 #: rpm → rad/s.
 RPM = 2.0 * math.pi / 60.0
@@ -88,7 +95,8 @@ class LevitronParameters:
         return replace(self, **values)
 
 
-def base_fields(p: LevitronParameters, region: tuple[float, ...] | None = None) -> list[Any]:
+def base_fields(p: LevitronParameters, region: tuple[float, ...] | None = None
+                ) -> list[FieldSpec]:
     """The base's field specs (``pk.field``), and gravity."""
     from poissonkit.numerics.fields.base import field
 
@@ -100,15 +108,16 @@ def base_fields(p: LevitronParameters, region: tuple[float, ...] | None = None) 
                 field("cylinder", polarization=-p.polarization, radius=p.inner_radius,
                       length=p.thickness, position=centre),
                 grav]
-    box = region or (-0.012, -0.012, 0.012, 0.012, 0.012, 0.06)
+    box = region or (-0.008, -0.008, 0.02, 0.008, 0.008, 0.05)
     return [field("magpylib", **{"class": "CylinderSegment", "params": {
                   "polarization": [0.0, 0.0, p.polarization],
                   "dimension": [p.inner_radius, p.outer_radius, p.thickness, 0.0, 360.0]},
-                  "position": list(centre), "region": list(box), "tol": 1e-6}),
+                  "position": list(centre), "region": list(box), "tol": 1e-4}),
             grav]
 
 
-def levitron_system(p: LevitronParameters):
+@functools.lru_cache(maxsize=16)
+def levitron_system(p: LevitronParameters) -> NBodySystem:
     """The top over the base as an :class:`~poissonkit.NBodySystem` (internal units: 1 cm,
     20 g, 10 ms, the same for every top so that systems share their compiled kernels)."""
     from poissonkit.numerics.nbody import Body, NBodySystem
@@ -119,7 +128,7 @@ def levitron_system(p: LevitronParameters):
                        fields=base_fields(p))
 
 
-def _axis_height_guess(system: Any, p: LevitronParameters) -> float:
+def _axis_height_guess(system: NBodySystem, p: LevitronParameters) -> float:
     """Height [m] of the vertically stable balance on the axis (moment down): the minimum of
     the on-axis energy above the field's maximum, from a scan of the system's own energy."""
     zs = np.linspace(0.005, 0.12, 2000)
@@ -134,7 +143,7 @@ def _axis_height_guess(system: Any, p: LevitronParameters) -> float:
     return float(zs[inner[-1] + 1])
 
 
-def hovering_state(system: Any, p: LevitronParameters, spin_rpm: float) -> np.ndarray:
+def hovering_state(system: NBodySystem, p: LevitronParameters, spin_rpm: float) -> np.ndarray:
     """The hovering relative equilibrium (internal units): on the axis, ``ν = −e_z``,
     ``m = I₃ω₃ ν``, at the height where the lift balances the weight."""
     from poissonkit.numerics.equilibria import relative_equilibrium
@@ -147,7 +156,7 @@ def hovering_state(system: Any, p: LevitronParameters, spin_rpm: float) -> np.nd
     return eq.state
 
 
-def perturbed(system: Any, y: np.ndarray, offset: float, tilt: float) -> np.ndarray:
+def perturbed(system: NBodySystem, y: np.ndarray, offset: float, tilt: float) -> np.ndarray:
     """``y`` displaced by ``offset`` [m] along ``x`` and tilted by ``tilt`` [rad] about ``y``
     (the spin ``ν·m`` and ``|ν| = 1`` kept)."""
     parts = system.unpack(y, si=True)
@@ -159,7 +168,7 @@ def perturbed(system: Any, y: np.ndarray, offset: float, tilt: float) -> np.ndar
     return system.pack([r], parts["p"], [nu], [m], si=True)
 
 
-def classify(system: Any, ys: np.ndarray, z0: float, escape: float = 0.03
+def classify(system: NBodySystem, ys: np.ndarray, z0: float, escape: float = 0.03
              ) -> tuple[str, int]:
     """Fate of a trajectory (rows of internal states) and the first failing row (-1: none).
 
@@ -171,13 +180,12 @@ def classify(system: Any, ys: np.ndarray, z0: float, escape: float = 0.03
     parts = system.unpack(ys, si=True)
     r, nu = parts["r"][:, 0, :], parts["nu"][:, 0, :]
     bad = ~np.all(np.isfinite(ys), axis=1)
-    flip = nu[:, 2] > 0.0
-    fall = r[:, 2] < 0.003
-    away = np.linalg.norm(r - np.array([0.0, 0.0, z0]), axis=1) > escape
-    for kind, mask in (("flip", flip), ("fall", fall | bad), ("escape", away)):
-        mask[~np.isfinite(mask)] = False
+    with np.errstate(invalid="ignore"):  # a non-finite state counts as a fall
+        flip = nu[:, 2] > 0.0
+        fall = (r[:, 2] < 0.003) | bad
+        away = np.linalg.norm(r - np.array([0.0, 0.0, z0]), axis=1) > escape
     first = {k: (int(np.argmax(m)) if m.any() else len(ys)) for k, m in
-             (("flip", flip), ("fall", fall | bad), ("escape", away))}
+             (("flip", flip), ("fall", fall), ("escape", away))}
     kind = min(first, key=lambda k: first[k])
     if first[kind] == len(ys):
         return "bounded", -1
@@ -185,9 +193,9 @@ def classify(system: Any, ys: np.ndarray, z0: float, escape: float = 0.03
 
 
 def scene_run(*, spin_rpm: float = 1200.0, mass: float = 0.022, polarization: float = 0.265,
-              moment: float = 0.60, offset: float = 5e-4, tilt: float = 0.005,
+              moment: float = 0.60, offset: float = 5e-4, axis_tilt: float = 0.005,
               duration: float = 2.0, step: float = 2e-4, method: str = "splitting4",
-              tol: float | None = None, field: str = "exact"):
+              tol: float | None = None, field: str = "exact") -> RunSpec:
     """The registered ``levitron`` scene as a :class:`~poissonkit.numerics.runspec.RunSpec`.
 
     Parameters
@@ -197,7 +205,7 @@ def scene_run(*, spin_rpm: float = 1200.0, mass: float = 0.022, polarization: fl
     mass, polarization, moment
         The top's mass [kg], the base's polarisation [T], the top's moment [A m²] (the rest
         of :class:`LevitronParameters` at its defaults).
-    offset, tilt
+    offset, axis_tilt
         Initial horizontal displacement [m] and tilt [rad] from the hovering equilibrium.
     duration, step
         Duration and fixed step [s].
@@ -212,33 +220,48 @@ def scene_run(*, spin_rpm: float = 1200.0, mass: float = 0.022, polarization: fl
                                          field=field)
     system = levitron_system(p)
     eq = hovering_state(system, p, spin_rpm)
-    y0 = perturbed(system, eq, offset, tilt)
+    y0 = perturbed(system, eq, offset, axis_tilt)
     T = system.scales.time
     z0 = float(system.unpack(eq, si=True)["r"][0, 2])
     meta: Mapping[str, Any] = {**asdict(p), "spin_rpm": spin_rpm, "hover_height_m": z0,
-                               "offset_m": offset, "tilt_rad": tilt,
+                               "offset_m": offset, "axis_tilt_rad": axis_tilt,
                                "system": "NBodySystem: one top, ring base field + gravity"}
     return RunSpec(name="levitron", system=system, y0=y0, t_end=duration / T, method=method,
                    step=None if tol is not None else step / T, tol=tol, metadata=meta)
 
 
-def stability_window(p: LevitronParameters, lo: float = 200.0, hi: float = 20000.0,
-                     points: int = 60, resolution: float = 1.0) -> tuple[float, float]:
-    """Spin rates [rpm] bounding the linear stability of the hovering top, from
-    :func:`poissonkit.linear_stability` of the scene's own system (bisected to
-    ``resolution`` rpm). Raises :class:`~poissonkit.errors.InputError` if no spin in
-    ``[lo, hi]`` is stable."""
+def hover_stability(p: LevitronParameters, spin_rpm: float, base: np.ndarray | None = None
+                    ) -> LinearStability:
+    """:func:`poissonkit.linear_stability` of the hovering top at ``spin_rpm`` (``base``: a
+    hovering state at another spin to start the equilibrium solve from)."""
     from poissonkit.numerics.equilibria import linear_stability, relative_equilibrium
 
     system = levitron_system(p)
-    base = hovering_state(system, p, 0.5 * (lo + hi))
-    L_unit = system.scales.unit("angular_momentum")
+    if base is None:
+        return linear_stability(relative_equilibrium(system, hovering_state(system, p,
+                                                                            spin_rpm)))
+    y = base.copy()
+    L = p.I3 * spin_rpm * RPM / system.scales.unit("angular_momentum")
+    y[-3:] = y[-6:-3] * L  # m = I₃ω₃ ν: only the spin changes
+    return linear_stability(relative_equilibrium(system, y))
+
+
+def stability_window(p: LevitronParameters, lo: float = 200.0, hi: float = 20000.0,
+                     points: int = 25, resolution: float = 1.0) -> tuple[float, float]:
+    """Spin rates [rpm] bounding the linear stability of the hovering top, from
+    :func:`poissonkit.linear_stability` of the scene's own system (:func:`hover_stability`,
+    bisected to ``resolution`` rpm).
+
+    Raises
+    ------
+    InputError
+        If the base cannot hold the top up, or no spin in ``[lo, hi]`` is stable.
+    """
+    system = levitron_system(p)
+    base = hovering_state(system, p, math.sqrt(lo * hi))
 
     def stable(rpm: float) -> bool:
-        y = base.copy()
-        y[-3:] = y[-6:-3] * (p.I3 * rpm * RPM / L_unit)  # m = I₃ω₃ ν: the spin changes only
-        eq = relative_equilibrium(system, y)
-        return linear_stability(eq).spectrally_stable
+        return hover_stability(p, rpm, base).spectrally_stable
 
     grid = np.geomspace(lo, hi, points)
     ok = np.array([stable(w) for w in grid])

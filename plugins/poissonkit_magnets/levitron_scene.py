@@ -1,4 +1,4 @@
-"""The registered ``levitron`` scene: ``poissonkit run levitron`` / ``poissonkit sweep levitron``."""
+"""The registered ``levitron`` scene (``poissonkit run levitron``, ``poissonkit sweep levitron``)."""
 
 from __future__ import annotations
 
@@ -31,7 +31,7 @@ LEVITRON_SCENE = SceneEntry(
         Param("moment", "float", "magnetic moment of the top [A m^2]", 0.60, unit="A m^2",
               positive=True),
         Param("offset", "float", "initial horizontal displacement [m]", 5e-4, unit="m"),
-        Param("tilt", "float", "initial tilt of the axis [rad]", 0.005, unit="rad"),
+        Param("axis_tilt", "float", "initial tilt of the axis [rad]", 0.005, unit="rad"),
         Param("duration", "float", "duration [s]", 2.0, unit="s", positive=True),
         Param("step", "float", "fixed step [s]", 2e-4, unit="s", positive=True),
         Param("method", "str", "integrator registry name", "splitting4"),

@@ -2,7 +2,7 @@
 
 Each point builds the top over its base (systems cached per worker by mass, moment and base
 polarisation), finds the hovering relative equilibrium at the point's spin, starts from it
-displaced by ``offset`` and tilted by ``tilt``, integrates for ``duration`` seconds and
+displaced by ``offset`` and tilted by ``axis_tilt``, integrates for ``duration`` seconds and
 classifies the fate (:func:`poissonkit_magnets.levitron.classify`): ``bounded`` (levitation),
 ``collision`` (the top flipped or fell onto the base) or ``escape`` (it left the trap). A top
 too heavy for the base falls at once (``collision`` at t = 0).
@@ -27,10 +27,11 @@ LEVITRON_PARAMETERS: Mapping[str, tuple[str, str]] = {
     "moment": ("A m^2", "magnetic moment of the top"),
     "polarization": ("T", "polarisation of the base ring"),
     "offset": ("m", "initial horizontal displacement from the hovering point"),
-    "tilt": ("rad", "initial tilt of the axis"),
+    "axis_tilt": ("rad", "initial tilt of the axis"),
 }
 LEVITRON_DEFAULTS: Mapping[str, float] = {"spin_rpm": 1200.0, "mass": 0.022, "moment": 0.60,
-                                          "polarization": 0.265, "offset": 5e-4, "tilt": 0.005}
+                                          "polarization": 0.265, "offset": 5e-4,
+                                          "axis_tilt": 0.005}
 
 #: How the finer failure modes map onto the sweep's fates.
 FATE_OF: Mapping[str, str] = {"bounded": "bounded", "flip": "collision", "fall": "collision",
@@ -125,7 +126,7 @@ class LevitronScene:
             tu, eu, ju = record_units(system.scales)
             return RunRecord(sol, "collision", 0.0, np.full(len(sol.t), 0.003), tu, eu, ju,
                              (system, y0, float(sol.t[-1]), self.method, self.step / T))
-        y0 = lev.perturbed(system, eq, kw["offset"], kw["tilt"])
+        y0 = lev.perturbed(system, eq, kw["offset"], kw["axis_tilt"])
         z0 = float(system.unpack(eq, si=True)["r"][0, 2])
         sol = solve(system, y0, self.periods / T, method=self.method, step=self.step / T,
                     save_every=10)
