@@ -131,3 +131,24 @@ def test_poissonkit_run_levitron_takes_scene_parameters(tmp_path, monkeypatch, c
     code = cli.main(["run", "levitron", "--param", "spin=3", "--no-plots", "--no-progress",
                      "--out", str(tmp_path / "bad")])
     assert code == 1 and "not a parameter" in capsys.readouterr().err
+
+
+def test_fates_are_classified_by_the_first_failure():
+    system = lev.levitron_system(P)  # no kernels compiled: only packing and unpacking
+    z0 = 0.0327
+
+    def state(r, nu):
+        return system.pack([r], [[0.0, 0.0, 0.0]], [nu], [[0.0, 0.0, 0.0]], si=True,
+                           normalize=True)
+
+    hover = state([0, 0, z0], [0, 0, -1])
+    flipped = state([0.001, 0, z0], [0.3, 0, 0.2])
+    down = state([0, 0, 0.002], [0, 0, -1])
+    away = state([0.05, 0, z0], [0, 0, -1])
+    cases = {"bounded": [hover, hover], "flip": [hover, flipped, down],
+             "fall": [hover, down, flipped], "escape": [hover, away]}
+    for fate, rows in cases.items():
+        kind, k = lev.classify(system, np.array(rows), z0)
+        assert kind == fate
+        assert k == (-1 if fate == "bounded" else 1)
+    assert lev.classify(system, np.array([hover, np.full_like(hover, np.nan)]), z0) == ("fall", 1)
