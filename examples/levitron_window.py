@@ -55,18 +55,25 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--duration", type=float, default=3.0, help="seconds per run")
     ap.add_argument("--out", default="levitron-window", help="folder of the dataset")
     ap.add_argument("--figure", default=None, help="PNG path (default: OUT/levitron-window.png)")
+    ap.add_argument("--from-store", action="store_true",
+                    help="redraw from OUT/levitron.zarr of an earlier run instead of sweeping")
     args = ap.parse_args(argv)
     out = Path(args.out)
-    params = [grid("spin_rpm", 400.0, 2400.0, args.spins),
-              grid("mass", 0.0216, 0.0224, args.masses)]
     start = time.perf_counter()
-    client, close = make_client(workers=args.workers)
-    try:
-        ds = sweep("levitron", params, outcomes=["fate", "fate_time", "max_rel_energy_error"],
-                   client=client, store=out / "levitron.zarr", overwrite=True,
-                   periods=args.duration)
-    finally:
-        close()
+    if args.from_store:
+        from poissonkit.sweeps.store import open_store
+
+        ds = open_store(out / "levitron.zarr")
+    else:
+        params = [grid("spin_rpm", 400.0, 2400.0, args.spins),
+                  grid("mass", 0.0216, 0.0224, args.masses)]
+        client, close = make_client(workers=args.workers)
+        try:
+            ds = sweep("levitron", params,
+                       outcomes=["fate", "fate_time", "max_rel_energy_error"], client=client,
+                       store=out / "levitron.zarr", overwrite=True, periods=args.duration)
+        finally:
+            close()
     wall = time.perf_counter() - start
     spins = ds["spin_rpm"].values
     masses = ds["mass"].values
@@ -85,18 +92,29 @@ def main(argv: list[str] | None = None) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from matplotlib.patches import Patch
+
+    from poissonkit.sweeps.plot import FATE_COLOURS
+    from poissonkit.sweeps.scenes import FATES
+
     fig, ax = plt.subplots(figsize=(7.5, 4.6))
     draw_map(ax, None, ds, x="spin_rpm", y="mass", labels=LABELS)
     lows, highs = np.array(linear).T
-    ax.plot(lows, masses, "k--", lw=1.5, label="linear window (pk.linear_stability)")
-    ax.plot(highs, masses, "k--", lw=1.5)
-    ax.legend(loc="upper right", fontsize=8)
+    (line,) = ax.plot(lows, masses, "ko--", lw=1.5, ms=4)
+    ax.plot(highs, masses, "ko--", lw=1.5, ms=4)
+    names = {"bounded": "bounded (levitation)", "collision": "flip or fall onto the base",
+             "escape": "escape from the trap"}
+    handles = [Patch(color=c, label=names[f]) for c, f in zip(FATE_COLOURS, FATES)]
+    ax.legend(handles=[*handles, line], labels=[*(h.get_label() for h in handles),
+                                                "linear window (pk.linear_stability)"],
+              loc="upper right", fontsize=7, framealpha=0.9)
     ax.set_title(f"Levitron: fate over {args.duration:g} s (bounded = levitation)", fontsize=10)
     fig.tight_layout()
     png = Path(args.figure) if args.figure else out / "levitron-window.png"
     png.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(png, dpi=90)
-    print(f"{ds['fate'].size} runs on {args.workers} workers in {wall:.0f} s; wrote {png}")
+    print(f"{ds['fate'].size} runs ({'read from the store' if args.from_store else f'on {args.workers} workers'}) "
+          f"in {wall:.0f} s; wrote {png}")
 
 
 if __name__ == "__main__":
