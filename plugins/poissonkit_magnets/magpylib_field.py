@@ -125,8 +125,30 @@ def field_of(source: Any) -> Any:
     return bfun
 
 
+#: Tables of declared sources already built in this process (a sweep builds its scene once
+#: per point): key -> field. Bounded, oldest dropped first.
+_TABLES: dict[str, CompiledField] = {}
+_MAX_TABLES = 8
+
+
 def _build(params: Mapping[str, Any], request: FieldRequest, source: Any = None
            ) -> CompiledField:
+    if source is None:
+        tol = float(params.get("tol", request.tol or DEFAULT_TOL))
+        centre = np.asarray(params.get("position", (0.0, 0.0, 0.0)), dtype=float)
+        lo, hi = field_region(request, params.get("region"), centre, "magpylib")
+        key = repr((sorted((k, repr(v)) for k, v in params.items()), tol, lo.tolist(),
+                    hi.tolist()))
+        if key not in _TABLES:
+            if len(_TABLES) >= _MAX_TABLES:
+                _TABLES.pop(next(iter(_TABLES)))
+            _TABLES[key] = _tabulate(params, request, None)
+        return _TABLES[key]
+    return _tabulate(params, request, source)
+
+
+def _tabulate(params: Mapping[str, Any], request: FieldRequest, source: Any
+              ) -> CompiledField:
     if source is None:
         if "class" not in params:
             raise InputError("magpylib: give class (one of "

@@ -42,7 +42,7 @@ def test_example_plugin_is_listed_by_the_cli(example_discoverable, capsys):
     assert rep.status == "ok"
     assert rep.contributions == {"potential": ["lennard_jones", "finite_dipole", "point_dipole"],
                                  "model_family": ["electric_dipoles"], "scene": ["dipole_pair"],
-                                 "outcome": ["max_axis_tilt"]}
+                                 "outcome": ["max_axis_tilt"], "field": ["harmonic_trap"]}
 
 
 def test_example_potential_is_usable_through_the_registry_and_the_numerics(example_discoverable):

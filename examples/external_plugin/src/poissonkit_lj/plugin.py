@@ -12,7 +12,9 @@ It uses every extension point a built-in plugin uses, through public API only:
 * a scene — ``dipole_pair`` (a TOML file shipped in this package), runnable by name and
   sweepable;
 * a sweep outcome — ``max_axis_tilt``, the largest angle any top's axis turned away from its
-  initial direction.
+  initial direction;
+* an external field — ``harmonic_trap`` (:mod:`poissonkit_lj.trap`), a one-body energy on every
+  body with a mass.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ import numpy as np
 import sympy as sp
 
 from poissonkit.plugin import (
+    ExternalField,
     ModelFamily,
     OutcomeEntry,
     PairPotential,
@@ -216,3 +219,11 @@ def poissonkit_scenes() -> list[SceneEntry]:
 def poissonkit_outcomes() -> list[OutcomeEntry]:
     """The ``max_axis_tilt`` sweep outcome."""
     return [MAX_AXIS_TILT]
+
+
+@hookimpl
+def poissonkit_fields() -> list[ExternalField]:
+    """The ``harmonic_trap`` external field."""
+    from poissonkit_lj.trap import HARMONIC_TRAP
+
+    return [HARMONIC_TRAP]
