@@ -87,6 +87,10 @@ Rigid bodies and N-body states
   ``c'' = (e, nu_j)``, ``c''' = (nu_i, nu_j)``; ``F`` is the force on body j; torques are about
   each body's own centre.
 * Two-body centre-of-mass form: ``x = (r, p, nu', m', nu'', m'')`` in R^18, reduced mass ``mu``.
+* External fields (``docs/fields.md``): a one-body energy ``U(r, nu)`` of a body at ``r`` with
+  axis ``nu`` gives the force ``-dU/dr`` and the torque ``mdot = dU/dnu x nu`` (orthogonal to
+  ``nu``); a magnet of moment ``mu`` along ``nu`` has ``U = -mu nu . B(r)``, force
+  ``mu grad(nu . B)``, torque ``mu nu x B``.
 
 Units
 -----

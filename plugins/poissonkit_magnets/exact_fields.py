@@ -38,7 +38,6 @@ from poissonkit_magnets._special import ellipk_d1, ellipke, gauss_legendre_unit
 from poissonkit_magnets.fields import (
     N_MULTIPOLE,
     N_RING,
-    _to_cartesian,
     cylinder_axial_moments,
     cylinder_psi_cartesian,
 )

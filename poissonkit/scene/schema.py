@@ -461,6 +461,8 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
         raise SceneError("run: missing ([run] with at least duration)")
     run = _run(data["run"])
     planner = _planner(data["planner"]) if "planner" in data else None
+    if planner is not None and "fields" in data:  # re-planned runs rebuild the pair system
+        raise SceneError("fields: [[fields]] with a [planner] is not supported yet; drop one")
     scene = Scene(name=name, description=description, bodies=bodies, assembly=assembly,
                   assembly_overrides=overrides, potential=potential, potential_params=pot_params,
                   pairs_mode=mode, pairs=tuple(pairs), cutoff=cutoff, run=run, planner=planner,

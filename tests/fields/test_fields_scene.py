@@ -104,3 +104,9 @@ def test_a_declared_class_outside_magpylibs_sources_fails_when_built():
     text = SCENE.replace('class = "Cylinder"', 'class = "os.system"')
     with pytest.raises(SceneError, match="os.system"):
         pk.build_run(loads_scene(text))
+
+
+def test_fields_with_a_planner_are_refused_not_dropped():
+    text = SCENE.replace("[run]", "[planner]\ntol = 1e-3\n\n[run]")
+    with pytest.raises(SceneError, match="planner"):
+        loads_scene(text)

@@ -72,3 +72,10 @@ def poissonkit_outcomes():
     from poissonkit.sweeps import builtin
 
     return _first(builtin.poissonkit_outcomes())
+
+
+@hookimpl
+def poissonkit_fields():
+    from poissonkit.numerics.fields import builtin
+
+    return _first(builtin.poissonkit_fields())
