@@ -173,6 +173,9 @@ def build_spec(args: argparse.Namespace) -> RunSpec:
             raise InputError(f"--param {', '.join(sorted(unused))}: not a parameter of this "
                              "scene (see `poissonkit scenes`)")
     else:
+        if getattr(args, "param", None):
+            raise InputError("--param sets a registered scene's parameters; for a scene file "
+                             "edit the file (or sweep it: poissonkit sweep FILE --param PATH=...)")
         try:
             from poissonkit.scene import build_run, load_scene
         except ImportError:
