@@ -245,7 +245,7 @@ def relative_equilibrium(system: NumericsSystem, guess: ArrayLike, *,
                           G / w_cas[:, None]])
 
     try:
-        with np.errstate(all="raise"):
+        with np.errstate(over="raise", divide="raise", invalid="raise"):  # not underflow
             out = least_squares(residual, x0 / D, jac=jac, method="lm", xtol=1e-15,
                                 ftol=1e-15, gtol=1e-15, max_nfev=max_evaluations)
     except (FloatingPointError, ValueError, np.linalg.LinAlgError) as exc:
