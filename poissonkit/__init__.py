@@ -71,6 +71,14 @@ _LAZY: dict[str, str] = {
     "RunSpec": "poissonkit.numerics.runspec",
     "plan_run": "poissonkit.numerics.workload",
     "RunPlan": "poissonkit.numerics.workload",
+    # relative equilibria and their stability
+    "relative_equilibrium": "poissonkit.numerics.equilibria.relative",
+    "RelativeEquilibrium": "poissonkit.numerics.equilibria.relative",
+    "linear_stability": "poissonkit.numerics.equilibria.stability",
+    "LinearStability": "poissonkit.numerics.equilibria.stability",
+    "NoConvergenceError": "poissonkit.numerics.equilibria.errors",
+    "SingularPointError": "poissonkit.numerics.equilibria.errors",
+    "NotAnEquilibriumError": "poissonkit.numerics.equilibria.errors",
     # external fields (gravity, magnetic fields; docs/fields.md)
     "field": "poissonkit.numerics.fields.base",
     "FieldSpec": "poissonkit.numerics.fields.base",

@@ -19,6 +19,7 @@ if TYPE_CHECKING:  # only for annotations: the numerics import this module
     from poissonkit.numerics.integrators.driver import Control
     from poissonkit.numerics.system import SymbolicForm
     from poissonkit.plugin.contributions import Capabilities
+    from poissonkit.structure import Bivector
     from poissonkit.sweeps.scenes import RunRecord
 
 # --------------------------------------------------------------------------- numerics systems
@@ -218,6 +219,15 @@ class HasSymbolicForm(Protocol):
     integrators that need the bracket and the Hamiltonian separately (discrete gradients)."""
 
     def symbolic_form(self) -> SymbolicForm: ...
+
+
+@runtime_checkable
+class HasPoissonStructure(Protocol):
+    """A numerics system that hands out its symbolic Poisson structure in state order
+    (``to_structure()``: a :class:`~poissonkit.structure.Bivector` whose coordinates are the
+    state's, in internal units), e.g. for the linearisation on the Poisson manifold."""
+
+    def to_structure(self) -> Bivector: ...
 
 
 @runtime_checkable

@@ -100,8 +100,10 @@ SEED_SCENE = SceneEntry(
 
 @hookimpl
 def poissonkit_scenes() -> list[SceneEntry]:
-    """The built-in seed 000 scene (the default of ``poissonkit run``)."""
-    return [SEED_SCENE]
+    """The built-in seed 000 scene (the default of ``poissonkit run``) and the Levitron."""
+    from poissonkit_magnets.levitron_scene import LEVITRON_SCENE
+
+    return [SEED_SCENE, LEVITRON_SCENE]
 
 
 @hookimpl

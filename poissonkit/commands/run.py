@@ -97,6 +97,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--spin-ratio", type=float, default=20.0,
                         help="seed scene: alpha|m|/omega_orb of each top (default 20; below ~6 "
                         "the tilted orbit is unstable)")
+    parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
+                        help="a registered scene's own parameter (repeatable), e.g. "
+                        "--param spin_rpm=1500 for the levitron (`poissonkit scenes`)")
     parser.add_argument("--out", default=DEFAULT_OUT,
                         help=f"output folder (default ./{DEFAULT_OUT})")
     parser.add_argument("--save-every", type=int, default=None,
@@ -158,8 +161,21 @@ def build_spec(args: argparse.Namespace) -> RunSpec:
     if not isinstance(target, Path):
         options = {k: getattr(args, k, None) for k in
                    ("method", "step", "tol", "periods", "duration", "tilt", "spin_ratio")}
+        for item in getattr(args, "param", None) or ():
+            name, sep, value = item.partition("=")
+            if not sep or not name.strip():
+                raise InputError(f"--param takes NAME=VALUE, got {item!r}")
+            options[name.strip()] = value.strip()
         spec, consumed = registered_run(target, options)
+        unused = {item.partition("=")[0].strip() for item in getattr(args, "param", None) or ()}
+        unused -= consumed
+        if unused:
+            raise InputError(f"--param {', '.join(sorted(unused))}: not a parameter of this "
+                             "scene (see `poissonkit scenes`)")
     else:
+        if getattr(args, "param", None):
+            raise InputError("--param sets a registered scene's parameters; for a scene file "
+                             "edit the file (or sweep it: poissonkit sweep FILE --param PATH=...)")
         try:
             from poissonkit.scene import build_run, load_scene
         except ImportError:

@@ -80,7 +80,7 @@ def test_poissonkit_scenes_lists_registered_and_shipped_with_descriptions(capsys
     assert kinds == sorted(kinds, key=["registered", "file"].index)
     ours = [r for r in listed if r["kind"] == "file" or r["source"] in dict(BUILTIN_PLUGINS)]
     assert [(r["name"], r["kind"]) for r in ours] == (
-        [("seed000", "registered")] + [(n, "file") for n in SHIPPED])
+        [("levitron", "registered"), ("seed000", "registered")] + [(n, "file") for n in SHIPPED])
     assert [r["name"] for r in listed if r["default"]] == ["seed000"]
     assert listed == [r.__dict__ for r in scene_catalog()]
 

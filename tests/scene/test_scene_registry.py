@@ -37,7 +37,7 @@ def test_default_scene_is_the_seed_orbit_registered_by_the_magnets_plugin():
     assert entry.name == "seed000" and entry.default
     assert scene("seed000") is entry
     magnets = next(r for r in plugin_reports() if r.name == "magnets")
-    assert magnets.contributions["scene"] == ["seed000"]
+    assert magnets.contributions["scene"] == ["seed000", "levitron"]
 
 
 def test_the_core_holds_no_scene_module_and_the_commands_name_no_scene():

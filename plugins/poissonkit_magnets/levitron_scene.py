@@ -1,0 +1,44 @@
+"""The registered ``levitron`` scene (``poissonkit run levitron``, ``poissonkit sweep levitron``)."""
+
+from __future__ import annotations
+
+from poissonkit.plugin.contributions import Param, SceneEntry
+
+
+def _load(**params):
+    from poissonkit_magnets.levitron import scene_run
+
+    return scene_run(**params)
+
+
+def _sweep(**options):
+    from poissonkit_magnets.levitron_sweep import LevitronScene
+
+    return LevitronScene(**options)
+
+
+#: The Levitron: a 22 g magnetised top spinning above a ferrite ring, in gravity.
+LEVITRON_SCENE = SceneEntry(
+    name="levitron",
+    doc="Levitron: a magnetised top (22 g, 0.6 A m^2) hovering above a ferrite ring magnet "
+        "(exact field) in gravity; linearly stable for about 800-1680 rpm (docs/levitron.md).",
+    params=(
+        Param("spin_rpm", "float", "spin of the top about its axis [rpm]", 1200.0, unit="rpm",
+              positive=True),
+        Param("mass", "float", "mass of the top [kg]", 0.022, unit="kg", positive=True),
+        Param("polarization", "float", "polarisation mu0 M of the base ring [T]", 0.265,
+              unit="T", positive=True),
+        Param("moment", "float", "magnetic moment of the top [A m^2]", 0.60, unit="A m^2",
+              positive=True),
+        Param("offset", "float", "initial horizontal displacement [m]", 5e-4, unit="m"),
+        Param("axis_tilt", "float", "initial tilt of the axis [rad]", 0.005, unit="rad"),
+        Param("duration", "float", "duration [s]", 2.0, unit="s", positive=True),
+        Param("step", "float", "fixed step [s]", 2e-4, unit="s", positive=True),
+        Param("method", "str", "integrator registry name", "splitting4"),
+        Param("tol", "float", "tolerance of adaptive methods", positive=True, optional=True),
+        Param("field", "str", "base field: 'exact' (two exact cylinders) or 'magpylib' "
+              "(tabulated CylinderSegment)", "exact"),
+    ),
+    load=_load,
+    sweep=_sweep,
+)
