@@ -13,7 +13,7 @@ import poissonkit as pk
 from poissonkit.errors import InputError
 from poissonkit.numerics.fields import CompiledField
 from poissonkit.numerics.fields.tabulated import TABULATED_MAGNET
-from poissonkit.numerics.nbody import Body, NBodySystem
+from poissonkit.numerics.nbody import AllPairs, Body, NBodySystem
 
 G = (0.0, 0.0, -9.81)
 ALPHA = 1 / 2e-6
@@ -142,3 +142,31 @@ def test_fixed_bodies_and_bodies_without_the_attribute_feel_nothing():
     assert np.all(f[15:18] == 0.0)  # body a: no torque
     assert f[21:24] == pytest.approx(np.cross([2.0, 0, 0], [0, 0, 0.5]))  # μ ν × B
     assert s.energy(y) == pytest.approx(0.0)  # ν ⟂ B
+
+
+@pytest.mark.parametrize("method", ["splitting2", "splitting4"])
+def test_a_field_is_never_dropped_by_a_faster_path(method):
+    """Point masses with gravity among themselves take the direct-sum loop of the splittings
+    — unless a field is present: in a uniform field the centre of mass falls on the parabola
+    whatever the pair forces do."""
+    g = np.array([0.0, 0.0, -1.0])
+    s = NBodySystem([Body("a", 1.0), Body("b", 1e-3)], [AllPairs("gravity", {"G": 1.0})],
+                    fields=[pk.field("gravity", g=tuple(g))])
+    y0 = s.pack([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], [[0.0, 0.0, 0.5], [0.0, 1e-3, 0.5e-3]])
+    t = 2.0
+    sol = pk.solve(s, y0, t, method=method, step=0.01)
+    m = np.array([1.0, 1e-3])
+    r = sol.y[-1].reshape(2, 2, 3)[:, 0]
+    cm = (m[:, None] * r).sum(0) / m.sum()
+    cm0 = np.array([1e-3 / m.sum(), 0.0, 0.0])
+    v0 = np.array([0.0, 1e-3, 0.5 + 0.5e-3]) / m.sum()
+    assert cm == pytest.approx(cm0 + v0 * t + 0.5 * g * t**2, abs=1e-11)
+    assert abs(s.energy(sol.y[-1]) - s.energy(y0)) < 1e-6 * abs(s.energy(y0))
+
+
+def test_wisdom_holman_refuses_an_external_field():
+    s = NBodySystem([Body("a", 1.0), Body("b", 1e-3)], [AllPairs("gravity", {"G": 1.0})],
+                    fields=[pk.field("gravity", g=(0.0, 0.0, -1.0))])
+    y0 = s.pack([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], [[0.0, 0.0, 0.0], [0.0, 1e-3, 0.0]])
+    with pytest.raises(InputError, match="external fields"):
+        pk.solve(s, y0, 1.0, method="wisdom_holman", step=0.01)

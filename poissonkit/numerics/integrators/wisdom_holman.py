@@ -847,6 +847,11 @@ class WisdomHolman:
         if system.n_tops or system.n_moving != len(system.bodies):
             raise InputError(f"{self.name} needs moving point masses only (no tops, no fixed "
                              "bodies)")
+        if isinstance(system, NBodySystem) and system.fields:
+            # the Jacobi splitting lets the centre of mass drift freely: an external force on
+            # it has no place in the kick
+            raise InputError(f"{self.name} does not take external fields (the centre of mass "
+                             "would drift freely); use a splitting instead")
         kernels = system.kernels
         h = check_step(step, t_end - t0, self.name)
         span = t_end - t0
