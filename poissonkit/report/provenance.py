@@ -47,7 +47,11 @@ def options_of(args: argparse.Namespace) -> dict[str, JSONValue]:
     for key, value in sorted(vars(args).items()):
         if callable(value):  # argparse's dispatch function
             continue
-        out[key] = value if isinstance(value, (bool, int, float, str, type(None))) else str(value)
+        if isinstance(value, (list, tuple)) and all(isinstance(v, str) for v in value):
+            out[key] = list(value)  # repeatable options (``--param``) stay lists
+        else:
+            out[key] = (value if isinstance(value, (bool, int, float, str, type(None)))
+                        else str(value))
     return out
 
 
@@ -140,6 +144,10 @@ def rerun_options(summary: Mapping[str, object], scene_dir: Path) -> dict[str, o
         raise InputError("--from-summary: the summary has no 'options'/'scene_source' (written "
                          "by a poissonkit without provenance); run the scene again by hand")
     out = {k: v for k, v in options.items() if k not in OUTPUT_OPTIONS}
+    for key, value in out.items():
+        if isinstance(value, list) and not all(isinstance(v, str) for v in value):
+            raise InputError(f"--from-summary: option {key!r} must be a list of strings, got "
+                             f"{value!r}")
     if source.get("kind") == "file":
         text = source.get("text")
         if not isinstance(text, str):

@@ -181,3 +181,23 @@ def test_a_malformed_summary_is_a_one_line_error(tmp_path, monkeypatch, capsys):
                     *QUIET) == 1
         err = capsys.readouterr().err
         assert "--from-summary" in err and "Traceback" not in err
+
+
+def test_repeatable_options_are_recorded_as_lists_and_replayed():
+    """``--param`` is repeatable: the summary keeps it a list of strings, so a re-run passes
+    the same scene parameters (and a hand-edited non-string entry is a typed error)."""
+    import argparse
+
+    from poissonkit.errors import InputError
+    from poissonkit.report.provenance import options_of, rerun_options
+
+    args = argparse.Namespace(param=["spin_rpm=1500", "mass=0.022"], step=0.1, out="x")
+    options = options_of(args)
+    assert options["param"] == ["spin_rpm=1500", "mass=0.022"]
+    summary = {"options": json.loads(json.dumps(options)),
+               "scene_source": {"kind": "registered", "name": "levitron"}}
+    replay = rerun_options(summary, Path("."))
+    assert replay["param"] == ["spin_rpm=1500", "mass=0.022"] and "out" not in replay
+    summary["options"]["param"] = ["spin_rpm=1500", 3]
+    with pytest.raises(InputError, match="list of strings"):
+        rerun_options(summary, Path("."))
