@@ -170,3 +170,16 @@ def test_wisdom_holman_refuses_an_external_field():
     y0 = s.pack([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], [[0.0, 0.0, 0.0], [0.0, 1e-3, 0.0]])
     with pytest.raises(InputError, match="external fields"):
         pk.solve(s, y0, 1.0, method="wisdom_holman", step=0.01)
+
+
+def test_a_field_works_with_verlet_lists():
+    """A Verlet skin adds the list to the scratch data the field kernels receive; the field's
+    uniform pull still moves the centre of mass on the parabola."""
+    g = np.array([0.0, 0.0, -1.0])
+    bodies = [Body(f"b{k}", 1.0) for k in range(3)]
+    s = NBodySystem(bodies, [AllPairs("gravity", {"G": 1.0})], cutoff=3.0, skin=0.5,
+                    fields=[pk.field("gravity", g=tuple(g))])
+    y0 = s.pack([[0.0, 0.0, 0.0], [1.5, 0.0, 0.0], [0.0, 1.5, 0.0]], np.zeros((3, 3)))
+    sol = pk.solve(s, y0, 1.0, method="splitting2", step=0.01)
+    r = sol.y[-1].reshape(3, 2, 3)[:, 0]
+    assert r.mean(0) == pytest.approx(np.array([0.5, 0.5, 0.0]) + 0.5 * g, abs=1e-12)

@@ -151,7 +151,7 @@ def field_kernels(pair: Kernels, kerns: Sequence[CompiledFunction]) -> Kernels:
     @jit
     def rhs(y, data, work, out):
         pair_rhs(y, data, work, out)  # leaves pos, nu gathered
-        pos, nu, F, T = work
+        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
         zero2(F)
         zero2(T)
         ff(pos, nu, data, F, T)
@@ -172,7 +172,7 @@ def field_kernels(pair: Kernels, kerns: Sequence[CompiledFunction]) -> Kernels:
     def kick(y, h, data, work):
         # r and ν are fixed in a kick: the pair kick then the field kick is the kick of the sum
         pair_kick(y, h, data, work)
-        pos, nu, F, T = work
+        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
         gather_inl(y, data, pos, nu)
         zero2(F)
         zero2(T)
@@ -182,7 +182,7 @@ def field_kernels(pair: Kernels, kerns: Sequence[CompiledFunction]) -> Kernels:
     @jit
     def kick_compensated(y, c, h, data, work):
         pair_kick_c(y, c, h, data, work)
-        pos, nu, F, T = work
+        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
         gather_inl(y, data, pos, nu)
         zero2(F)
         zero2(T)
@@ -203,7 +203,7 @@ def field_kernels(pair: Kernels, kerns: Sequence[CompiledFunction]) -> Kernels:
     @jit
     def energy(y, data, work):
         e = pair_energy(y, data, work)
-        pos, nu, F, T = work
+        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
         gather(y, data, pos, nu)
         zero2(F)
         zero2(T)
@@ -213,7 +213,7 @@ def field_kernels(pair: Kernels, kerns: Sequence[CompiledFunction]) -> Kernels:
     def forces_of(y, data, work):
         """Pair and field forces and torques into ``work[2]``, ``work[3]``; returns U."""
         u = pair_forces(y, data, work)
-        pos, nu, F, T = work
+        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
         return u + ff_inl(pos, nu, data, F, T)
 
     out = pair._replace(rhs=rhs, kick=kick, energy=energy, forces=forces_of,
