@@ -52,7 +52,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="finish an interrupted sweep in --out (only missing points run)")
     parser.add_argument("--overwrite", action="store_true", help="replace an existing sweep")
     parser.add_argument("--periods", type=float, default=None,
-                        help="seed000: orbital periods per run (default 20)")
+                        help="duration of each run, in the unit its scene defines: orbital "
+                             "periods for seed000 (default 20), seconds for a scene without an "
+                             "orbit such as levitron (default 3)")
     parser.add_argument("--escape", type=float, default=None,
                         help="escape distance (seed000: orbit radii, default 3; scene file: "
                              "times the initial size, default 10)")
