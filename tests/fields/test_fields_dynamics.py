@@ -144,7 +144,8 @@ def test_fixed_bodies_and_bodies_without_the_attribute_feel_nothing():
     assert s.energy(y) == pytest.approx(0.0)  # ν ⟂ B
 
 
-@pytest.mark.parametrize("method", ["splitting2", "splitting4"])
+@pytest.mark.parametrize("method", [
+    "splitting2", pytest.param("splitting4", marks=pytest.mark.slow)])
 def test_a_field_is_never_dropped_by_a_faster_path(method):
     """Point masses with gravity among themselves take the direct-sum loop of the splittings
     — unless a field is present: in a uniform field the centre of mass falls on the parabola

@@ -191,6 +191,7 @@ def test_a_bad_skin_is_refused_naming_the_option(bad):
                     cutoff=1.0, skin=bad)
 
 
+@pytest.mark.slow  # its own serial and parallel gravity kernels (~16 s cold)
 @needs_two
 def test_listed_gravity_in_si_units_matches_a_direct_sum_serial_and_parallel_bitwise():
     """The orientation-free fast path through the list, with scales: the skin is given in

@@ -85,8 +85,9 @@ def test_direct_kernels_agree_bit_for_bit_with_the_general_ones():
 @pytest.mark.parametrize("method, options, events", [
     ("splitting2", None, ()),
     ("splitting4_bm", None, ()),  # kick-first: consecutive steps share a kick
-    ("splitting4", {"adaptive": True}, ()),
-    ("splitting2", {"compensated": True}, ()),
+    # each option compiles its own loop (~11 s cold): the default run keeps the plain ones
+    pytest.param("splitting4", {"adaptive": True}, (), marks=pytest.mark.slow),
+    pytest.param("splitting2", {"compensated": True}, (), marks=pytest.mark.slow),
     # located inside a step (Jupiter and Saturn approach): the lean min_distance and step
     ("splitting2", None, (Collision(5.19),)),
 ])

@@ -229,6 +229,7 @@ def test_second_process_compiles_nothing_for_other_values(tmp_path):
     assert u2 == pytest.approx(-math.exp(-2.0 / 0.9) / 2.0, rel=1e-15)
 
 
+@pytest.mark.slow  # compiles the unit-carrying kernels (~8 s cold)
 def test_other_units_compile_nothing():
     from poissonkit.numerics.units import Scales
 
