@@ -37,6 +37,7 @@ import numpy as np
 
 from poissonkit.contracts import HasBodies, HasCompiledKernels, HasUnpack, System
 from poissonkit.errors import CollisionError, EscapeError, InputError
+from poissonkit.validation import positive_number
 
 if TYPE_CHECKING:
     from poissonkit.scene.geometry import Shape
@@ -45,18 +46,8 @@ if TYPE_CHECKING:
 DEFAULT_RELATIVE_TIME_TOL = 1e-9
 
 
-def _positive(value: object, what: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{what} must be a positive number, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise InputError(f"{what} must be positive, got {value!r}")
-    return v
-
-
 def _time_tol(value: object, what: str) -> float | None:
-    return None if value is None else _positive(value, f"{what} time_tol")
+    return None if value is None else positive_number(value, f"{what} time_tol")
 
 
 @dataclass(frozen=True)
@@ -80,7 +71,7 @@ class Collision:
     terminal = True
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "distance", _positive(self.distance, "Collision distance"))
+        object.__setattr__(self, "distance", positive_number(self.distance, "Collision distance"))
         object.__setattr__(self, "time_tol", _time_tol(self.time_tol, "Collision"))
 
     @property
@@ -131,7 +122,7 @@ class Contact:
         if len(shapes) < 2:
             raise InputError("Contact needs at least two finite-size bodies")
         for s in shapes:
-            _positive(s.radius, f"Contact shape {s.name!r} radius")
+            positive_number(s.radius, f"Contact shape {s.name!r} radius")
         object.__setattr__(self, "shapes", shapes)
         object.__setattr__(self, "time_tol", _time_tol(self.time_tol, "Contact"))
 
@@ -216,7 +207,7 @@ class Escape:
     terminal = True
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "radius", _positive(self.radius, "Escape radius"))
+        object.__setattr__(self, "radius", positive_number(self.radius, "Escape radius"))
         object.__setattr__(self, "time_tol", _time_tol(self.time_tol, "Escape"))
 
     def value(self, system: HasCompiledKernels, y: np.ndarray) -> float:
@@ -237,7 +228,7 @@ class ClosestApproach:
     error = False
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "distance", _positive(self.distance, "ClosestApproach distance"))
+        object.__setattr__(self, "distance", positive_number(self.distance, "ClosestApproach distance"))
         object.__setattr__(self, "time_tol", _time_tol(self.time_tol, "ClosestApproach"))
 
     @property

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from poissonkit.errors import InputError
+from poissonkit.validation import positive_number
 
 _EXPONENTS = {  # (length, mass, time)
     "length": (1, 0, 0), "mass": (0, 1, 0), "time": (0, 0, 1),
@@ -58,13 +59,7 @@ class Scales:
 
     def __post_init__(self) -> None:
         for name, v in (("length", self.length), ("mass", self.mass), ("time", self.time)):
-            try:
-                v = float(v)
-            except (TypeError, ValueError):
-                raise InputError(f"Scales.{name} must be a number, got {v!r}") from None
-            if not (math.isfinite(v) and v > 0):
-                raise InputError(f"Scales.{name} must be positive and finite, got {v!r}")
-            object.__setattr__(self, name, v)
+            object.__setattr__(self, name, positive_number(v, f"Scales.{name}"))
 
     @classmethod
     def from_energy(cls, length: float, mass: float, energy: float) -> Scales:

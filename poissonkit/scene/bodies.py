@@ -45,6 +45,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from poissonkit.errors import InputError
+from poissonkit.validation import positive_number, vector3
 
 if TYPE_CHECKING:
     from poissonkit.plugin.contributions import PairPotential
@@ -58,26 +59,6 @@ ParamValue = float | int | str | bool | tuple[float, ...]
 BODY_KEYS = ("name", "mass", "alpha", "inertia", "r", "p", "nu", "m", "fixed", "moment",
              "magnetization", "radius", "length", "half_length")
 MAGNET_KEYS = ("moment", "magnetization", "radius", "length", "half_length")
-
-
-def _vector(value: object, what: str) -> np.ndarray:
-    try:
-        v = np.asarray(value, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise InputError(f"{what} must be a 3-vector of numbers, got {value!r}") from None
-    if v.shape != (3,) or not np.all(np.isfinite(v)):
-        raise InputError(f"{what} must be a finite 3-vector, got {value!r}")
-    return v
-
-
-def _positive(value: object, what: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{what} must be a number, got {value!r}") from None
-    if not (math.isfinite(x) and x > 0):
-        raise InputError(f"{what} must be finite and > 0, got {value!r}")
-    return x
 
 
 @dataclass(frozen=True)
@@ -128,30 +109,30 @@ class BodyModel:
         where = f"body {name!r}"
         if "mass" not in attrs:
             raise InputError(f"{where}: missing 'mass' (kg)")
-        mass = _positive(attrs["mass"], f"{where}: mass")
+        mass = positive_number(attrs["mass"], f"{where}: mass")
         alpha = attrs.get("alpha")
         if alpha is not None:
-            alpha = _positive(alpha, f"{where}: alpha")
+            alpha = positive_number(alpha, f"{where}: alpha")
         elif attrs.get("inertia") is not None:
-            alpha = 1.0 / _positive(attrs["inertia"], f"{where}: inertia")
+            alpha = 1.0 / positive_number(attrs["inertia"], f"{where}: inertia")
         if "r" not in attrs:
             raise InputError(f"{where}: missing initial position 'r' (m)")
-        r = _vector(attrs["r"], f"{where}: r")
-        p = _vector(attrs.get("p", (0.0, 0.0, 0.0)), f"{where}: p")
+        r = vector3(attrs["r"], f"{where}: r")
+        p = vector3(attrs.get("p", (0.0, 0.0, 0.0)), f"{where}: p")
         nu = m = None
         if alpha is not None:
             if attrs.get("nu") is None:
                 raise InputError(f"{where}: a top (alpha given) needs its axis 'nu'")
-            nu_v = _vector(attrs["nu"], f"{where}: nu")
+            nu_v = vector3(attrs["nu"], f"{where}: nu")
             norm = float(np.linalg.norm(nu_v))
             if norm == 0.0:
                 raise InputError(f"{where}: axis 'nu' must not be zero")
             nu = tuple(nu_v / norm)
-            m = tuple(_vector(attrs.get("m", (0.0, 0.0, 0.0)), f"{where}: m"))
+            m = tuple(vector3(attrs.get("m", (0.0, 0.0, 0.0)), f"{where}: m"))
         # moment = 0 or magnetization = 0 says "not a magnet" (e.g. overriding scene defaults)
         demagnetised = any(attrs.get(k) is not None and not isinstance(attrs[k], bool)
                            and attrs[k] == 0 for k in ("moment", "magnetization"))
-        magnet = {k: _positive(attrs[k], f"{where}: {k}") for k in MAGNET_KEYS
+        magnet = {k: positive_number(attrs[k], f"{where}: {k}") for k in MAGNET_KEYS
                   if attrs.get(k) is not None
                   and not (demagnetised and k in ("moment", "magnetization"))}
         magnet = _complete_magnet(magnet)

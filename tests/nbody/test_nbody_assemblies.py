@@ -92,7 +92,7 @@ def test_builders_reject_bad_input_naming_it():
         nb.chain(3, -1.0, MAG)
     with pytest.raises(InputError, match="number of bodies"):
         nb.ring(1, 0.1, MAG)
-    with pytest.raises(InputError, match="body 'b0': mass must be finite and > 0"):
+    with pytest.raises(InputError, match="body 'b0': mass must be positive and finite"):
         nb.chain(2, 0.1, {**MAG, "mass": -1})
     with pytest.raises(InputError, match="lattice shape"):
         nb.lattice((3,), 0.1, MAG)
