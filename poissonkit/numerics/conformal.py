@@ -30,6 +30,8 @@ import numpy as np
 import sympy as sp
 from numpy.typing import ArrayLike
 
+from poissonkit import contracts
+from poissonkit.traits import SystemTraits
 from poissonkit.errors import InputError, IntegrationError
 
 if TYPE_CHECKING:
@@ -133,6 +135,10 @@ class LambdifiedSystem:
     compilation), evaluates one state in tens of microseconds. Used by the ``"python"`` backend
     (tests, quick looks); the compiled path is faster for long runs.
     """
+
+    #: the contracts this class fulfils, declared once (:mod:`poissonkit.traits`)
+    traits = SystemTraits(contracts.NumericsSystem, contracts.HasLayout, contracts.HasCasimirs,
+                          contracts.HasIntegrals, contracts.HasEnergy)
 
     def __init__(self, hsys: HamiltonianSystem) -> None:
         vals = _values(hsys)

@@ -42,7 +42,7 @@ from numpy.typing import ArrayLike
 # what a system offers: declared once in the contracts, re-exported here
 from poissonkit.contracts import HasBodyMomenta, HasCasimirs, HasCasimirScales, HasEnergy
 from poissonkit.errors import DimensionError, InputError
-from poissonkit.numerics.conforms import conforms
+from poissonkit.traits import offers
 
 #: The diagnosed quantities, in report order.
 QUANTITIES: tuple[str, ...] = ("energy_error", "casimir_drift", "linear_momentum_drift",
@@ -154,7 +154,7 @@ def casimir_drift(system: HasCasimirs, y: ArrayLike) -> Drift | None:
     C = np.asarray(system.casimirs(rows), dtype=float).reshape(rows.shape[0], -1)
     if C.shape[1] == 0:
         return None
-    if conforms(system, HasCasimirScales):
+    if offers(system, HasCasimirScales):
         s = np.asarray(system.casimir_scales(rows[0]), dtype=float).reshape(-1)
         if s.shape[0] != C.shape[1]:
             raise DimensionError(f"{s.shape[0]} Casimir scales for {C.shape[1]} Casimirs")
@@ -210,11 +210,11 @@ def drifts(system: HasEnergy, y: ArrayLike) -> dict[str, Drift]:
     system of bodies (:class:`HasBodyMomenta`).
     """
     out = {"energy_error": energy_error(system, y)}
-    if conforms(system, HasCasimirs):
+    if offers(system, HasCasimirs):
         c = casimir_drift(system, y)
         if c is not None:
             out["casimir_drift"] = c
-    if conforms(system, HasBodyMomenta):
+    if offers(system, HasBodyMomenta):
         out["linear_momentum_drift"] = linear_momentum_drift(system, y)
         out["angular_momentum_drift"] = angular_momentum_drift(system, y)
     return out

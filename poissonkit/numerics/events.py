@@ -37,6 +37,7 @@ import numpy as np
 
 from poissonkit.contracts import HasBodies, HasCompiledKernels, HasUnpack, System
 from poissonkit.errors import CollisionError, EscapeError, InputError
+from poissonkit.traits import offers
 from poissonkit.validation import positive_number
 
 if TYPE_CHECKING:
@@ -328,7 +329,7 @@ TWO_BODY_NAMES = ("body1", "body2")
 
 def body_names(system: System) -> tuple[str, ...]:
     """Names of a system's bodies (``body1``, ``body2`` for the two-body form)."""
-    if isinstance(system, HasBodies):
+    if offers(system, HasBodies):
         return tuple(b.name for b in system.bodies)
     return TWO_BODY_NAMES
 
@@ -342,8 +343,8 @@ def body_frames(system: HasCompiledKernels, y: np.ndarray
     which leaves every distance unchanged.
     """
     y = np.asarray(y, dtype=float)
-    if not isinstance(system, HasBodies):
-        if not isinstance(system, HasUnpack):
+    if not offers(system, HasBodies):
+        if not offers(system, HasUnpack):
             raise InputError(f"{type(system).__name__} has neither bodies nor the two-body "
                              "unpack(y): no body positions for shape events")
         u = system.unpack(y)

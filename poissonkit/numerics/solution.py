@@ -19,10 +19,10 @@ from poissonkit.contracts import (
 )
 from poissonkit.errors import InputError, MissingDependencyError
 from poissonkit.numerics import diagnostics
-from poissonkit.numerics.conforms import conforms
 from poissonkit.numerics.diagnostics import Drift
 from poissonkit.numerics.events import EventRecord
 from poissonkit.numerics.units import Scales
+from poissonkit.traits import offers
 
 #: Invariants :meth:`Solution.plot` can draw: name -> (method, legend label).
 DRIFTS: dict[str, tuple[str, str]] = {
@@ -102,13 +102,13 @@ class Solution:
         """Relative Casimir drift ``max_k |ΔC_k| / s_k`` over time
         (:func:`~poissonkit.numerics.diagnostics.casimir_drift`); zeros if the system has none."""
         found = (diagnostics.casimir_drift(self.system, self.y)
-                 if conforms(self.system, HasCasimirs) else None)
+                 if offers(self.system, HasCasimirs) else None)
         return np.zeros(len(self.t)) if found is None else found.relative
 
     def linear_momentum_drift(self) -> np.ndarray:
         """``|P(t) − P(0)| / max_i |p_i(0)|`` of the total linear momentum; zeros for a system
         that is not made of bodies."""
-        if not conforms(self.system, HasBodyMomenta):
+        if not offers(self.system, HasBodyMomenta):
             return np.zeros(len(self.t))
         return diagnostics.linear_momentum_drift(self.system, self.y).relative
 
@@ -119,7 +119,7 @@ class Solution:
     def angular_momentum_drift(self) -> np.ndarray:
         """``|j(t) − j(0)| / (Σ|r_i × p_i| + Σ|m_k|)`` of the total angular momentum (seed 000
         eq. 21) at ``t = 0``; zeros for a system that is not made of bodies."""
-        if not conforms(self.system, HasBodyMomenta):
+        if not offers(self.system, HasBodyMomenta):
             return np.zeros(len(self.t))
         return diagnostics.angular_momentum_drift(self.system, self.y).relative
 
@@ -184,9 +184,9 @@ class Solution:
 
     def _system_name(self) -> str:
         # a compiled system is named by the symbolic system it was compiled from
-        named = (self.system.hamiltonian_system if isinstance(self.system, CompiledFrom)
+        named = (self.system.hamiltonian_system if offers(self.system, CompiledFrom)
                  else self.system)
-        return str((named.name if conforms(named, HasName) else "")
+        return str((named.name if offers(named, HasName) else "")
                    or type(self.system).__name__)
 
     def _repr_pretty_(self, p: PrettyPrinter, cycle: bool) -> None:
@@ -204,7 +204,7 @@ class Solution:
     def layout(self) -> tuple[str, ...]:
         """Names of the state components (the system's ``layout``, else ``y0 .. y{n-1}``)."""
         dim = self.y.shape[-1]
-        layout = self.system.layout if conforms(self.system, HasLayout) else None
+        layout = self.system.layout if offers(self.system, HasLayout) else None
         names = tuple(str(n) for n in (layout or ()))
         return names if len(names) == dim else tuple(f"y{i}" for i in range(dim))
 
@@ -244,7 +244,7 @@ class Solution:
                  "message": self.message, "system": self._system_name() if self.system else None}
         t = np.asarray(self.t, dtype=float)
         coords: dict[str, object] = {"t": t, "component": list(self.layout())}
-        scales = self.system.scales if conforms(self.system, HasScales) else None
+        scales = self.system.scales if offers(self.system, HasScales) else None
         if isinstance(scales, Scales):
             for kind, unit in _SI_UNITS.items():
                 attrs[f"internal_unit_{kind}"] = float(scales.unit(kind))

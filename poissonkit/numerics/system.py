@@ -22,6 +22,8 @@ import numpy as np
 import sympy as sp
 from numpy.typing import ArrayLike
 
+from poissonkit import contracts
+from poissonkit.traits import SystemTraits
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.codegen import (
     array_source,
@@ -102,6 +104,12 @@ class CompiledSystem:
         ``"bivector"`` (``X = N P dH``) or ``"original"`` (``hsys.original``), see
         :func:`compile_system`.
     """
+
+    #: the contracts this class fulfils, declared once (:mod:`poissonkit.traits`)
+    traits = SystemTraits(contracts.NumericsSystem, contracts.HasCompiledKernels,
+                          contracts.HasLayout, contracts.HasCasimirs, contracts.HasIntegrals,
+                          contracts.HasEnergy, contracts.CompiledFrom,
+                          contracts.HasSymbolicForm, contracts.HasJacobian)
 
     def __init__(self, hsys: HamiltonianSystem, params: Mapping[str, object] | None = None,
                  field: str = "bivector") -> None:

@@ -19,6 +19,8 @@ from collections.abc import Mapping
 import numpy as np
 from numpy.typing import ArrayLike
 
+from poissonkit import contracts
+from poissonkit.traits import SystemTraits
 from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.jit import jit
@@ -189,6 +191,15 @@ class TwoBodySystem:
         Give ``μ`` directly instead of ``mass1, mass2`` (then ``mass1 = mass2 = 2μ`` is used
         only for the escape radius).
     """
+
+    #: the contracts this class fulfils, declared once (:mod:`poissonkit.traits`)
+    traits = SystemTraits(contracts.NumericsSystem, contracts.HasCompiledKernels,
+                          contracts.HasLayout, contracts.HasStateCheck,
+                          contracts.HasOverlapCheck, contracts.HasCasimirs,
+                          contracts.HasCasimirScales, contracts.HasMomenta,
+                          contracts.HasEnergy, contracts.HasBodyMomenta,
+                          contracts.HasPoissonStructure, contracts.HasUnpack,
+                          contracts.HasScales)
 
     def __init__(self, mass1: float | None, mass2: float | None, alpha1: float, alpha2: float,
                  potential: PotentialLike, params: Mapping[str, object] | None = None,

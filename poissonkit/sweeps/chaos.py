@@ -21,11 +21,12 @@ import numpy as np
 
 from poissonkit.contracts import HasLayout, System
 from poissonkit.errors import InputError
+from poissonkit.traits import offers
 
 
 def _axis_slices(system: System, dim: int) -> list[slice]:
     """Where the unit axes ``nu`` of tops sit in the state (from the system's layout)."""
-    layout = list(system.layout) if isinstance(system, HasLayout) else []
+    layout = list(system.layout) if offers(system, HasLayout) else []
     if len(layout) != dim:
         return []
     return [slice(k, k + 3) for k, name in enumerate(layout)

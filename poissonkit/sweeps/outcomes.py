@@ -21,6 +21,7 @@ from poissonkit.contracts import HasMomenta
 from poissonkit.errors import UnknownNameError
 from poissonkit.plugin.contributions import OutcomeEntry
 from poissonkit.sweeps.scenes import FATES, RunRecord
+from poissonkit.traits import offers
 
 
 #: A registered outcome (the registry entry type; ``description`` and ``units`` read its
@@ -40,7 +41,7 @@ def _max(a: np.ndarray) -> float:
 
 def _final_angular_momentum(rec: RunRecord) -> float:
     sys = rec.solution.system
-    if not isinstance(sys, HasMomenta):
+    if not offers(sys, HasMomenta):
         return math.nan
     j = np.asarray(sys.angular_momentum(np.asarray(rec.solution.y)[-1:]), dtype=float)
     return float(np.linalg.norm(j)) * rec.angular_momentum_unit

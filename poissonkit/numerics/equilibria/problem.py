@@ -32,6 +32,7 @@ from poissonkit.contracts import (
 )
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.equilibria import differences as fd
+from poissonkit.traits import offers
 
 #: A conserved momentum ``J(x)`` (a float of one state).
 Momentum = Callable[[np.ndarray], float]
@@ -39,10 +40,10 @@ Momentum = Callable[[np.ndarray], float]
 
 def _poisson_matrix(system: NumericsSystem) -> Callable[[np.ndarray], np.ndarray]:
     """``x ↦ P(x)`` (numpy), from the symbolic bracket the system declares."""
-    if isinstance(system, HasSymbolicForm):
+    if offers(system, HasSymbolicForm):
         form = system.symbolic_form()
         coords, matrix = form.coords, form.structure
-    elif isinstance(system, HasPoissonStructure):
+    elif offers(system, HasPoissonStructure):
         bivector = system.to_structure()
         coords, matrix = tuple(bivector.coords), bivector.matrix
     else:
@@ -83,7 +84,7 @@ class EquilibriumProblem:
     scale: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def __post_init__(self) -> None:
-        if not isinstance(self.system, NumericsSystem):
+        if not offers(self.system, NumericsSystem):
             raise InputError(f"needs a numerics system (rhs, energy, dim), got "
                              f"{type(self.system).__name__}")
         for j in self.momenta:
@@ -131,7 +132,7 @@ class EquilibriumProblem:
 
     def casimirs(self, x: np.ndarray) -> np.ndarray:
         """Declared Casimir values (empty if none)."""
-        if isinstance(self.system, HasCasimirs):
+        if offers(self.system, HasCasimirs):
             return np.atleast_1d(np.asarray(self.system.casimirs(x), dtype=float))
         return np.zeros(0)
 
@@ -157,7 +158,7 @@ class EquilibriumProblem:
         """``∂(co-moving field)/∂x``: the system's own Jacobian where it has one (central
         differences of its field otherwise), minus ``Σ ω_k ∂(P ∇J_k)/∂x`` formed as
         ``(∂P·∇J_k) + P ∇²J_k`` (differences of differences would lose half the digits)."""
-        if isinstance(self.system, HasJacobian):
+        if offers(self.system, HasJacobian):
             A = np.asarray(self.system.jacobian(0.0, x), dtype=float)
         else:
             A = fd.jacobian(lambda z: np.asarray(self.system.rhs(0.0, z), dtype=float), x,
@@ -190,7 +191,7 @@ def as_problem(system: NumericsSystem, momenta: Sequence[Momentum] = (),
                scale: ArrayLike | None = None) -> EquilibriumProblem:
     """Build an :class:`EquilibriumProblem` (checks the inputs); ``scale`` defaults to the
     :func:`~poissonkit.numerics.equilibria.differences.typical_scales` of ``state``."""
-    if not isinstance(system, NumericsSystem):
+    if not offers(system, NumericsSystem):
         raise InputError(f"needs a numerics system (rhs, energy, dim), got {type(system).__name__}")
     x = np.asarray(state, dtype=float)
     if x.shape != (system.dim,):
@@ -198,7 +199,7 @@ def as_problem(system: NumericsSystem, momenta: Sequence[Momentum] = (),
     if not np.all(np.isfinite(x)):
         raise InputError("state contains non-finite values")
     if scale is None:
-        layout = tuple(system.layout) if isinstance(system, HasLayout) else None
+        layout = tuple(system.layout) if offers(system, HasLayout) else None
         scale = fd.typical_scales(x, layout)
     return EquilibriumProblem(system, tuple(momenta),
                               None if omega is None else np.asarray(omega, dtype=float),

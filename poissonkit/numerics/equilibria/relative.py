@@ -28,6 +28,7 @@ from poissonkit.numerics.equilibria import differences as fd
 from poissonkit.numerics.equilibria.errors import NoConvergenceError, SingularPointError
 from poissonkit.numerics.equilibria.linalg import rank
 from poissonkit.numerics.equilibria.problem import EquilibriumProblem, Momentum, as_problem
+from poissonkit.traits import offers
 
 
 @dataclass(frozen=True)
@@ -143,7 +144,7 @@ def describe(problem: EquilibriumProblem, x: np.ndarray, residual: float,
              iterations: int) -> RelativeEquilibrium:
     """Package a converged point as a :class:`RelativeEquilibrium` (checks regularity)."""
     check_regular(problem, x)
-    layout = tuple(problem.system.layout) if isinstance(problem.system, HasLayout) else None
+    layout = tuple(problem.system.layout) if offers(problem.system, HasLayout) else None
     return RelativeEquilibrium(
         state=x.copy(), multipliers=multipliers(problem, x),
         casimir_values=problem.casimirs(x), omega=problem.omega.copy(),

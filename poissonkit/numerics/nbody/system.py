@@ -14,6 +14,8 @@ import numpy as np
 import numpy.typing as npt
 from numba.core.dispatcher import Dispatcher
 
+from poissonkit import contracts
+from poissonkit.traits import SystemTraits
 from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.integrators.base import LoopKernels
@@ -128,6 +130,16 @@ class NBodySystem:
     The object is immutable after construction; kernels are compiled on first use and shared
     between systems with the same potentials.
     """
+
+    #: the contracts this class fulfils, declared once (:mod:`poissonkit.traits`)
+    traits = SystemTraits(contracts.NumericsSystem, contracts.HasCompiledKernels,
+                          contracts.HasLayout, contracts.HasStateCheck,
+                          contracts.HasOverlapCheck, contracts.HasCasimirs,
+                          contracts.HasCasimirScales, contracts.HasMomenta,
+                          contracts.HasEnergy, contracts.HasBodyMomenta,
+                          contracts.HasExternalFields, contracts.HasPoissonStructure,
+                          contracts.HasUnpack, contracts.HasScales, contracts.HasBodies,
+                          contracts.HasGravity)
 
     def __init__(self, bodies: Sequence[Body], interactions: Sequence[Interaction | AllPairs] = (),
                  cutoff: float | None = None, scales: Scales | None = None,
