@@ -31,8 +31,8 @@ import sympy as sp
 from numpy.typing import ArrayLike
 
 from poissonkit import contracts
-from poissonkit.traits import SystemTraits
 from poissonkit.errors import InputError, IntegrationError
+from poissonkit.traits import SystemTraits
 
 if TYPE_CHECKING:
     from poissonkit.numerics.solution import Solution

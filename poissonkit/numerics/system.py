@@ -23,7 +23,7 @@ import sympy as sp
 from numpy.typing import ArrayLike
 
 from poissonkit import contracts
-from poissonkit.traits import SystemTraits
+from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.codegen import (
     array_source,
@@ -34,6 +34,7 @@ from poissonkit.numerics.codegen import (
 )
 from poissonkit.numerics.jit import jit, load_sources, source_key, store_sources
 from poissonkit.numerics.kernels import Kernels, no_drift
+from poissonkit.traits import SystemTraits
 
 if TYPE_CHECKING:
     from poissonkit.structure import HamiltonianSystem
@@ -273,21 +274,20 @@ class CompiledSystem:
 
     def casimirs(self, y: ArrayLike) -> np.ndarray:
         """Values of the system's claimed Casimirs (in ``casimir_names`` order)."""
-        y = np.asarray(y, dtype=float)
-        if y.ndim == 2:
-            return np.array([self.casimirs(row) for row in y]).reshape(len(y), -1)
-        out = np.empty(max(len(self.casimir_names), 1))
-        self._cas(self._state(y), out)
-        return out[:len(self.casimir_names)]
+        return self._columns(self._cas, len(self.casimir_names), y)
 
     def integrals(self, y: ArrayLike) -> np.ndarray:
         """Values of the claimed first integrals (in ``integral_names`` order)."""
+        return self._columns(self._int, len(self.integral_names), y)
+
+    def _columns(self, kernel: CompiledFunction, n: int, y: ArrayLike) -> np.ndarray:
+        """``n`` values of a compiled ``kernel(y, out)`` at one state, or a row per state."""
         y = np.asarray(y, dtype=float)
         if y.ndim == 2:
-            return np.array([self.integrals(row) for row in y]).reshape(len(y), -1)
-        out = np.empty(max(len(self.integral_names), 1))
-        self._int(self._state(y), out)
-        return out[:len(self.integral_names)]
+            return np.array([self._columns(kernel, n, row) for row in y]).reshape(len(y), -1)
+        out = np.empty(max(n, 1))
+        kernel(self._state(y), out)
+        return out[:n]
 
     def __repr__(self) -> str:
         return f"CompiledSystem({self.hamiltonian_system.name or 'unnamed'}, dim={self.dim})"

@@ -20,7 +20,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from poissonkit import contracts
-from poissonkit.traits import SystemTraits
 from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.jit import jit
@@ -35,6 +34,7 @@ from poissonkit.numerics.nbody import (
 from poissonkit.numerics.nbody.bodies import PotentialLike
 from poissonkit.numerics.potentials import scaled_kernel
 from poissonkit.numerics.units import Scales
+from poissonkit.traits import SystemTraits
 
 LAYOUT: tuple[str, ...] = tuple(
     f"{v}_{a}" for v in ("r", "p", "nu1", "m1", "nu2", "m2") for a in "xyz")

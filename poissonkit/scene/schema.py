@@ -272,6 +272,11 @@ def _body(raw: Any, defaults: Mapping[str, Any], where: str) -> dict[str, Any]:
     return out
 
 
+def _optional_positive(table: Mapping[str, Any], key: str, where: str) -> float | None:
+    """``table[key]`` as a positive number, or ``None`` when the key is absent."""
+    return _number(table[key], f"{where}.{key}", positive=True) if key in table else None
+
+
 def _run(raw: Any) -> RunSettings:
     table = _table(raw, "run")
     _keys(table, RUN_KEYS, "run")
@@ -280,8 +285,8 @@ def _run(raw: Any) -> RunSettings:
     duration = _number(table["duration"], "run.duration", positive=True)
     method = _string(table.get("method", "splitting4"), "run.method")
     _lookup("integrator", method, "run.method")
-    step = _number(table["step"], "run.step", positive=True) if "step" in table else None
-    tol = _number(table["tol"], "run.tol", positive=True) if "tol" in table else None
+    step = _optional_positive(table, "step", "run")
+    tol = _optional_positive(table, "tol", "run")
     if step is not None and step > duration:
         raise SceneError(f"run.step: {step:g} s is longer than run.duration {duration:g} s")
     save_every = _integer(table.get("save_every", 1), "run.save_every")
@@ -291,8 +296,7 @@ def _run(raw: Any) -> RunSettings:
         raise SceneError(f"run.contact: must be \"stop\" or \"ignore\", got {contact!r}")
     max_steps = (_integer(table["max_steps"], "run.max_steps") if "max_steps" in table
                  else None)
-    save_dt = (_number(table["save_dt"], "run.save_dt", positive=True) if "save_dt" in table
-               else None)
+    save_dt = _optional_positive(table, "save_dt", "run")
     if save_dt is not None and "save_every" in table:
         raise SceneError("run.save_dt and run.save_every both choose the saved states: give one")
     return RunSettings(duration, method, step, tol, save_every, energy_tol, contact, max_steps,

@@ -15,7 +15,6 @@ import numpy.typing as npt
 from numba.core.dispatcher import Dispatcher
 
 from poissonkit import contracts
-from poissonkit.traits import SystemTraits
 from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.integrators.base import LoopKernels
@@ -47,6 +46,7 @@ from poissonkit.numerics.nbody.pairkernels import (
 from poissonkit.numerics.nbody.verlet import VerletState, new_verlet_state
 from poissonkit.numerics.units import Scales
 from poissonkit.plugin.contributions import PairPotential
+from poissonkit.traits import SystemTraits
 
 if TYPE_CHECKING:
     from poissonkit.structure.bivector import Bivector
