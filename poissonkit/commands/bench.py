@@ -23,7 +23,7 @@ from pathlib import Path
 
 from poissonkit.errors import InputError, MissingDependencyError
 from poissonkit.numerics.runspec import RunSpec
-from poissonkit.report import atomic
+from poissonkit.files import atomic
 
 DEFAULT_METHODS = ("splitting2", "splitting4", "splitting6", "splitting8", "midpoint", "rk45",
                    "dop853", "lsoda")

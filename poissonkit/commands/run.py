@@ -41,7 +41,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from poissonkit.contracts import HasBodies, HasLayout, HasScales, HasUnpack, Trajectory
-from poissonkit.cli import CommandParser
+from poissonkit.commands.parser import CommandParser
 from poissonkit.errors import InputError, MissingDependencyError, MissingStepError, SceneError
 from poissonkit.numerics.units import Scales
 
@@ -365,7 +365,7 @@ def _main(args: argparse.Namespace) -> int:
 
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
     from poissonkit.numerics.workload import plan_run
-    from poissonkit.report import atomic
+    from poissonkit.files import atomic
 
     if args.save_every is not None and args.save_every < 1:
         raise InputError(f"--save-every must be >= 1, got {args.save_every}")
@@ -540,7 +540,7 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
     problems = _problems(energy_error, sol.message, tol, interrupted, touching, tunit)
     summary["warnings"] = problems
     write_summary(out / "summary.json", summary)  # the commit record (report/resume.py)
-    from poissonkit.killpoints import kill_point
+    from poissonkit.files.killpoints import kill_point
     from poissonkit.report.resume import finish_parts
 
     kill_point("summary-written")

@@ -185,7 +185,7 @@ def _build() -> _State:
     pm.add_hookspecs(hookspecs)
     reports: list[PluginReport] = []
     entries: dict[str, dict[str, Entry]] = {kind: {} for kind, _ in KINDS.values()}
-    from poissonkit import __version__
+    from poissonkit._version import __version__
 
     for name, module in BUILTIN_PLUGINS:
         _register(pm, name, lambda m=module: importlib.import_module(m), "builtin",

@@ -24,8 +24,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from poissonkit.numerics.parts import PartInfo, iter_parts, verify_parts
-from poissonkit.report.atomic import atomic_path
-from poissonkit.killpoints import kill_point
+from poissonkit.files.atomic import atomic_path
+from poissonkit.files.killpoints import kill_point
 
 if TYPE_CHECKING:
     import xarray as xr

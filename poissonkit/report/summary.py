@@ -234,7 +234,7 @@ def _jsonable(x: object) -> object:
 def write_summary(path: str | Path, summary: Mapping[str, object]) -> Path:
     """Write ``summary`` as pretty JSON (numpy values converted, non-finite floats as strings),
     atomically."""
-    from poissonkit.report.atomic import write_json
+    from poissonkit.files.atomic import write_json
 
     return write_json(path, _jsonable(summary))
 
@@ -244,7 +244,7 @@ def write_trajectory(path: str | Path, t: np.ndarray, y: np.ndarray, *,
                      **extra: np.ndarray) -> Path:
     """Write ``t`` (internal), ``t_si`` (``t * time_unit``), ``y`` (rows), ``layout`` and any
     extra arrays to a compressed ``.npz``, atomically."""
-    from poissonkit.report.atomic import atomic_path
+    from poissonkit.files.atomic import atomic_path
 
     path = Path(path)
     t = np.asarray(t, dtype=float)

@@ -189,10 +189,10 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
                 data[name] = xr.Variable(("body",), values, attrs={
                     "units": SI_UNITS["length"], "long_name": long_name})
         coords["component"] = xr.Variable(("component",), np.array(COMPONENTS, dtype=str))
-    import poissonkit
+    from poissonkit._version import __version__
 
     ds_attrs: dict[str, str | int | float] = {
-        "title": "poissonkit trajectory", "poissonkit_version": str(poissonkit.__version__),
+        "title": "poissonkit trajectory", "poissonkit_version": __version__,
         "time_unit_s": float(time_unit), "system_in_si": int(scales is None),
         "conventions": "values in SI units (variable attribute 'units'); 'y' in the "
                        "internal units: si = internal * internal_unit_<kind>"}
@@ -226,7 +226,7 @@ def open_trajectory(path: str | Path) -> xr.Dataset:
 
 def write_dataset(path: str | Path, dataset: xr.Dataset) -> Path:
     """Write ``dataset`` as NetCDF (scipy's NetCDF 3 engine), atomically."""
-    from poissonkit.report.atomic import atomic_path
+    from poissonkit.files.atomic import atomic_path
 
     path = Path(path)
     with atomic_path(path) as tmp:

@@ -295,7 +295,7 @@ def write_view(path: str | Path, dataset: xr.Dataset,
     pathlib.Path
         ``path``.
     """
-    from poissonkit.report.atomic import atomic_path
+    from poissonkit.files.atomic import atomic_path
 
     fig = view_figure(dataset, shapes, title=title)
     path = Path(path)
