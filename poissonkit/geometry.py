@@ -40,6 +40,7 @@ class Shape:
         if self.kind == "ball":
             n = float(np.linalg.norm(d))
             return x.copy() if n <= self.radius else self.center + d * (self.radius / n)
+        assert self.axis is not None  # a cylinder has an axis (shape_of)
         z = float(d @ self.axis)
         radial = d - z * self.axis
         rho = float(np.linalg.norm(radial))

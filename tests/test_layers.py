@@ -195,7 +195,6 @@ def test_the_layer_test_lets_type_checking_imports_and_lower_layers_pass(tmp_pat
     assert _upward_imports(_fake_tree(tmp_path, source)) == []
 
 
-@pytest.mark.xfail(strict=True, reason="SymbolicForm and Capabilities move next to the contracts next")
 def test_the_contracts_import_no_implementation_module():
     # at run time contracts import nothing of poissonkit; for annotations only the listed types
     # of CONTRACTS_MAY_NAME (entangled with their implementation; see there)

@@ -36,11 +36,18 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 from types import FrameType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
-from poissonkit.contracts import HasBodies, HasLayout, HasScales, HasUnpack, Trajectory
+from poissonkit.contracts import (
+    HasBodies,
+    HasEnergy,
+    HasLayout,
+    HasScales,
+    HasUnpack,
+    Trajectory,
+)
 from poissonkit.commands.parser import CommandParser
 from poissonkit.errors import InputError, MissingDependencyError, MissingStepError, SceneError
 from poissonkit.numerics.units import Scales
@@ -52,6 +59,7 @@ if TYPE_CHECKING:
     from poissonkit.numerics.events import EventRecord
     from poissonkit.numerics.runspec import RunSpec
     from poissonkit.numerics.solution import Solution
+    from poissonkit.report.provenance import JSONValue
 
 DEFAULT_OUT = "poissonkit-output"
 
@@ -183,7 +191,7 @@ def build_spec(args: argparse.Namespace) -> RunSpec:
                 "scene files need poissonkit.scene.load_scene/build_run, which this build lacks"
             ) from None
         spec = build_run(load_scene(target))
-    changes: dict[str, float | str | None] = {}
+    changes: dict[str, Any] = {}  # RunSpec fields to replace
     if args.method and "method" not in consumed:
         changes["method"] = args.method
     tunit = _time_unit(spec)
@@ -459,7 +467,8 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
     from poissonkit.report import invariant_report, streamed_diagnostics, write_summary
 
     nrows = int(sol.extra.get("streamed_rows", len(sol.t)))
-    diag, t, y = streamed_diagnostics(spec.system, parts, plot_rows=PLOT_ROWS)
+    system = cast(HasEnergy, spec.system)  # every system a scene builds has an energy
+    diag, t, y = streamed_diagnostics(system, parts, plot_rows=PLOT_ROWS)
     tunit = _time_unit(spec)
     sc = _scales(spec.system)
     lunit = float(sc.length) if sc is not None else 1.0
@@ -467,7 +476,7 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
     rel = relative_position(spec, y)
     meta = dict(spec.metadata or {})
     tol = energy_tol if energy_tol is not None else (spec.energy_tol or DEFAULT_ENERGY_TOL)
-    invariants = invariant_report(spec.system, diag)
+    invariants = invariant_report(system, diag)
     interrupted = bool(sol.extra.get("interrupted"))
     touching = [e for e in sol.events if e.kind in ("contact", "collision")]
     summary: dict[str, Any] = {  # the JSON document; values read back below are floats
@@ -519,7 +528,8 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
             r = relative_position(spec, rows)
             return None if r is None else r * lunit
 
-        maps = {} if rel_si(y[:1]) is None else {"r_rel_si": rel_si}
+        maps: dict[str, Callable[[np.ndarray], np.ndarray]] = (
+            {} if rel_si(y[:1]) is None else {"r_rel_si": cast(Callable[[np.ndarray], np.ndarray], rel_si)})
         gather_trajectory(out / "trajectory.npz", parts, layout=layout, time_unit=tunit,
                           row_maps=maps, **scale_arrays(sc, tunit))  # one part at a time
         files = ["summary.json", "trajectory.npz"]
@@ -580,7 +590,7 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
 
 
 def _provenance(args: argparse.Namespace, spec: RunSpec, scales: Scales | None
-                ) -> dict[str, object]:
+                ) -> dict[str, JSONValue]:
     """Versions, command line, options, scene copy and units (``summary.json``)."""
     from poissonkit.report.provenance import provenance
     from poissonkit.scene.registered import resolve_scene

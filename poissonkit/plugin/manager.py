@@ -53,7 +53,7 @@ BUILTIN_PLUGINS: tuple[tuple[str, str], ...] = (
 )
 
 #: hook name -> (registry kind, entry type)
-KINDS: dict[str, tuple[str, type]] = {
+KINDS: dict[str, tuple[str, type[Entry]]] = {
     "poissonkit_potentials": ("potential", PairPotential),
     "poissonkit_assemblies": ("assembly", Assembly),
     "poissonkit_systems": ("system", SystemEntry),

@@ -6,6 +6,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -249,6 +250,8 @@ def write_trajectory(path: str | Path, t: np.ndarray, y: np.ndarray, *,
     path = Path(path)
     t = np.asarray(t, dtype=float)
     with atomic_path(path) as tmp:
-        np.savez_compressed(tmp, t=t, t_si=t * float(time_unit), y=np.asarray(y, dtype=float),
-                            layout=np.array(layout, dtype=str), **extra)
+        arrays: dict[str, Any] = dict(t=t, t_si=t * float(time_unit),
+                                      y=np.asarray(y, dtype=float),
+                                      layout=np.array(layout, dtype=str), **extra)
+        np.savez_compressed(tmp, **arrays)
     return path

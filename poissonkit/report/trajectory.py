@@ -20,7 +20,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from pathlib import Path
 from types import ModuleType
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
 import numpy as np
 
@@ -29,6 +29,7 @@ from poissonkit.errors import DimensionError, MissingDependencyError
 from poissonkit.report.provenance import SI_UNITS
 
 if TYPE_CHECKING:
+    import xarray
     import xarray as xr
 
     from poissonkit.numerics.units import Scales
@@ -37,7 +38,7 @@ if TYPE_CHECKING:
 TWO_BODY_BLOCKS = (("nu1", "m1"), ("nu2", "m2"))
 COMPONENTS = ("x", "y", "z")
 #: NetCDF engine used (part of scipy: NetCDF 3 classic).
-ENGINE = "scipy"
+ENGINE: Final = "scipy"
 
 
 def _xarray() -> ModuleType:
@@ -83,10 +84,11 @@ def _body_variables(system: object, y: np.ndarray, layout: tuple[str, ...]
         first_fixed = len(bodies) - len(fixed)
         for k, b in enumerate(fixed, start=first_fixed):  # no degrees of freedom: where the
             # scene put them, all the time
-            if b.position is not None:
-                position[:, k] = b.position
-            if b.axis is not None:
-                axis[:, k] = b.axis
+            # (a fixed body of the N-body form has a position and maybe an axis)
+            if getattr(b, "position", None) is not None:
+                position[:, k] = getattr(b, "position")
+            if getattr(b, "axis", None) is not None:
+                axis[:, k] = getattr(b, "axis")
         return {
             "position": (tbc, position,
                          {"units": SI_UNITS["length"], "long_name": "position"}),
@@ -171,7 +173,7 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
     data["y"] = xr.Variable(("time", "state"), y, attrs={
         "units": "internal (see internal_unit_* attributes)",
         "long_name": "state vector as integrated"})
-    coords: dict[str, xr.Variable] = {
+    coords: dict[str, xarray.Variable] = {
         "time": xr.Variable(("time",), t * float(time_unit),
                             attrs={"units": SI_UNITS["time"], "long_name": "time"}),
         "time_internal": xr.Variable(("time",), t, attrs={

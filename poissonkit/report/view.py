@@ -26,6 +26,7 @@ from poissonkit.errors import InputError, MissingDependencyError
 
 if TYPE_CHECKING:
     import plotly.graph_objects as go
+    from plotly.basedatatypes import BaseTraceType
     import xarray as xr
 
 #: Bodies drawn as meshes (spheres, cylinders); more are drawn as markers.
@@ -209,10 +210,10 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     notes = [n + (" (fixed)" if n in fixed else "")
              + ("" if n in shapes else " (size not to scale)") for n in names]
 
-    def frame_traces(f: int, full: bool) -> list[go.BaseTraceType]:
+    def frame_traces(f: int, full: bool) -> list[BaseTraceType]:
         """The moving traces at frame ``f``; ``full``: with everything that does not move
         (the first frame), else coordinates only (plotly merges a frame into the traces)."""
-        traces: list[go.BaseTraceType] = []
+        traces: list[BaseTraceType] = []
         if meshes:
             for k, n in enumerate(names):
                 v = body_mesh(k, f)
