@@ -15,6 +15,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 
 @dataclass(frozen=True)
@@ -47,10 +48,12 @@ class Shape:
         z = min(max(z, -self.half_length), self.half_length)
         if rho > self.radius:
             radial *= self.radius / rho
-        return self.center + z * self.axis + radial
+        closest: np.ndarray = self.center + z * self.axis + radial
+        return closest
 
 
-def shape_of(center, axis=None, radius: float = 0.0, half_length: float = 0.0) -> Shape:
+def shape_of(center: ArrayLike, axis: ArrayLike | None = None, radius: float = 0.0,
+             half_length: float = 0.0) -> Shape:
     """The shape of a body from its magnet/size attributes (see the module docstring)."""
     c = np.asarray(center, dtype=float)
     if radius > 0 and half_length > 0 and axis is not None:

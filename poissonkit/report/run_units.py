@@ -55,9 +55,12 @@ def relative_position(spec: RunSpec, y: np.ndarray) -> np.ndarray | None:
     n_moving = system.n_moving if isinstance(system, HasBodies) else 0
     if isinstance(system, HasUnpack) and n_moving == 2:
         r = system.unpack(y)["r"]
-        return r[:, 1] - r[:, 0]
+        diff: np.ndarray = r[:, 1] - r[:, 0]
+        return diff
     if layout_of(system)[:3] and y.shape[1] == 18:  # the seed's centre-of-mass form
-        return y[:, 0:3]
+        rel: np.ndarray = y[:, 0:3]
+        return rel
     if isinstance(system, HasUnpack) and n_moving >= 1:
-        return system.unpack(y)["r"][:, 0]
+        first: np.ndarray = system.unpack(y)["r"][:, 0]
+        return first
     return None
