@@ -15,14 +15,17 @@ from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, Union, runtime_chec
 
 import numpy as np
 
-if TYPE_CHECKING:  # only for annotations; each type holds objects of its implementation
+# Only for annotations: types that hold objects of their own implementation (RawResult: event
+# records; Control: a checkpoint and a stream; Bivector: the symbolic algebra; RunRecord: a
+# Solution and its system), so they cannot move here (tests/test_layers.py lists them).
+if TYPE_CHECKING:
     import networkx as nx
     import sympy as sp
 
-    from poissonkit.numerics.integrators.base import RawResult  # holds EventRecord rows
-    from poissonkit.numerics.integrators.driver import Control  # holds checkpoints, streams
-    from poissonkit.structure import Bivector  # the symbolic bivector and its algebra
-    from poissonkit.sweeps.scenes import RunRecord  # holds a Solution and its system
+    from poissonkit.numerics.integrators.base import RawResult
+    from poissonkit.numerics.integrators.driver import Control
+    from poissonkit.structure import Bivector
+    from poissonkit.sweeps.scenes import RunRecord
 
 # --------------------------------------------------------------------------- numerics systems
 #: A compiled (numba) function; its signature is fixed by the slot it fills in

@@ -24,8 +24,8 @@ from typing import cast
 
 from poissonkit.contracts import HasEnergy
 from poissonkit.errors import InputError, MissingDependencyError
-from poissonkit.numerics.runspec import RunSpec
 from poissonkit.files import atomic
+from poissonkit.numerics.runspec import RunSpec
 
 DEFAULT_METHODS = ("splitting2", "splitting4", "splitting6", "splitting8", "midpoint", "rk45",
                    "dop853", "lsoda")

@@ -47,8 +47,7 @@ import numpy as np
 from poissonkit.commands.parser import CommandParser
 from poissonkit.contracts import HasBodies
 from poissonkit.errors import InputError, MissingDependencyError, MissingStepError, SceneError
-# run-spec readers, also importable from here as before
-from poissonkit.report.run_units import (  # noqa: F401
+from poissonkit.report.run_units import (  # noqa: F401  (also importable from here, as before)
     relative_position,
     scales_of,
     time_unit,
@@ -326,9 +325,9 @@ def _apply_summary(args: argparse.Namespace, source: Path, scene_dir: Path) -> N
 def _main(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
+    from poissonkit.files import atomic
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
     from poissonkit.numerics.workload import plan_run
-    from poissonkit.files import atomic
 
     if args.save_every is not None and args.save_every < 1:
         raise InputError(f"--save-every must be >= 1, got {args.save_every}")

@@ -75,9 +75,9 @@ def distance_figures(rel: np.ndarray, length: float, shown: int, nrows: int, plo
     """Smallest and largest two-body distance [m] over the ``shown`` rows of ``nrows`` saved
     (all of them up to ``plot_rows``)."""
     rn = np.linalg.norm(rel, axis=1) * length
-    return dict(min_distance_m=float(rn.min()), max_distance_m=float(rn.max()),
-                distance_note="over the saved states (every --save-every steps)"
-                if nrows <= plot_rows else f"over {shown} of {nrows} saved states")
+    return {"min_distance_m": float(rn.min()), "max_distance_m": float(rn.max()),
+            "distance_note": "over the saved states (every --save-every steps)"
+            if nrows <= plot_rows else f"over {shown} of {nrows} saved states"}
 
 
 def run_provenance(args: argparse.Namespace, spec: RunSpec, scales: Scales | None

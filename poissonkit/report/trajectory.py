@@ -85,10 +85,11 @@ def _body_variables(system: object, y: np.ndarray, layout: tuple[str, ...]
         for k, b in enumerate(fixed, start=first_fixed):  # no degrees of freedom: where the
             # scene put them, all the time
             # (a fixed body of the N-body form has a position and maybe an axis)
-            if getattr(b, "position", None) is not None:
-                position[:, k] = getattr(b, "position")
-            if getattr(b, "axis", None) is not None:
-                axis[:, k] = getattr(b, "axis")
+            placed, pointing = getattr(b, "position", None), getattr(b, "axis", None)
+            if placed is not None:
+                position[:, k] = placed
+            if pointing is not None:
+                axis[:, k] = pointing
         return {
             "position": (tbc, position,
                          {"units": SI_UNITS["length"], "long_name": "position"}),

@@ -26,8 +26,8 @@ from poissonkit.errors import InputError, MissingDependencyError
 
 if TYPE_CHECKING:
     import plotly.graph_objects as go
-    from plotly.basedatatypes import BaseTraceType
     import xarray as xr
+    from plotly.basedatatypes import BaseTraceType
 
 #: Bodies drawn as meshes (spheres, cylinders); more are drawn as markers.
 MESH_BODIES = 40
