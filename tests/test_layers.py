@@ -242,6 +242,30 @@ def test_the_architecture_page_states_every_hook_and_protocol():
     assert "report" not in numerics_row
 
 
+#: What the type check must hold strictly: the contracts and the plugin-facing registry.
+STRICT_MODULES = {"poissonkit.contracts", "poissonkit.plugin.contributions",
+                  "poissonkit.plugin.registry", "poissonkit.plugin.hookspecs"}
+STRICT_FLAGS = {"disallow_untyped_defs", "disallow_incomplete_defs", "disallow_untyped_calls",
+                "disallow_any_generics", "check_untyped_defs", "no_implicit_reexport",
+                "warn_return_any", "strict_equality"}
+
+
+def test_mypy_checks_the_contracts_strictly_and_ci_runs_it():
+    import tomllib
+
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["mypy"]
+    assert {"poissonkit", "plugins/poissonkit_magnets"} <= set(config["files"])
+    overrides = config.get("overrides", [])
+    strict = [o for o in overrides if STRICT_FLAGS <= {k for k, v in o.items() if v is True}]
+    covered = {m for o in strict for m in ([o["module"]] if isinstance(o["module"], str)
+                                           else o["module"])}
+    assert STRICT_MODULES <= covered, f"not strict: {STRICT_MODULES - covered}"
+    relaxed = {m for o in overrides if o.get("ignore_errors")
+               for m in ([o["module"]] if isinstance(o["module"], str) else o["module"])}
+    assert not STRICT_MODULES & relaxed
+    assert "python -m mypy" in (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+
+
 def test_the_core_never_imports_a_plugin():
     offenders = [f"{path.relative_to(ROOT)}:{line} imports {module}"
                  for path in _sources(CORE)
