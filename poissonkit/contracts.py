@@ -10,15 +10,20 @@ what an integrator *can* do (checkpoint, stream, events, ...) is declared on its
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from typing import TYPE_CHECKING, Any, Protocol, Union, runtime_checkable
+from dataclasses import dataclass, fields
+from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, Union, runtime_checkable
 
 import numpy as np
 
-if TYPE_CHECKING:  # only for annotations: the numerics import this module
+# Only for annotations: types that hold objects of their own implementation (RawResult: event
+# records; Control: a checkpoint and a stream; Bivector: the symbolic algebra; RunRecord: a
+# Solution and its system), so they cannot move here (tests/test_layers.py lists them).
+if TYPE_CHECKING:
+    import networkx as nx
+    import sympy as sp
+
     from poissonkit.numerics.integrators.base import RawResult
     from poissonkit.numerics.integrators.driver import Control
-    from poissonkit.numerics.system import SymbolicForm
-    from poissonkit.plugin.contributions import Capabilities
     from poissonkit.structure import Bivector
     from poissonkit.sweeps.scenes import RunRecord
 
@@ -212,6 +217,32 @@ class CompiledFrom(Protocol):
     def hamiltonian_system(self) -> object: ...
 
 
+class SymbolicForm(NamedTuple):
+    """``ẋ = N P ∇H`` of a compiled system with its parameter values substituted.
+
+    What :meth:`HasSymbolicForm.symbolic_form` returns (also importable from
+    :mod:`poissonkit.numerics.system`, where :class:`~poissonkit.numerics.system.CompiledSystem`
+    builds it).
+
+    Attributes
+    ----------
+    coords
+        Coordinate symbols in state order.
+    hamiltonian, multiplier
+        ``H`` and ``N`` (sympy expressions in ``coords`` only).
+    structure
+        The bivector's matrix ``P`` (sympy, in ``coords`` only).
+    key
+        Cache key of the compiled system's generated sources (derived kernels extend it).
+    """
+
+    coords: tuple[sp.Symbol, ...]
+    hamiltonian: sp.Expr
+    multiplier: sp.Expr
+    structure: sp.Matrix
+    key: str
+
+
 @runtime_checkable
 class HasSymbolicForm(Protocol):
     """A compiled system that hands out its symbolic ``ẋ = N P ∇H`` with parameter values
@@ -290,6 +321,55 @@ class HasGravity(Protocol):
 System = Union[NumericsSystem, HasCompiledKernels]
 
 # --------------------------------------------------------------------------- integrators
+@dataclass(frozen=True)
+class Capabilities:
+    """What an integrator can do, declared once (on its registry entry and on the object).
+
+    :func:`~poissonkit.numerics.solve` reads it and refuses, before any work and with
+    :class:`~poissonkit.errors.CapabilityError`, a run that asks for more. (Also importable
+    from :mod:`poissonkit.plugin` and :mod:`poissonkit.plugin.contributions`.)
+
+    Attributes
+    ----------
+    checkpoint
+        Writes checkpoints and resumes from them, bit-identically to an uninterrupted run.
+    stream
+        Streams saved rows to disk while it runs (memory bounded). Without it a stream still
+        works: ``solve`` writes the rows once the run is over.
+    stop
+        Honours a stop request between chunks of steps (a clean partial result). Without it the
+        request is not looked at (the run goes to its end).
+    events
+        Terminal events (collision, contact, escape) stop the run where they happen.
+    located_events
+        Events are located inside the step to their time tolerance, including grazing
+        encounters and the non-terminal :class:`~poissonkit.numerics.events.ClosestApproach`.
+    adaptive
+        Can choose its own step (from ``tol``, or a step-size rule among its options).
+    point_masses_only
+        Needs an N-body system of moving point masses (no tops, no fixed bodies).
+    needs_kernels
+        Needs a system with compiled kernels (``kernels``, ``data``, ``work()``).
+    needs_splitting
+        Needs kernels whose drift and kick are the exact kinetic and potential flows
+        (``kernels.splittable``).
+    """
+
+    checkpoint: bool = False
+    stream: bool = False
+    stop: bool = False
+    events: bool = False
+    located_events: bool = False
+    adaptive: bool = False
+    point_masses_only: bool = False
+    needs_kernels: bool = False
+    needs_splitting: bool = False
+
+    def names(self) -> tuple[str, ...]:
+        """The names of the capabilities that are true (for listings)."""
+        return tuple(f.name for f in fields(self) if getattr(self, f.name))
+
+
 @runtime_checkable
 class Event(Protocol):
     """An event of :mod:`poissonkit.numerics.events`: a continuous function ``value(system, y)``
@@ -358,9 +438,13 @@ class HasRunCost(Protocol):
     def wall_time(self) -> float: ...
 
 
-#: A solver as the work-precision sweeps call it: ``solver(system, y0, t_end, method=...,
-#: step=... or tol=..., progress=False, save_every=...)`` (:func:`~poissonkit.numerics.solve`).
-Solver = Callable[..., Trajectory]
+class Solver(Protocol):
+    """A solver as the work-precision sweeps call it (:func:`~poissonkit.numerics.solve`):
+    ``solver(system, y0, t_end, method=..., step=... or tol=..., progress=False,
+    save_every=...)``; further keywords are the solver's own."""
+
+    def __call__(self, system: Any, y0: np.ndarray, t_end: float, /, **options: Any
+                 ) -> Trajectory: ...
 
 # --------------------------------------------------------------------------- model families
 
@@ -377,6 +461,58 @@ class ErrorEstimator(Protocol):
 
     def __call__(self, model: str, r: float, body1: Mapping[str, Any],
                  body2: Mapping[str, Any]) -> float: ...
+
+
+# --------------------------------------------------------------------------- registry callables
+# The callables plugins put into registry entries (:mod:`poissonkit.plugin.contributions`).
+# Builders and loaders take the entry's resolved ``params`` as keywords, whose names differ per
+# entry, so their parameters stay ``...``; what they return is fixed.
+
+#: ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)``: a pair potential and its partials.
+PairFunction = Callable[[float, float, float, float], tuple[float, float, float, float, float]]
+#: ``f(r, c1, c2, c3, P)``: a :data:`PairFunction` reading run-time parameters from ``P``.
+ParamPairFunction = Callable[[float, float, float, float, tuple[float, ...]],
+                             tuple[float, float, float, float, float]]
+#: ``expr(params) -> U``: the pair energy as a sympy expression in ``r, c1, c2, c3``.
+SymbolicEnergy = Callable[[dict[str, Any]], "sp.Expr"]
+#: ``kernel(params) -> f``: a compiled :data:`PairFunction` for resolved parameters.
+KernelFactory = Callable[[dict[str, Any]], PairFunction]
+#: ``evaluate(params) -> f``: a plain-float :data:`PairFunction` (no compilation).
+EvaluatorFactory = Callable[[Mapping[str, Any]], PairFunction]
+#: ``param_kernel(params) -> f``: a compiled :data:`ParamPairFunction`.
+ParamKernelFactory = Callable[[Mapping[str, Any]], ParamPairFunction]
+#: ``param_values(params) -> P``: the run-time values read by a :data:`ParamPairFunction`.
+ParamValues = Callable[[Mapping[str, Any]], Sequence[float]]
+#: ``complete_params(given) -> params``: parameters derived from per-body quantities.
+ParamCompleter = Callable[[Mapping[str, Any]], dict[str, Any]]
+#: ``build(**params) -> graph``: an N-body arrangement (an :class:`~poissonkit.plugin.Assembly`).
+AssemblyBuilder = Callable[..., "nx.Graph"]
+#: ``claim(built) -> (holds, detail, method)`` about what a :data:`SystemBuilder` returned.
+Claim = Callable[[Any], tuple[bool, str, str]]
+#: ``sweep(**options)``: the scene's :class:`SweepScene` adapter.
+SweepFactory = Callable[..., "SweepScene"]
+#: ``applies(body1, body2)``: a model family models this pair.
+PairPredicate = Callable[[Mapping[str, Any], Mapping[str, Any]], bool]
+#: ``energy_bound(r, body1, body2)``: a bound on ``|U|`` [J] at distance ``r``.
+EnergyBound = Callable[[float, Mapping[str, Any], Mapping[str, Any]], float]
+#: ``compute(record) -> value``: one sweep outcome of a finished run.
+OutcomeFunction = Callable[["RunRecord"], object]
+#: ``accepts(source)``: an external-field entry builds fields from this Python object.
+SourcePredicate = Callable[[object], bool]
+
+
+class BodyAttributes(Protocol):
+    """What an ``energy_scale`` reads of a body of a scene
+    (:class:`poissonkit.scene.bodies.BodyModel`): its attributes by name."""
+
+    def attr(self, name: str) -> float | tuple[float, ...] | None: ...
+
+
+class EnergyScale(Protocol):
+    """``energy_scale(bodies, length) -> float or None``: the energy unit [J] of a scene of
+    ``bodies`` whose length unit is ``length`` [m] (``None`` when it does not apply)."""
+
+    def __call__(self, bodies: Sequence[BodyAttributes], length: float, /) -> float | None: ...
 
 
 # --------------------------------------------------------------------------- sweep scenes

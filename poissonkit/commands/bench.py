@@ -20,10 +20,12 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
+from typing import cast
 
+from poissonkit.contracts import HasEnergy
 from poissonkit.errors import InputError, MissingDependencyError
+from poissonkit.files import atomic
 from poissonkit.numerics.runspec import RunSpec
-from poissonkit.report import atomic
 
 DEFAULT_METHODS = ("splitting2", "splitting4", "splitting6", "splitting8", "midpoint", "rk45",
                    "dop853", "lsoda")
@@ -84,7 +86,8 @@ def main(args: argparse.Namespace) -> int:
     out = atomic.prepare_output_dir(args.out, overwrite=args.overwrite)
     t_end = float(spec.t_end)
     print(f"bench {spec.name}: t_end = {t_end:.6g} (internal), computing reference ...", flush=True)
-    ref = wp.reference(spec.system, spec.y0, t_end)
+    system = cast(HasEnergy, spec.system)  # every system a scene builds has an energy
+    ref = wp.reference(system, spec.y0, t_end)
     print(f"reference {ref.primary[0]} ({ref.primary[1]} {ref.primary[2]:.3g}) vs "
           f"{ref.secondary[0]} ({ref.secondary[1]} {ref.secondary[2]:.3g}): "
           f"agreement {ref.agreement:.2e}  [{ref.wall_time:.2f} s]", flush=True)
@@ -101,7 +104,7 @@ def main(args: argparse.Namespace) -> int:
               + (f"  [{p.note}]" if p.note else ""),
               flush=True)
 
-    pts = wp.sweep(spec.system, spec.y0, t_end, ref, settings, repeats=args.repeats,
+    pts = wp.sweep(system, spec.y0, t_end, ref, settings, repeats=args.repeats,
                    time_budget=args.budget, on_point=show)
     wp.write_csv(out / "workprecision.csv", pts)
     wp.plot(out / "workprecision.png", pts,

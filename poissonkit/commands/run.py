@@ -25,6 +25,10 @@ Every file is written atomically; a folder holding another run's files is refuse
 stops it cleanly with a partial result. Scenes stop at a located contact of their finite-size
 bodies. Exit codes: :data:`EXIT_OK`, 1 (bad input), :data:`EXIT_ENERGY`, :data:`EXIT_CONTACT`,
 :data:`EXIT_INTERRUPTED` (``docs/reliability.md``).
+
+This module parses the options, builds the run and integrates it; the files are written by
+:func:`poissonkit.report.run_output.write_run_outputs` (summary: :mod:`~poissonkit.report.run_summary`,
+trajectory files: :mod:`~poissonkit.report.run_files`).
 """
 
 from __future__ import annotations
@@ -40,16 +44,18 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from poissonkit.contracts import HasBodies, HasLayout, HasScales, HasUnpack, Trajectory
-from poissonkit.cli import CommandParser
+from poissonkit.commands.parser import CommandParser
+from poissonkit.contracts import HasBodies
 from poissonkit.errors import InputError, MissingDependencyError, MissingStepError, SceneError
-from poissonkit.numerics.units import Scales
+from poissonkit.report.run_units import (  # noqa: F401  (also importable from here, as before)
+    relative_position,
+    scales_of,
+    time_unit,
+    trajectory_rows,
+)
 
 if TYPE_CHECKING:
-    import xarray as xr
-
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
-    from poissonkit.numerics.events import EventRecord
     from poissonkit.numerics.runspec import RunSpec
     from poissonkit.numerics.solution import Solution
 
@@ -183,10 +189,10 @@ def build_spec(args: argparse.Namespace) -> RunSpec:
                 "scene files need poissonkit.scene.load_scene/build_run, which this build lacks"
             ) from None
         spec = build_run(load_scene(target))
-    changes: dict[str, float | str | None] = {}
+    changes: dict[str, Any] = {}  # RunSpec fields to replace
     if args.method and "method" not in consumed:
         changes["method"] = args.method
-    tunit = _time_unit(spec)
+    tunit = time_unit(spec)
     if args.step is not None and "step" not in consumed:
         changes.update(step=args.step / tunit, tol=None)
     if args.tol is not None and "tol" not in consumed:
@@ -216,26 +222,6 @@ def scenes_epilog() -> str:
     return "\n".join(lines)
 
 
-def _scales(system: object) -> Scales | None:
-    """The internal units of ``system`` (:class:`~poissonkit.contracts.HasScales`), ``None``
-    for a system in SI units."""
-    s = system.scales if isinstance(system, HasScales) else None
-    return s if isinstance(s, Scales) else None
-
-
-def _layout(system: object) -> tuple[str, ...]:
-    """Names of the state's components (:class:`~poissonkit.contracts.HasLayout`), or ()."""
-    return tuple(system.layout) if isinstance(system, HasLayout) else ()
-
-
-def _time_unit(spec: RunSpec) -> float:
-    sc = spec.metadata.get("scales") if spec.metadata else None
-    if isinstance(sc, dict) and "time" in sc:
-        return float(sc["time"])
-    s = _scales(spec.system)
-    return float(s.time) if s is not None else 1.0
-
-
 def _solve(spec: RunSpec, progress: bool, save_every: int, *,
            checkpoint: Checkpoint | None = None, resume: bool = False,
            stream: TrajectoryStream | None = None,
@@ -248,7 +234,7 @@ def _solve(spec: RunSpec, progress: bool, save_every: int, *,
     from poissonkit.numerics.integrators.base import progress_in_seconds
 
     try:
-        with progress_in_seconds(_time_unit(spec)):  # the bar counts seconds, as the options do
+        with progress_in_seconds(time_unit(spec)):  # the bar counts seconds, as the options do
             return solve(spec.system, spec.y0, spec.t_end, method=spec.method, step=spec.step,
                          tol=spec.tol, progress=progress, save_every=save_every,
                          events=spec.events, checkpoint=checkpoint, resume=resume,
@@ -264,31 +250,7 @@ def _sample_times(spec: RunSpec, save_dt: float | None) -> np.ndarray | None:
         return None
     from poissonkit.numerics.sample_times import uniform_times
 
-    return uniform_times(0.0, float(spec.t_end), save_dt / _time_unit(spec))
-
-
-def trajectory_rows(sol: Trajectory) -> tuple[np.ndarray, np.ndarray]:
-    """``(t, y)`` of a solution with ``y`` as rows (one state per saved time)."""
-    t = np.asarray(sol.t, dtype=float)
-    y = np.asarray(sol.y, dtype=float)
-    if y.ndim == 2 and y.shape[0] != t.shape[0] and y.shape[1] == t.shape[0]:
-        y = y.T
-    return t, y
-
-
-def relative_position(spec: RunSpec, y: np.ndarray) -> np.ndarray | None:
-    """Relative position ``r_2 - r_1`` of a two-body run (internal units), or ``None``."""
-    system = spec.system
-    # bodies in the state (N-body form): the first two moving ones, or the first one
-    n_moving = system.n_moving if isinstance(system, HasBodies) else 0
-    if isinstance(system, HasUnpack) and n_moving == 2:
-        r = system.unpack(y)["r"]
-        return r[:, 1] - r[:, 0]
-    if _layout(system)[:3] and y.shape[1] == 18:  # the seed's centre-of-mass form
-        return y[:, 0:3]
-    if isinstance(system, HasUnpack) and n_moving >= 1:
-        return system.unpack(y)["r"][:, 0]
-    return None
+    return uniform_times(0.0, float(spec.t_end), save_dt / time_unit(spec))
 
 
 #: A SIGINT disposition as :func:`signal.signal` returns it (a function, SIG_DFL/SIG_IGN, or
@@ -363,9 +325,9 @@ def _apply_summary(args: argparse.Namespace, source: Path, scene_dir: Path) -> N
 def _main(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
+    from poissonkit.files import atomic
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
     from poissonkit.numerics.workload import plan_run
-    from poissonkit.report import atomic
 
     if args.save_every is not None and args.save_every < 1:
         raise InputError(f"--save-every must be >= 1, got {args.save_every}")
@@ -385,7 +347,7 @@ def _main(args: argparse.Namespace) -> int:
         if every is not None or resume:  # the scene's run.save_dt, unless the options say else
             raise InputError("the scene saves states at run.save_dt: checkpoints need saving "
                              "by steps (pass --save-every N to use them)")
-        save_dt = float(spec.save_dt) * _time_unit(spec)
+        save_dt = float(spec.save_dt) * time_unit(spec)
     if getattr(args, "no_contact", False):
         from dataclasses import replace as _replace
 
@@ -439,7 +401,7 @@ def _with_contact(spec: RunSpec) -> RunSpec:
         return spec
     from poissonkit.numerics.events import TWO_BODY_NAMES, BodyShape, Contact
 
-    sc = _scales(spec.system)
+    sc = scales_of(spec.system)
     length = float(sc.length) if sc is not None else 1.0
     shapes = tuple(BodyShape(n, float(si["a"]) / length, float(si["h"]) / 2 / length)
                    for n in TWO_BODY_NAMES)
@@ -455,109 +417,17 @@ def _checkpoint_every_of(out: Path) -> int:
 
 def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, parts: Path,
             wall: float, compile_time: float, energy_tol: float | None) -> int:
-    """Diagnostics, files and the printed summary of a finished (or stopped) run."""
-    from poissonkit.report import invariant_report, streamed_diagnostics, write_summary
+    """Write the outputs of a finished (or stopped) run, print its summary, return the exit
+    code."""
+    from poissonkit.report.run_output import OutputLimits, write_run_outputs
 
-    nrows = int(sol.extra.get("streamed_rows", len(sol.t)))
-    diag, t, y = streamed_diagnostics(spec.system, parts, plot_rows=PLOT_ROWS)
-    tunit = _time_unit(spec)
-    sc = _scales(spec.system)
-    lunit = float(sc.length) if sc is not None else 1.0
-    jscale = float(sc.unit("angular_momentum")) if sc is not None else 1.0
-    rel = relative_position(spec, y)
-    meta = dict(spec.metadata or {})
     tol = energy_tol if energy_tol is not None else (spec.energy_tol or DEFAULT_ENERGY_TOL)
-    invariants = invariant_report(spec.system, diag)
-    interrupted = bool(sol.extra.get("interrupted"))
-    touching = [e for e in sol.events if e.kind in ("contact", "collision")]
-    summary: dict[str, Any] = {  # the JSON document; values read back below are floats
-        "scene": spec.name,
-        "method": sol.method,
-        "step": spec.step,
-        "tol": spec.tol,
-        "steps": int(sol.steps),
-        "wall_time_s": float(wall),
-        "compile_time_s": float(compile_time),
-        "wall_time_note": "integration only; compile_time_s is the one-time kernel compilation "
-                          "(plus one step) done before it",
-        "t_end": float(spec.t_end),
-        "t_end_s": float(spec.t_end) * tunit,
-        "t_reached": float(sol.t[-1]),
-        "t_reached_s": float(sol.t[-1]) * tunit,
-        "status": ("interrupted" if interrupted else "contact" if touching
-                   else "escape" if any(e.kind == "escape" for e in sol.events) else "done"),
-        "message": sol.message,
-        "events": [dict(e.__dict__, time_s=e.time * tunit, time_error_s=e.time_error * tunit)
-                   for e in sol.events],
-        "energy_tol": tol,
-        **invariants,
-    }
-    if sc is not None:
-        summary.update(energy_reference_J=summary["energy_reference"] * float(sc.energy),
-                       max_abs_energy_error_J=summary["max_abs_energy_error"] * float(sc.energy))
-    summary["units_note"] = ("absolute figures and references are in internal units (the "
-                             "scene's scales: parameters.scales); *_J in joules")
-    if "resumed_from" in sol.extra:
-        summary["resumed_from"] = Path(sol.extra["resumed_from"]).name
-    if rel is not None:
-        rn = np.linalg.norm(rel, axis=1) * lunit
-        summary.update(min_distance_m=float(rn.min()), max_distance_m=float(rn.max()),
-                       distance_note="over the saved states (every --save-every steps)"
-                       if nrows <= PLOT_ROWS else f"over {len(t)} of {nrows} saved states")
-    for key in ("P_orb", "T_orb", "R_orb"):
-        if key in meta:
-            summary[key] = meta[key]
-    summary["parameters"] = meta
-    summary.update(_provenance(args, spec, sc))
-    layout = _layout(spec.system)
-    summary["saved_rows"] = nrows
-    if nrows <= MAX_NPZ_ROWS:
-        from poissonkit.report.gather import gather_trajectory
-        from poissonkit.report.trajectory import scale_arrays
-
-        def rel_si(rows: np.ndarray) -> np.ndarray | None:
-            r = relative_position(spec, rows)
-            return None if r is None else r * lunit
-
-        maps = {} if rel_si(y[:1]) is None else {"r_rel_si": rel_si}
-        gather_trajectory(out / "trajectory.npz", parts, layout=layout, time_unit=tunit,
-                          row_maps=maps, **scale_arrays(sc, tunit))  # one part at a time
-        files = ["summary.json", "trajectory.npz"]
-        name = "trajectory.nc" if nrows <= DATASET_MAX_ROWS else "trajectory.zarr"
-        if _write_dataset(out / name, spec, sol, parts, sc, tunit):
-            files.append(name)
-            summary["trajectory_dataset"] = name
-            # the view shows at most a few hundred frames: the figures' rows are plenty
-            view = None if args.no_plots else _dataset(spec, sol, t, y, sc, tunit)
-            if view is not None and _write_view(out / "trajectory.html", spec, view):
-                files.append("trajectory.html")
-                summary["view"] = "trajectory.html"
-    else:
-        summary["trajectory"] = ("trajectory.parts/ (read with "
-                                 "poissonkit.numerics.checkpoint.read_trajectory)")
-        files = ["summary.json", "trajectory.parts/"]
-    energy_error = float(summary["max_rel_energy_error"])
-    problems = _problems(energy_error, sol.message, tol, interrupted, touching, tunit)
-    summary["warnings"] = problems
-    write_summary(out / "summary.json", summary)  # the commit record (report/resume.py)
-    from poissonkit.killpoints import kill_point
-    from poissonkit.report.resume import finish_parts
-
-    kill_point("summary-written")
-    # parts go only after the summary; a stopped, checkpointed run keeps them for --resume
-    finish_parts(out, keep=(interrupted and (out / "checkpoints").is_dir())
-                 or nrows > MAX_NPZ_ROWS)
-    figures: list[str] = []
-    if not args.no_plots:
-        from poissonkit.numerics.events import Contact
-        from poissonkit.report.figures import RunData, write_figures
-
-        shapes = {s.name: (s.radius, s.half_length) for e in spec.events
-                  if isinstance(e, Contact) for s in e.shapes}
-        run = RunData(spec.system, t, y, diag, time_unit=tunit, name=spec.name, metadata=meta,
-                      shapes=shapes, relative=None if rel is None else rel * lunit,
-                      jz=diag.angular_momentum[:, 2] * jscale)
-        figures = [p.name for p in write_figures(out, run)]
+    # read here, at call time: the limits are module attributes a caller may change
+    limits = OutputLimits(plot_rows=PLOT_ROWS, max_npz_rows=MAX_NPZ_ROWS,
+                          dataset_max_rows=DATASET_MAX_ROWS)
+    done = write_run_outputs(args, spec, sol, out, parts, wall=wall, compile_time=compile_time,
+                             energy_tol=tol, limits=limits)
+    summary = done.summary
     shown = [f"max |ΔH|/|H| = {summary['max_rel_energy_error']:.2e}"]
     if "max_rel_casimir_drift" in summary:
         shown.append(f"max Casimir drift = {summary['max_rel_casimir_drift']:.2e}")
@@ -566,97 +436,14 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
                      f"{summary['max_rel_angular_momentum_drift']:.2e}")
     print(f"{spec.name}: {summary['method']}, {summary['steps']} steps in {wall:.3g} s; "
           + ", ".join(shown) + f" (compilation {compile_time:.3g} s)")
-    print(f"wrote {', '.join(str(out / f) for f in files)}"
-          + (f", {', '.join(figures)}" if figures else ""), file=sys.stdout)
-    for p in problems:
+    print(f"wrote {', '.join(str(out / f) for f in done.files)}"
+          + (f", {', '.join(done.figures)}" if done.figures else ""), file=sys.stdout)
+    for p in done.problems:
         print(f"warning: {p}", file=sys.stderr)
-    if interrupted:
+    if done.interrupted:
         return EXIT_INTERRUPTED
-    if touching:
+    if done.touching:
         return EXIT_CONTACT
-    if energy_error > tol:
+    if done.energy_error > tol:
         return EXIT_ENERGY
     return EXIT_OK
-
-
-def _provenance(args: argparse.Namespace, spec: RunSpec, scales: Scales | None
-                ) -> dict[str, object]:
-    """Versions, command line, options, scene copy and units (``summary.json``)."""
-    from poissonkit.report.provenance import provenance
-    from poissonkit.scene.registered import resolve_scene
-
-    target = resolve_scene(args.scene) if args.scene is not None else None
-    found = provenance(args, target, scales)
-    source = found["scene_source"]
-    if isinstance(source, dict) and source.get("kind") == "registered":
-        # a registered scene is code: its name and the parameters it resolved to
-        source.update(resolved_name=spec.name, parameters=dict(spec.metadata or {}))
-    if getattr(args, "from_summary", None) is not None:
-        found["rerun_of"] = str(Path(args.from_summary).resolve())
-    return found
-
-
-def _dataset(spec: RunSpec, sol: Solution, t: np.ndarray, y: np.ndarray,
-             scales: Scales | None, tunit: float) -> xr.Dataset:
-    """The trajectory rows ``(t, y)`` as an xarray dataset, with the bodies' sizes."""
-    from poissonkit.numerics.events import Contact
-    from poissonkit.report.trajectory import trajectory_dataset
-
-    length = float(scales.length) if scales is not None else 1.0
-    shapes = {s.name: (s.radius * length, s.half_length * length)
-              for e in spec.events if isinstance(e, Contact) for s in e.shapes}
-    return trajectory_dataset(spec.system, t, y, scales=scales, time_unit=tunit,
-                              attrs={"scene": spec.name, "method": sol.method}, shapes=shapes)
-
-
-def _write_view(path: Path, spec: RunSpec, dataset: xr.Dataset) -> bool:
-    """Write the interactive 3D view (``trajectory.html``); ``False`` (with a note) when the
-    run has no bodies to show or plotly is missing."""
-    from poissonkit.report.view import write_view
-
-    try:
-        write_view(path, dataset, title=spec.name)
-    except (MissingDependencyError, InputError) as exc:
-        print(f"note: no trajectory.html ({exc})", file=sys.stderr)
-        return False
-    return True
-
-
-def _write_dataset(path: Path, spec: RunSpec, sol: Solution, parts: Path,
-                   scales: Scales | None, tunit: float) -> bool:
-    """Write the trajectory as a NetCDF dataset (``.nc``, built whole: at most
-    :data:`DATASET_MAX_ROWS` rows) or a Zarr store written part by part (``.zarr``);
-    ``False`` (with a note) without xarray."""
-    from poissonkit.numerics.checkpoint import read_trajectory
-    from poissonkit.report.gather import gather_dataset
-    from poissonkit.report.trajectory import write_dataset
-
-    def build(t: np.ndarray, y: np.ndarray) -> xr.Dataset:
-        return _dataset(spec, sol, t, y, scales, tunit)
-
-    try:
-        if path.suffix == ".zarr":
-            gather_dataset(path, parts, build)
-            return True
-        ds = build(*read_trajectory(parts))
-    except MissingDependencyError as exc:
-        print(f"note: no {path.name} ({exc})", file=sys.stderr)
-        return False
-    write_dataset(path, ds)
-    return True
-
-
-def _problems(energy_error: float, message: str, tol: float, interrupted: bool,
-              touching: list[EventRecord], tunit: float) -> list[str]:
-    out = []
-    if interrupted:
-        out.append(f"run interrupted: {message}; partial results written "
-                   "(resume with --resume if --checkpoint-every was given)")
-    for e in touching:
-        out.append(f"bodies touched ({e.kind}) at t = {e.time * tunit:.9g} s "
-                   f"(located to {e.time_error * tunit:.2g} s, step {e.step}); the run stopped "
-                   "there — the scene's bodies interpenetrate beyond this time")
-    if energy_error > tol:
-        out.append(f"energy error max |ΔH|/|H(0)| = {energy_error:.3g} "
-                   f"exceeds the scene's tolerance {tol:g}")
-    return out

@@ -17,7 +17,7 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from poissonkit.errors import InputError
 
@@ -81,7 +81,7 @@ def main(args: argparse.Namespace) -> int:
 
     # a file, a registered scene or a shipped scene file, by name (as `poissonkit run`)
     scene = resolve_scene(args.scene)
-    options: dict[str, float | None] = {}
+    options: dict[str, Any] = {}  # keywords of sweep(): escape radius, periods
     if args.escape is not None:
         options["escape"] = args.escape
     if args.periods is not None:

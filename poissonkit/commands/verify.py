@@ -102,8 +102,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _list_entries(as_json: bool) -> int:
     from poissonkit.plugin import entries
+    from poissonkit.plugin.contributions import SystemEntry
 
-    items = sorted(entries("system").values(), key=lambda e: e.name)
+    items = sorted((e for e in entries("system").values() if isinstance(e, SystemEntry)),
+                   key=lambda e: e.name)
     if as_json:
         print(json.dumps([{"name": e.name, "doc": e.doc, "tags": list(e.tags),
                            "poisson": ALMOST_POISSON_TAG not in e.tags,

@@ -41,7 +41,7 @@ from poissonkit.traits import offers
 from poissonkit.validation import positive_number
 
 if TYPE_CHECKING:
-    from poissonkit.scene.geometry import Shape
+    from poissonkit.geometry import Shape
 
 #: Default bisection tolerance on the event time, relative to the step size.
 DEFAULT_RELATIVE_TIME_TOL = 1e-9
@@ -140,7 +140,7 @@ class Contact:
         then the capsules around the cylinders) while that is positive, the distance by
         alternating projections otherwise — and, once shapes overlap, minus the overlap of
         their bounding spheres (bisection needs only the sign)."""
-        from poissonkit.scene.geometry import distance, shape_of
+        from poissonkit.geometry import distance, shape_of
 
         pos, axes, fixed = body_frames(system, y)
         index = {name: k for k, name in enumerate(body_names(system))}

@@ -436,7 +436,7 @@ def store_sources(key: str, sources: dict[str, str]) -> None:
     folder = cache_dir()
     if folder is None:
         return
-    from poissonkit.report.atomic import write_text
+    from poissonkit.files.atomic import write_text
 
     try:
         (folder / "sources").mkdir(parents=True, exist_ok=True)

@@ -16,14 +16,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
 from numpy.typing import ArrayLike
 
 from poissonkit import contracts
-from poissonkit.contracts import CompiledFunction
+from poissonkit.contracts import CompiledFunction, SymbolicForm
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.codegen import (
     array_source,
@@ -68,28 +68,6 @@ def _parameter_value(name: str, value: object) -> float:
     if not math.isfinite(v):
         raise InputError(f"parameter {name!r} must be finite, got {value!r}")
     return v
-
-
-class SymbolicForm(NamedTuple):
-    """``ẋ = N P ∇H`` of a compiled system with its parameter values substituted.
-
-    Attributes
-    ----------
-    coords
-        Coordinate symbols in state order.
-    hamiltonian, multiplier
-        ``H`` and ``N`` (sympy expressions in ``coords`` only).
-    structure
-        The bivector's matrix ``P`` (sympy, in ``coords`` only).
-    key
-        Cache key of the compiled system's generated sources (derived kernels extend it).
-    """
-
-    coords: tuple[sp.Symbol, ...]
-    hamiltonian: sp.Expr
-    multiplier: sp.Expr
-    structure: sp.Matrix
-    key: str
 
 
 class CompiledSystem:

@@ -294,7 +294,7 @@ CSV_FIELDS = ("method", "kind", "setting", "steps", "wall_time", "final_error",
 
 def write_csv(path: str | Path, points: Iterable[WorkPoint]) -> Path:
     """One row per point, columns :data:`CSV_FIELDS` (written atomically)."""
-    from poissonkit.report.atomic import atomic_path
+    from poissonkit.files.atomic import atomic_path
 
     path = Path(path)
     with atomic_path(path) as tmp, tmp.open("w", newline="") as fh:
@@ -356,7 +356,7 @@ def plot(path: str | Path, points: Sequence[WorkPoint], *, title: str = "") -> P
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    from poissonkit.report.atomic import atomic_path
+    from poissonkit.files.atomic import atomic_path
 
     path = Path(path)
     with atomic_path(path) as tmp:

@@ -8,11 +8,53 @@ from __future__ import annotations
 
 import math
 import numbers
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field, fields
-from typing import Any
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Protocol, SupportsInt, cast
 
+from poissonkit.contracts import (
+    AssemblyBuilder,
+    Capabilities,
+    Claim,
+    EnergyBound,
+    EnergyScale,
+    ErrorEstimator,
+    EvaluatorFactory,
+    KernelFactory,
+    OutcomeFunction,
+    PairFunction,
+    PairPredicate,
+    ParamCompleter,
+    ParamKernelFactory,
+    ParamValues,
+    SourcePredicate,
+    SweepFactory,
+    SymbolicEnergy,
+)
 from poissonkit.errors import InputError, UnknownNameError
+
+if TYPE_CHECKING:  # annotations only: these layers sit above the plugin host
+    from poissonkit.numerics.fields.base import CompiledField, FieldRequest
+    from poissonkit.numerics.runspec import RunSpec
+    from poissonkit.scene.schema import Scene
+    from poissonkit.structure import Bivector, HamiltonianSystem
+
+#: ``build(**params)`` of a :class:`SystemEntry`: a bivector or a Hamiltonian system.
+SystemBuilder = Callable[..., "Bivector | HamiltonianSystem"]
+#: ``load(**params)`` of a :class:`SceneEntry`: a scene or a ready run spec.
+SceneLoader = Callable[..., "Scene | RunSpec"]
+
+
+def _missing(*_: Any, **__: Any) -> Any:
+    """The placeholder of a builder an entry was not given (returns ``None``)."""
+    return None
+
+
+class FieldBuilder(Protocol):
+    """``build(params, request, source) -> CompiledField`` of an :class:`ExternalField`."""
+
+    def __call__(self, params: dict[str, Any], request: FieldRequest, source: object = None, /
+                 ) -> CompiledField: ...
 
 _PARAM_TYPES = {"float": float, "int": int, "str": str, "bool": bool, "vector": tuple}
 
@@ -91,7 +133,7 @@ def _to_int(value: Any) -> int:
     if isinstance(value, numbers.Real):
         if not math.isfinite(value) or not float(value).is_integer():
             raise ValueError
-        return int(value)
+        return int(cast("SupportsInt", value))  # a Real with an integer value
     raise TypeError
 
 
@@ -200,25 +242,25 @@ class PairPotential(Entry):
         values; an ``expr`` that fails with symbols falls back to constants.
     """
 
-    expr: Callable[[dict[str, Any]], Any] | None = None
-    kernel: Callable[[dict[str, Any]], Callable[..., Any]] | None = None
+    expr: SymbolicEnergy | None = None
+    kernel: KernelFactory | None = None
     orientation: str = "both"
     body_params: tuple[tuple[str, str, int], ...] = ()
     # What pair_interaction uses (see "PairPotential: direct evaluation" in docs/plugins.md):
     #: ``evaluate(params) -> f`` with ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)`` as
     #: floats, for one-off evaluations without compiling a kernel per parameter set.
-    evaluate: Callable[[Mapping[str, Any]], PairFunction] | None = None
+    evaluate: EvaluatorFactory | None = None
     #: ``complete_params(given) -> params``: derive this potential's parameters from other
     #: per-body quantities its plugin understands (magnets: moment from magnetisation through
     #: the cylinder volume), dropping those quantities where the potential does not take them.
     #: Unrecognised names must be left in place (they are reported as unknown).
-    complete_params: Callable[[Mapping[str, Any]], dict[str, Any]] | None = None
+    complete_params: ParamCompleter | None = None
     #: Per-body quantities (base names, without the ``1``/``2`` suffix) accepted besides the
     #: parameters, for :attr:`complete_params` or the overlap check (``radius``, ``length``).
     body_quantities: tuple[str, ...] = ()
-    energy_scale: Callable[..., float | None] | None = None
-    param_kernel: Callable[[Mapping[str, Any]], Callable[..., Any]] | None = None
-    param_values: Callable[[Mapping[str, Any]], Sequence[float]] | None = None
+    energy_scale: EnergyScale | None = None
+    param_kernel: ParamKernelFactory | None = None
+    param_values: ParamValues | None = None
     constant_params: tuple[str, ...] = ()
 
 
@@ -230,7 +272,7 @@ class Assembly(Entry):
     by the N-body plugin.
     """
 
-    build: Callable[..., Any] = field(default=lambda **_: None)
+    build: AssemblyBuilder = field(default=_missing)
 
 
 @dataclass(frozen=True)
@@ -245,57 +287,9 @@ class SystemEntry(Entry):
     names the claim (e.g. a decomposition of the field, or a Poisson map to e(3)).
     """
 
-    build: Callable[..., Any] = field(default=lambda **_: None)
+    build: SystemBuilder = field(default=_missing)
     tags: tuple[str, ...] = ()
-    claims: tuple[Callable[[Any], tuple[bool, str, str]], ...] = ()
-
-
-@dataclass(frozen=True)
-class Capabilities:
-    """What an integrator can do, declared once (on its registry entry and on the object).
-
-    :func:`~poissonkit.numerics.solve` reads it and refuses, before any work and with
-    :class:`~poissonkit.errors.CapabilityError`, a run that asks for more.
-
-    Attributes
-    ----------
-    checkpoint
-        Writes checkpoints and resumes from them, bit-identically to an uninterrupted run.
-    stream
-        Streams saved rows to disk while it runs (memory bounded). Without it a stream still
-        works: ``solve`` writes the rows once the run is over.
-    stop
-        Honours a stop request between chunks of steps (a clean partial result). Without it the
-        request is not looked at (the run goes to its end).
-    events
-        Terminal events (collision, contact, escape) stop the run where they happen.
-    located_events
-        Events are located inside the step to their time tolerance, including grazing
-        encounters and the non-terminal :class:`~poissonkit.numerics.events.ClosestApproach`.
-    adaptive
-        Can choose its own step (from ``tol``, or a step-size rule among its options).
-    point_masses_only
-        Needs an N-body system of moving point masses (no tops, no fixed bodies).
-    needs_kernels
-        Needs a system with compiled kernels (``kernels``, ``data``, ``work()``).
-    needs_splitting
-        Needs kernels whose drift and kick are the exact kinetic and potential flows
-        (``kernels.splittable``).
-    """
-
-    checkpoint: bool = False
-    stream: bool = False
-    stop: bool = False
-    events: bool = False
-    located_events: bool = False
-    adaptive: bool = False
-    point_masses_only: bool = False
-    needs_kernels: bool = False
-    needs_splitting: bool = False
-
-    def names(self) -> tuple[str, ...]:
-        """The names of the capabilities that are true (for listings)."""
-        return tuple(f.name for f in fields(self) if getattr(self, f.name))
+    claims: tuple[Claim, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -306,7 +300,7 @@ class IntegratorEntry(Entry):
     ``"scipy"``; ``capabilities`` declares what it can do (:class:`Capabilities`), which
     :func:`~poissonkit.numerics.solve` checks before it runs."""
 
-    factory: Callable[..., Any] = field(default=lambda **_: None)
+    factory: Callable[..., Any] = field(default=_missing)
     order: int = 0
     family: str = ""
     capabilities: Capabilities = field(default_factory=Capabilities)
@@ -327,9 +321,9 @@ class SceneEntry(Entry):
     ``check``, ``units``, ``prepare`` and ``run``; see :mod:`poissonkit.sweeps.scenes`).
     """
 
-    load: Callable[..., Any] = field(default=lambda **_: None)
+    load: SceneLoader = field(default=_missing)
     default: bool = False
-    sweep: Callable[..., Any] | None = None
+    sweep: SweepFactory | None = None
 
 
 @dataclass(frozen=True)
@@ -366,21 +360,15 @@ class ModelFamily(Entry):
     models: tuple[str, ...] = ()
     costs: tuple[float, ...] = ()
     defaults: tuple[str, ...] = ()
-    estimate: Callable[[str, float, Mapping[str, Any], Mapping[str, Any]], float] = field(
-        default=lambda model, r, body1, body2: math.inf)
-    applies: Callable[[Mapping[str, Any], Mapping[str, Any]], bool] = field(
-        default=lambda body1, body2: False)
+    estimate: ErrorEstimator = field(default=lambda model, r, body1, body2: math.inf)
+    applies: PairPredicate = field(default=lambda body1, body2: False)
     reads: tuple[str, ...] = ()
-    energy_bound: Callable[[float, Mapping[str, Any], Mapping[str, Any]], float] | None = None
+    energy_bound: EnergyBound | None = None
 
     def cost(self, model: str) -> float:
         """Relative cost of ``model`` (its index when no costs are given)."""
         k = self.models.index(model)
         return float(self.costs[k]) if self.costs else float(k)
-
-
-#: ``f(r, c1, c2, c3) -> (U, U_r, U_c1, U_c2, U_c3)``: a pair potential and its partials.
-PairFunction = Callable[[float, float, float, float], tuple[float, float, float, float, float]]
 
 
 @dataclass(frozen=True)
@@ -403,7 +391,7 @@ class OutcomeEntry(Entry):
     dtype: str = "f8"
     unit: str = "1"
     fill: Any = math.nan
-    compute: Callable[[Any], Any] = field(default=lambda record: math.nan)
+    compute: OutcomeFunction = field(default=lambda record: math.nan)
 
     @property
     def description(self) -> str:
@@ -454,8 +442,8 @@ class ExternalField(Entry):
 
     reads: str = "mass"
     orientation: bool = False
-    build: Callable[..., Any] = field(default=lambda params, request, source=None: None)
-    accepts: Callable[[object], bool] | None = None
+    build: FieldBuilder = field(default=_missing)
+    accepts: SourcePredicate | None = None
     tables: tuple[str, ...] = ()
 
     def resolve_params(self, given: Mapping[str, Any]) -> dict[str, Any]:
@@ -486,3 +474,8 @@ def _number_table(value: Any, where: str) -> dict[str, Any]:
         return x
 
     return {str(k): item(v, f"{where}.{k}") for k, v in value.items()}
+
+
+__all__ = ["Assembly", "Capabilities", "Entry", "ExternalField", "FieldBuilder", "IntegratorEntry",
+           "ModelFamily", "OutcomeEntry", "PairFunction", "PairPotential", "Param", "SceneEntry",
+           "SceneLoader", "SystemBuilder", "SystemEntry"]

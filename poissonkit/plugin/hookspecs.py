@@ -41,6 +41,7 @@ def poissonkit_potentials() -> list[PairPotential]:
         Each with a unique name, a doc string, typed parameters and a symbolic ``expr`` and/or
         a compiled ``kernel``.
     """
+    raise NotImplementedError  # a specification: pluggy calls the implementations
 
 
 @hookspec
@@ -52,6 +53,7 @@ def poissonkit_assemblies() -> list[Assembly]:
     list of Assembly
         Each ``build(**params)`` returns a networkx graph of bodies and interactions.
     """
+    raise NotImplementedError  # a specification: pluggy calls the implementations
 
 
 @hookspec
@@ -63,6 +65,7 @@ def poissonkit_systems() -> list[SystemEntry]:
     list of SystemEntry
         Each ``build(**params)`` returns a Bivector or a HamiltonianSystem.
     """
+    raise NotImplementedError  # a specification: pluggy calls the implementations
 
 
 @hookspec
@@ -74,6 +77,7 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
     list of IntegratorEntry
         Each ``factory(**params)`` returns an integrator object.
     """
+    raise NotImplementedError  # a specification: pluggy calls the implementations
 
 
 @hookspec
@@ -84,6 +88,7 @@ def poissonkit_scenes() -> list[SceneEntry]:
     -------
     list of SceneEntry
     """
+    raise NotImplementedError  # a specification: pluggy calls the implementations
 
 
 @hookspec
@@ -97,6 +102,7 @@ def poissonkit_model_families() -> list[ModelFamily]:
         and the test of which pairs it models; the planner and ``pair_interaction("auto")``
         choose per pair the cheapest model within a tolerance.
     """
+    raise NotImplementedError  # a specification: pluggy calls the implementations
 
 
 @hookspec
@@ -111,6 +117,7 @@ def poissonkit_outcomes() -> list[OutcomeEntry]:
         :class:`~poissonkit.sweeps.scenes.RunRecord`; choose them with
         ``sweep(..., outcomes=[...])`` or ``poissonkit sweep --outcomes``.
     """
+    raise NotImplementedError  # a specification: pluggy calls the implementations
 
 
 @hookspec
@@ -125,3 +132,4 @@ def poissonkit_fields() -> list[ExternalField]:
         returning the compiled one-body kernel and its data; the numerics derive forces and
         torques from its partials (``docs/fields.md``).
     """
+    raise NotImplementedError  # a specification: pluggy calls the implementations

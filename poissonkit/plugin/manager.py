@@ -53,7 +53,7 @@ BUILTIN_PLUGINS: tuple[tuple[str, str], ...] = (
 )
 
 #: hook name -> (registry kind, entry type)
-KINDS: dict[str, tuple[str, type]] = {
+KINDS: dict[str, tuple[str, type[Entry]]] = {
     "poissonkit_potentials": ("potential", PairPotential),
     "poissonkit_assemblies": ("assembly", Assembly),
     "poissonkit_systems": ("system", SystemEntry),
@@ -185,7 +185,7 @@ def _build() -> _State:
     pm.add_hookspecs(hookspecs)
     reports: list[PluginReport] = []
     entries: dict[str, dict[str, Entry]] = {kind: {} for kind, _ in KINDS.values()}
-    from poissonkit import __version__
+    from poissonkit._version import __version__
 
     for name, module in BUILTIN_PLUGINS:
         _register(pm, name, lambda m=module: importlib.import_module(m), "builtin",

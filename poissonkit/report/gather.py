@@ -13,19 +13,19 @@ only be written from arrays held whole in memory.
 
 from __future__ import annotations
 
-import zipfile
 import os
 import shutil
 import tempfile
+import zipfile
 from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from poissonkit.files.atomic import atomic_path
+from poissonkit.files.killpoints import kill_point
 from poissonkit.numerics.parts import PartInfo, iter_parts, verify_parts
-from poissonkit.report.atomic import atomic_path
-from poissonkit.killpoints import kill_point
 
 if TYPE_CHECKING:
     import xarray as xr

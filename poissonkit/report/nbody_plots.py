@@ -9,7 +9,7 @@ the bottom put them in :data:`poissonkit.report.figures.PLOTS` for runs of an
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Protocol, runtime_checkable
+from typing import Protocol, cast, runtime_checkable
 
 import numpy as np
 
@@ -196,7 +196,7 @@ def energy_partition(system: NBodySystem, y: np.ndarray) -> dict[str, np.ndarray
     y = np.atleast_2d(y)
     if isinstance(system, HasEnergyParts):
         parts = {k: np.asarray(v, dtype=float) for k, v in system.energy_parts(y).items()}
-        parts.setdefault("total", sum(parts.values()))
+        parts.setdefault("total", cast(np.ndarray, sum(parts.values())))
         return parts
     u = system.unpack(y, si=True)
     moving = [b for b in system.bodies if not b.fixed]
@@ -239,7 +239,7 @@ def _segments(plan: Mapping[str, object], t_end: float) -> dict[str, list[tuple[
     out: dict[str, list[tuple[float, str]]] = {}
     for p in pairs if isinstance(pairs, list) else []:
         out["-".join(p["bodies"])] = [(0.0, str(p["model"]))]
-    for s in plan.get("switches", []) or []:
+    for s in cast(list, plan.get("switches", []) or []):
         key = "-".join(s["bodies"])
         out.setdefault(key, [(0.0, str(s["from"]))]).append((float(s["t_s"]), str(s["to"])))
     return out

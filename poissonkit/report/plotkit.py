@@ -32,7 +32,7 @@ def figure(title: str, *, nrows: int = 1, ncols: int = 1, size: tuple[float, flo
 
 def save(fig, path: Path) -> Path:
     """Write ``fig`` atomically (a killed run never leaves half a PNG) and close it."""
-    from poissonkit.report.atomic import atomic_path
+    from poissonkit.files.atomic import atomic_path
 
     fig.tight_layout()
     with atomic_path(path) as tmp:

@@ -12,9 +12,11 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
+from poissonkit.contracts import HasEnergy
 from poissonkit.report.drift_plot import drift_axes
 from poissonkit.report.figures import RunData, register_plot
 from poissonkit.report.plotkit import figure, save, thin
@@ -128,7 +130,7 @@ def _drift_figure(run: RunData):
     from poissonkit.report.summary import conserved_quantities
 
     return drift_axes(run.diag, time_scale=run.time_unit,
-                      not_conserved=conserved_quantities(run.system)).figure
+                      not_conserved=conserved_quantities(cast(HasEnergy, run.system))).figure
 
 
 register_plot("drifts", lambda run: bool(run.diag.drifts), _drift_figure, replace=True)

@@ -32,13 +32,13 @@ JSONValue = None | bool | int | float | str | list["JSONValue"] | dict[str, "JSO
 def versions() -> dict[str, JSONValue]:
     """``{"poissonkit": version, "plugins": [{name, source, version, status, error}, ...]}``
     for every plugin poissonkit loaded (:func:`poissonkit.plugin.plugin_reports`)."""
-    import poissonkit
+    from poissonkit._version import __version__
     from poissonkit.plugin import plugin_reports
 
     plugins: list[JSONValue] = [
         {"name": r.name, "source": r.source, "version": r.version, "status": r.status,
          "error": r.error} for r in plugin_reports()]
-    return {"poissonkit": str(poissonkit.__version__), "plugins": plugins}
+    return {"poissonkit": __version__, "plugins": plugins}
 
 
 def options_of(args: argparse.Namespace) -> dict[str, JSONValue]:

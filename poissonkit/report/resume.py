@@ -26,8 +26,8 @@ from pathlib import Path
 import numpy as np
 
 from poissonkit.errors import InputError
+from poissonkit.files.atomic import remove_stale_temps
 from poissonkit.numerics.parts import PartsError, iter_parts, verify_parts
-from poissonkit.report.atomic import remove_stale_temps
 
 #: Files of an interrupted attempt that the resumed run writes again.
 ATTEMPT_FILES = ("summary.json", "trajectory.npz", "trajectory.nc", "trajectory.zarr")
@@ -137,8 +137,8 @@ def prepare_resume(out: str | Path) -> None:
 def finish_parts(out: str | Path, keep: bool) -> None:
     """After the summary is written: remove ``trajectory.parts/`` unless ``keep`` (a stopped,
     checkpointed run keeps it for ``--resume``). Removes the newest part first."""
+    from poissonkit.files.killpoints import kill_point
     from poissonkit.numerics.parts import part_files
-    from poissonkit.killpoints import kill_point
 
     folder = Path(out) / PARTS
     if keep or not folder.is_dir():

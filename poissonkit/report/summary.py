@@ -6,6 +6,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -234,7 +235,7 @@ def _jsonable(x: object) -> object:
 def write_summary(path: str | Path, summary: Mapping[str, object]) -> Path:
     """Write ``summary`` as pretty JSON (numpy values converted, non-finite floats as strings),
     atomically."""
-    from poissonkit.report.atomic import write_json
+    from poissonkit.files.atomic import write_json
 
     return write_json(path, _jsonable(summary))
 
@@ -244,11 +245,13 @@ def write_trajectory(path: str | Path, t: np.ndarray, y: np.ndarray, *,
                      **extra: np.ndarray) -> Path:
     """Write ``t`` (internal), ``t_si`` (``t * time_unit``), ``y`` (rows), ``layout`` and any
     extra arrays to a compressed ``.npz``, atomically."""
-    from poissonkit.report.atomic import atomic_path
+    from poissonkit.files.atomic import atomic_path
 
     path = Path(path)
     t = np.asarray(t, dtype=float)
     with atomic_path(path) as tmp:
-        np.savez_compressed(tmp, t=t, t_si=t * float(time_unit), y=np.asarray(y, dtype=float),
-                            layout=np.array(layout, dtype=str), **extra)
+        arrays: dict[str, Any] = dict(t=t, t_si=t * float(time_unit),
+                                      y=np.asarray(y, dtype=float),
+                                      layout=np.array(layout, dtype=str), **extra)
+        np.savez_compressed(tmp, **arrays)
     return path

@@ -20,7 +20,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from pathlib import Path
 from types import ModuleType
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Final
 
 import numpy as np
 
@@ -29,6 +29,7 @@ from poissonkit.errors import DimensionError, MissingDependencyError
 from poissonkit.report.provenance import SI_UNITS
 
 if TYPE_CHECKING:
+    import xarray
     import xarray as xr
 
     from poissonkit.numerics.units import Scales
@@ -37,7 +38,7 @@ if TYPE_CHECKING:
 TWO_BODY_BLOCKS = (("nu1", "m1"), ("nu2", "m2"))
 COMPONENTS = ("x", "y", "z")
 #: NetCDF engine used (part of scipy: NetCDF 3 classic).
-ENGINE = "scipy"
+ENGINE: Final = "scipy"
 
 
 def _xarray() -> ModuleType:
@@ -83,10 +84,12 @@ def _body_variables(system: object, y: np.ndarray, layout: tuple[str, ...]
         first_fixed = len(bodies) - len(fixed)
         for k, b in enumerate(fixed, start=first_fixed):  # no degrees of freedom: where the
             # scene put them, all the time
-            if b.position is not None:
-                position[:, k] = b.position
-            if b.axis is not None:
-                axis[:, k] = b.axis
+            # (a fixed body of the N-body form has a position and maybe an axis)
+            placed, pointing = getattr(b, "position", None), getattr(b, "axis", None)
+            if placed is not None:
+                position[:, k] = placed
+            if pointing is not None:
+                axis[:, k] = pointing
         return {
             "position": (tbc, position,
                          {"units": SI_UNITS["length"], "long_name": "position"}),
@@ -171,7 +174,7 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
     data["y"] = xr.Variable(("time", "state"), y, attrs={
         "units": "internal (see internal_unit_* attributes)",
         "long_name": "state vector as integrated"})
-    coords: dict[str, xr.Variable] = {
+    coords: dict[str, xarray.Variable] = {
         "time": xr.Variable(("time",), t * float(time_unit),
                             attrs={"units": SI_UNITS["time"], "long_name": "time"}),
         "time_internal": xr.Variable(("time",), t, attrs={
@@ -189,10 +192,10 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
                 data[name] = xr.Variable(("body",), values, attrs={
                     "units": SI_UNITS["length"], "long_name": long_name})
         coords["component"] = xr.Variable(("component",), np.array(COMPONENTS, dtype=str))
-    import poissonkit
+    from poissonkit._version import __version__
 
     ds_attrs: dict[str, str | int | float] = {
-        "title": "poissonkit trajectory", "poissonkit_version": str(poissonkit.__version__),
+        "title": "poissonkit trajectory", "poissonkit_version": __version__,
         "time_unit_s": float(time_unit), "system_in_si": int(scales is None),
         "conventions": "values in SI units (variable attribute 'units'); 'y' in the "
                        "internal units: si = internal * internal_unit_<kind>"}
@@ -226,7 +229,7 @@ def open_trajectory(path: str | Path) -> xr.Dataset:
 
 def write_dataset(path: str | Path, dataset: xr.Dataset) -> Path:
     """Write ``dataset`` as NetCDF (scipy's NetCDF 3 engine), atomically."""
-    from poissonkit.report.atomic import atomic_path
+    from poissonkit.files.atomic import atomic_path
 
     path = Path(path)
     with atomic_path(path) as tmp:

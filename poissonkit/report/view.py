@@ -27,6 +27,7 @@ from poissonkit.errors import InputError, MissingDependencyError
 if TYPE_CHECKING:
     import plotly.graph_objects as go
     import xarray as xr
+    from plotly.basedatatypes import BaseTraceType
 
 #: Bodies drawn as meshes (spheres, cylinders); more are drawn as markers.
 MESH_BODIES = 40
@@ -209,10 +210,10 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     notes = [n + (" (fixed)" if n in fixed else "")
              + ("" if n in shapes else " (size not to scale)") for n in names]
 
-    def frame_traces(f: int, full: bool) -> list[go.BaseTraceType]:
+    def frame_traces(f: int, full: bool) -> list[BaseTraceType]:
         """The moving traces at frame ``f``; ``full``: with everything that does not move
         (the first frame), else coordinates only (plotly merges a frame into the traces)."""
-        traces: list[go.BaseTraceType] = []
+        traces: list[BaseTraceType] = []
         if meshes:
             for k, n in enumerate(names):
                 v = body_mesh(k, f)
@@ -295,7 +296,7 @@ def write_view(path: str | Path, dataset: xr.Dataset,
     pathlib.Path
         ``path``.
     """
-    from poissonkit.report.atomic import atomic_path
+    from poissonkit.files.atomic import atomic_path
 
     fig = view_figure(dataset, shapes, title=title)
     path = Path(path)

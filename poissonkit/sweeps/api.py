@@ -114,7 +114,7 @@ def sweep(scene: SweepScene | str | Path,
         Unknown parameter paths or outcomes, a store that exists (without ``resume`` or
         ``overwrite``) or belongs to another sweep, a bad scheduler address.
     """
-    from poissonkit import __version__
+    from poissonkit._version import __version__
 
     sc = sweep_scene(scene, **scene_options)
     design = design_from(params, samples=samples, seed=seed)
