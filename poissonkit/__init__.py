@@ -62,6 +62,11 @@ _LAZY: dict[str, str] = {
     "lenard_magri_chain": "poissonkit.structure.bihamiltonian",
     "lenard_magri_chains": "poissonkit.structure.bihamiltonian",
     "LenardMagriChain": "poissonkit.structure.bihamiltonian",
+    # Poisson cohomology in low degrees, the modular class
+    "poisson_cohomology": "poissonkit.structure.cohomology",
+    "PoissonCohomology": "poissonkit.structure.cohomology",
+    "modular_class": "poissonkit.structure.cohomology",
+    "ModularClass": "poissonkit.structure.cohomology",
     # numerics
     "solve": "poissonkit.numerics.solver",
     "Solution": "poissonkit.numerics.solution",
