@@ -67,6 +67,9 @@ _LAZY: dict[str, str] = {
     "PoissonCohomology": "poissonkit.structure.cohomology",
     "modular_class": "poissonkit.structure.cohomology",
     "ModularClass": "poissonkit.structure.cohomology",
+    # reduction by symmetry through invariants
+    "reduce_by_symmetry": "poissonkit.structure.reduction",
+    "ReducedPoissonAlgebra": "poissonkit.structure.reduction",
     # numerics
     "solve": "poissonkit.numerics.solver",
     "Solution": "poissonkit.numerics.solution",
