@@ -104,29 +104,32 @@ class ReducedPoissonAlgebra:
             ``H`` is not a polynomial, not invariant, or not a polynomial in the invariants
             found (raise ``degree``).
         """
+        H = as_expr(H, "Hamiltonian")
         cx = self._ctx
-        f = cx.poly(as_expr(H, "Hamiltonian"))
+        extra = H.free_symbols - set(cx.coords) - set(cx.params)
+        if extra:  # parameters of the Hamiltonian join the coefficient field
+            cx = _Context(cx.bivector, cx.raw_fields, sorted(extra, key=str))
+        f = cx.poly(H)
         if any(cx.act(f, X) for X in cx.fields):
             raise InputError(f"{H} is not invariant under the action")
-        out = cx.express(f, list(self.invariants_ring()), list(self.degrees), self.symbols)
+        gens = [cx.poly(e) for e in self.invariants]
+        out = cx.express(f, gens, list(self.degrees), self.symbols)
         if out is None:
             raise InputError(f"{H} is not a polynomial in the {len(self.symbols)} invariants "
                              f"of degree <= {self.degree}; raise degree")
         return out
 
-    def invariants_ring(self) -> tuple[PolyElement, ...]:
-        """The invariants as elements of the sparse polynomial ring (internal use)."""
-        return tuple(self._ctx.poly(e) for e in self.invariants)
-
 
 class _Context:
     """The ring, the bracket and the generating vector fields, in sparse form."""
 
-    def __init__(self, P: Bivector, fields: list[list[sp.Expr]]) -> None:
+    def __init__(self, P: Bivector, fields: list[list[sp.Expr]],
+                 extra: Sequence[sp.Symbol] = ()) -> None:
+        self.bivector, self.raw_fields = P, fields
         self.coords = list(P.coords)
         n = self.n = len(self.coords)
         syms = set().union(*(e.free_symbols for e in P.matrix), *(
-            e.free_symbols for X in fields for e in X)) - set(self.coords)
+            e.free_symbols for X in fields for e in X), extra) - set(self.coords)
         self.params = sorted(syms, key=str)
         self.K = sp.QQ.frac_field(*self.params) if self.params else sp.QQ
         self.R = PolyRing(self.coords, self.K, grlex)
