@@ -61,7 +61,7 @@ def main(argv: list[str]) -> None:
         terms = sum(len(sp.Add.make_args(e)) for e in new.values())
         line = f"{name:8s} invariants(): {t_new:6.2f} s CPU ({len(new)} generators, {terms} terms)"
         if baseline:
-            t_old, old = _cpu(lambda: _baseline(g))
+            t_old, old = _cpu(lambda g=g: _baseline(g))
             same = all(old[k] == new[k] for k in old)
             line += f"; previous code {t_old:6.1f} s; ratio {t_old / t_new:5.0f}x; same: {same}"
         print(line, flush=True)
@@ -74,11 +74,11 @@ def casimirs(baseline: bool) -> None:
     for name, degree in (("so(7)", 4), ("sp(6)", 4), ("sl(5)", 4), ("sp(6)", 6), ("sl(5)", 6)):
         g = lie_algebra(name)
         cas.graded_casimir_rows = real
-        t_new, new = _cpu(lambda: cas.find_casimirs(g.bivector, degree))
+        t_new, new = _cpu(lambda g=g, d=degree: cas.find_casimirs(g.bivector, d))
         line = f"find_casimirs({name}, {degree}): {t_new:6.2f} s CPU ({len(new)} generators)"
         if baseline and degree <= 4:
             cas.graded_casimir_rows = lambda *a: None
-            t_old, old = _cpu(lambda: cas.find_casimirs(g.bivector, degree))
+            t_old, old = _cpu(lambda g=g, d=degree: cas.find_casimirs(g.bivector, d))
             line += (f"; ungraded {t_old:6.2f} s; ratio {t_old / t_new:4.1f}x; "
                      f"same: {old.generators == new.generators}")
         cas.graded_casimir_rows = real

@@ -30,12 +30,15 @@ from dataclasses import dataclass, field
 from itertools import combinations_with_replacement
 
 import sympy as sp
-from sympy.polys.matrices import DomainMatrix
 from sympy.polys.orderings import grlex
 from sympy.polys.rings import PolyElement, PolyRing
 
 from poissonkit.errors import InputError
-from poissonkit.structure._casimir_basis import gen_monomials, reduced_generators, relations
+from poissonkit.structure._casimir_basis import (
+    gen_monomials,
+    reduced_generators,
+    relations,
+)
 from poissonkit.structure._exact_linear import solve_sparse
 from poissonkit.structure._expr import as_bivector, as_expr
 from poissonkit.structure.bivector import Bivector

@@ -84,7 +84,7 @@ def test_central_coordinate_is_kept():
 
 
 def test_periodic_toda_keeps_the_product_of_the_a():
-    P1, P2, a, b = periodic_toda3()
+    P1, P2, a, _b = periodic_toda3()
     prod = a[0] * a[1] * a[2]
     # truth by hand: {a_i, a_1 a_2 a_3} and {b_i, a_1 a_2 a_3} vanish for both brackets
     for P in (P1, P2):

@@ -16,7 +16,12 @@ import sympy as sp
 import poissonkit as pk
 from poissonkit.structure import Bivector
 from poissonkit.structure import casimirs as cas
-from poissonkit.structure._graded_casimirs import _constraints, _inner, _z_weights, linear_terms
+from poissonkit.structure._graded_casimirs import (
+    _constraints,
+    _inner,
+    _z_weights,
+    linear_terms,
+)
 
 
 @pytest.mark.parametrize("name,degree", [
