@@ -164,3 +164,57 @@ def test_lagrange_top_by_rotations_about_the_symmetry_axis():
     with pytest.raises(pk.PoissonkitError):
         red.reduce(H + m[0])
     assert sp.expand(red.reduce(H) - (c / (2 * A) + a ** 2 / (2 * C3) + g0 * b)) == 0
+
+
+def test_free_rigid_body_on_tstar_so3_by_left_rotations():
+    """T*SO(3) in body coordinates (R, M) inside the Lie–Poisson space of so(3) ⋉ (R^3)^3:
+    {M_i, M_j} = eps_ijk M_k, {M_i, R_rj} = eps_ijk R_rk (each row of R is a vector in the
+    body frame), {R, R} = 0. Spatial rotations act on the left, R -> g R (generators
+    dR = xi^ R). The invariants to degree 3 are M_1..M_3, the Gram entries G_kl = col_k . col_l
+    and det R; on SO(3) (G = 1) the brackets {M_i, G_kl} vanish, so the reduced bracket is
+    so(3)*: Euler's rigid body (Marsden & Ratiu, *Introduction to Mechanics and Symmetry*,
+    §15). tr G = sum of |rows|^2 and det R are Casimirs."""
+    M = sp.symbols("M1:4")
+    Rm = sp.Matrix(3, 3, lambda r, j: sp.Symbol(f"R{r + 1}{j + 1}"))
+    X = (*M, *Rm)
+    idx = {s: k for k, s in enumerate(X)}
+    B = sp.zeros(12)
+    for i in range(3):
+        for j in range(3):
+            for k in range(3):
+                eps = sp.LeviCivita(i, j, k)
+                B[i, j] += eps * M[k]
+                for r in range(3):
+                    B[i, idx[Rm[r, j]]] += eps * Rm[r, k]
+                    B[idx[Rm[r, j]], i] -= eps * Rm[r, k]
+    P = Bivector.from_matrix(B, X)
+    assert pk.check_jacobi(P).is_poisson
+    fields = []
+    for a in range(3):
+        xi = sp.Matrix(3, 3, lambda r, s: -sp.LeviCivita(a, r, s))
+        dR = xi * Rm
+        fields.append([0, 0, 0, *[dR[r, j] for r in range(3) for j in range(3)]])
+    auto = reduce_by_symmetry(P, fields, 3)
+    assert auto.degrees == (1, 1, 1, 2, 2, 2, 2, 2, 2, 3)
+    G = (Rm.T * Rm).applyfunc(sp.expand)
+    inv = [*M, G[0, 0], G[1, 1], G[2, 2], G[0, 1], G[0, 2], G[1, 2], sp.expand(Rm.det())]
+    red = reduce_by_symmetry(P, fields, 3, invariants=inv,
+                             names=["M1_", "M2_", "M3_", "G11", "G22", "G33", "G12", "G13",
+                                    "G23", "D"])
+    S = red.symbols
+    for i in range(3):
+        for j in range(3):
+            truth = sum(sp.LeviCivita(i, j, k) * S[k] for k in range(3))
+            assert sp.expand(red.brackets[i, j] - truth) == 0
+    on_so3 = {S[3]: 1, S[4]: 1, S[5]: 1, S[6]: 0, S[7]: 0, S[8]: 0}
+    assert all(sp.expand(red.brackets[i, j].xreplace(on_so3)) == 0
+               for i in range(3) for j in range(3, 10))
+    span = [S[3] + S[4] + S[5], S[9]]
+    cas = list(red.casimirs)
+    monos = sorted({m for s in [*span, *cas] for m in sp.Poly(s, *S).monoms()})
+    rank = sp.Matrix([[sp.Poly(s, *S).coeff_monomial(m) for m in monos]
+                      for s in [*span, *cas]]).rank()
+    assert len(cas) == 2 and rank == 2
+    A = sp.symbols("A1:4", positive=True)
+    H = sum(m ** 2 / (2 * a) for m, a in zip(M, A))
+    assert sp.expand(red.reduce(H) - sum(s ** 2 / (2 * a) for s, a in zip(S[:3], A))) == 0
