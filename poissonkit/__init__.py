@@ -62,6 +62,14 @@ _LAZY: dict[str, str] = {
     "lenard_magri_chain": "poissonkit.structure.bihamiltonian",
     "lenard_magri_chains": "poissonkit.structure.bihamiltonian",
     "LenardMagriChain": "poissonkit.structure.bihamiltonian",
+    # Poisson cohomology in low degrees, the modular class
+    "poisson_cohomology": "poissonkit.structure.cohomology",
+    "PoissonCohomology": "poissonkit.structure.cohomology",
+    "modular_class": "poissonkit.structure.cohomology",
+    "ModularClass": "poissonkit.structure.cohomology",
+    # reduction by symmetry through invariants
+    "reduce_by_symmetry": "poissonkit.structure.reduction",
+    "ReducedPoissonAlgebra": "poissonkit.structure.reduction",
     # numerics
     "solve": "poissonkit.numerics.solver",
     "Solution": "poissonkit.numerics.solution",

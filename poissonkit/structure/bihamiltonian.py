@@ -35,7 +35,8 @@ from poissonkit.structure.checks import CheckResult
 from poissonkit.structure.zerotest import vanishes
 
 __all__ = [
-    "DegenerateBivectorError", "LenardMagriChain", "compatible", "involution_both",
+    "ConstantCasimirError", "DegenerateBivectorError", "LenardMagriChain", "compatible",
+    "involution_both",
     "lenard_magri_chain",
     "lenard_magri_chains", "nijenhuis_torsion", "pencil", "pencil_casimirs",
     "recursion_operator",
@@ -44,6 +45,10 @@ __all__ = [
 
 class DegenerateBivectorError(InputError):
     """``P1`` is not invertible where an inverse is needed (give a leaf block instead)."""
+
+
+class ConstantCasimirError(InputError):
+    """A pencil Casimir that does not depend on the coordinates: its chain has no integrals."""
 
 
 def _pair(P1, P2) -> tuple[Bivector, Bivector]:
@@ -368,6 +373,8 @@ def lenard_magri_chain(P1, P2, casimir, lam: sp.Symbol | str | None = None) -> L
 
     Raises
     ------
+    ConstantCasimirError
+        ``casimir`` does not depend on the coordinates (a constant gives no integrals).
     InputError
         ``casimir`` is not a polynomial in ``lam`` or not a Casimir of the pencil.
 
@@ -388,6 +395,10 @@ def lenard_magri_chain(P1, P2, casimir, lam: sp.Symbol | str | None = None) -> L
     P1, P2 = _pair(P1, P2)
     lam = _lam_symbol(lam, P1)
     C = as_expr(casimir, "pencil Casimir")
+    if not sp.expand(C).free_symbols & set(P1.coords):
+        raise ConstantCasimirError(
+            f"the pencil Casimir {C} does not depend on the coordinates "
+            f"{tuple(map(str, P1.coords))}: its Lenard-Magri chain has no integrals")
     chain = LenardMagriChain(P1, P2, lam, C, _coefficients(C, lam))
     res = chain.check()
     if not res:
@@ -416,22 +427,39 @@ def pencil_casimirs(P1, P2, degree: int, lam: sp.Symbol | str | None = None,
     tuple of sympy.Expr
         Generators over ``Q(params, lam)`` found by
         :func:`~poissonkit.structure.find_casimirs`, each multiplied by the common denominator
-        of its ``lam``-coefficients (a Casimir for every ``lam`` stays one) and stripped of its
-        content in ``lam``. Constant terms are dropped, as by ``find_casimirs``.
+        of its coefficients and divided by their gcd, both taken over the coefficients of the
+        monomials in the coordinates (polynomials in ``lam`` and ``params``). Only factors free
+        of the coordinates are removed: a factor ``f(lam)`` can go because a Casimir for every
+        ``lam`` stays one after division (by continuity at the roots of ``f``), whereas a factor
+        depending on the coordinates cannot (``z (y + lam x)`` is a Casimir of
+        ``star d(z (y + lam x))``, ``y + lam x`` is not). Constant terms are dropped, as by
+        ``find_casimirs``.
+
+    Examples
+    --------
+    >>> from poissonkit.structure import so3
+    >>> pencil_casimirs(so3(), so3() * 2, 2)
+    (m_x**2 + m_y**2 + m_z**2,)
     """
     from poissonkit.structure.casimirs import find_casimirs
 
     P1, P2 = _pair(P1, P2)
     lam = _lam_symbol(lam, P1)
     found = find_casimirs(pencil(P1, P2, lam), degree, params=[*params, lam])
-    out = []
-    for C in found:
-        num, _den = sp.fraction(sp.together(C))
-        num = sp.expand(num)
-        poly = sp.Poly(num, lam)
-        content = sp.gcd_list(poly.all_coeffs())
-        out.append(sp.expand(sp.cancel(num / content)) if content != 0 else num)
-    return tuple(out)
+    return tuple(_clear_content(C, P1.coords) for C in found)
+
+
+def _clear_content(C: sp.Expr, coords: Sequence[sp.Symbol]) -> sp.Expr:
+    """``C`` times its coordinate-free denominator, divided by its coordinate-free content."""
+    num, den = sp.fraction(sp.together(C))
+    if den.free_symbols & set(coords):  # not a polynomial in the coordinates: leave it alone
+        return sp.expand(C)
+    poly = sp.Poly(sp.expand(num), *coords)
+    content = sp.gcd_list(poly.coeffs())
+    if content == 0:
+        return sp.expand(num)
+    return sp.expand(sum(sp.cancel(c / content) * sp.Mul(*[x ** e for x, e in zip(coords, m)])
+                         for m, c in poly.terms()))
 
 
 def lenard_magri_chains(P1, P2, degree: int, lam: sp.Symbol | str | None = None,
@@ -447,6 +475,12 @@ def lenard_magri_chains(P1, P2, degree: int, lam: sp.Symbol | str | None = None,
     -------
     tuple of LenardMagriChain
         One chain per generator of :func:`pencil_casimirs` (relations proved).
+
+    Raises
+    ------
+    ConstantCasimirError
+        A generator does not depend on the coordinates (cannot happen for the generators of
+        :func:`pencil_casimirs`, which drops constants, but refused rather than returned).
 
     Examples
     --------

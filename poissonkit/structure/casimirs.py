@@ -32,6 +32,7 @@ from poissonkit.errors import (
     InputError,
 )
 from poissonkit.structure._casimir_basis import reduced_generators, relations
+from poissonkit.structure._graded_casimirs import graded_casimir_rows
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.checks import CheckResult
 from poissonkit.structure.zerotest import _as_exprs, _Atomizer, _expr, _vanishing
@@ -273,6 +274,9 @@ def _block_casimirs(B: Bivector, vars_: list[sp.Symbol], degree: int
                     ) -> tuple[list[PolyElement], list[int]]:
     """Reduced, normalised generators of one block (ring elements over ``B.coords``), degrees."""
     pos = [B.coords.index(v) for v in vars_]
+    graded = graded_casimir_rows(B, pos, degree)  # linear brackets: one graded piece at a time
+    if graded is not None:
+        return reduced_generators(graded, _normalise) if graded else ([], [])
     monos: list[tuple[int, ...]] = []
     for k in range(1, degree + 1):
         for combo in combinations_with_replacement(pos, k):

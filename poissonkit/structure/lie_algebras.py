@@ -26,6 +26,11 @@ from sympy.polys.matrices import DomainMatrix
 
 from poissonkit.errors import InputError, PoissonkitError, UnknownNameError
 from poissonkit.structure.bivector import Bivector, _as_symbols
+from poissonkit.structure.invariants import (
+    euclid_invariants,
+    pfaffian_invariant,
+    traces_invariants,
+)
 
 __all__ = ["LIE_ALGEBRA_NAMES", "LieAlgebra", "lie_algebra", "pfaffian"]
 
@@ -108,13 +113,19 @@ class LieAlgebra:
         * ``sp(2n)``: ``tr(X^(2k))``, ``k = 1..n``.
         * ``u(n)``: ``tr(H^k)``, ``k = 1..n``, with the Hermitian ``H = -i X``; ``su(n)``:
           ``k = 2..n``.
-        * ``e(n)``, ``se(n)``: ``|nu|^2`` (``|P|^2``), and for ``n = 3`` also ``(nu, m)``
-          (``(L, P)``).
+        * ``e(n)``, ``se(n)``: ``|nu|^2`` (``|P|^2``); for ``n = 3`` also ``(nu, m)``
+          (``(L, P)``); for ``n >= 4`` also ``D_k``, ``k = 2..floor(n/2)`` (degree ``2k``) and
+          for odd ``n`` ``Pf(Y)`` (degree ``(n+1)/2``), the contractions of the ``so(n+1)``
+          invariants with ``Y = [[M, nu], [-nu^T, 0]]``
+          (:mod:`poissonkit.structure.invariants`): ``floor((n+1)/2)`` in all, the index of
+          ``e(n)``.
         * ``heisenberg(n)``: the central coordinate ``z``.
 
         Together they generate the polynomial Casimirs of the semisimple and reductive cases
         (Chevalley); for ``so(2m)`` ``tr(X^(2m))`` is left out because it is a polynomial in the
-        lower traces and the Pfaffian.
+        lower traces and the Pfaffian. They are computed in a sparse polynomial ring
+        (:mod:`poissonkit.structure.invariants`): ``so(7)``, ``sp(6)``, ``sl(5)`` in well under a
+        second.
         """
         return self._invariants(self)
 
@@ -261,16 +272,7 @@ def _ij(i: int, j: int, n: int) -> str:
 # ------------------------------------------------------------------ invariants
 def _traces(powers: Sequence[int], label: str = "X",
             of: Callable[[sp.Matrix], sp.Matrix] = lambda X: X):
-    def inv(alg: LieAlgebra) -> dict[str, sp.Expr]:
-        X = of(sp.Matrix(alg.matrix))
-        out, P, k = {}, sp.eye(X.rows), 0
-        for p in sorted(powers):
-            while k < p:
-                P = (P * X).applyfunc(sp.expand)
-                k += 1
-            out[f"tr({label}^{p})"] = sp.expand(P.trace())
-        return out
-    return inv
+    return traces_invariants(list(powers), label, of)
 
 
 def pfaffian(A: sp.Matrix) -> sp.Expr:
@@ -298,14 +300,18 @@ def _so_invariants(n: int, eta: Sequence[int]):
     def inv(alg: LieAlgebra) -> dict[str, sp.Expr]:
         out = traces(alg)
         if n % 2 == 0:
-            X = sp.Matrix(alg.matrix)
             label = "Pf(X)" if all(e == 1 for e in eta) else "Pf(X eta)"
-            out[label] = pfaffian(X * sp.diag(*eta))
+            out[label] = pfaffian_invariant(alg, eta)
         return out
     return inv
 
 
 def _euclid_invariants(trans: Sequence[int], rot: Sequence[int], n: int, names: tuple[str, str]):
+    # rotation coordinate k of so(n) (n >= 4) is m_ij for the k-th pair i < j: M_ij = m_ij
+    pairs = [(i, j) for i in range(n) for j in range(i + 1, n)]
+    higher = euclid_invariants(list(trans), [(c, i, j, 1) for c, (i, j) in zip(rot, pairs)], n) \
+        if n >= 4 else (lambda alg: {})
+
     def inv(alg: LieAlgebra) -> dict[str, sp.Expr]:
         t = [alg.coords[i] for i in trans]
         a, b = names
@@ -314,6 +320,7 @@ def _euclid_invariants(trans: Sequence[int], rot: Sequence[int], n: int, names: 
             r = [alg.coords[i] for i in rot]
             out[f"({a}, {b})" if trans[0] == 0 else f"({b}, {a})"] = sp.Add(
                 *[u * v for u, v in zip(t, r)])
+        out.update(higher(alg))
         return out
     return inv
 
