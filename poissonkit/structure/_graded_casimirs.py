@@ -194,7 +194,7 @@ def _class_kernel(P: list[list[list[tuple[int, int]]]], monos: list[tuple[int, .
                     t[c] += 1
                     slot = rows.setdefault((i, tuple(t)), {})
                     slot[col] = slot.get(col, 0) + mj * v
-    data = {}
+    data: dict[int, dict[int, object]] = {}
     for r in rows.values():
         d = {c: sp.QQ(v) for c, v in r.items() if v}
         if d:
