@@ -67,6 +67,13 @@ def _parameter_value(name: str, value: object) -> float:
     return v
 
 
+class GeneratedWork(NamedTuple):
+    """Scratch of a generated system's kernels."""
+
+    #: the one-entry output of the generated energy
+    buffer: np.ndarray
+
+
 class SymbolicForm(NamedTuple):
     """``ẋ = N P ∇H`` of a compiled system with its parameter values substituted.
 
@@ -177,7 +184,7 @@ class CompiledSystem:
 
         @jit
         def energy(y, data, work):
-            return en_gen(y, work[0])[0]
+            return en_gen(y, work.buffer)[0]
 
         self._rhs = rhs
         self._energy = energy
@@ -234,9 +241,9 @@ class CompiledSystem:
                             self._prep(hsys.multiplier),
                             hsys.structure.matrix.xreplace(self._subs), self._key)
 
-    def work(self) -> tuple[np.ndarray, ...]:
+    def work(self) -> GeneratedWork:
         """Scratch arrays for the kernels."""
-        return (np.zeros(1),)
+        return GeneratedWork(np.zeros(1))
 
     def _state(self, y: ArrayLike) -> np.ndarray:
         y = np.asarray(y, dtype=float)

@@ -3,10 +3,8 @@ terms, added in the same sub-flows.
 
 The kick keeps ``r`` and ``ν`` fixed, so the pair kick followed by the field kick is exactly
 the kick of their sum; the right-hand side, the energy and the forces add the field terms to
-the pair terms. The field data is the last item of the system's ``data`` tuple::
-
-    (kernel index per field (int64), offsets into P (int64), P (float64),
-     coupling (n_bodies, n_fields) float64, (length unit, 1 / energy unit))
+the pair terms. The field data is ``data.fields``, a
+:class:`~poissonkit.numerics.nbody.data.FieldData`.
 
 Fixed bodies are skipped (their field energy is a constant).
 """
@@ -24,15 +22,12 @@ from poissonkit.numerics.fields.base import CompiledField
 from poissonkit.numerics.jit import compile_generated, jit
 from poissonkit.numerics.kernels import Kernels, kahan_add, zero2
 from poissonkit.numerics.nbody.bodies import Body
+from poissonkit.numerics.nbody.data import FieldData
 from poissonkit.numerics.nbody.state import apply_forces, gather, gather_inl
 
-#: Index of the field data in the system's ``data`` tuple.
-FIELD_SLOT = 17
-
-
 def field_data(fields: Sequence[CompiledField], bodies: Sequence[Body], length: float,
-               energy: float) -> tuple[tuple[np.ndarray, ...], tuple[CompiledFunction, ...]]:
-    """The field data tuple (module docstring) and the distinct kernels it indexes.
+               energy: float) -> tuple[FieldData, tuple[CompiledFunction, ...]]:
+    """The field data (module docstring) and the distinct kernels it indexes.
 
     Raises
     ------
@@ -59,8 +54,9 @@ def field_data(fields: Sequence[CompiledField], bodies: Sequence[Body], length: 
                                  "which is a point mass; give it alpha or inertia")
             coup[k, f] = float(value)
     P = np.concatenate(chunks) if chunks else np.zeros(0)
-    data = (np.array(gid, dtype=np.int64), np.array(offs, dtype=np.int64),
-            np.ascontiguousarray(P), coup, np.array([length, 1.0 / energy]))
+    data = FieldData(kernel=np.array(gid, dtype=np.int64), offsets=np.array(offs, dtype=np.int64),
+                     params=np.ascontiguousarray(P), coupling=coup,
+                     units=np.array([length, 1.0 / energy]))
     return data, tuple(kerns)
 
 
@@ -88,15 +84,15 @@ def _field_loop(dispatch: Dispatcher) -> tuple[Dispatcher, Dispatcher]:
     ``F``, ``T`` (internal units) and returns the field energy."""
 
     def field_forces(pos, nu, data, F, T):
-        fd = data[17]
-        gid = fd[0]
-        off = fd[1]
-        P = fd[2]
-        coup = fd[3]
-        lu = fd[4][0]
-        ie = fd[4][1]
-        bslot = data[2]
-        tslot = data[3]
+        fd = data.fields
+        gid = fd.kernel
+        off = fd.offsets
+        P = fd.params
+        coup = fd.coupling
+        lu = fd.units[0]
+        ie = fd.units[1]
+        bslot = data.body_slot
+        tslot = data.top_slot
         u = 0.0
         for b in range(bslot.shape[0]):
             if bslot[b] < 0:
@@ -151,13 +147,13 @@ def field_kernels(pair: Kernels, kerns: Sequence[CompiledFunction]) -> Kernels:
     @jit
     def rhs(y, data, work, out):
         pair_rhs(y, data, work, out)  # leaves pos, nu gathered
-        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
+        pos, nu, F, T = work.pos, work.nu, work.F, work.T
         zero2(F)
         zero2(T)
         ff(pos, nu, data, F, T)
-        nm = data[0].shape[0]
-        bslot = data[2]
-        tslot = data[3]
+        nm = data.mass.shape[0]
+        bslot = data.body_slot
+        tslot = data.top_slot
         for b in range(bslot.shape[0]):
             s = bslot[b]
             if s >= 0:
@@ -172,7 +168,7 @@ def field_kernels(pair: Kernels, kerns: Sequence[CompiledFunction]) -> Kernels:
     def kick(y, h, data, work):
         # r and ν are fixed in a kick: the pair kick then the field kick is the kick of the sum
         pair_kick(y, h, data, work)
-        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
+        pos, nu, F, T = work.pos, work.nu, work.F, work.T
         gather_inl(y, data, pos, nu)
         zero2(F)
         zero2(T)
@@ -182,14 +178,14 @@ def field_kernels(pair: Kernels, kerns: Sequence[CompiledFunction]) -> Kernels:
     @jit
     def kick_compensated(y, c, h, data, work):
         pair_kick_c(y, c, h, data, work)
-        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
+        pos, nu, F, T = work.pos, work.nu, work.F, work.T
         gather_inl(y, data, pos, nu)
         zero2(F)
         zero2(T)
         ff_inl(pos, nu, data, F, T)
-        nm = data[0].shape[0]
-        bslot = data[2]
-        tslot = data[3]
+        nm = data.mass.shape[0]
+        bslot = data.body_slot
+        tslot = data.top_slot
         for b in range(bslot.shape[0]):
             s = bslot[b]
             if s >= 0:
@@ -203,7 +199,7 @@ def field_kernels(pair: Kernels, kerns: Sequence[CompiledFunction]) -> Kernels:
     @jit
     def energy(y, data, work):
         e = pair_energy(y, data, work)
-        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
+        pos, nu, F, T = work.pos, work.nu, work.F, work.T
         gather(y, data, pos, nu)
         zero2(F)
         zero2(T)
@@ -211,9 +207,9 @@ def field_kernels(pair: Kernels, kerns: Sequence[CompiledFunction]) -> Kernels:
 
     @jit(inline="always")
     def forces_of(y, data, work):
-        """Pair and field forces and torques into ``work[2]``, ``work[3]``; returns U."""
+        """Pair and field forces and torques into ``work.F``, ``work.T``; returns U."""
         u = pair_forces(y, data, work)
-        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
+        pos, nu, F, T = work.pos, work.nu, work.F, work.T
         return u + ff_inl(pos, nu, data, F, T)
 
     out = pair._replace(rhs=rhs, kick=kick, energy=energy, forces=forces_of,

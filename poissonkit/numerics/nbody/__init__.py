@@ -25,6 +25,7 @@ Modules, one job each:
 
 * :mod:`~poissonkit.numerics.nbody.bodies` — the input model (:class:`Body`,
   :class:`Interaction`, :class:`AllPairs`) and its validation;
+* :mod:`~poissonkit.numerics.nbody.data` — the named data and scratch every kernel reads;
 * :mod:`~poissonkit.numerics.nbody.pairkernels` — a potential as given → compiled kernels in
   internal units → one dispatcher per system;
 * :mod:`~poissonkit.numerics.nbody.pairterms` — energy, force and torques of one pair;

@@ -3,13 +3,10 @@
 When every body moves, none is a top, there is no cutoff and every interaction is an
 orientation-free :class:`~poissonkit.numerics.nbody.AllPairs` set (gravity, any ``U(r)``), a
 step needs little of the general N-body machinery: no fixed bodies to gather, no axes or
-torques, no listed pairs, no cell list. The kernels here take a short ``data`` tuple
-
-    ``(mass, members, offsets, kernel ids, B)``
-
-(masses of the bodies, the members of each all-pairs set, where each set starts in
-``members``, which potential each set uses and the per-body attribute table) and the scratch
-``(pos, F)``. The kick is inlined into the compiled time loop that calls it, so the loop reads
+torques, no listed pairs, no cell list. The kernels here take the short
+:class:`~poissonkit.numerics.nbody.data.DirectData` (masses, the members, offsets and kernel of
+each all-pairs set, the per-body attribute table) and the scratch
+:class:`~poissonkit.numerics.nbody.data.DirectWork` (``pos, F``). The kick is inlined into the compiled time loop that calls it, so the loop reads
 the arrays once per chunk of steps instead of copying the general 17-entry tuple and its
 reference counts at every kick.
 
@@ -32,7 +29,7 @@ from poissonkit.numerics.nbody.state import max_radius
 
 @jit(inline="always")
 def _drift(y, h, data):
-    mass = data[0]
+    mass = data.mass
     for s in range(mass.shape[0]):
         c = h / mass[s]
         for d in range(3):
@@ -41,7 +38,7 @@ def _drift(y, h, data):
 
 @jit(inline="always")
 def _drift_compensated(y, c, h, data):
-    mass = data[0]
+    mass = data.mass
     for s in range(mass.shape[0]):
         cc = h / mass[s]
         for d in range(3):
@@ -50,7 +47,7 @@ def _drift_compensated(y, c, h, data):
 
 @jit
 def _min_distance(y, data, work):
-    n = data[0].shape[0]
+    n = data.mass.shape[0]
     best = math.inf
     for a in range(n):
         for b in range(a + 1, n):
@@ -79,13 +76,13 @@ def direct_kernels(kern_any: Dispatcher, kern_r: Dispatcher) -> Kernels:
 
     @jit(inline="always")
     def forces_of(y, data, work):
-        """Forces into ``work[1]`` (rows: bodies); returns U. ``work[0]`` gets the positions."""
-        members = data[1]
-        offs = data[2]
-        gids = data[3]
-        B = data[4]
-        pos = work[0]
-        F = work[1]
+        """Forces into ``work.F`` (rows: bodies); returns U. ``work.pos`` gets the positions."""
+        members = data.set_members
+        offs = data.set_offsets
+        gids = data.set_kernel
+        B = data.table
+        pos = work.pos
+        F = work.F
         for b in range(pos.shape[0]):
             for d in range(3):
                 pos[b, d] = y[6 * b + d]
@@ -98,7 +95,7 @@ def direct_kernels(kern_any: Dispatcher, kern_r: Dispatcher) -> Kernels:
     @jit(inline="always")
     def kick(y, h, data, work):
         forces_of(y, data, work)
-        F = work[1]
+        F = work.F
         for b in range(F.shape[0]):
             for d in range(3):
                 y[6 * b + 3 + d] += h * F[b, d]
@@ -106,14 +103,14 @@ def direct_kernels(kern_any: Dispatcher, kern_r: Dispatcher) -> Kernels:
     @jit(inline="always")
     def kick_compensated(y, c, h, data, work):
         forces_of(y, data, work)
-        F = work[1]
+        F = work.F
         for b in range(F.shape[0]):
             for d in range(3):
                 kahan_add(y, c, 6 * b + 3 + d, h * F[b, d])
 
     @jit
     def energy(y, data, work):
-        mass = data[0]
+        mass = data.mass
         e = forces_of(y, data, work)
         for s in range(mass.shape[0]):
             p2 = y[6 * s + 3] ** 2 + y[6 * s + 4] ** 2 + y[6 * s + 5] ** 2
@@ -122,9 +119,9 @@ def direct_kernels(kern_any: Dispatcher, kern_r: Dispatcher) -> Kernels:
 
     @jit
     def rhs(y, data, work, out):
-        mass = data[0]
+        mass = data.mass
         forces_of(y, data, work)
-        F = work[1]
+        F = work.F
         for s in range(mass.shape[0]):
             for d in range(3):
                 out[6 * s + d] = y[6 * s + 3 + d] / mass[s]

@@ -7,13 +7,9 @@
 every integrator uses. Kernels are cached per dispatcher, so systems with the same potentials
 share one compilation.
 
-``data`` is the system's constant tuple (:attr:`NBodySystem.data`); the force loop reads
-``data[6]`` the listed pairs ``(i, j, g)``, ``data[7:10]`` the members, offsets and kernel of
-each all-pairs set, ``data[10]`` the cutoff, ``data[11]`` the per-body attribute table,
-``data[12]`` the listed orientation-free pairs, ``data[13]`` which sets are orientation-free,
-``data[14]`` whether any body is a top, ``data[15]`` the start of the smooth cutoff and
-``data[16]`` the fewest members for the parallel loop. ``work`` is ``(pos, nu, F, T)``, and
-for a system with a skin also its neighbour lists (:mod:`~poissonkit.numerics.nbody.verlet`).
+``data`` is the system's :class:`~poissonkit.numerics.nbody.data.SystemData` and ``work`` its
+:class:`~poissonkit.numerics.nbody.data.Work` (``pos, nu, F, T`` and, for a system with a skin,
+its neighbour lists, :mod:`~poissonkit.numerics.nbody.verlet`).
 """
 
 from __future__ import annotations
@@ -55,19 +51,19 @@ def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatch
 
     ``set_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, lists, s)`` is the
     pair loop of all-pairs set ``s`` with a cutoff: the cell loop (``lists`` is ``None``) or
-    the neighbour-list loop (``lists``: the system's Verlet state, ``work[4]``).
+    the neighbour-list loop (``lists``: the system's Verlet state, ``work.lists``).
     """
 
     def forces_py(pos, nu, data, F, T, lists):
-        pairs = data[6]
-        cmembers = data[7]
-        coffs = data[8]
-        cgid = data[9]
-        cutoff = data[10]
-        B = data[11]
-        rpairs = data[12]
-        ccentral = data[13]
-        axes = data[14]
+        pairs = data.pairs
+        cmembers = data.set_members
+        coffs = data.set_offsets
+        cgid = data.set_kernel
+        cutoff = data.cutoff
+        B = data.table
+        rpairs = data.radial_pairs
+        ccentral = data.set_central
+        axes = data.any_tops
         for b in range(F.shape[0]):
             F[b, 0] = 0.0
             F[b, 1] = 0.0
@@ -75,7 +71,7 @@ def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatch
         if axes:
             zero2(T)
         cut2 = cutoff * cutoff if np.isfinite(cutoff) else np.inf
-        rs = data[15]
+        rs = data.switch_start
         # (cutoff², switch start², switch start, 1 / switch width); no switch: start = inf
         cut = (cut2, rs * rs, rs, 1.0 / (cutoff - rs) if rs < cutoff else 0.0)
         u = 0.0
@@ -94,7 +90,7 @@ def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatch
             hi = coffs[g + 1]
             if np.isfinite(cutoff):
                 u += set_pairs(gid, central, cmembers[lo:hi], pos, nu, F, T, cutoff, B, cut,
-                               data[16], lists, g)
+                               data.parallel_min, lists, g)
             elif central:
                 u += all_pairs_r(gid, cmembers, lo, hi, pos, F, B)
             else:
@@ -114,25 +110,13 @@ def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatch
 _kernel_cache: dict[tuple[int, bool, bool], Kernels] = {}
 
 
-@jit(inline="always")
-def _no_lists(work):
-    """Systems without neighbour lists: scratch ``(pos, nu, F, T)``, no list state."""
-    return None
-
-
-@jit(inline="always")
-def _lists(work):
-    """Systems with neighbour lists: their state is ``work[4]`` (see ``nbody.verlet``)."""
-    return work[4]
-
-
 def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = False,
                    verlet: bool = False) -> Kernels:
     """Compile the N-body kernels around one pair of potential dispatchers (cached).
 
     ``parallel`` adds the multi-threaded pair loop (chosen at run time by the number of
-    members, ``data[16]``); without it only the serial loop exists. ``verlet`` walks
-    neighbour lists kept in ``work[4]`` (:mod:`~poissonkit.numerics.nbody.verlet`) instead of
+    members, ``data.parallel_min``); without it only the serial loop exists. ``verlet`` walks
+    neighbour lists kept in ``work.lists`` (:mod:`~poissonkit.numerics.nbody.verlet`) instead of
     building a cell list at every evaluation.
     """
     hit = _kernel_cache.get((id(kern_any), parallel, verlet))
@@ -141,27 +125,24 @@ def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = Fa
     terms = pair_terms(kern_any, kern_r)
     if verlet:
         set_pairs = verlet_loops(terms.one, terms.radial_one, parallel)
-        lists_of = _lists
     else:
         cells = cell_loops(terms.one, terms.radial_one, parallel)
 
         @jit(inline="always")
         def set_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, lists, s):
             return cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n)
-
-        lists_of = _no_lists
     forces, forces_inl = force_loops(terms.term, terms.radial, terms.all_radial, set_pairs)
 
     @jit
     def rhs(y, data, work, out):
-        pos, nu, F, T = work[0], work[1], work[2], work[3]
-        mass = data[0]
-        alpha = data[1]
-        bslot = data[2]
-        tslot = data[3]
+        pos, nu, F, T = work.pos, work.nu, work.F, work.T
+        mass = data.mass
+        alpha = data.alpha
+        bslot = data.body_slot
+        tslot = data.top_slot
         nm = mass.shape[0]
         gather(y, data, pos, nu)
-        forces(pos, nu, data, F, T, lists_of(work))
+        forces(pos, nu, data, F, T, work.lists)
         for b in range(bslot.shape[0]):
             s = bslot[b]
             if s >= 0:
@@ -182,21 +163,21 @@ def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = Fa
 
     @jit
     def kick(y, h, data, work):
-        pos, nu, F, T = work[0], work[1], work[2], work[3]
+        pos, nu, F, T = work.pos, work.nu, work.F, work.T
         gather_inl(y, data, pos, nu)
-        forces_inl(pos, nu, data, F, T, lists_of(work))
+        forces_inl(pos, nu, data, F, T, work.lists)
         apply_forces(y, h, data, work)
 
     @jit
     def kick_compensated(y, c, h, data, work):
         # as kick, every increment added with Kahan summation (c: rounding errors so far)
-        pos, nu, F, T = work[0], work[1], work[2], work[3]
-        mass = data[0]
-        bslot = data[2]
-        tslot = data[3]
+        pos, nu, F, T = work.pos, work.nu, work.F, work.T
+        mass = data.mass
+        bslot = data.body_slot
+        tslot = data.top_slot
         nm = mass.shape[0]
         gather_inl(y, data, pos, nu)
-        forces_inl(pos, nu, data, F, T, lists_of(work))
+        forces_inl(pos, nu, data, F, T, work.lists)
         for b in range(bslot.shape[0]):
             s = bslot[b]
             if s >= 0:
@@ -210,12 +191,12 @@ def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = Fa
 
     @jit
     def energy(y, data, work):
-        pos, nu, F, T = work[0], work[1], work[2], work[3]
-        mass = data[0]
-        alpha = data[1]
+        pos, nu, F, T = work.pos, work.nu, work.F, work.T
+        mass = data.mass
+        alpha = data.alpha
         nm = mass.shape[0]
         gather(y, data, pos, nu)
-        e = forces(pos, nu, data, F, T, lists_of(work))
+        e = forces(pos, nu, data, F, T, work.lists)
         for s in range(nm):
             p2 = y[6 * s + 3] ** 2 + y[6 * s + 4] ** 2 + y[6 * s + 5] ** 2
             e += 0.5 * p2 / mass[s]
@@ -226,10 +207,10 @@ def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = Fa
 
     @jit(inline="always")
     def forces_of(y, data, work):
-        """Forces and torques into ``work[2]``, ``work[3]`` (rows: all bodies); returns U."""
-        pos, nu, F, T = work[0], work[1], work[2], work[3]
+        """Forces and torques into ``work.F``, ``work.T`` (rows: all bodies); returns U."""
+        pos, nu, F, T = work.pos, work.nu, work.F, work.T
         gather_inl(y, data, pos, nu)
-        return forces_inl(pos, nu, data, F, T, lists_of(work))
+        return forces_inl(pos, nu, data, F, T, work.lists)
 
     out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
                   max_radius=max_radius, jac=None, splittable=True, forces=forces_of,

@@ -27,6 +27,15 @@ from poissonkit.numerics.nbody.bodies import (
     NonUnitAxisError,
     PotentialLike,
 )
+from poissonkit.numerics.nbody.data import (
+    DirectData,
+    Work,
+    direct_data,
+    empty_field_data,
+    new_direct_work,
+    new_work,
+    system_data,
+)
 from poissonkit.numerics.nbody.evaluate import (
     OverlapError,
     coincident_pair,
@@ -42,7 +51,7 @@ from poissonkit.numerics.nbody.pairkernels import (
     resolve_runtime,
     unit_values,
 )
-from poissonkit.numerics.nbody.verlet import VerletState, new_verlet_state
+from poissonkit.numerics.nbody.verlet import new_verlet_state
 from poissonkit.numerics.units import Scales
 from poissonkit.plugin.contributions import PairPotential
 
@@ -313,19 +322,17 @@ class NBodySystem:
         self._energy_shift = 0.0
         cut = np.inf if self.cutoff is None else self.cutoff / L
         rs_int = np.inf if self.smooth_cutoff is None else self.smooth_cutoff / L
-        self.data = (mass, alpha, bslot, tslot, fpos, fnu,
-                     np.array(pairs, dtype=np.int64).reshape(-1, 3),
-                     np.array(cmembers, dtype=np.int64), np.array(coffs, dtype=np.int64),
-                     np.array(cgid, dtype=np.int64), float(cut), table,
-                     np.array(rpairs, dtype=np.int64).reshape(-1, 3),
-                     np.array(ccentral, dtype=np.int64),
-                     any(b.is_top for b in bodies), float(rs_int),
-                     int(self.parallel_min_bodies))
         self.fields = compile_fields(fields)
         self._field_kerns: tuple[CompiledFunction, ...] = ()
+        fdata = empty_field_data(len(bodies))
         if self.fields:  # one-body terms: the data gains their tables (numerics/fields)
             fdata, self._field_kerns = field_data(self.fields, bodies, L, E)
-            self.data = self.data + (fdata,)
+        self.data = system_data(
+            mass=mass, alpha=alpha, body_slot=bslot, top_slot=tslot, fixed_pos=fpos,
+            fixed_axis=fnu, pairs=pairs, set_members=cmembers, set_offsets=coffs,
+            set_kernel=cgid, cutoff=cut, table=table, radial_pairs=rpairs,
+            set_central=ccentral, any_tops=any(b.is_top for b in bodies),
+            switch_start=rs_int, parallel_min=self.parallel_min_bodies, fields=fdata)
         # compile the parallel loop only for a system that may use it
         self._parallel = (self.cutoff is not None and self.parallel
                           and any(coffs[g + 1] - coffs[g] >= max(2, self.parallel_min_bodies)
@@ -340,7 +347,7 @@ class NBodySystem:
         # compute (a new kind of term) must turn it off, or loop_kernels would drop it.
         self._direct = (self.cutoff is None and not pairs and not rpairs and not tops
                         and len(moving) == len(bodies) and all(ccentral) and not self.fields)
-        self._loop: tuple[Kernels, tuple[np.ndarray, ...]] | None = None
+        self._loop: tuple[Kernels, DirectData] | None = None
 
     # ------------------------------------------------------------------ structure
     def gravity_constant(self) -> float:
@@ -436,15 +443,14 @@ class NBodySystem:
                            parallel=self.parallel, parallel_min_bodies=self.parallel_min_bodies,
                            skin=self.skin, fields=built)
 
-    def work(self) -> tuple[np.ndarray | VerletState, ...]:
-        """Fresh scratch arrays ``(pos, nu, F, T)`` for the kernels, with a system's empty
-        neighbour lists (see ``skin``) as a fifth entry."""
+    def work(self) -> Work:
+        """Fresh scratch :class:`~poissonkit.numerics.nbody.data.Work` for the kernels
+        (``pos, nu, F, T``), with a system's empty neighbour lists (see ``skin``) as ``lists``."""
         n = len(self.bodies)
-        arrays = (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
         if self.skin is None:
-            return arrays
+            return new_work(n)
         L = self.scales.length if self.scales else 1.0
-        return arrays + (new_verlet_state(self.data[9].shape[0], self.skin / L),)
+        return new_work(n, new_verlet_state(self.data.set_kernel.shape[0], self.skin / L))
 
     def loop_kernels(self) -> LoopKernels | None:
         """Direct-sum kernels for the compiled time loops, or ``None``.
@@ -460,11 +466,9 @@ class NBodySystem:
         if self._loop is None:
             from poissonkit.numerics.nbody.direct import direct_kernels
 
-            d = self.data
             self._loop = (direct_kernels(*_dispatcher(self._kerns, self._rkerns)),
-                          (d[0], d[7], d[8], d[9], d[11]))
-        n = len(self.bodies)
-        return LoopKernels(*self._loop, (np.zeros((n, 3)), np.zeros((n, 3))))
+                          direct_data(self.data))
+        return LoopKernels(*self._loop, new_direct_work(len(self.bodies)))
 
     def _state(self, y: npt.ArrayLike) -> np.ndarray:
         y = np.asarray(y, dtype=float)
@@ -485,7 +489,7 @@ class NBodySystem:
         y = self._state(y)
         work = self.work()
         u = self.kernels.forces(y, self.data, work)
-        return work[2], work[3], float(u)
+        return work.F, work.T, float(u)
 
     def energy(self, y: npt.ArrayLike) -> float | np.ndarray:
         """Total energy ``H(y)``; a 2-D array of states gives one value per row.
@@ -604,7 +608,7 @@ class NBodySystem:
         if len(self._moving) == len(self.bodies):
             pos = r
         else:
-            pos = self.data[4].copy()
+            pos = self.data.fixed_pos.copy()
             pos[list(self._moving)] = r
         hit = coincident_pair(pos, self._fixed)
         if hit is not None:

@@ -18,7 +18,8 @@ of a force depend on when the list was built (a run and the same run resumed fro
 may differ in round-off); a fresh list (``system.forces``, ``system.energy``) sums in the order
 of a cell list of side ``cutoff + s`` at the current positions.
 
-The list lives in the scratch tuple of a system (``work()[4]``): ``(ints, nbrs, refs, skin)``,
+The list lives in the scratch of a system (``work().lists``, a
+:class:`~poissonkit.numerics.nbody.data.VerletState`): ``(ints, nbrs, refs, skin)``,
 per all-pairs set ``k`` the arrays ``ints[3k : 3k + 3]`` = slot → body, CSR offsets and first
 slot of each slab, ``nbrs[k]`` the neighbour slots (32-bit: the list is the largest array a
 walk reads) and ``refs[k]`` the positions at the build (slot order).
@@ -36,9 +37,8 @@ from numba.typed import List
 
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.nbody.celllists import cell_list, cell_list_par, forward_cells
+from poissonkit.numerics.nbody.data import VerletState
 
-#: One system's neighbour lists: ``(ints, nbrs, refs, skin)`` (see the module docstring).
-VerletState = tuple[List, List, List, float]
 
 
 @numba.njit(cache=True)
@@ -60,7 +60,7 @@ def new_verlet_state(nsets: int, skin: float) -> VerletState:
     The lists are built on the first force evaluation that uses them.
     """
     ints, nbrs, refs = _empty_lists(nsets)
-    return ints, nbrs, refs, float(skin)
+    return VerletState(ints, nbrs, refs, float(skin))
 
 
 def _builder(cells: Dispatcher) -> Callable:
