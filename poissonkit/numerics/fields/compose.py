@@ -1,9 +1,9 @@
-"""The kernels of an N-body system with external fields: the pair kernels plus the one-body
-terms, added in the same sub-flows.
+"""External fields of an N-body system as a force term: the one-body energies, forces and
+torques that :mod:`~poissonkit.numerics.nbody.assemble` adds to the pair term.
 
 The kick keeps ``r`` and ``ν`` fixed, so the pair kick followed by the field kick is exactly
-the kick of their sum; the right-hand side, the energy and the forces add the field terms to
-the pair terms. The field data is ``data.fields``, a
+the kick of their sum; the right-hand side, the energy and the forces add the field term to
+the pair term. The field data is ``data.fields``, a
 :class:`~poissonkit.numerics.nbody.data.FieldData`.
 
 Fixed bodies are skipped (their field energy is a constant).
@@ -20,10 +20,9 @@ from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import InputError
 from poissonkit.numerics.fields.base import CompiledField
 from poissonkit.numerics.jit import compile_generated, jit
-from poissonkit.numerics.kernels import Kernels, kahan_add, zero2
+from poissonkit.numerics.nbody.assemble import Term
 from poissonkit.numerics.nbody.bodies import Body
 from poissonkit.numerics.nbody.data import FieldData
-from poissonkit.numerics.nbody.state import apply_forces, gather, gather_inl
 
 def field_data(fields: Sequence[CompiledField], bodies: Sequence[Body], length: float,
                energy: float) -> tuple[FieldData, tuple[CompiledFunction, ...]]:
@@ -79,11 +78,12 @@ def field_dispatcher(kerns: Sequence[CompiledFunction]) -> Dispatcher:
     return fn
 
 
-def _field_loop(dispatch: Dispatcher) -> tuple[Dispatcher, Dispatcher]:
-    """``field_forces(pos, nu, data, F, T) -> U``: adds every field's forces and torques to
-    ``F``, ``T`` (internal units) and returns the field energy."""
+def _field_loop(dispatch: Dispatcher) -> Term:
+    """The field term ``field_forces(data, work) -> U``: adds every field's forces and torques
+    to ``work.F``, ``work.T`` (internal units) and returns the field energy."""
 
-    def field_forces(pos, nu, data, F, T):
+    def field_forces(data, work):
+        pos, nu, F, T = work.pos, work.nu, work.F, work.T
         fd = data.fields
         gid = fd.kernel
         off = fd.offsets
@@ -123,96 +123,21 @@ def _field_loop(dispatch: Dispatcher) -> tuple[Dispatcher, Dispatcher]:
                     T[b, 2] += (h0 * n1 - h1 * n0) * ie
         return u
 
-    return jit(field_forces), jit(inline="always")(field_forces)
+    return Term(plain=jit(field_forces), inline=jit(inline="always")(field_forces))
 
 
-_kernel_cache: dict[tuple[int, int], Kernels] = {}
+_term_cache: dict[int, Term] = {}
 
 
-def field_kernels(pair: Kernels, kerns: Sequence[CompiledFunction]) -> Kernels:
-    """The kernels of ``pair`` with the field terms added (cached per pair kernels and field
-    kernels)."""
+def field_term(kerns: Sequence[CompiledFunction]) -> Term:
+    """The force term of the fields with kernels ``kerns`` (cached per field kernels), for
+    :func:`~poissonkit.numerics.nbody.assemble.assemble` to add to the pair term.
+
+    The kick keeps ``r`` and ``ν`` fixed, so the pair kick followed by the field kick (what
+    the generator does with two terms) is exactly the kick of their sum.
+    """
     dispatch = field_dispatcher(kerns)
-    key = (id(pair.rhs), id(dispatch))
-    hit = _kernel_cache.get(key)
-    if hit is not None:
-        return hit
-    ff, ff_inl = _field_loop(dispatch)
-    pair_rhs = pair.rhs
-    pair_kick = pair.kick
-    pair_kick_c = pair.kick_compensated
-    pair_energy = pair.energy
-    pair_forces = pair.forces
-
-    @jit
-    def rhs(y, data, work, out):
-        pair_rhs(y, data, work, out)  # leaves pos, nu gathered
-        pos, nu, F, T = work.pos, work.nu, work.F, work.T
-        zero2(F)
-        zero2(T)
-        ff(pos, nu, data, F, T)
-        nm = data.mass.shape[0]
-        bslot = data.body_slot
-        tslot = data.top_slot
-        for b in range(bslot.shape[0]):
-            s = bslot[b]
-            if s >= 0:
-                for d in range(3):
-                    out[6 * s + 3 + d] += F[b, d]
-            t = tslot[b]
-            if t >= 0:
-                for d in range(3):
-                    out[6 * nm + 6 * t + 3 + d] += T[b, d]
-
-    @jit
-    def kick(y, h, data, work):
-        # r and ν are fixed in a kick: the pair kick then the field kick is the kick of the sum
-        pair_kick(y, h, data, work)
-        pos, nu, F, T = work.pos, work.nu, work.F, work.T
-        gather_inl(y, data, pos, nu)
-        zero2(F)
-        zero2(T)
-        ff_inl(pos, nu, data, F, T)
-        apply_forces(y, h, data, work)
-
-    @jit
-    def kick_compensated(y, c, h, data, work):
-        pair_kick_c(y, c, h, data, work)
-        pos, nu, F, T = work.pos, work.nu, work.F, work.T
-        gather_inl(y, data, pos, nu)
-        zero2(F)
-        zero2(T)
-        ff_inl(pos, nu, data, F, T)
-        nm = data.mass.shape[0]
-        bslot = data.body_slot
-        tslot = data.top_slot
-        for b in range(bslot.shape[0]):
-            s = bslot[b]
-            if s >= 0:
-                for d in range(3):
-                    kahan_add(y, c, 6 * s + 3 + d, h * F[b, d])
-            t = tslot[b]
-            if t >= 0:
-                for d in range(3):
-                    kahan_add(y, c, 6 * nm + 6 * t + 3 + d, h * T[b, d])
-
-    @jit
-    def energy(y, data, work):
-        e = pair_energy(y, data, work)
-        pos, nu, F, T = work.pos, work.nu, work.F, work.T
-        gather(y, data, pos, nu)
-        zero2(F)
-        zero2(T)
-        return e + ff(pos, nu, data, F, T)
-
-    @jit(inline="always")
-    def forces_of(y, data, work):
-        """Pair and field forces and torques into ``work.F``, ``work.T``; returns U."""
-        u = pair_forces(y, data, work)
-        pos, nu, F, T = work.pos, work.nu, work.F, work.T
-        return u + ff_inl(pos, nu, data, F, T)
-
-    out = pair._replace(rhs=rhs, kick=kick, energy=energy, forces=forces_of,
-                        kick_compensated=kick_compensated if pair_kick_c is not None else None)
-    _kernel_cache[key] = out
-    return out
+    hit = _term_cache.get(id(dispatch))
+    if hit is None:
+        hit = _term_cache[id(dispatch)] = _field_loop(dispatch)
+    return hit

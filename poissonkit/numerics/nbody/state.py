@@ -1,10 +1,11 @@
 """Compiled pieces of the N-body kernels that do not depend on the potentials.
 
 They read or move the state vector alone: gather the bodies' positions and axes, kick by
-forces already computed, the free flight and free rotation (drift, also Kahan-compensated),
-and the distances that events test. Every system shares one compilation of each; the
-potential-dependent kernels are assembled around them in
-:mod:`~poissonkit.numerics.nbody.loops`.
+forces already computed (plain or Kahan-compensated: one source, two ``add`` functions), the
+free flight and free rotation (drift, also compensated), the kinetic energy and the distances
+that events test. Together they are the general :data:`GENERAL` layout on which
+:mod:`~poissonkit.numerics.nbody.assemble` builds the kernels of any sum of force terms. Every
+system shares one compilation of each.
 
 ``data`` is the system's :class:`~poissonkit.numerics.nbody.data.SystemData` and ``work`` its
 :class:`~poissonkit.numerics.nbody.data.Work`.
@@ -25,6 +26,7 @@ from poissonkit.numerics.kernels import (
     rotate_slot_compensated,
     zero2,
 )
+from poissonkit.numerics.nbody.assemble import Layout
 
 
 def _gather(y, data, pos, nu):
@@ -236,3 +238,11 @@ def max_radius(y, data):
             d2 += (y[6 * s + d] - c[d] / mt) ** 2
         best = max(best, d2)
     return math.sqrt(best)
+
+
+#: The general layout: moving and fixed bodies, point masses and tops (the kernels of
+#: :mod:`~poissonkit.numerics.nbody.loops`).
+GENERAL = Layout(gather=gather_work, gather_inline=gather_work_inl, clear=clear,
+                 push_plain=push_plain, push_compensated=push_compensated, rhs_write=rhs_write,
+                 kinetic=kinetic, drift=drift, drift_compensated=drift_compensated,
+                 min_distance=min_distance, max_radius=max_radius, inline_kick=False)

@@ -18,7 +18,7 @@ from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.integrators.base import LoopKernels
 from poissonkit.numerics.fields.base import CompiledField, FieldLike, compile_fields
-from poissonkit.numerics.fields.compose import field_data, field_kernels
+from poissonkit.numerics.fields.compose import field_data, field_term
 from poissonkit.numerics.kernels import Kernels
 from poissonkit.numerics.nbody.bodies import (
     AllPairs,
@@ -400,11 +400,10 @@ class NBodySystem:
     def kernels(self) -> Kernels:
         """The compiled kernels (compiled on first access)."""
         if self._kernels is None:
+            extra = (field_term(self._field_kerns),) if self.fields else ()
             self._kernels = _build_kernels(*_dispatcher(self._kerns, self._rkerns),
                                            parallel=self._parallel,
-                                           verlet=self.skin is not None)
-            if self.fields:
-                self._kernels = field_kernels(self._kernels, self._field_kerns)
+                                           verlet=self.skin is not None, extra=extra)
         return self._kernels
 
     def with_fields(self, fields: Sequence[FieldLike], y: npt.ArrayLike | None = None,
