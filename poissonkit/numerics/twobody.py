@@ -35,6 +35,7 @@ from poissonkit.numerics.nbody import (
 from poissonkit.numerics.nbody.bodies import PotentialLike
 from poissonkit.numerics.potentials import scaled_kernel
 from poissonkit.numerics.units import Scales
+from poissonkit.validation import positive_number
 
 LAYOUT: tuple[str, ...] = tuple(
     f"{v}_{a}" for v in ("r", "p", "nu1", "m1", "nu2", "m2") for a in "xyz")
@@ -180,14 +181,8 @@ def _build(kern: CompiledFunction) -> Kernels:
 
 
 def _positive(value: object, name: str) -> float:
-    """``float(value)`` if it is a positive finite number, else :class:`InputError` naming it."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"TwoBodySystem: {name} must be a number, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise InputError(f"TwoBodySystem: {name} must be positive and finite, got {value!r}")
-    return v
+    """``value`` as a positive finite float, else :class:`InputError` naming it."""
+    return positive_number(value, f"TwoBodySystem: {name}")
 
 
 class TwoBodySystem:
