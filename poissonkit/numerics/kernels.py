@@ -1,7 +1,8 @@
 """The compiled-kernel contract shared by every numerics system, and small numba helpers.
 
 A system usable by the compiled integrators exposes ``kernels`` (a :class:`Kernels`), ``data``
-(a tuple of numpy arrays / floats passed to every kernel) and ``work()`` (fresh scratch arrays).
+(a ``NamedTuple`` of numpy arrays / numbers passed to every kernel, read by name) and ``work()``
+(fresh scratch arrays, also a ``NamedTuple``).
 All kernels are numba ``njit`` functions with these signatures:
 
 * ``rhs(y, data, work, out)`` — writes ``ẏ`` into ``out``;
@@ -16,8 +17,8 @@ All kernels are numba ``njit`` functions with these signatures:
 * ``jac(y, data, work, out)`` — optional Jacobian ``∂ẏ/∂y`` (``None`` when not available);
 * ``forces(y, data, work) -> float`` — optional: the potential's forces and torques into the
   system's work arrays, returning the potential energy ``U``; N-body systems write every body's
-  rows into ``work[2]``, ``work[3]``, the two-body system writes ``(ṗ, ṁ', ṁ'')`` into
-  ``work[0]``; used by integrators that split the Hamiltonian differently (Wisdom–Holman,
+  rows into ``work.F``, ``work.T``, the two-body system writes ``(ṗ, ṁ', ṁ'')`` into
+  ``work.partials``; used by integrators that split the Hamiltonian differently (Wisdom–Holman,
   the time-transformed splitting).
 * ``drift_compensated(y, c, h, data)``, ``kick_compensated(y, c, h, data, work)`` — optional:
   the same flows with every increment added by Kahan-compensated summation
@@ -84,6 +85,13 @@ def rotate_slot(y, base, mbase, theta_per_norm):
     y[base] = n0 * c + x0 * s + k0 * kd
     y[base + 1] = n1 * c + x1 * s + k1 * kd
     y[base + 2] = n2 * c + x2 * s + k2 * kd
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def plain_add(y, c, i, inc):
+    """``y[i] += inc`` (``c`` unused): the uncompensated counterpart of :func:`kahan_add`, so
+    that one kernel source, given either, compiles to the plain or the compensated sum."""
+    y[i] += inc
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")

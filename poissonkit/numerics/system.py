@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 import sympy as sp
@@ -68,6 +68,13 @@ def _parameter_value(name: str, value: object) -> float:
     if not math.isfinite(v):
         raise InputError(f"parameter {name!r} must be finite, got {value!r}")
     return v
+
+
+class GeneratedWork(NamedTuple):
+    """Scratch of a generated system's kernels."""
+
+    #: the one-entry output of the generated energy
+    buffer: np.ndarray
 
 
 class CompiledSystem:
@@ -164,7 +171,7 @@ class CompiledSystem:
 
         @jit
         def energy(y, data, work):
-            return en_gen(y, work[0])[0]
+            return en_gen(y, work.buffer)[0]
 
         self._rhs = rhs
         self._energy = energy
@@ -221,9 +228,9 @@ class CompiledSystem:
                             self._prep(hsys.multiplier),
                             hsys.structure.matrix.xreplace(self._subs), self._key)
 
-    def work(self) -> tuple[np.ndarray, ...]:
+    def work(self) -> GeneratedWork:
         """Scratch arrays for the kernels."""
-        return (np.zeros(1),)
+        return GeneratedWork(np.zeros(1))
 
     def _state(self, y: ArrayLike) -> np.ndarray:
         y = np.asarray(y, dtype=float)

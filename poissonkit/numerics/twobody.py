@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import NamedTuple
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -35,9 +37,30 @@ from poissonkit.numerics.nbody.bodies import PotentialLike
 from poissonkit.numerics.potentials import scaled_kernel
 from poissonkit.numerics.units import Scales
 from poissonkit.traits import SystemTraits
+from poissonkit.validation import positive_number
 
 LAYOUT: tuple[str, ...] = tuple(
     f"{v}_{a}" for v in ("r", "p", "nu1", "m1", "nu2", "m2") for a in "xyz")
+
+class TwoBodyData(NamedTuple):
+    """The constants the two-body kernels read (internal units)."""
+
+    #: ``μ = m_1 m_2/(m_1 + m_2)``
+    reduced_mass: float
+    #: ``α'`` of the first top
+    alpha1: float
+    #: ``α''`` of the second top
+    alpha2: float
+    #: ``max(m_1, m_2)/(m_1 + m_2)``: a body's largest distance from the centre of mass per ``|r|``
+    escape: float
+
+
+class TwoBodyWork(NamedTuple):
+    """Scratch of the two-body kernels."""
+
+    #: ``(ṗ, ṁ', ṁ'')``, left here by ``kernels.forces``
+    partials: np.ndarray
+
 
 #: id of a potential kernel -> (its kernels, the kernel, kept alive so its id stays unique)
 _cache: dict[int, tuple[Kernels, CompiledFunction]] = {}
@@ -79,8 +102,8 @@ def _build(kern: CompiledFunction) -> Kernels:
 
     @jit
     def rhs(y, data, work, out):
-        mu, al1, al2 = data[0], data[1], data[2]
-        f = work[0]
+        mu, al1, al2 = data.reduced_mass, data.alpha1, data.alpha2
+        f = work.partials
         partials(y, f)
         for d in range(3):
             out[d] = y[3 + d] / mu
@@ -96,7 +119,7 @@ def _build(kern: CompiledFunction) -> Kernels:
 
     @jit
     def kick(y, h, data, work):
-        f = work[0]
+        f = work.partials
         partials(y, f)
         for d in range(3):
             y[3 + d] += h * f[d]
@@ -105,17 +128,17 @@ def _build(kern: CompiledFunction) -> Kernels:
 
     @jit
     def drift(y, h, data):
-        c = h / data[0]
+        c = h / data.reduced_mass
         y[0] += c * y[3]
         y[1] += c * y[4]
         y[2] += c * y[5]
-        rotate_slot(y, 6, 9, data[1] * h)
-        rotate_slot(y, 12, 15, data[2] * h)
+        rotate_slot(y, 6, 9, data.alpha1 * h)
+        rotate_slot(y, 12, 15, data.alpha2 * h)
 
     @jit
     def kick_compensated(y, c, h, data, work):
         # forces at the leading part y (y − c differs by a rounding: no effect on accuracy)
-        f = work[0]
+        f = work.partials
         partials(y, f)
         for d in range(3):
             kahan_add(y, c, 3 + d, h * f[d])
@@ -124,18 +147,18 @@ def _build(kern: CompiledFunction) -> Kernels:
 
     @jit
     def drift_compensated(y, c, h, data):
-        cc = h / data[0]
+        cc = h / data.reduced_mass
         for d in range(3):
             kahan_add(y, c, d, cc * y[3 + d])
-        rotate_slot_compensated(y, c, 6, 9, data[1] * h)
-        rotate_slot_compensated(y, c, 12, 15, data[2] * h)
+        rotate_slot_compensated(y, c, 6, 9, data.alpha1 * h)
+        rotate_slot_compensated(y, c, 12, 15, data.alpha2 * h)
 
     @jit
     def energy(y, data, work):
-        u = partials(y, work[0])
-        e = 0.5 * (y[3] ** 2 + y[4] ** 2 + y[5] ** 2) / data[0]
-        e += 0.5 * data[1] * (y[9] ** 2 + y[10] ** 2 + y[11] ** 2)
-        e += 0.5 * data[2] * (y[15] ** 2 + y[16] ** 2 + y[17] ** 2)
+        u = partials(y, work.partials)
+        e = 0.5 * (y[3] ** 2 + y[4] ** 2 + y[5] ** 2) / data.reduced_mass
+        e += 0.5 * data.alpha1 * (y[9] ** 2 + y[10] ** 2 + y[11] ** 2)
+        e += 0.5 * data.alpha2 * (y[15] ** 2 + y[16] ** 2 + y[17] ** 2)
         return e + u
 
     @jit
@@ -145,12 +168,12 @@ def _build(kern: CompiledFunction) -> Kernels:
     @jit
     def max_radius(y, data):
         # distance of each body from the centre of mass: r m_other/(m1+m2) <= r
-        return math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]) * data[3]
+        return math.sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]) * data.escape
 
     @jit
     def forces(y, data, work):
-        """Force and torques (``ṗ, ṁ', ṁ''``) into ``work[0]``; returns ``U``."""
-        return partials(y, work[0])
+        """Force and torques (``ṗ, ṁ', ṁ''``) into ``work.partials``; returns ``U``."""
+        return partials(y, work.partials)
 
     out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
                   max_radius=max_radius, jac=None, splittable=True, forces=forces,
@@ -160,14 +183,8 @@ def _build(kern: CompiledFunction) -> Kernels:
 
 
 def _positive(value: object, name: str) -> float:
-    """``float(value)`` if it is a positive finite number, else :class:`InputError` naming it."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"TwoBodySystem: {name} must be a number, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise InputError(f"TwoBodySystem: {name} must be positive and finite, got {value!r}")
-    return v
+    """``value`` as a positive finite float, else :class:`InputError` naming it."""
+    return positive_number(value, f"TwoBodySystem: {name}")
 
 
 class TwoBodySystem:
@@ -219,9 +236,8 @@ class TwoBodySystem:
         self.reduced_mass = mu
         kern, _ = resolve_kernel(potential, params or {})
         self._kern = scaled_kernel(kern, L, scales.energy) if scales else kern
-        # data: mu, alpha', alpha'', max(m1, m2)/(m1+m2) (escape radius factor)
-        self.data = (mu / M, float(alpha1) * M * L * L, float(alpha2) * M * L * L,
-                     max(m1, m2) / (m1 + m2))
+        self.data = TwoBodyData(mu / M, float(alpha1) * M * L * L, float(alpha2) * M * L * L,
+                                max(m1, m2) / (m1 + m2))
         self._kernels: Kernels | None = None
 
     layout = LAYOUT
@@ -234,9 +250,9 @@ class TwoBodySystem:
             self._kernels = _build(self._kern)
         return self._kernels
 
-    def work(self) -> tuple[np.ndarray, ...]:
+    def work(self) -> TwoBodyWork:
         """Scratch arrays for the kernels."""
-        return (np.zeros(9),)
+        return TwoBodyWork(np.zeros(9))
 
     def _state(self, y: ArrayLike) -> np.ndarray:
         y = np.asarray(y, dtype=float)

@@ -41,8 +41,8 @@ def test_fast_path_equals_general_path_on_a_mixed_magnet_and_point_mass_scene():
     slow, y2 = mixed_scene(False)
     np.testing.assert_array_equal(y, y2)
     # the fast path really is taken: the orientation-free pairs left the general lists
-    assert fast.data[12].shape[0] == 1 and fast.data[13].tolist() == [0, 1]
-    assert slow.data[12].shape[0] == 0 and slow.data[13].tolist() == [0, 0]
+    assert fast.data.radial_pairs.shape[0] == 1 and fast.data.set_central.tolist() == [0, 1]
+    assert slow.data.radial_pairs.shape[0] == 0 and slow.data.set_central.tolist() == [0, 0]
     Ff, Tf, Uf = fast.forces(y)
     Fs, Ts, Us = slow.forces(y)
     scale = np.abs(Fs).max()

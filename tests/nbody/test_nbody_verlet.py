@@ -75,7 +75,7 @@ def truth(pos: np.ndarray, nu: np.ndarray):
 
 def evaluate(s: NBodySystem, y: np.ndarray, work: tuple) -> tuple:
     u = s.kernels.forces(y, s.data, work)
-    return work[2].copy(), work[3].copy(), float(u)
+    return work.F.copy(), work.T.copy(), float(u)
 
 
 def test_listed_forces_torques_and_energy_match_a_direct_numpy_sum():
@@ -110,7 +110,7 @@ def test_a_body_that_moved_more_than_half_the_skin_is_found_through_a_rebuilt_li
     np.testing.assert_allclose(F, f_ref, rtol=0, atol=1e-13 * np.abs(f_ref).max())
     np.testing.assert_allclose(T, t_ref, rtol=0, atol=1e-13 * np.abs(t_ref).max())
     assert U == pytest.approx(u_ref, rel=1e-13)
-    assert work[4][2][0][:, 0].max() == pos[2, 0]  # the list was rebuilt at these positions
+    assert work.lists.refs[0][:, 0].max() == pos[2, 0]  # the list was rebuilt at these positions
 
 
 def test_a_kept_list_finds_pairs_that_entered_the_cutoff_within_half_the_skin():
@@ -118,13 +118,13 @@ def test_a_kept_list_finds_pairs_that_entered_the_cutoff_within_half_the_skin():
     work = s.work()
     y0 = s.pack(pos, np.zeros((3, 3)), nu, np.zeros((3, 3)))
     _, _, u0 = evaluate(s, y0, work)
-    ref0 = np.array(work[4][2][0])
+    ref0 = np.array(work.lists.refs[0])
     pos[1, 0] += 0.13  # every body moves less than skin / 2 = 0.15; 1 and 2 towards
     pos[2, 0] -= 0.14  # each other, into the cutoff
     pos[0, 1] += 0.1
     y1 = s.pack(pos, np.zeros((3, 3)), nu, np.zeros((3, 3)))
     F, T, U = evaluate(s, y1, work)
-    np.testing.assert_array_equal(np.array(work[4][2][0]), ref0)  # the list was kept
+    np.testing.assert_array_equal(np.array(work.lists.refs[0]), ref0)  # the list was kept
     f_ref, t_ref, u_ref = truth(pos, nu)
     assert np.linalg.norm(pos[2] - pos[1]) < CUTOFF and abs(f_ref[2]).max() > 1e-4
     np.testing.assert_allclose(F, f_ref, rtol=0, atol=1e-13 * np.abs(f_ref).max())
@@ -212,8 +212,8 @@ def test_listed_gravity_in_si_units_matches_a_direct_sum_serial_and_parallel_bit
                            parallel_min_bodies=0)
 
     serial, par = planets(False), planets(True)
-    assert serial.data[13].tolist() == [1]  # the fast path
-    assert serial.work()[4][3] == pytest.approx(SKIN)  # internal units
+    assert serial.data.set_central.tolist() == [1]  # the fast path
+    assert serial.work().lists.skin == pytest.approx(SKIN)  # internal units
     y = serial.pack(pos, np.zeros((n, 3)), si=True)
     F, _, U = serial.forces(y)
     before = numba.get_num_threads()

@@ -173,10 +173,10 @@ def test_equal_values_share_a_kernel_and_other_values_get_their_own():
     other = NBodySystem(bodies, [Interaction(0, 1, YUKAWA, {"lam": 0.5}),
                                  Interaction(1, 2, YUKAWA, {"lam": 0.8})], fast_path=False)
     assert len(same._kerns) == 1 and len(other._kerns) == 2
-    table = other.data[11]
+    table = other.data.table
     assert table.shape[0] == len(bodies) + 1  # the bodies, then the parameter row
     assert table[-1].tolist() == [1.0, 0.5, 1.0, 0.8]  # (k, lam) of each kernel
-    assert same.data[11][-1].tolist() == [1.0, 0.5]
+    assert same.data.table[-1].tolist() == [1.0, 0.5]
 
 
 def test_expression_that_needs_numbers_falls_back_to_constants():

@@ -1,12 +1,10 @@
-"""The kernels of an N-body system with external fields: the pair kernels plus the one-body
-terms, added in the same sub-flows.
+"""External fields of an N-body system as a force term: the one-body energies, forces and
+torques that :mod:`~poissonkit.numerics.nbody.assemble` adds to the pair term.
 
 The kick keeps ``r`` and ``ν`` fixed, so the pair kick followed by the field kick is exactly
-the kick of their sum; the right-hand side, the energy and the forces add the field terms to
-the pair terms. The field data is the last item of the system's ``data`` tuple::
-
-    (kernel index per field (int64), offsets into P (int64), P (float64),
-     coupling (n_bodies, n_fields) float64, (length unit, 1 / energy unit))
+the kick of their sum; the right-hand side, the energy and the forces add the field term to
+the pair term. The field data is ``data.fields``, a
+:class:`~poissonkit.numerics.nbody.data.FieldData`.
 
 Fixed bodies are skipped (their field energy is a constant).
 """
@@ -22,17 +20,13 @@ from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import InputError
 from poissonkit.numerics.fields.base import CompiledField
 from poissonkit.numerics.jit import compile_generated, jit
-from poissonkit.numerics.kernels import Kernels, kahan_add, zero2
+from poissonkit.numerics.nbody.assemble import Term
 from poissonkit.numerics.nbody.bodies import Body
-from poissonkit.numerics.nbody.state import apply_forces, gather, gather_inl
-
-#: Index of the field data in the system's ``data`` tuple.
-FIELD_SLOT = 17
-
+from poissonkit.numerics.nbody.data import FieldData
 
 def field_data(fields: Sequence[CompiledField], bodies: Sequence[Body], length: float,
-               energy: float) -> tuple[tuple[np.ndarray, ...], tuple[CompiledFunction, ...]]:
-    """The field data tuple (module docstring) and the distinct kernels it indexes.
+               energy: float) -> tuple[FieldData, tuple[CompiledFunction, ...]]:
+    """The field data (module docstring) and the distinct kernels it indexes.
 
     Raises
     ------
@@ -59,8 +53,9 @@ def field_data(fields: Sequence[CompiledField], bodies: Sequence[Body], length: 
                                  "which is a point mass; give it alpha or inertia")
             coup[k, f] = float(value)
     P = np.concatenate(chunks) if chunks else np.zeros(0)
-    data = (np.array(gid, dtype=np.int64), np.array(offs, dtype=np.int64),
-            np.ascontiguousarray(P), coup, np.array([length, 1.0 / energy]))
+    data = FieldData(kernel=np.array(gid, dtype=np.int64), offsets=np.array(offs, dtype=np.int64),
+                     params=np.ascontiguousarray(P), coupling=coup,
+                     units=np.array([length, 1.0 / energy]))
     return data, tuple(kerns)
 
 
@@ -83,20 +78,21 @@ def field_dispatcher(kerns: Sequence[CompiledFunction]) -> Dispatcher:
     return fn
 
 
-def _field_loop(dispatch: Dispatcher) -> tuple[Dispatcher, Dispatcher]:
-    """``field_forces(pos, nu, data, F, T) -> U``: adds every field's forces and torques to
-    ``F``, ``T`` (internal units) and returns the field energy."""
+def _field_loop(dispatch: Dispatcher) -> Term:
+    """The field term ``field_forces(data, work) -> U``: adds every field's forces and torques
+    to ``work.F``, ``work.T`` (internal units) and returns the field energy."""
 
-    def field_forces(pos, nu, data, F, T):
-        fd = data[17]
-        gid = fd[0]
-        off = fd[1]
-        P = fd[2]
-        coup = fd[3]
-        lu = fd[4][0]
-        ie = fd[4][1]
-        bslot = data[2]
-        tslot = data[3]
+    def field_forces(data, work):
+        pos, nu, F, T = work.pos, work.nu, work.F, work.T
+        fd = data.fields
+        gid = fd.kernel
+        off = fd.offsets
+        P = fd.params
+        coup = fd.coupling
+        lu = fd.units[0]
+        ie = fd.units[1]
+        bslot = data.body_slot
+        tslot = data.top_slot
         u = 0.0
         for b in range(bslot.shape[0]):
             if bslot[b] < 0:
@@ -127,96 +123,21 @@ def _field_loop(dispatch: Dispatcher) -> tuple[Dispatcher, Dispatcher]:
                     T[b, 2] += (h0 * n1 - h1 * n0) * ie
         return u
 
-    return jit(field_forces), jit(inline="always")(field_forces)
+    return Term(plain=jit(field_forces), inline=jit(inline="always")(field_forces))
 
 
-_kernel_cache: dict[tuple[int, int], Kernels] = {}
+_term_cache: dict[int, Term] = {}
 
 
-def field_kernels(pair: Kernels, kerns: Sequence[CompiledFunction]) -> Kernels:
-    """The kernels of ``pair`` with the field terms added (cached per pair kernels and field
-    kernels)."""
+def field_term(kerns: Sequence[CompiledFunction]) -> Term:
+    """The force term of the fields with kernels ``kerns`` (cached per field kernels), for
+    :func:`~poissonkit.numerics.nbody.assemble.assemble` to add to the pair term.
+
+    The kick keeps ``r`` and ``ν`` fixed, so the pair kick followed by the field kick (what
+    the generator does with two terms) is exactly the kick of their sum.
+    """
     dispatch = field_dispatcher(kerns)
-    key = (id(pair.rhs), id(dispatch))
-    hit = _kernel_cache.get(key)
-    if hit is not None:
-        return hit
-    ff, ff_inl = _field_loop(dispatch)
-    pair_rhs = pair.rhs
-    pair_kick = pair.kick
-    pair_kick_c = pair.kick_compensated
-    pair_energy = pair.energy
-    pair_forces = pair.forces
-
-    @jit
-    def rhs(y, data, work, out):
-        pair_rhs(y, data, work, out)  # leaves pos, nu gathered
-        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
-        zero2(F)
-        zero2(T)
-        ff(pos, nu, data, F, T)
-        nm = data[0].shape[0]
-        bslot = data[2]
-        tslot = data[3]
-        for b in range(bslot.shape[0]):
-            s = bslot[b]
-            if s >= 0:
-                for d in range(3):
-                    out[6 * s + 3 + d] += F[b, d]
-            t = tslot[b]
-            if t >= 0:
-                for d in range(3):
-                    out[6 * nm + 6 * t + 3 + d] += T[b, d]
-
-    @jit
-    def kick(y, h, data, work):
-        # r and ν are fixed in a kick: the pair kick then the field kick is the kick of the sum
-        pair_kick(y, h, data, work)
-        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
-        gather_inl(y, data, pos, nu)
-        zero2(F)
-        zero2(T)
-        ff_inl(pos, nu, data, F, T)
-        apply_forces(y, h, data, work)
-
-    @jit
-    def kick_compensated(y, c, h, data, work):
-        pair_kick_c(y, c, h, data, work)
-        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
-        gather_inl(y, data, pos, nu)
-        zero2(F)
-        zero2(T)
-        ff_inl(pos, nu, data, F, T)
-        nm = data[0].shape[0]
-        bslot = data[2]
-        tslot = data[3]
-        for b in range(bslot.shape[0]):
-            s = bslot[b]
-            if s >= 0:
-                for d in range(3):
-                    kahan_add(y, c, 6 * s + 3 + d, h * F[b, d])
-            t = tslot[b]
-            if t >= 0:
-                for d in range(3):
-                    kahan_add(y, c, 6 * nm + 6 * t + 3 + d, h * T[b, d])
-
-    @jit
-    def energy(y, data, work):
-        e = pair_energy(y, data, work)
-        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
-        gather(y, data, pos, nu)
-        zero2(F)
-        zero2(T)
-        return e + ff(pos, nu, data, F, T)
-
-    @jit(inline="always")
-    def forces_of(y, data, work):
-        """Pair and field forces and torques into ``work[2]``, ``work[3]``; returns U."""
-        u = pair_forces(y, data, work)
-        pos, nu, F, T = work[0], work[1], work[2], work[3]  # (a Verlet skin adds work[4])
-        return u + ff_inl(pos, nu, data, F, T)
-
-    out = pair._replace(rhs=rhs, kick=kick, energy=energy, forces=forces_of,
-                        kick_compensated=kick_compensated if pair_kick_c is not None else None)
-    _kernel_cache[key] = out
-    return out
+    hit = _term_cache.get(id(dispatch))
+    if hit is None:
+        hit = _term_cache[id(dispatch)] = _field_loop(dispatch)
+    return hit

@@ -25,6 +25,7 @@ Modules, one job each:
 
 * :mod:`~poissonkit.numerics.nbody.bodies` — the input model (:class:`Body`,
   :class:`Interaction`, :class:`AllPairs`) and its validation;
+* :mod:`~poissonkit.numerics.nbody.data` — the named data and scratch every kernel reads;
 * :mod:`~poissonkit.numerics.nbody.pairkernels` — a potential as given → compiled kernels in
   internal units → one dispatcher per system;
 * :mod:`~poissonkit.numerics.nbody.pairterms` — energy, force and torques of one pair;
@@ -34,7 +35,13 @@ Modules, one job each:
   evaluations and the pair loop that walks them;
 * :mod:`~poissonkit.numerics.nbody.state` — compiled pieces independent of the potentials
   (gather, kick by stored forces, drift, distances);
-* :mod:`~poissonkit.numerics.nbody.loops` — the force loop and the kernels built on it;
+* :mod:`~poissonkit.numerics.nbody.loops` — the pair-force term and the kernels built on it;
+* :mod:`~poissonkit.numerics.nbody.assemble` — the one generator of ``rhs``, ``kick`` (plain and
+  compensated), ``energy`` and ``forces`` from a layout and a sum of force terms;
+* :mod:`~poissonkit.numerics.nbody.direct` — the point-mass layout and the direct-sum term;
+* :mod:`~poissonkit.numerics.nbody.options`, :mod:`~poissonkit.numerics.nbody.scaling`,
+  :mod:`~poissonkit.numerics.nbody.table` — the constructor's input checks, the bodies in
+  internal units and the kernel table;
 * :mod:`~poissonkit.numerics.nbody.evaluate` — energy and right-hand side with coincident
   bodies reported as :class:`OverlapError`;
 * :mod:`~poissonkit.numerics.nbody.system` — :class:`NBodySystem`, the façade.

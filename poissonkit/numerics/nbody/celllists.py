@@ -162,6 +162,39 @@ def cell_gather(n, body, W, V, us, F, T):
     return u
 
 
+def pair_shares(pair_one: Dispatcher, pair_r_one: Dispatcher) -> Dispatcher:
+    """``shares(g, central, qa, qb, h, sp_, sn_, body, W, V, cut, B)``: one pair of slots
+    ``qa < qb`` of a cell or neighbour list through potential ``g`` (the orientation-free term
+    if ``central``). Slot ``qb``'s force and torque are added to ``W[h, qb]``, ``V[h, qb]``;
+    returns ``(U, slot qa's force (3), slot qa's torque (3))`` for the caller to sum in
+    registers. Both pair loops (:func:`cell_loops`, the Verlet walk) accumulate through it.
+    """
+
+    @jit(inline="always")
+    def shares(g, central, qa, qb, h, sp_, sn_, body, W, V, cut, B):
+        # a - b is a + (-b) in IEEE arithmetic: returning -f keeps every sum's bits
+        if central:
+            uu, d0, d1, d2 = pair_r_one(g, qa, qb, sp_, cut, B, body[qa], body[qb])
+            t0 = 0.0  # a central set writes no torque: qa's stays +0.0, as without the add
+            t1 = 0.0
+            t2 = 0.0
+        else:
+            (uu, f0, f1, f2, t0, t1, t2,
+             tj0, tj1, tj2) = pair_one(g, qa, qb, sp_, sn_, cut, B, body[qa], body[qb])
+            d0 = -f0
+            d1 = -f1
+            d2 = -f2
+            V[h, qb, 0] += tj0
+            V[h, qb, 1] += tj1
+            V[h, qb, 2] += tj2
+        W[h, qb, 0] -= d0
+        W[h, qb, 1] -= d1
+        W[h, qb, 2] -= d2
+        return uu, d0, d1, d2, t0, t1, t2
+
+    return shares
+
+
 def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> Dispatcher:
     """The cell-list pair loop around the pair terms ``pair_one`` and ``pair_r_one``.
 
@@ -177,6 +210,7 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
         # the same (benchmarks/bench_nbody_parallel.py). Read once, at the first parallel
         # launch; a value the user set wins.
         os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+    shares = pair_shares(pair_one, pair_r_one)
 
     @jit(inline="always")
     def slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B, cut2):
@@ -215,31 +249,14 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
                         dz = sp_[qb, 2] - za
                         if dx * dx + dy * dy + dz * dz > cut2:
                             continue
-                        if central:
-                            uu, g0, g1, g2 = pair_r_one(g, qa, qb, sp_, cut, B,
-                                                        body[qa], body[qb])
-                            wa0 += g0
-                            wa1 += g1
-                            wa2 += g2
-                            W[h, qb, 0] -= g0
-                            W[h, qb, 1] -= g1
-                            W[h, qb, 2] -= g2
-                        else:
-                            (uu, f0, f1, f2, ti0, ti1, ti2,
-                             tj0, tj1, tj2) = pair_one(g, qa, qb, sp_, sn_, cut, B,
-                                                       body[qa], body[qb])
-                            wa0 -= f0
-                            wa1 -= f1
-                            wa2 -= f2
-                            W[h, qb, 0] += f0
-                            W[h, qb, 1] += f1
-                            W[h, qb, 2] += f2
-                            va0 += ti0
-                            va1 += ti1
-                            va2 += ti2
-                            V[h, qb, 0] += tj0
-                            V[h, qb, 1] += tj1
-                            V[h, qb, 2] += tj2
+                        uu, d0, d1, d2, t0, t1, t2 = shares(g, central, qa, qb, h, sp_, sn_,
+                                                            body, W, V, cut, B)
+                        wa0 += d0
+                        wa1 += d1
+                        wa2 += d2
+                        va0 += t0
+                        va1 += t1
+                        va2 += t2
                         ua += uu
                 W[0, qa, 0] = wa0
                 W[0, qa, 1] = wa1

@@ -33,7 +33,7 @@ class PairSystem(Protocol):
     def data(self) -> tuple[object, ...]:
         """The constant arrays and numbers passed to every kernel."""
 
-    def work(self) -> tuple[np.ndarray, ...]:
+    def work(self) -> tuple[object, ...]:
         """Fresh scratch arrays for the kernels."""
 
     def _state(self, y: npt.ArrayLike) -> np.ndarray:

@@ -1,81 +1,57 @@
-"""The compiled force loop of an N-body system and the kernels built on it.
+"""The pair-force term of an N-body system and the kernels built on it.
 
-:func:`_build_kernels` composes, around one pair of potential dispatchers, the pair terms
-(:mod:`~poissonkit.numerics.nbody.pairterms`), the cell-list loop
-(:mod:`~poissonkit.numerics.nbody.celllists`) and the potential-free pieces
-(:mod:`~poissonkit.numerics.nbody.state`) into the :class:`~poissonkit.numerics.kernels.Kernels`
-every integrator uses. Kernels are cached per dispatcher, so systems with the same potentials
-share one compilation.
+:func:`pair_force_term` composes, around one pair of potential dispatchers, the pair terms
+(:mod:`~poissonkit.numerics.nbody.pairterms`) and the cell-list or neighbour-list loop
+(:mod:`~poissonkit.numerics.nbody.celllists`, :mod:`~poissonkit.numerics.nbody.verlet`) into
+one force term; :func:`_build_kernels` hands it, with any further terms (external fields), to
+the generator of :mod:`~poissonkit.numerics.nbody.assemble` on the layout of
+:mod:`~poissonkit.numerics.nbody.state`. Terms and kernels are cached per dispatcher, so
+systems with the same potentials share one compilation.
 
-``data`` is the system's constant tuple (:attr:`NBodySystem.data`); the force loop reads
-``data[6]`` the listed pairs ``(i, j, g)``, ``data[7:10]`` the members, offsets and kernel of
-each all-pairs set, ``data[10]`` the cutoff, ``data[11]`` the per-body attribute table,
-``data[12]`` the listed orientation-free pairs, ``data[13]`` which sets are orientation-free,
-``data[14]`` whether any body is a top, ``data[15]`` the start of the smooth cutoff and
-``data[16]`` the fewest members for the parallel loop. ``work`` is ``(pos, nu, F, T)``, and
-for a system with a skin also its neighbour lists (:mod:`~poissonkit.numerics.nbody.verlet`).
+``data`` is the system's :class:`~poissonkit.numerics.nbody.data.SystemData` and ``work`` its
+:class:`~poissonkit.numerics.nbody.data.Work` (``pos, nu, F, T`` and, for a system with a skin,
+its neighbour lists, :mod:`~poissonkit.numerics.nbody.verlet`).
 """
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from collections.abc import Sequence
 
 import numpy as np
 from numba.core.dispatcher import Dispatcher
 
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import Kernels, kahan_add, zero2
+from poissonkit.numerics.kernels import Kernels
+from poissonkit.numerics.nbody.assemble import Term, assemble
 from poissonkit.numerics.nbody.celllists import cell_loops
 from poissonkit.numerics.nbody.pairterms import pair_terms
-from poissonkit.numerics.nbody.state import (
-    apply_forces,
-    drift,
-    drift_compensated,
-    gather,
-    gather_inl,
-    max_radius,
-    min_distance,
-)
+from poissonkit.numerics.nbody.state import GENERAL
 from poissonkit.numerics.nbody.verlet import verlet_loops
 
 
-class ForceLoops(NamedTuple):
-    """One force loop compiled twice (see :func:`force_loops`)."""
-
-    #: ``forces(pos, nu, data, F, T, lists) -> U``, a separate compiled function
-    plain: Dispatcher
-    #: the same, inlined into its callers (the hot kick)
-    inline: Dispatcher
-
-
 def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatcher,
-                set_pairs: Dispatcher) -> ForceLoops:
-    """``forces(pos, nu, data, F, T, lists) -> U``: every pair of the system, forces into ``F``
-    and torques into ``T`` (rows: all bodies; ``T`` untouched for point masses only).
+                set_pairs: Dispatcher) -> Term:
+    """The pair-force term ``forces(data, work) -> U``: every pair of the system, forces added
+    to ``work.F`` and torques to ``work.T`` (rows: all bodies; ``T`` untouched for point masses
+    only).
 
     ``set_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, lists, s)`` is the
     pair loop of all-pairs set ``s`` with a cutoff: the cell loop (``lists`` is ``None``) or
-    the neighbour-list loop (``lists``: the system's Verlet state, ``work[4]``).
+    the neighbour-list loop (``lists``: the system's Verlet state, ``work.lists``).
     """
 
-    def forces_py(pos, nu, data, F, T, lists):
-        pairs = data[6]
-        cmembers = data[7]
-        coffs = data[8]
-        cgid = data[9]
-        cutoff = data[10]
-        B = data[11]
-        rpairs = data[12]
-        ccentral = data[13]
-        axes = data[14]
-        for b in range(F.shape[0]):
-            F[b, 0] = 0.0
-            F[b, 1] = 0.0
-            F[b, 2] = 0.0
-        if axes:
-            zero2(T)
+    def forces_py(data, work):
+        pos, nu, F, T, lists = work.pos, work.nu, work.F, work.T, work.lists
+        pairs = data.pairs
+        cmembers = data.set_members
+        coffs = data.set_offsets
+        cgid = data.set_kernel
+        cutoff = data.cutoff
+        B = data.table
+        rpairs = data.radial_pairs
+        ccentral = data.set_central
         cut2 = cutoff * cutoff if np.isfinite(cutoff) else np.inf
-        rs = data[15]
+        rs = data.switch_start
         # (cutoff², switch start², switch start, 1 / switch width); no switch: start = inf
         cut = (cut2, rs * rs, rs, 1.0 / (cutoff - rs) if rs < cutoff else 0.0)
         u = 0.0
@@ -94,7 +70,7 @@ def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatch
             hi = coffs[g + 1]
             if np.isfinite(cutoff):
                 u += set_pairs(gid, central, cmembers[lo:hi], pos, nu, F, T, cutoff, B, cut,
-                               data[16], lists, g)
+                               data.parallel_min, lists, g)
             elif central:
                 u += all_pairs_r(gid, cmembers, lo, hi, pos, F, B)
             else:
@@ -107,132 +83,42 @@ def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatch
 
     # two compilations, as for ``gather`` (see state.py): inlined into the hot kick, plain
     # for the other kernels
-    return ForceLoops(plain=jit(forces_py), inline=jit(inline="always")(forces_py))
+    return Term(plain=jit(forces_py), inline=jit(inline="always")(forces_py))
 
 
-#: (id of kern_any, parallel, verlet) -> kernels
-_kernel_cache: dict[tuple[int, bool, bool], Kernels] = {}
+#: (id of kern_any, parallel, verlet) -> the pair-force term
+_term_cache: dict[tuple[int, bool, bool], Term] = {}
 
 
-@jit(inline="always")
-def _no_lists(work):
-    """Systems without neighbour lists: scratch ``(pos, nu, F, T)``, no list state."""
-    return None
-
-
-@jit(inline="always")
-def _lists(work):
-    """Systems with neighbour lists: their state is ``work[4]`` (see ``nbody.verlet``)."""
-    return work[4]
-
-
-def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = False,
-                   verlet: bool = False) -> Kernels:
-    """Compile the N-body kernels around one pair of potential dispatchers (cached).
+def pair_force_term(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = False,
+                    verlet: bool = False) -> Term:
+    """The pair-force term around one pair of potential dispatchers (cached).
 
     ``parallel`` adds the multi-threaded pair loop (chosen at run time by the number of
-    members, ``data[16]``); without it only the serial loop exists. ``verlet`` walks
-    neighbour lists kept in ``work[4]`` (:mod:`~poissonkit.numerics.nbody.verlet`) instead of
+    members, ``data.parallel_min``); without it only the serial loop exists. ``verlet`` walks
+    neighbour lists kept in ``work.lists`` (:mod:`~poissonkit.numerics.nbody.verlet`) instead of
     building a cell list at every evaluation.
     """
-    hit = _kernel_cache.get((id(kern_any), parallel, verlet))
+    key = (id(kern_any), parallel, verlet)
+    hit = _term_cache.get(key)
     if hit is not None:
         return hit
     terms = pair_terms(kern_any, kern_r)
     if verlet:
         set_pairs = verlet_loops(terms.one, terms.radial_one, parallel)
-        lists_of = _lists
     else:
         cells = cell_loops(terms.one, terms.radial_one, parallel)
 
         @jit(inline="always")
         def set_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, lists, s):
             return cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n)
-
-        lists_of = _no_lists
-    forces, forces_inl = force_loops(terms.term, terms.radial, terms.all_radial, set_pairs)
-
-    @jit
-    def rhs(y, data, work, out):
-        pos, nu, F, T = work[0], work[1], work[2], work[3]
-        mass = data[0]
-        alpha = data[1]
-        bslot = data[2]
-        tslot = data[3]
-        nm = mass.shape[0]
-        gather(y, data, pos, nu)
-        forces(pos, nu, data, F, T, lists_of(work))
-        for b in range(bslot.shape[0]):
-            s = bslot[b]
-            if s >= 0:
-                for d in range(3):
-                    out[6 * s + d] = y[6 * s + 3 + d] / mass[s]
-                    out[6 * s + 3 + d] = F[b, d]
-            t = tslot[b]
-            if t >= 0:
-                q = 6 * nm + 6 * t
-                a = alpha[t]
-                n0, n1, n2 = y[q], y[q + 1], y[q + 2]
-                m0, m1, m2 = y[q + 3], y[q + 4], y[q + 5]
-                out[q] = a * (m1 * n2 - m2 * n1)
-                out[q + 1] = a * (m2 * n0 - m0 * n2)
-                out[q + 2] = a * (m0 * n1 - m1 * n0)
-                for d in range(3):
-                    out[q + 3 + d] = T[b, d]
-
-    @jit
-    def kick(y, h, data, work):
-        pos, nu, F, T = work[0], work[1], work[2], work[3]
-        gather_inl(y, data, pos, nu)
-        forces_inl(pos, nu, data, F, T, lists_of(work))
-        apply_forces(y, h, data, work)
-
-    @jit
-    def kick_compensated(y, c, h, data, work):
-        # as kick, every increment added with Kahan summation (c: rounding errors so far)
-        pos, nu, F, T = work[0], work[1], work[2], work[3]
-        mass = data[0]
-        bslot = data[2]
-        tslot = data[3]
-        nm = mass.shape[0]
-        gather_inl(y, data, pos, nu)
-        forces_inl(pos, nu, data, F, T, lists_of(work))
-        for b in range(bslot.shape[0]):
-            s = bslot[b]
-            if s >= 0:
-                for d in range(3):
-                    kahan_add(y, c, 6 * s + 3 + d, h * F[b, d])
-            t = tslot[b]
-            if t >= 0:
-                q = 6 * nm + 6 * t + 3
-                for d in range(3):
-                    kahan_add(y, c, q + d, h * T[b, d])
-
-    @jit
-    def energy(y, data, work):
-        pos, nu, F, T = work[0], work[1], work[2], work[3]
-        mass = data[0]
-        alpha = data[1]
-        nm = mass.shape[0]
-        gather(y, data, pos, nu)
-        e = forces(pos, nu, data, F, T, lists_of(work))
-        for s in range(nm):
-            p2 = y[6 * s + 3] ** 2 + y[6 * s + 4] ** 2 + y[6 * s + 5] ** 2
-            e += 0.5 * p2 / mass[s]
-        for t in range(alpha.shape[0]):
-            q = 6 * nm + 6 * t + 3
-            e += 0.5 * alpha[t] * (y[q] ** 2 + y[q + 1] ** 2 + y[q + 2] ** 2)
-        return e
-
-    @jit(inline="always")
-    def forces_of(y, data, work):
-        """Forces and torques into ``work[2]``, ``work[3]`` (rows: all bodies); returns U."""
-        pos, nu, F, T = work[0], work[1], work[2], work[3]
-        gather_inl(y, data, pos, nu)
-        return forces_inl(pos, nu, data, F, T, lists_of(work))
-
-    out = Kernels(rhs=rhs, drift=drift, kick=kick, energy=energy, min_distance=min_distance,
-                  max_radius=max_radius, jac=None, splittable=True, forces=forces_of,
-                  drift_compensated=drift_compensated, kick_compensated=kick_compensated)
-    _kernel_cache[(id(kern_any), parallel, verlet)] = out
+    out = force_loops(terms.term, terms.radial, terms.all_radial, set_pairs)
+    _term_cache[key] = out
     return out
+
+
+def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = False,
+                   verlet: bool = False, extra: Sequence[Term] = ()) -> Kernels:
+    """The N-body kernels of the pair-force term (:func:`pair_force_term`) plus the terms
+    ``extra`` (external fields), assembled on the general layout (cached)."""
+    return assemble(GENERAL, (pair_force_term(kern_any, kern_r, parallel, verlet), *extra))

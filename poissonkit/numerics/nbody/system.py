@@ -1,32 +1,37 @@
 """The N-body system: bodies and interactions assembled into compiled kernels and a state layout.
 
-See :mod:`poissonkit.numerics.nbody` for the state layout and the Hamiltonian.
+See :mod:`poissonkit.numerics.nbody` for the state layout and the Hamiltonian. The constructor
+checks its input (:mod:`~poissonkit.numerics.nbody.options`), scales the bodies
+(:mod:`~poissonkit.numerics.nbody.scaling`), builds the kernel table
+(:mod:`~poissonkit.numerics.nbody.table`) and the named kernel data
+(:mod:`~poissonkit.numerics.nbody.data`).
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
 import numpy as np
 import numpy.typing as npt
-from numba.core.dispatcher import Dispatcher
 
 from poissonkit import contracts
 from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.integrators.base import LoopKernels
 from poissonkit.numerics.fields.base import CompiledField, FieldLike, compile_fields
-from poissonkit.numerics.fields.compose import field_data, field_kernels
+from poissonkit.numerics.fields.compose import field_data, field_term
 from poissonkit.numerics.kernels import Kernels
-from poissonkit.numerics.nbody.bodies import (
-    AllPairs,
-    Body,
-    Interaction,
-    NonUnitAxisError,
-    PotentialLike,
+from poissonkit.numerics.nbody.bodies import AllPairs, Body, Interaction, NonUnitAxisError
+from poissonkit.numerics.nbody.data import (
+    DirectData,
+    Work,
+    direct_data,
+    empty_field_data,
+    new_direct_work,
+    new_work,
+    system_data,
 )
 from poissonkit.numerics.nbody.evaluate import (
     OverlapError,
@@ -35,42 +40,18 @@ from poissonkit.numerics.nbody.evaluate import (
     evaluate_rhs,
 )
 from poissonkit.numerics.nbody.loops import _build_kernels
-from poissonkit.numerics.nbody.pairkernels import (
-    _dispatcher,
-    _registry_entry,
-    _wrapped,
-    _wrapped_radial,
-    resolve_runtime,
-    unit_values,
-)
-from poissonkit.numerics.nbody.verlet import VerletState, new_verlet_state
+from poissonkit.numerics.nbody.options import PARALLEL_MIN_BODIES, check_bodies, check_options
+from poissonkit.numerics.nbody.pairkernels import _dispatcher
+from poissonkit.numerics.nbody.scaling import body_arrays, units_of
+from poissonkit.numerics.nbody.table import kernel_table
+from poissonkit.numerics.nbody.verlet import new_verlet_state
 from poissonkit.numerics.units import Scales
-from poissonkit.plugin.contributions import PairPotential
 from poissonkit.traits import SystemTraits
+
+__all__ = ["PARALLEL_MIN_BODIES", "NBodySystem"]
 
 if TYPE_CHECKING:
     from poissonkit.structure.bivector import Bivector
-
-#: Fewest members of a cell-listed :class:`AllPairs` for which the parallel pair loop is used
-#: by default. On an idle 2-core machine the two loops break even near 1000 bodies and the
-#: parallel one is 1.3× faster at 2200 (``benchmarks/bench_nbody_parallel.py``); the margin
-#: keeps small systems off the thread pool.
-PARALLEL_MIN_BODIES = 1500
-
-
-def _count_option(value: object, what: str, low: int) -> int:
-    """``value`` as an int ``>= low``, else :class:`InputError` naming ``what``."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise InputError(f"{what} must be an integer, got {value!r}")
-    if value < low:
-        raise InputError(f"{what} must be at least {low}, got {value!r}")
-    return int(value)
-
-
-def _label(potential: PotentialLike) -> object:
-    """How an error message names a potential: its registry name, else the potential itself."""
-    return potential.name if isinstance(potential, PairPotential) else potential
-
 
 class NBodySystem:
     """Interacting symmetric tops and point masses (see the module docstring for the layout).
@@ -148,200 +129,48 @@ class NBodySystem:
                  parallel_min_bodies: int | None = None,
                  skin: float | None = None,
                  fields: Sequence[FieldLike] = ()) -> None:
-        bodies = tuple(bodies)
-        if not bodies:
-            raise InputError("NBodySystem needs at least one body")
-        for b in bodies:
-            if not isinstance(b, Body):
-                raise InputError(f"bodies must be Body objects, got {type(b).__name__}")
-        names = [b.name for b in bodies]
-        if len(set(names)) != len(names):
-            raise InputError(f"body names must be unique, got {names}")
-        if cutoff is not None and not (math.isfinite(float(cutoff)) and float(cutoff) > 0):
-            raise InputError(f"cutoff must be positive and finite, got {cutoff!r}")
+        bodies = check_bodies(bodies)
+        opts = check_options(cutoff, smooth_cutoff, skin, parallel, parallel_min_bodies)
         self.bodies = bodies
         self.interactions = tuple(interactions)
-        self.cutoff = None if cutoff is None else float(cutoff)
-        if smooth_cutoff is not None:
-            if self.cutoff is None:
-                raise InputError("smooth_cutoff needs a cutoff")
-            rs = float(smooth_cutoff)
-            if not (math.isfinite(rs) and 0 < rs < self.cutoff):
-                raise InputError(f"smooth_cutoff must be in (0, cutoff = {self.cutoff}), got "
-                                 f"{smooth_cutoff!r}")
-        self.smooth_cutoff = None if smooth_cutoff is None else float(smooth_cutoff)
-        if skin is not None:
-            if self.cutoff is None:
-                raise InputError("skin needs a cutoff")
-            if isinstance(skin, bool) or not isinstance(skin, (int, float, np.floating,
-                                                               np.integer)):
-                raise InputError(f"skin must be a positive number, got {skin!r}")
-            if not (math.isfinite(float(skin)) and float(skin) > 0):
-                raise InputError(f"skin must be positive and finite, got {skin!r}")
-        self.skin = None if skin is None else float(skin)
-        if not isinstance(parallel, (bool, np.bool_)):
-            raise InputError(f"parallel must be True or False, got {parallel!r}")
-        self.parallel = bool(parallel)
-        self.parallel_min_bodies = _count_option(
-            PARALLEL_MIN_BODIES if parallel_min_bodies is None else parallel_min_bodies,
-            "parallel_min_bodies", 0)
+        self.cutoff = opts.cutoff
+        self.smooth_cutoff = opts.smooth_cutoff
+        self.skin = opts.skin
+        self.parallel = opts.parallel
+        self.parallel_min_bodies = opts.parallel_min_bodies
         self.scales = scales
         self._fast_path = bool(fast_path)
-        index = {b.name: k for k, b in enumerate(bodies)}
-
-        def idx(v: int | str) -> int:
-            if isinstance(v, str):
-                if v not in index:
-                    from poissonkit.errors import UnknownNameError
-
-                    raise UnknownNameError("body", v, index)
-                return index[v]
-            k = int(v)
-            if not 0 <= k < len(bodies):
-                raise InputError(f"body index {v} out of range 0..{len(bodies) - 1}")
-            return k
-
-        L = scales.length if scales else 1.0
-        M = scales.mass if scales else 1.0
-        E = scales.energy if scales else 1.0
-        moving = [k for k, b in enumerate(bodies) if not b.fixed]
-        tops = [k for k in moving if bodies[k].is_top]
-        self._moving = tuple(moving)
-        self._tops = tuple(tops)
-        bslot = np.full(len(bodies), -1, dtype=np.int64)
-        tslot = np.full(len(bodies), -1, dtype=np.int64)
-        bslot[moving] = np.arange(len(moving))
-        tslot[tops] = np.arange(len(tops))
-        mass = np.array([bodies[k].mass / M for k in moving], dtype=float)
-        alpha = np.array([bodies[k].alpha * M * L * L for k in tops], dtype=float)
-        fpos = np.zeros((len(bodies), 3))
-        fnu = np.zeros((len(bodies), 3))
-        for k, b in enumerate(bodies):
-            if b.fixed:
-                fpos[k] = np.asarray(b.position, dtype=float) / L
-                if b.is_top:
-                    ax = np.asarray(b.axis, dtype=float)
-                    n = np.linalg.norm(ax)
-                    if not n > 0:
-                        raise InputError(f"fixed top {b.name!r} has a zero axis")
-                    fnu[k] = ax / n
-
-        # kernels: one per distinct (potential, params, bound slots), in internal units;
-        # parameters bound to body attributes are read per pair from the table B (SI values),
-        # run-time parameters (SI) and the unit factors from an extra last row of B, so other
-        # values compile nothing
-        kern_ids: dict[tuple, int] = {}
-        kerns: list[Dispatcher] = []
-        rkerns: list[Dispatcher | None] = []
-        attr_cols: dict[str, int] = {}
-        param_cols: dict[int, float] = {}
-        unit_col: list[int] = []
-        inv_e = 1.0 / E
-
-        def next_col() -> int:
-            return len(attr_cols) + len(param_cols)
-
-        def kernel_id(pot: PotentialLike, params: Mapping[str, object], i: int | None, j: int | None
-                      ) -> tuple[int, str]:
-            (kern, slots, values, array), orient = resolve_runtime(pot, params)
-            needs_i = orient in ("both", "first")
-            needs_j = orient in ("both", "second")
-            for k, need in ((i, needs_i), (j, needs_j)):
-                if k is not None and need and not bodies[k].is_top:
-                    raise InputError(f"potential {_label(pot)!s} depends on the "
-                                     f"axis of body {bodies[k].name!r}, which is a point mass")
-            spec = tuple((attr_cols.setdefault(a, next_col()), w) for a, w in slots)
-            # equal values share a kernel number (by bit pattern: -0.0 is not 0.0)
-            key = (id(kern), spec, tuple(np.float64(v).tobytes() for v in values))
-            if key not in kern_ids:
-                kern_ids[key] = len(kerns)
-                if scales and not unit_col:  # the units are data too (see unit_values)
-                    unit_col.append(next_col())
-                    for v in unit_values(L, inv_e):
-                        param_cols[next_col()] = v
-                pspec = None
-                if values:
-                    pspec = (next_col(), len(values), array)
-                    for v in values:
-                        param_cols[next_col()] = v
-                ucol = unit_col[0] if scales else None
-                kerns.append(_wrapped(kern, spec, 1.0, 1.0, pspec, ucol))
-                rkerns.append(_wrapped_radial(kern, spec, 1.0, 1.0, pspec, ucol)
-                              if orient == "none" else None)
-            return kern_ids[key], orient
-
-        pairs: list[tuple[int, int, int]] = []
-        rpairs: list[tuple[int, int, int]] = []
-        gravity_g: list[float] = []
-        cmembers: list[int] = []
-        coffs = [0]
-        cgid: list[int] = []
-        ccentral: list[int] = []
-        for it in self.interactions:
-            if isinstance(it, Interaction):
-                i, j = idx(it.i), idx(it.j)
-                if i == j:
-                    raise InputError(f"interaction of body {bodies[i].name!r} with itself")
-                if bodies[i].fixed and bodies[j].fixed:
-                    continue  # constant energy, no force on any degree of freedom
-                gid, orient = kernel_id(it.potential, it.params, i, j)
-                (rpairs if orient == "none" and fast_path else pairs).append((i, j, gid))
-            elif isinstance(it, AllPairs):
-                mem = list(range(len(bodies))) if it.members is None else [idx(v) for v in it.members]
-                if len(set(mem)) != len(mem):
-                    raise InputError("AllPairs members repeat a body")
-                point = [bodies[k].name for k in mem if not bodies[k].is_top]
-                gid, orient = kernel_id(it.potential, it.params, None, None)
-                if point and orient != "none":
-                    raise InputError(f"potential depends on axes but AllPairs includes point "
-                                     f"masses {point}")
-                entry = _registry_entry(it.potential)
-                if (entry is not None and entry.name == "gravity"
-                        and sorted(mem) == list(range(len(bodies)))
-                        and not {"mass1", "mass2"} & set(it.params)):
-                    gravity_g.append(float(entry.resolve_params(
-                        {k: v for k, v in it.params.items()} | {"mass1": 1.0, "mass2": 1.0}
-                    )["G"]))
-                cmembers.extend(mem)
-                coffs.append(len(cmembers))
-                cgid.append(gid)
-                ccentral.append(1 if orient == "none" and fast_path else 0)
-            else:
-                raise InputError(f"interactions must be Interaction or AllPairs, got "
-                                 f"{type(it).__name__}")
-        # rows: the bodies, then (with run-time parameters or units) one row of their values
-        table = np.zeros((len(bodies) + (1 if param_cols else 0), max(1, next_col())))
-        for a, c in attr_cols.items():
-            for k, b in enumerate(bodies):
-                table[k, c] = b.attribute(a)
-        for c, v in param_cols.items():
-            table[-1, c] = v
-        self._kerns = tuple(kerns)
-        self._rkerns = tuple(rkerns)
+        units = units_of(scales)
+        L, M, E, T = units
+        arrays = body_arrays(bodies, units)
+        self._moving = arrays.moving
+        self._tops = arrays.tops
+        kt = kernel_table(bodies, self.interactions, L, E, scales is not None, self._fast_path)
+        self._kerns = tuple(kt.kerns)
+        self._rkerns = tuple(kt.rkerns)
         # G in internal units (L³ / (M T²)) of a gravity interaction among all bodies, if any
-        T = scales.time if scales else 1.0
-        self._gravity = (gravity_g[0] * M * T * T / L ** 3 if len(gravity_g) == 1 else None)
-        self._attributes = tuple(attr_cols)
+        self._gravity = (kt.gravity_g[0] * M * T * T / L ** 3 if len(kt.gravity_g) == 1
+                         else None)
+        self._attributes = tuple(kt.attr_cols)
         self._energy_shift = 0.0
         cut = np.inf if self.cutoff is None else self.cutoff / L
         rs_int = np.inf if self.smooth_cutoff is None else self.smooth_cutoff / L
-        self.data = (mass, alpha, bslot, tslot, fpos, fnu,
-                     np.array(pairs, dtype=np.int64).reshape(-1, 3),
-                     np.array(cmembers, dtype=np.int64), np.array(coffs, dtype=np.int64),
-                     np.array(cgid, dtype=np.int64), float(cut), table,
-                     np.array(rpairs, dtype=np.int64).reshape(-1, 3),
-                     np.array(ccentral, dtype=np.int64),
-                     any(b.is_top for b in bodies), float(rs_int),
-                     int(self.parallel_min_bodies))
         self.fields = compile_fields(fields)
         self._field_kerns: tuple[CompiledFunction, ...] = ()
+        fdata = empty_field_data(len(bodies))
         if self.fields:  # one-body terms: the data gains their tables (numerics/fields)
             fdata, self._field_kerns = field_data(self.fields, bodies, L, E)
-            self.data = self.data + (fdata,)
+        self.data = system_data(
+            mass=arrays.mass, alpha=arrays.alpha, body_slot=arrays.body_slot,
+            top_slot=arrays.top_slot, fixed_pos=arrays.fixed_pos, fixed_axis=arrays.fixed_axis,
+            pairs=kt.pairs, set_members=kt.set_members, set_offsets=kt.set_offsets,
+            set_kernel=kt.set_kernel, cutoff=cut, table=kt.table, radial_pairs=kt.radial_pairs,
+            set_central=kt.set_central, any_tops=any(b.is_top for b in bodies),
+            switch_start=rs_int, parallel_min=self.parallel_min_bodies, fields=fdata)
         # compile the parallel loop only for a system that may use it
         self._parallel = (self.cutoff is not None and self.parallel
-                          and any(coffs[g + 1] - coffs[g] >= max(2, self.parallel_min_bodies)
-                                  for g in range(len(cgid))))
+                          and any(hi - lo >= max(2, self.parallel_min_bodies)
+                                  for lo, hi in zip(kt.set_offsets, kt.set_offsets[1:])))
         self._kernels: Kernels | None = None
         self._fixed = np.array([b.fixed for b in bodies], dtype=bool)
         # the state that last passed check_overlap, and the axis tolerance it then passed
@@ -350,9 +179,10 @@ class NBodySystem:
         # the direct-sum form (nbody/direct.py): moving point masses, orientation-free
         # all-pairs sets, no cutoff, no listed pairs. Anything else the general kernels
         # compute (a new kind of term) must turn it off, or loop_kernels would drop it.
-        self._direct = (self.cutoff is None and not pairs and not rpairs and not tops
-                        and len(moving) == len(bodies) and all(ccentral) and not self.fields)
-        self._loop: tuple[Kernels, tuple[np.ndarray, ...]] | None = None
+        self._direct = (self.cutoff is None and not kt.pairs and not kt.radial_pairs
+                        and not self._tops and len(self._moving) == len(bodies)
+                        and all(kt.set_central) and not self.fields)
+        self._loop: tuple[Kernels, DirectData] | None = None
 
     # ------------------------------------------------------------------ structure
     def gravity_constant(self) -> float:
@@ -405,11 +235,10 @@ class NBodySystem:
     def kernels(self) -> Kernels:
         """The compiled kernels (compiled on first access)."""
         if self._kernels is None:
+            extra = (field_term(self._field_kerns),) if self.fields else ()
             self._kernels = _build_kernels(*_dispatcher(self._kerns, self._rkerns),
                                            parallel=self._parallel,
-                                           verlet=self.skin is not None)
-            if self.fields:
-                self._kernels = field_kernels(self._kernels, self._field_kerns)
+                                           verlet=self.skin is not None, extra=extra)
         return self._kernels
 
     def with_fields(self, fields: Sequence[FieldLike], y: npt.ArrayLike | None = None,
@@ -448,15 +277,14 @@ class NBodySystem:
                            parallel=self.parallel, parallel_min_bodies=self.parallel_min_bodies,
                            skin=self.skin, fields=built)
 
-    def work(self) -> tuple[np.ndarray | VerletState, ...]:
-        """Fresh scratch arrays ``(pos, nu, F, T)`` for the kernels, with a system's empty
-        neighbour lists (see ``skin``) as a fifth entry."""
+    def work(self) -> Work:
+        """Fresh scratch :class:`~poissonkit.numerics.nbody.data.Work` for the kernels
+        (``pos, nu, F, T``), with a system's empty neighbour lists (see ``skin``) as ``lists``."""
         n = len(self.bodies)
-        arrays = (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3)))
         if self.skin is None:
-            return arrays
+            return new_work(n)
         L = self.scales.length if self.scales else 1.0
-        return arrays + (new_verlet_state(self.data[9].shape[0], self.skin / L),)
+        return new_work(n, new_verlet_state(self.data.set_kernel.shape[0], self.skin / L))
 
     def loop_kernels(self) -> LoopKernels | None:
         """Direct-sum kernels for the compiled time loops, or ``None``.
@@ -472,11 +300,9 @@ class NBodySystem:
         if self._loop is None:
             from poissonkit.numerics.nbody.direct import direct_kernels
 
-            d = self.data
             self._loop = (direct_kernels(*_dispatcher(self._kerns, self._rkerns)),
-                          (d[0], d[7], d[8], d[9], d[11]))
-        n = len(self.bodies)
-        return LoopKernels(*self._loop, (np.zeros((n, 3)), np.zeros((n, 3))))
+                          direct_data(self.data))
+        return LoopKernels(*self._loop, new_direct_work(len(self.bodies)))
 
     def _state(self, y: npt.ArrayLike) -> np.ndarray:
         y = np.asarray(y, dtype=float)
@@ -497,7 +323,7 @@ class NBodySystem:
         y = self._state(y)
         work = self.work()
         u = self.kernels.forces(y, self.data, work)
-        return work[2], work[3], float(u)
+        return work.F, work.T, float(u)
 
     def energy(self, y: npt.ArrayLike) -> float | np.ndarray:
         """Total energy ``H(y)``; a 2-D array of states gives one value per row.
@@ -616,7 +442,7 @@ class NBodySystem:
         if len(self._moving) == len(self.bodies):
             pos = r
         else:
-            pos = self.data[4].copy()
+            pos = self.data.fixed_pos.copy()
             pos[list(self._moving)] = r
         hit = coincident_pair(pos, self._fixed)
         if hit is not None:

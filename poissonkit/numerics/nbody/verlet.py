@@ -18,7 +18,8 @@ of a force depend on when the list was built (a run and the same run resumed fro
 may differ in round-off); a fresh list (``system.forces``, ``system.energy``) sums in the order
 of a cell list of side ``cutoff + s`` at the current positions.
 
-The list lives in the scratch tuple of a system (``work()[4]``): ``(ints, nbrs, refs, skin)``,
+The list lives in the scratch of a system (``work().lists``, a
+:class:`~poissonkit.numerics.nbody.data.VerletState`): ``(ints, nbrs, refs, skin)``,
 per all-pairs set ``k`` the arrays ``ints[3k : 3k + 3]`` = slot → body, CSR offsets and first
 slot of each slab, ``nbrs[k]`` the neighbour slots (32-bit: the list is the largest array a
 walk reads) and ``refs[k]`` the positions at the build (slot order).
@@ -35,10 +36,14 @@ from numba.core.dispatcher import Dispatcher
 from numba.typed import List
 
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.nbody.celllists import cell_list, cell_list_par, forward_cells
+from poissonkit.numerics.nbody.celllists import (
+    cell_list,
+    cell_list_par,
+    forward_cells,
+    pair_shares,
+)
+from poissonkit.numerics.nbody.data import VerletState
 
-#: One system's neighbour lists: ``(ints, nbrs, refs, skin)`` (see the module docstring).
-VerletState = tuple[List, List, List, float]
 
 
 @numba.njit(cache=True)
@@ -60,7 +65,7 @@ def new_verlet_state(nsets: int, skin: float) -> VerletState:
     The lists are built on the first force evaluation that uses them.
     """
     ints, nbrs, refs = _empty_lists(nsets)
-    return ints, nbrs, refs, float(skin)
+    return VerletState(ints, nbrs, refs, float(skin))
 
 
 def _builder(cells: Dispatcher) -> Callable:
@@ -157,6 +162,7 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
     if parallel:
         # see cell_loops: OpenMP's spinning wait costs dearly on a shared machine
         os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+    shares = pair_shares(pair_one, pair_r_one)
 
     @jit(inline="always")
     def slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body, W, V, cut, B, cut2):
@@ -180,29 +186,14 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
                 if dx * dx + dy * dy + dz * dz > cut2:
                     continue
                 h = 1 if qb >= first_next else 0
-                if central:
-                    uu, g0, g1, g2 = pair_r_one(g, qa, qb, sp_, cut, B, body[qa], body[qb])
-                    wa0 += g0
-                    wa1 += g1
-                    wa2 += g2
-                    W[h, qb, 0] -= g0
-                    W[h, qb, 1] -= g1
-                    W[h, qb, 2] -= g2
-                else:
-                    (uu, f0, f1, f2, ti0, ti1, ti2,
-                     tj0, tj1, tj2) = pair_one(g, qa, qb, sp_, sn_, cut, B, body[qa], body[qb])
-                    wa0 -= f0
-                    wa1 -= f1
-                    wa2 -= f2
-                    W[h, qb, 0] += f0
-                    W[h, qb, 1] += f1
-                    W[h, qb, 2] += f2
-                    va0 += ti0
-                    va1 += ti1
-                    va2 += ti2
-                    V[h, qb, 0] += tj0
-                    V[h, qb, 1] += tj1
-                    V[h, qb, 2] += tj2
+                uu, d0, d1, d2, t0, t1, t2 = shares(g, central, qa, qb, h, sp_, sn_, body, W,
+                                                    V, cut, B)
+                wa0 += d0
+                wa1 += d1
+                wa2 += d2
+                va0 += t0
+                va1 += t1
+                va2 += t2
                 ua += uu
             W[0, qa, 0] = wa0
             W[0, qa, 1] = wa1
