@@ -351,10 +351,11 @@ def body_frames(system: HasCompiledKernels, y: np.ndarray
         return (np.array([np.zeros(3), u["r"]]), np.array([u["nu1"], u["nu2"]]),
                 np.zeros(2, dtype=bool))
     n = len(system.bodies)
-    mass, alpha, bslot, tslot, fpos, fnu = system.data[:6]
-    nm = mass.shape[0]
-    pos = np.array(fpos, dtype=float).copy()
-    axes = np.array(fnu, dtype=float).copy()
+    d = system.data
+    bslot, tslot = d.body_slot, d.top_slot
+    nm = d.mass.shape[0]
+    pos = np.array(d.fixed_pos, dtype=float).copy()
+    axes = np.array(d.fixed_axis, dtype=float).copy()
     fixed = np.array([b.fixed for b in system.bodies], dtype=bool)
     for k in range(n):
         s = int(bslot[k])

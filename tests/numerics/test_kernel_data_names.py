@@ -26,7 +26,6 @@ BUILDERS: frozenset[str] = frozenset()
 #: (``system.data[0]``/``[1]``/``[:3]``/``[:6]``, ``work[2]``, ``work[0]``) are replaced by names
 #: when both land. Delete this set then: the test must hold without it.
 PENDING = frozenset({
-    "poissonkit/numerics/events.py",
     "poissonkit/numerics/integrators/time_transformed.py",
     "poissonkit/numerics/integrators/wisdom_holman.py",
 })

@@ -21,6 +21,7 @@ import numba
 import sympy as sp
 from numba.core.dispatcher import Dispatcher
 
+from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import InputError
 from poissonkit.numerics.jit import compile_generated
 from poissonkit.numerics.nbody.bodies import PotentialLike
@@ -164,7 +165,7 @@ def unit_values(L: float, inv_e: float) -> tuple[float, float, float, float, flo
     return (L, inv_e, L * inv_e, 1.0 / L, L * L * inv_e)
 
 
-def _wrapped(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float,
+def _wrapped(kern: CompiledFunction, spec: SlotSpec, L: float, inv_e: float,
              pspec: ParamSpec = None, ucol: int | None = None) -> Dispatcher:
     """``w(r, c1, c2, c3, B, i, j)``: the SI kernel in internal units, bound slots read from ``B``.
 
@@ -198,7 +199,7 @@ def _wrapped(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float,
     return fn
 
 
-def _wrapped_radial(kern: Dispatcher, spec: SlotSpec, L: float, inv_e: float,
+def _wrapped_radial(kern: CompiledFunction, spec: SlotSpec, L: float, inv_e: float,
                     pspec: ParamSpec = None, ucol: int | None = None) -> Dispatcher:
     """``w(q, B, i, j) -> (U, U_r/r)`` in internal units, ``q = 1/r``: the fast-path kernel.
 

@@ -7,7 +7,7 @@ With :class:`~poissonkit.numerics.units.Scales` every SI number is divided by it
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 
@@ -69,7 +69,7 @@ def body_arrays(bodies: Sequence[Body], units: Units) -> BodyArrays:
     bslot[moving] = np.arange(len(moving))
     tslot[tops] = np.arange(len(tops))
     mass = np.array([bodies[k].mass / M for k in moving], dtype=float)
-    alpha = np.array([bodies[k].alpha * M * L * L for k in tops], dtype=float)
+    alpha = np.array([cast(float, bodies[k].alpha) * M * L * L for k in tops], dtype=float)
     fpos = np.zeros((len(bodies), 3))
     fnu = np.zeros((len(bodies), 3))
     for k, b in enumerate(bodies):
