@@ -33,7 +33,6 @@ _BEING_SPLIT = {
     "poissonkit/numerics/builtin.py",  # poissonkit_integrators: 102 (one entry per integrator)
     "poissonkit/numerics/integrators/driver.py",  # drive: 181 (a typed problem instead)
     "poissonkit/numerics/integrators/wisdom_holman.py",  # 945 lines (becomes a package)
-    "poissonkit/numerics/nbody/system.py",  # 658 lines; NBodySystem.__init__: 171
     "poissonkit/numerics/solver.py",  # solve: 153
     "poissonkit/scene/schema.py",  # _scene_from_mapping: 121
     "poissonkit/structure/hamiltonize.py",  # 670 lines; hamiltonize: 167
