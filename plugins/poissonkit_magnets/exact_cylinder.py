@@ -1,0 +1,131 @@
+"""Closed-form field of an axially polarised cylinder (magpylib ``Cylinder``) and its Jacobian.
+
+``B`` is magpylib's expression (Derby & Olbert, Am. J. Phys. 78 (2010) 229), with Bulirsch's
+general complete elliptic integral ``cel(k_c, p, c, s)`` (Numer. Math. 13 (1969) 305); lengths
+in units of the radius ``a``, ``z_± = z ± h``::
+
+    B_ρ = J/π [cel(k₊, 1, 1, −1)/√(z₊² + (1+ρ)²) − cel(k₋, 1, 1, −1)/√(z₋² + (1+ρ)²)]
+    B_z = J/(π (1+ρ)) [z₊ cel(k₊, γ², 1, γ)/√(z₊² + (1+ρ)²) − z₋ cel(k₋, γ², 1, γ)/√(…)]
+
+with ``k_± = √((z_±² + (1−ρ)²)/(z_±² + (1+ρ)²))``, ``γ = (1−ρ)/(1+ρ)``. It is ``B = μ0(H + M)``
+inside the magnet too.
+
+The Jacobian comes from the equivalent solenoid (surface current ``M = J/μ0`` per unit length):
+``B = ∫_{−h}^{h} M B_loop(ρ, z − z') dz'``, so every ``z``-derivative is a difference of loop
+fields at the end planes, ``∂_z B = M [B_loop(ρ, z + h) − B_loop(ρ, z − h)]``, and
+``B_ρ = −M [A_φ(ρ, z + h) − A_φ(ρ, z − h)]`` with the loop's vector potential
+``A_φ = (8 μ0 I a² ρ/π) S(m)/p^{3/2}``, ``S(m) = ((1 − m/2)K − E)/m²``, which gives ``B_ρ/ρ``
+without cancellation near the axis. ``∂B_z/∂ρ = ∂B_ρ/∂z`` (curl-free) and
+``∂B_ρ/∂ρ = −∂B_z/∂z − B_ρ/ρ`` (divergence-free) complete it.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from poissonkit_magnets._special import ellipke
+from poissonkit_magnets.exact_fields import loop_local
+from poissonkit_magnets.exact_local import axisymmetric_add
+
+_CEL_TOL = 1e-8  # Bulirsch's AGM converges quadratically: sqrt(eps) ends it at round-off
+_S_SERIES_M = 0.5
+
+
+@njit(cache=True)
+def cel(kc: float, p: float, c: float, s: float) -> float:
+    """Bulirsch's ``cel(k_c, p, c, s) = ∫₀^{π/2} (c cos²t + s sin²t) / ((cos²t + p sin²t)
+    √(cos²t + k_c² sin²t)) dt`` (``k_c ≠ 0``), as magpylib evaluates it."""
+    if p > 0.0:
+        p = math.sqrt(p)
+        s /= p
+    else:
+        f = kc * kc
+        q = 1.0 - f
+        g = 1.0 - p
+        f -= p
+        q *= s - c * p
+        p = math.sqrt(f / g)
+        c = (c - s) / g
+        s = -q / (g * g * p) + c * p
+    em = 1.0
+    qc = abs(kc)
+    kk = qc
+    for _ in range(60):
+        g = kk / p
+        c, s = c + s / p, 2.0 * (s + c * g)
+        p += g
+        g = em
+        em += qc
+        if abs(g - qc) <= g * _CEL_TOL:
+            break
+        qc = 2.0 * math.sqrt(kk)
+        kk = em * qc
+    return 0.5 * math.pi * (s + c * em) / (em * (em + p))
+
+
+@njit(cache=True)
+def s_of_m(m: float) -> float:
+    """``S(m) = ((1 − m/2) K(m) − E(m))/m²`` (power series below ``m = 0.5``)."""
+    if m < _S_SERIES_M:
+        # (1 − m/2)K − E = π/2 Σ_n (2n c_n/(2n−1) − c_{n−1}/2) mⁿ, c_n = ((2n−1)!!/(2n)!!)²
+        c_prev = 1.0
+        c = 0.25
+        total = 0.0
+        mp = 1.0
+        for n in range(2, 80):
+            c_prev, c = c, c * ((n - 0.5) / n) ** 2
+            term = (2.0 * n * c / (2.0 * n - 1.0) - 0.5 * c_prev) * mp
+            total += term
+            if abs(term) < 1e-18 * abs(total):
+                break
+            mp *= m
+        return 0.5 * math.pi * total
+    k, e = ellipke(m)
+    return ((1.0 - 0.5 * m) * k - e) / (m * m)
+
+
+@njit(cache=True)
+def _a_over_rho(rho: float, zeta: float, a: float) -> float:
+    """``A_φ/(μ0 I ρ)`` of a loop of radius ``a`` at axial distance ``zeta``."""
+    p = (a + rho) ** 2 + zeta * zeta
+    return 8.0 * a * a * s_of_m(4.0 * a * rho / p) / (math.pi * p * math.sqrt(p))
+
+
+@njit(cache=True)
+def cylinder_axial_add(x, y, z, jz, a, h, out):
+    """Field and Jacobian of a cylinder (radius ``a``, half length ``h``, polarisation ``jz``
+    along its axis ``z``) added to ``out``."""
+    rho_si = math.sqrt(x * x + y * y)
+    r = rho_si / a
+    zz = z / a
+    z0 = h / a
+    zph = zz + z0
+    zmh = zz - z0
+    dpr = 1.0 + r
+    dmr = 1.0 - r
+    sq0 = math.sqrt(zmh * zmh + dpr * dpr)
+    sq1 = math.sqrt(zph * zph + dpr * dpr)
+    k1 = math.sqrt((zph * zph + dmr * dmr) / (zph * zph + dpr * dpr))
+    k0 = math.sqrt((zmh * zmh + dmr * dmr) / (zmh * zmh + dpr * dpr))
+    gam = dmr / dpr
+    br = jz * (cel(k1, 1.0, 1.0, -1.0) / sq1 - cel(k0, 1.0, 1.0, -1.0) / sq0) / math.pi
+    bz = jz * (zph * cel(k1, gam * gam, 1.0, gam) / sq1
+               - zmh * cel(k0, gam * gam, 1.0, gam) / sq0) / (dpr * math.pi)
+    # Jacobian from the solenoid: loops carrying μ0 I = jz at the end planes
+    lp = loop_local(rho_si, z + h, jz, a, 1.0)
+    lm = loop_local(rho_si, z - h, jz, a, 1.0)
+    bz_z = lp[1] - lm[1]
+    bz_r = lp[0] - lm[0]
+    br_rho = -jz * (_a_over_rho(rho_si, z + h, a) - _a_over_rho(rho_si, z - h, a))
+    br_r = -bz_z - br_rho
+    axisymmetric_add(x, y, br, bz, br_rho, bz_r, bz_z, br_r, out)
+
+
+@njit(cache=True)
+def cylinder_local(x, y, z, P, o, out):
+    """magpylib ``Cylinder`` about local ``z``: ``P[o:o+5] = (J_x, J_y, J_z, radius,
+    half length)``; the axial part of ``J`` (the transverse one is refused when packing)."""
+    if P[o + 2] != 0.0:
+        cylinder_axial_add(x, y, z, P[o + 2], P[o + 3], P[o + 4], out)
