@@ -24,6 +24,7 @@ import numpy as np
 from numba import njit
 
 from poissonkit.errors import InputError
+from poissonkit.numerics.fields.magnetic import magnetic_kernel
 from poissonkit_magnets.exact_cuboid import cuboid_local
 from poissonkit_magnets.exact_cylinder import cylinder_local
 from poissonkit_magnets.exact_local import circle_local, dipole_local, polyline_local, sphere_local
@@ -87,6 +88,10 @@ def sources_b(x, y, z, P):
     sources_add(x, y, z, P, out)
     return (out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7], out[8], out[9],
             out[10], out[11])
+
+
+#: The energy kernel ``U = −c ν·B`` of a moment in the exact field of magpylib sources.
+EXACT_MAGNET = magnetic_kernel(sources_b)
 
 
 def magpylib_mu0() -> float:
