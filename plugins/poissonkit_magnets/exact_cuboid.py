@@ -24,7 +24,7 @@ import math
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _log_pair_g(u, v, w1, w2):
     """``g(w) = ∂_v ln(w + R) / v`` at ``w1`` minus at ``w2`` (module docstring)."""
     uv = u * u + v * v
@@ -43,7 +43,7 @@ def _log_pair_g(u, v, w1, w2):
     return total
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _face_hessian(u, v1, v2, w1, w2):
     """Corner sums ``(uu, uv, uw, vv, ww, vw)`` of ``∇∇F`` over the rectangle with corners
     ``v ∈ {v1, v2}``, ``w ∈ {w1, w2}`` (``v1 < v2``, ``w1 < w2``; sign ``+`` at ``(v1, w1)``)."""
@@ -71,7 +71,7 @@ def _face_hessian(u, v1, v2, w1, w2):
     return -(hvv + hww), huv, huw, hvv, hww, hvw
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _cuboid_b_octant(x, y, z, px, py, pz, a, b, c):
     """magpylib's ``magnet_cuboid_Bfield`` for one point of the octant ``x ≥ 0, y ≤ 0,
     z ≤ 0``."""
@@ -112,7 +112,7 @@ def _cuboid_b_octant(x, y, z, px, py, pz, a, b, c):
     return bx, by, bz
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def cuboid_local(x, y, z, P, o, out):
     """magpylib ``Cuboid`` centred at the origin: ``P[o:o+6] = (J_x, J_y, J_z, a, b, c)``
     (half side lengths)."""

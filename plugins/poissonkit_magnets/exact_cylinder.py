@@ -25,15 +25,13 @@ import math
 
 from numba import njit
 
-from poissonkit_magnets._special import ellipke
-from poissonkit_magnets.exact_fields import loop_local
+from poissonkit_magnets.exact_loop import loop_fields, s_of_m
 from poissonkit_magnets.exact_local import axisymmetric_add
 
 _CEL_TOL = 1e-8  # Bulirsch's AGM converges quadratically: sqrt(eps) ends it at round-off
-_S_SERIES_M = 0.5
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def cel(kc: float, p: float, c: float, s: float) -> float:
     """Bulirsch's ``cel(k_c, p, c, s) = ∫₀^{π/2} (c cos²t + s sin²t) / ((cos²t + p sin²t)
     √(cos²t + k_c² sin²t)) dt`` (``k_c ≠ 0``), as magpylib evaluates it."""
@@ -65,35 +63,15 @@ def cel(kc: float, p: float, c: float, s: float) -> float:
     return 0.5 * math.pi * (s + c * em) / (em * (em + p))
 
 
-@njit(cache=True)
-def s_of_m(m: float) -> float:
-    """``S(m) = ((1 − m/2) K(m) − E(m))/m²`` (power series below ``m = 0.5``)."""
-    if m < _S_SERIES_M:
-        # (1 − m/2)K − E = π/2 Σ_n (2n c_n/(2n−1) − c_{n−1}/2) mⁿ, c_n = ((2n−1)!!/(2n)!!)²
-        c_prev = 1.0
-        c = 0.25
-        total = 0.0
-        mp = 1.0
-        for n in range(2, 80):
-            c_prev, c = c, c * ((n - 0.5) / n) ** 2
-            term = (2.0 * n * c / (2.0 * n - 1.0) - 0.5 * c_prev) * mp
-            total += term
-            if abs(term) < 1e-18 * abs(total):
-                break
-            mp *= m
-        return 0.5 * math.pi * total
-    k, e = ellipke(m)
-    return ((1.0 - 0.5 * m) * k - e) / (m * m)
-
-
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _a_over_rho(rho: float, zeta: float, a: float) -> float:
     """``A_φ/(μ0 I ρ)`` of a loop of radius ``a`` at axial distance ``zeta``."""
     p = (a + rho) ** 2 + zeta * zeta
-    return 8.0 * a * a * s_of_m(4.0 * a * rho / p) / (math.pi * p * math.sqrt(p))
+    m1 = ((a - rho) ** 2 + zeta * zeta) / p
+    return 8.0 * a * a * s_of_m(4.0 * a * rho / p, m1) / (math.pi * p * math.sqrt(p))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def cylinder_axial_add(x, y, z, jz, a, h, out):
     """Field and Jacobian of a cylinder (radius ``a``, half length ``h``, polarisation ``jz``
     along its axis ``z``) added to ``out``."""
@@ -114,8 +92,8 @@ def cylinder_axial_add(x, y, z, jz, a, h, out):
     bz = jz * (zph * cel(k1, gam * gam, 1.0, gam) / sq1
                - zmh * cel(k0, gam * gam, 1.0, gam) / sq0) / (dpr * math.pi)
     # Jacobian from the solenoid: loops carrying μ0 I = jz at the end planes
-    lp = loop_local(rho_si, z + h, jz, a, 1.0)
-    lm = loop_local(rho_si, z - h, jz, a, 1.0)
+    lp = loop_fields(rho_si, z + h, jz, a)
+    lm = loop_fields(rho_si, z - h, jz, a)
     bz_z = lp[1] - lm[1]
     bz_r = lp[0] - lm[0]
     br_rho = -jz * (_a_over_rho(rho_si, z + h, a) - _a_over_rho(rho_si, z - h, a))
@@ -123,7 +101,7 @@ def cylinder_axial_add(x, y, z, jz, a, h, out):
     axisymmetric_add(x, y, br, bz, br_rho, bz_r, bz_z, br_r, out)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def cylinder_local(x, y, z, P, o, out):
     """magpylib ``Cylinder`` about local ``z``: ``P[o:o+5] = (J_x, J_y, J_z, radius,
     half length)``; the axial part of ``J`` (the transverse one is refused when packing)."""

@@ -11,7 +11,7 @@ origin, its orientation undone (:mod:`poissonkit_magnets.exact_sources`).
   ``J (4/3) π R³ / μ0``, i.e. ``B = (R³/3)(3 (J·r) r / r⁵ − J / r³)``; inside (``r ≤ R``, as
   magpylib) the uniform ``B = 2 J / 3``.
 * Circle (current loop about local ``z``): the elliptic-integral field of
-  :func:`poissonkit_magnets.exact_fields.loop_local`.
+  :func:`poissonkit_magnets.exact_loop.loop_fields`.
 * Polyline: Biot–Savart of each straight segment ``A → B`` in closed form, with
   ``a = A − r``, ``b = B − r``::
 
@@ -27,10 +27,10 @@ import math
 
 from numba import njit
 
-from poissonkit_magnets.exact_fields import loop_local
+from poissonkit_magnets.exact_loop import loop_fields
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dipole_add(x, y, z, mx, my, mz, k, out):
     """``B = k (3 (m·r) r / r⁵ − m / r³)`` and its Jacobian added to ``out``."""
     r2 = x * x + y * y + z * z
@@ -48,13 +48,13 @@ def dipole_add(x, y, z, mx, my, mz, k, out):
                                        - 15.0 * mr * rv[i] * rv[j] * inv5 / r2)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def dipole_local(x, y, z, P, o, out):
     """magpylib ``Dipole``: ``P[o:o+4] = (m_x, m_y, m_z, μ0)``."""
     dipole_add(x, y, z, P[o], P[o + 1], P[o + 2], P[o + 3] / (4.0 * math.pi), out)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def sphere_local(x, y, z, P, o, out):
     """magpylib ``Sphere``: ``P[o:o+4] = (J_x, J_y, J_z, R)``."""
     rad = P[o + 3]
@@ -65,7 +65,7 @@ def sphere_local(x, y, z, P, o, out):
     dipole_add(x, y, z, P[o], P[o + 1], P[o + 2], rad ** 3 / 3.0, out)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def axisymmetric_add(x, y, br, bz, br_rho, bz_r, bz_z, br_r, out):
     """Add a field symmetric about the local ``z`` axis, given in cylindrical components
     ``(B_ρ, B_z, B_ρ/ρ, ∂B_z/∂ρ = ∂B_ρ/∂z, ∂B_z/∂z, ∂B_ρ/∂ρ)``, in Cartesian form."""
@@ -88,15 +88,15 @@ def axisymmetric_add(x, y, br, bz, br_rho, bz_r, bz_z, br_r, out):
                                    + bz_z * nv[i] * nv[j])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def circle_local(x, y, z, P, o, out):
     """magpylib ``Circle`` about local ``z``: ``P[o:o+3] = (I, radius, μ0)``."""
     rho = math.sqrt(x * x + y * y)
-    br, bz, br_rho, bz_r, bz_z, br_r = loop_local(rho, z, P[o], P[o + 1], P[o + 2])
+    br, bz, br_rho, bz_r, bz_z, br_r = loop_fields(rho, z, P[o] * P[o + 2], P[o + 1])
     axisymmetric_add(x, y, br, bz, br_rho, bz_r, bz_z, br_r, out)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def segment_add(x, y, z, ax, ay, az, bx, by, bz, k, out):
     """Biot–Savart field of the segment ``A → B`` with ``k = μ0 I/(4π)`` (module docstring),
     and its Jacobian, added to ``out``."""
@@ -145,7 +145,7 @@ def segment_add(x, y, z, ax, ay, az, bx, by, bz, k, out):
             out[3 + 3 * i + j] += k * (dfj * vv[i] + f * cv[i])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def polyline_local(x, y, z, P, o, out):
     """magpylib ``Polyline``: ``P[o:] = (I, μ0, n, x_0, y_0, z_0, …)``, current from vertex
     ``i`` to ``i + 1``."""

@@ -19,7 +19,7 @@ from poissonkit.numerics.fields.tricubic import tricubic_field
 from poissonkit_magnets.exact_sources import sources_add
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def mixed_b(x, y, z, P):
     """``(B, ∂B/∂x)`` of the exact part ``P[1:1+n]`` plus the table ``P[1+n:]``."""
     n = int(P[0])

@@ -37,7 +37,7 @@ EXACT_CLASSES = {"Dipole": DIPOLE, "Sphere": SPHERE, "Circle": CIRCLE, "Polyline
 _HEAD = 14
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _local(kind, x, y, z, P, o, out):
     if kind == DIPOLE:
         dipole_local(x, y, z, P, o, out)
@@ -53,7 +53,7 @@ def _local(kind, x, y, z, P, o, out):
         cylinder_local(x, y, z, P, o, out)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def sources_add(x, y, z, P, out):
     """Add the field and Jacobian of every record of ``P`` (module docstring) to ``out``."""
     n = int(P[0])
@@ -81,7 +81,7 @@ def sources_add(x, y, z, P, out):
         o += int(P[o + 1])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def sources_b(x, y, z, P):
     """``(B, ∂B/∂x)`` (12 numbers) of the sources in ``P`` at ``(x, y, z)``."""
     out = np.zeros(12)
