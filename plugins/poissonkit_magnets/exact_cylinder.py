@@ -25,42 +25,10 @@ import math
 
 from numba import njit
 
-from poissonkit_magnets.exact_loop import loop_fields, s_of_m
+from poissonkit_magnets.exact_diametral import cylinder_diametral_add
+from poissonkit_magnets.exact_loop import cel, loop_fields, s_of_m
 from poissonkit_magnets.exact_local import axisymmetric_add
 
-_CEL_TOL = 1e-8  # Bulirsch's AGM converges quadratically: sqrt(eps) ends it at round-off
-
-
-@njit(cache=True, error_model="numpy")
-def cel(kc: float, p: float, c: float, s: float) -> float:
-    """Bulirsch's ``cel(k_c, p, c, s) = ∫₀^{π/2} (c cos²t + s sin²t) / ((cos²t + p sin²t)
-    √(cos²t + k_c² sin²t)) dt`` (``k_c ≠ 0``), as magpylib evaluates it."""
-    if p > 0.0:
-        p = math.sqrt(p)
-        s /= p
-    else:
-        f = kc * kc
-        q = 1.0 - f
-        g = 1.0 - p
-        f -= p
-        q *= s - c * p
-        p = math.sqrt(f / g)
-        c = (c - s) / g
-        s = -q / (g * g * p) + c * p
-    em = 1.0
-    qc = abs(kc)
-    kk = qc
-    for _ in range(60):
-        g = kk / p
-        c, s = c + s / p, 2.0 * (s + c * g)
-        p += g
-        g = em
-        em += qc
-        if abs(g - qc) <= g * _CEL_TOL:
-            break
-        qc = 2.0 * math.sqrt(kk)
-        kk = em * qc
-    return 0.5 * math.pi * (s + c * em) / (em * (em + p))
 
 
 @njit(cache=True, error_model="numpy")
@@ -104,6 +72,9 @@ def cylinder_axial_add(x, y, z, jz, a, h, out):
 @njit(cache=True, error_model="numpy")
 def cylinder_local(x, y, z, P, o, out):
     """magpylib ``Cylinder`` about local ``z``: ``P[o:o+5] = (J_x, J_y, J_z, radius,
-    half length)``; the axial part of ``J`` (the transverse one is refused when packing)."""
+    half length)``: the axial part of ``J`` here, the transverse one by
+    :func:`poissonkit_magnets.exact_diametral.cylinder_diametral_add`."""
     if P[o + 2] != 0.0:
         cylinder_axial_add(x, y, z, P[o + 2], P[o + 3], P[o + 4], out)
+    if P[o] != 0.0 or P[o + 1] != 0.0:
+        cylinder_diametral_add(x, y, z, P[o], P[o + 1], P[o + 3], P[o + 4], out)

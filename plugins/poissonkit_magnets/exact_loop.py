@@ -4,7 +4,8 @@ The same closed forms as :func:`poissonkit_magnets.exact_fields.loop_local` (Jac
 but the complete elliptic integrals take the complementary parameter ``m₁ = 1 − m = q/p``
 computed without cancellation (``q = (a − ρ)² + z²``, ``p = (a + ρ)² + z²``), so that the
 relative accuracy stays at round-off close to the wire, where ``m → 1`` (magpylib's ``cel``
-does the same). Used by the exact ``Circle`` and by the Jacobian of the ``Cylinder``.
+does the same). Used by the exact ``Circle`` and by the Jacobian of the ``Cylinder``; also
+Bulirsch's general complete elliptic integral ``cel`` as magpylib evaluates it.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ import math
 from numba import njit
 
 _SERIES_M = 0.1
+_CEL_TOL = 1e-8  # Bulirsch's AGM converges quadratically: sqrt(eps) ends it at round-off
 
 
 @njit(cache=True, error_model="numpy")
@@ -116,3 +118,35 @@ def s_of_m(m: float, m1: float) -> float:
         return 0.5 * math.pi * total
     k, e = ellipke_c(m1)
     return ((1.0 - 0.5 * m) * k - e) / (m * m)
+
+
+@njit(cache=True, error_model="numpy")
+def cel(kc: float, p: float, c: float, s: float) -> float:
+    """Bulirsch's ``cel(k_c, p, c, s) = ∫₀^{π/2} (c cos²t + s sin²t) / ((cos²t + p sin²t)
+    √(cos²t + k_c² sin²t)) dt`` (``k_c ≠ 0``), as magpylib evaluates it."""
+    if p > 0.0:
+        p = math.sqrt(p)
+        s /= p
+    else:
+        f = kc * kc
+        q = 1.0 - f
+        g = 1.0 - p
+        f -= p
+        q *= s - c * p
+        p = math.sqrt(f / g)
+        c = (c - s) / g
+        s = -q / (g * g * p) + c * p
+    em = 1.0
+    qc = abs(kc)
+    kk = qc
+    for _ in range(60):
+        g = kk / p
+        c, s = c + s / p, 2.0 * (s + c * g)
+        p += g
+        g = em
+        em += qc
+        if abs(g - qc) <= g * _CEL_TOL:
+            break
+        qc = 2.0 * math.sqrt(kk)
+        kk = em * qc
+    return 0.5 * math.pi * (s + c * em) / (em * (em + p))

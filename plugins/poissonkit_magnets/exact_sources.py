@@ -129,15 +129,13 @@ def _parameters(src: Any, kind: int) -> np.ndarray | None:
         return np.concatenate([_vec(src.polarization, 3, f"{name}.polarization"),
                                np.abs(_vec(src.dimension, 3, f"{name}.dimension")) / 2])
     pol = _vec(src.polarization, 3, f"{name}.polarization")
-    if pol[0] != 0.0 or pol[1] != 0.0:
-        return None  # diametral part: no exact kernel yet
     dim = _vec(src.dimension, 2, f"{name}.dimension")
     return np.concatenate([pol, [dim[0] / 2, dim[1] / 2]])
 
 
 def source_record(src: Any) -> np.ndarray | None:
     """The record of one magpylib source, or ``None`` when it has no exact kernel (another
-    class, a path of several positions, a transverse cylinder polarisation)."""
+    class, a path of several positions)."""
     kind = EXACT_CLASSES.get(type(src).__name__)
     if kind is None or type(src).__module__.split(".")[0] != "magpylib":
         return None
