@@ -9,17 +9,18 @@ polarisation's azimuth is rotated out), half length ``z₀``. The side carries t
     ∇∇ψ: xx = 3x G1 + x³ G2, xy = y G1 + x²y G2, yy = x G1 + x y² G2,
          xz = g_z + x² ∂_z G1, yz = x y ∂_z G1, zz = x g_zz
 
-* **Off the axis** (``ρ ≥ 0.3``): ``∂_ρ(ρ g)`` and ``g`` are magpylib's closed form (Caciagli
+* **Off the axis** (``ρ ≥ 0.3 √(1 + ζ²)``, ``ζ`` the axial distance beyond the nearer end): ``∂_ρ(ρ g)`` and ``g`` are magpylib's closed form (Caciagli
   et al., J. Magn. Magn. Mater. 456 (2018) 423, with ``K``, ``E`` and ``Π`` through Bulirsch's
   ``cel``); every ``z``-derivative is a difference over the end planes of the charged-ring
   integral ``∫ cos φ' dφ'/|r − r'|``, i.e. ``g_z = Q(ρ, z + z₀) − Q(ρ, z − z₀)`` with
   ``Q = (8/π) S(m)/p^{3/2}`` (:func:`poissonkit_magnets.exact_loop.s_of_m`), and Laplace's
   equation gives ``G2 = −(4 G1 + g_zz)/ρ²``.
-* **Near the axis** (``ρ < 0.3``), where those differences cancel, the axis series
+* **Near the axis** (``ρ < 0.3 √(1 + ζ²)``), where those differences cancel (near the axis as
+  ``1/ρ⁴``, far along it as ``z⁵``), the axis series
   ``h = Σ_k a_k(z) s^k`` with ``a_k = (−1)^k a₀^{(2k)}/(4^k k! (k+1)!)`` (Laplace) and
   ``a₀ = [u(z + z₀) − u(z − z₀)]/4``, ``u(ζ) = ζ/√(1 + ζ²)`` — the charges sit at ``ρ = 1``
-  only, so the series converges like ``ρ^{2k}``; 20 terms reach round-off. The derivatives of
-  ``u = d√(1+ζ²)/dζ`` come from those of ``1/√(1+ζ²)`` (Legendre polynomials).
+  only, so the series converges like ``(ρ²/(1 + ζ²))^k``; 20 terms reach round-off. The derivatives of
+  ``u`` are those of ``R⁻³ = −∂_ρ(1/r)`` at ``ρ = 1`` (derivatives of Legendre polynomials).
 """
 
 from __future__ import annotations
@@ -37,29 +38,25 @@ _TERMS = 20
 
 @njit(cache=True, error_model="numpy")
 def _u_derivs(zeta: float, nmax: int) -> np.ndarray:
-    """``u^{(n)}(ζ)``, ``n = 0..nmax``, of ``u = ζ/√(1 + ζ²)`` (``= R'``, ``R = √(1 + ζ²)``)."""
+    """``u^{(n)}(ζ)``, ``n = 0..nmax``, of ``u = ζ/√(1 + ζ²)``:
+    ``u^{(n)} = (−1)^{n−1} (n−1)! P'_n(t) / R^{n+2}`` (``R = √(1 + ζ²)``, ``t = ζ/R``; the
+    ``n``-th derivative of ``R⁻³ = −∂_ρ(1/r)`` at ``ρ = 1``), with ``P'_n`` from the
+    cancellation-free ``P'_{n+1} = P'_{n−1} + (2n + 1) P_n``."""
     r = math.sqrt(1.0 + zeta * zeta)
     t = zeta / r
-    nf = nmax + 2
-    F = np.empty(nf + 1)  # F^{(j)} of 1/R = (−1)^j j! P_j(t) / R^{j+1}
-    p_prev, p = 1.0, t
-    fact = 1.0
-    for j in range(nf + 1):
-        if j == 0:
-            pj = 1.0
-        elif j == 1:
-            pj = t
-        else:
-            p_prev, p = p, ((2 * j - 1) * t * p - (j - 1) * p_prev) / j
-            pj = p
-        if j > 0:
-            fact *= j
-        F[j] = (-1.0) ** j * fact * pj / r ** (j + 1)
     out = np.empty(nmax + 1)
     out[0] = t
+    p_prev, p = 1.0, t          # P_{n−1}, P_n
+    dp_prev, dp = 0.0, 1.0      # P'_{n−1}, P'_n (n = 1)
+    fact = 1.0                  # (n − 1)!
+    rp = r * r * r              # R^{n+2}
     for n in range(1, nmax + 1):
-        k = n + 1  # u^{(n)} = R^{(n+1)} = (1+ζ²)F^{(k)} + 2kζF^{(k−1)} + k(k−1)F^{(k−2)}
-        out[n] = (1.0 + zeta * zeta) * F[k] + 2.0 * k * zeta * F[k - 1] + k * (k - 1) * F[k - 2]
+        if n > 1:
+            fact *= n - 1
+            dp_prev, dp = dp, dp_prev + (2 * n - 1) * p
+            p_prev, p = p, ((2 * n - 1) * t * p - (n - 1) * p_prev) / n
+            rp *= r
+        out[n] = (-1.0) ** (n - 1) * fact * dp / rp
     return out
 
 
@@ -86,6 +83,10 @@ def _axis_series(s: float, z: float, z0: float):
             p1 = p0
             p0 = p0 * s
         d0 = 0.25 * (up[2 * k] - um[2 * k])
+        if k == 0 and (z + z0) * (z - z0) > 0.0:  # u(a) − u(b) without cancellation
+            ra = math.sqrt(1.0 + (z + z0) ** 2)
+            rb = math.sqrt(1.0 + (z - z0) ** 2)
+            d0 = z * z0 / (ra * rb * ((z + z0) * rb + (z - z0) * ra))
         d1 = 0.25 * (up[2 * k + 1] - um[2 * k + 1])
         d2 = 0.25 * (up[2 * k + 2] - um[2 * k + 2])
         g += c * d0 * p0
@@ -183,7 +184,8 @@ def _derivatives(x: float, y: float, z: float, z0: float):
     """``(g, G1, G2, g_z, ∂_z G1, g_zz)`` at a point (radius 1, ``M = 1`` along ``x``)."""
     s = x * x + y * y
     rho = math.sqrt(s)
-    if rho < _AXIS_RHO:
+    zeta = max(0.0, abs(z) - z0)  # axial distance to the nearer end plane (0 between them)
+    if s < _AXIS_RHO * _AXIS_RHO * (1.0 + zeta * zeta):
         return _axis_series(s, z, z0)
     f_r, g = _closed_form(rho, z, z0)
     qp, qp_r, qp_z = _q_family(rho, z + z0)
