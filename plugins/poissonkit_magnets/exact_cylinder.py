@@ -26,9 +26,8 @@ import math
 from numba import njit
 
 from poissonkit_magnets.exact_diametral import cylinder_diametral_add
-from poissonkit_magnets.exact_loop import cel, loop_fields, s_of_m
 from poissonkit_magnets.exact_local import axisymmetric_add
-
+from poissonkit_magnets.exact_loop import cel, loop_fields, s_of_m
 
 
 @njit(cache=True, error_model="numpy")

@@ -25,9 +25,15 @@ from numba import njit
 
 from poissonkit.errors import InputError
 from poissonkit.numerics.fields.magnetic import magnetic_kernel
+from poissonkit.validation import finite_number, vector3
 from poissonkit_magnets.exact_cuboid import cuboid_local
 from poissonkit_magnets.exact_cylinder import cylinder_local
-from poissonkit_magnets.exact_local import circle_local, dipole_local, polyline_local, sphere_local
+from poissonkit_magnets.exact_local import (
+    circle_local,
+    dipole_local,
+    polyline_local,
+    sphere_local,
+)
 
 #: Record kinds.
 DIPOLE, SPHERE, CIRCLE, POLYLINE, CUBOID, CYLINDER = 1, 2, 3, 4, 5, 6
@@ -102,8 +108,14 @@ def magpylib_mu0() -> float:
 
 
 def _vec(value: Any, n: int, what: str) -> np.ndarray:
+    """A magpylib attribute as ``n`` finite numbers (3-vectors through the shared validator)."""
     if value is None:
         raise InputError(f"magpylib {what} is not set")
+    if n == 3:
+        return vector3(value, f"magpylib {what}")
+    if n == 1:
+        return np.array([finite_number(np.asarray(value, dtype=float).reshape(-1)[0],
+                                       f"magpylib {what}")])
     out = np.asarray(value, dtype=float).reshape(-1)
     if out.shape != (n,) or not np.all(np.isfinite(out)):
         raise InputError(f"magpylib {what} must be {n} finite numbers, got {value!r}")

@@ -33,7 +33,11 @@ import numpy as np
 
 from poissonkit.errors import InputError, UnknownNameError
 from poissonkit.numerics.fields.base import CompiledField, FieldRequest
-from poissonkit.numerics.fields.tabulated import DEFAULT_TOL, field_region, tabulated_field
+from poissonkit.numerics.fields.tabulated import (
+    DEFAULT_TOL,
+    field_region,
+    tabulated_field,
+)
 from poissonkit.plugin.contributions import ExternalField, Param
 from poissonkit_magnets.exact_sources import EXACT_MAGNET, split_sources
 
@@ -197,7 +201,7 @@ class _Sum:
         self.sources = sources
         self.position = sources[0].position
 
-    def getB(self, points: np.ndarray) -> np.ndarray:  # noqa: N802 (magpylib's name)
+    def getB(self, points: np.ndarray) -> np.ndarray:
         return sum(np.asarray(s.getB(points), dtype=float).reshape(-1, 3)
                    for s in self.sources)
 

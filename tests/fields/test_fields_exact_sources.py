@@ -5,12 +5,14 @@ scene (a top 3 cm over a magpylib Cylinder, no region, no tolerance) pushed up."
 
 from __future__ import annotations
 
+import itertools
 import json
 
 import magpylib as magpy
 import numba
 import numpy as np
 import pytest
+from poissonkit_magnets.exact_sources import EXACT_MAGNET, evaluate, split_sources
 from scipy.spatial.transform import Rotation
 
 import poissonkit as pk
@@ -18,7 +20,6 @@ from poissonkit.cli import main as cli_main
 from poissonkit.errors import InputError
 from poissonkit.numerics.fields import CompiledField
 from poissonkit.numerics.nbody import Body, NBodySystem
-from poissonkit_magnets.exact_sources import EXACT_MAGNET, evaluate, split_sources
 
 MU0 = 4e-7 * np.pi
 ROT = Rotation.from_rotvec([0.3, -0.5, 0.9])
@@ -113,7 +114,7 @@ def _polyline_mp(src, p):
         loc = [sum(R[k][i] * d[k] for k in range(3)) for i in range(3)]
         verts = [[mp.mpf(float(x)) for x in v] for v in src.vertices]
         tot = [mp.mpf(0)] * 3
-        for A, B in zip(verts[:-1], verts[1:]):
+        for A, B in itertools.pairwise(verts):
             a = [A[i] - loc[i] for i in range(3)]
             b = [B[i] - loc[i] for i in range(3)]
             al = mp.sqrt(sum(x * x for x in a))
