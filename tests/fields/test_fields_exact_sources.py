@@ -93,12 +93,12 @@ def _special_points(name, rng, n):
 
 def sample(name, rng, n):
     """``n`` global points: a third in a box of ±3 L (inside magnets too), a third at
-    special places, the rest far away (5 to 15 L)."""
+    special places, the rest far away (5 to 30 L)."""
     k = n // 3
     box = rng.uniform(-3 * L, 3 * L, (k, 3))
     special = _special_points(name, rng, k)
     u = rng.normal(size=(n - 2 * k, 3))
-    far = u / np.linalg.norm(u, axis=1)[:, None] * rng.uniform(5 * L, 15 * L, (n - 2 * k, 1))
+    far = u / np.linalg.norm(u, axis=1)[:, None] * rng.uniform(5 * L, 30 * L, (n - 2 * k, 1))
     local = np.vstack([box, special, far])
     return ROT.apply(local) + POS
 
@@ -188,10 +188,10 @@ def _check_b(name, n, seed):
             assert np.linalg.norm(B[k] - exact) <= allowed[k]
         return
     if name in ("CylinderDiametral", "CylinderTilted"):
-        # magpylib's own diametral field keeps ~9 digits near the axis (its truncated series
-        # below ρ = 0.05 a): quadrature decides there
-        local = ROT.inv().apply(pts - POS)
-        assert np.all(np.hypot(local[bad, 0], local[bad, 1]) < 0.05 * L)
+        # magpylib's own transverse-cylinder field loses digits near the axis (its truncated
+        # series below ρ = 0.05 a) and far along it (its closed form cancels as z⁵):
+        # quadrature decides there
+        assert bad.mean() < 0.01
         axial = magpy.magnet.Cylinder(polarization=(0, 0, src.polarization[2]),
                                       dimension=src.dimension, position=POS, orientation=ROT)
         for k in np.where(bad)[0]:
