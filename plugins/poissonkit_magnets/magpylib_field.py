@@ -13,7 +13,7 @@ evaluated) and its own keywords, SI as in magpylib::
 From Python, ``pk.field(source)`` takes any magpylib source or ``Collection``.
 
 The classes with a closed form in :mod:`poissonkit_magnets.exact_sources` (``Dipole``,
-``Sphere``, ``Circle``, ``Polyline``, ``Cuboid``, ``Cylinder`` with an axial polarisation) are
+``Sphere``, ``Circle``, ``Polyline``, ``Cuboid``, ``Cylinder`` with any polarisation) are
 evaluated exactly by compiled kernels: no region, no tolerance, no set-up. Any other source is
 tabulated once over the region the bodies need and interpolated in compiled code
 (:mod:`poissonkit.numerics.fields.tabulated`), on a grid chosen from ``tol``; the measured
@@ -176,7 +176,7 @@ def _build(params: Mapping[str, Any], request: FieldRequest, source: Any = None
     if rest and mode == "exact":
         names = sorted({type(r).__name__ for r in rest})
         raise InputError(f"magpylib: no exact kernel for {', '.join(names)} (exact kernels: "
-                         "Dipole, Sphere, Circle, Polyline, Cuboid, axial Cylinder); use "
+                         "Dipole, Sphere, Circle, Polyline, Cuboid, Cylinder); use "
                          "mode = 'auto' to tabulate them")
     if P is None:
         return _cached(params, request, source, described, declared)
@@ -227,7 +227,7 @@ def _cached(params: Mapping[str, Any], request: FieldRequest, source: Any,
 MAGPYLIB = ExternalField(
     name="magpylib",
     doc="Field of any magpylib source (magnets, coils, polylines, collections): exact compiled "
-        "kernels for Dipole, Sphere, Circle, Polyline, Cuboid and axial Cylinder, other "
+        "kernels for Dipole, Sphere, Circle, Polyline, Cuboid and Cylinder, other "
         "sources tabulated over the region the scene needs to the tolerance tol: "
         "U = -mu nu.B on bodies with a moment.",
     params=(
