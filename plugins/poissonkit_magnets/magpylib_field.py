@@ -10,10 +10,17 @@ evaluated) and its own keywords, SI as in magpylib::
     position = [0.0, 0.0, 0.0]
     orientation = [0.0, 0.0, 0.0]   # rotation vector [rad], optional
 
-From Python, ``pk.field(source)`` takes any magpylib source or ``Collection``. The field ``B``
-is tabulated once over the region the bodies need and interpolated in compiled code
+From Python, ``pk.field(source)`` takes any magpylib source or ``Collection``.
+
+The classes with a closed form in :mod:`poissonkit_magnets.exact_sources` (``Dipole``,
+``Sphere``, ``Circle``, ``Polyline``, ``Cuboid``, ``Cylinder`` with any polarisation) are
+evaluated exactly by compiled kernels: no region, no tolerance, no set-up. Any other source is
+tabulated once over the region the bodies need and interpolated in compiled code
 (:mod:`poissonkit.numerics.fields.tabulated`), on a grid chosen from ``tol``; the measured
-interpolation error against magpylib is in the field's ``info``.
+interpolation error against magpylib is in the field's ``info``. A ``Collection`` mixing both
+is the exact sum of its supported sources plus a table of the others. ``mode = "table"``
+tabulates everything (the behaviour before exact kernels), ``mode = "exact"`` refuses a source
+without a kernel.
 """
 
 from __future__ import annotations
@@ -26,8 +33,13 @@ import numpy as np
 
 from poissonkit.errors import InputError, UnknownNameError
 from poissonkit.numerics.fields.base import CompiledField, FieldRequest
-from poissonkit.numerics.fields.tabulated import DEFAULT_TOL, field_region, tabulated_field
+from poissonkit.numerics.fields.tabulated import (
+    DEFAULT_TOL,
+    field_region,
+    tabulated_field,
+)
 from poissonkit.plugin.contributions import ExternalField, Param
+from poissonkit_magnets.exact_sources import EXACT_MAGNET, split_sources
 
 #: magpylib source classes a scene may name: class name -> (subpackage, attribute).
 SOURCE_CLASSES: dict[str, tuple[str, str]] = {
@@ -129,49 +141,95 @@ def field_of(source: Any) -> Any:
 #: per point): key -> field. Bounded, oldest dropped first.
 _TABLES: dict[str, CompiledField] = {}
 _MAX_TABLES = 8
+#: How a source is evaluated: exact kernels where they exist (else a table), only tables, or
+#: only exact kernels.
+MODES = ("auto", "table", "exact")
 
 
-def _build(params: Mapping[str, Any], request: FieldRequest, source: Any = None
-           ) -> CompiledField:
-    if source is None:
-        tol = float(params.get("tol", request.tol or DEFAULT_TOL))
-        centre = np.asarray(params.get("position", (0.0, 0.0, 0.0)), dtype=float)
-        lo, hi = field_region(request, params.get("region"), centre, "magpylib")
-        key = repr((sorted((k, repr(v)) for k, v in params.items()), tol, lo.tolist(),
-                    hi.tolist()))
-        if key not in _TABLES:
-            if len(_TABLES) >= _MAX_TABLES:
-                _TABLES.pop(next(iter(_TABLES)))
-            _TABLES[key] = _tabulate(params, request, None)
-        return _TABLES[key]
-    return _tabulate(params, request, source)
-
-
-def _tabulate(params: Mapping[str, Any], request: FieldRequest, source: Any
-              ) -> CompiledField:
+def _declared(params: Mapping[str, Any], source: Any) -> tuple[Any, dict[str, Any]]:
+    """The magpylib source of a field and what a report says it was built from."""
     if source is None:
         if "class" not in params:
             raise InputError("magpylib: give class (one of "
                              f"{', '.join(SOURCE_CLASSES)}) and its params")
         source = make_source(params["class"], params.get("params", {}),
                              params.get("position", (0.0, 0.0, 0.0)), params.get("orientation"))
-        described = {"class": params["class"], "params": dict(params.get("params", {}))}
-    else:
-        if "class" in params or "params" in params:
-            raise InputError("magpylib: a source object is given; class and params describe "
-                             "one in a scene file, do not give both")
-        described = {"class": type(source).__name__}
+        return source, {"class": params["class"], "params": dict(params.get("params", {}))}
+    if "class" in params or "params" in params:
+        raise InputError("magpylib: a source object is given; class and params describe "
+                         "one in a scene file, do not give both")
+    return source, {"class": type(source).__name__}
+
+
+def _build(params: Mapping[str, Any], request: FieldRequest, source: Any = None
+           ) -> CompiledField:
+    mode = params.get("mode", "auto")
+    if mode not in MODES:
+        raise UnknownNameError("magpylib field mode", mode, MODES)
+    declared = source is None
+    source, described = _declared(params, source)
+    centre = np.asarray(source.position, dtype=float).reshape(-1, 3)[-1]
+    described["source_position_m"] = centre.tolist()
+    if mode == "table":
+        return _cached(params, request, source, described, declared)
+    P, rest, classes = split_sources(source)
+    if rest and mode == "exact":
+        names = sorted({type(r).__name__ for r in rest})
+        raise InputError(f"magpylib: no exact kernel for {', '.join(names)} (exact kernels: "
+                         "Dipole, Sphere, Circle, Polyline, Cuboid, Cylinder); use "
+                         "mode = 'auto' to tabulate them")
+    if P is None:
+        return _cached(params, request, source, described, declared)
+    info = {**described, "exact": True, "exact_sources": classes}
+    unused = [k for k in ("tol", "region") if k in params]
+    if not rest:
+        if unused:
+            info["unused"] = unused  # an exact field has no table to tune
+        return CompiledField("magpylib", EXACT_MAGNET, P, reads="moment", orientation=True,
+                             info=info)
+    from poissonkit_magnets.exact_mixed import mixed_field
+
+    table = _cached(params, request, _Sum(rest), {"class": "Collection"}, declared)
+    return mixed_field(P, table, {**info, "tabulated_sources":
+                                  [type(r).__name__ for r in rest]})
+
+
+class _Sum:
+    """The sources a table covers (those of a collection without an exact kernel)."""
+
+    def __init__(self, sources: list[Any]) -> None:
+        self.sources = sources
+        self.position = sources[0].position
+
+    def getB(self, points: np.ndarray) -> np.ndarray:
+        return sum(np.asarray(s.getB(points), dtype=float).reshape(-1, 3)
+                   for s in self.sources)
+
+
+def _cached(params: Mapping[str, Any], request: FieldRequest, source: Any,
+            described: Mapping[str, Any], declared: bool) -> CompiledField:
+    """A table of ``source`` (reused for a source declared in a scene)."""
     tol = float(params.get("tol", request.tol or DEFAULT_TOL))
     centre = np.asarray(source.position, dtype=float).reshape(-1, 3)[-1]
     lo, hi = field_region(request, params.get("region"), centre, "magpylib")
-    return tabulated_field("magpylib", field_of(source), lo, hi, tol,
-                           info={**described, "source_position_m": centre.tolist()})
+    if not declared:
+        return tabulated_field("magpylib", field_of(source), lo, hi, tol, info=described)
+    key = repr((sorted((k, repr(v)) for k, v in params.items()), tol, lo.tolist(),
+                hi.tolist(), described.get("class")))
+    if key not in _TABLES:
+        if len(_TABLES) >= _MAX_TABLES:
+            _TABLES.pop(next(iter(_TABLES)))
+        _TABLES[key] = tabulated_field("magpylib", field_of(source), lo, hi, tol,
+                                       info=described)
+    return _TABLES[key]
 
 
 MAGPYLIB = ExternalField(
     name="magpylib",
-    doc="Field of any magpylib source (magnets, coils, polylines, collections), tabulated over "
-        "the region the scene needs to the tolerance tol: U = -mu nu.B on bodies with a moment.",
+    doc="Field of any magpylib source (magnets, coils, polylines, collections): exact compiled "
+        "kernels for Dipole, Sphere, Circle, Polyline, Cuboid and Cylinder, other "
+        "sources tabulated over the region the scene needs to the tolerance tol: "
+        "U = -mu nu.B on bodies with a moment.",
     params=(
         Param("class", "str", "magpylib source class (Cylinder, Cuboid, Circle, Polyline, ...)",
               optional=True),
@@ -182,5 +240,7 @@ MAGPYLIB = ExternalField(
               positive=True, optional=True),
         Param("region", "vector", "box to tabulate [xmin, ymin, zmin, xmax, ymax, zmax] [m] "
               "(default: the bodies' initial positions, padded)", unit="m", optional=True),
+        Param("mode", "str", "auto (exact kernels where they exist, else a table), table or "
+              "exact", "auto"),
     ),
     reads="moment", orientation=True, build=_build, accepts=is_source, tables=("params",))
