@@ -27,7 +27,9 @@ def collection_run() -> None:
     base = magpy.Collection(
         magpy.magnet.Cylinder(polarization=(0, 0, 1.0), dimension=(0.05, 0.01)),
         magpy.current.Circle(current=50.0, diameter=0.04, position=(0, 0, 0.005)))
-    field = pk.field(base, tol=1e-5, region=(-0.01, -0.01, 0.025, 0.01, 0.01, 0.045)).compile()
+    # mode="table": tabulated, to show the interpolation error (the default is exact)
+    field = pk.field(base, tol=1e-5, region=(-0.01, -0.01, 0.025, 0.01, 0.01, 0.045),
+                     mode="table").compile()
     system = NBodySystem([top(0.1)], fields=[field, GRAVITY])
     y0 = system.pack([[0.001, 0.0, 0.036]], [[0.0005, 0.0, 0.0]], [[0.05, 0.0, -1.0]],
                      [[0.0, 0.0, -2e-4]], normalize=True)
@@ -43,7 +45,8 @@ def loop_runs() -> None:
     loop = dict(current=1500.0, radius=0.03)
     exact = NBodySystem([top(0.05)], fields=[pk.field("current_loop", **loop), GRAVITY])
     circle = magpy.current.Circle(current=loop["current"], diameter=2 * loop["radius"])
-    table = pk.field(circle, tol=1e-6, region=(-0.006, -0.006, 0.008, 0.006, 0.006, 0.022))
+    table = pk.field(circle, tol=1e-6, region=(-0.006, -0.006, 0.008, 0.006, 0.006, 0.022),
+                     mode="table")
     tabulated = NBodySystem([top(0.05)], fields=[table, GRAVITY])
     y0 = exact.pack([[0.001, 0.0005, 0.015]], [[0.0004, 0.0, 0.0]], [[0.05, 0.0, -1.0]],
                     [[0.0, 0.0, -2e-4]], normalize=True)

@@ -25,4 +25,4 @@ def tabulated_cylinder():
     import poissonkit as pk
 
     return pk.field("magpylib", **{"class": "Cylinder", "params": CYLINDER}, tol=TOL,
-                    region=REGION).compile()
+                    region=REGION, mode="table").compile()

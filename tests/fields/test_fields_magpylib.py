@@ -45,8 +45,10 @@ def test_force_and_torque_agree_with_magpylib_to_the_tolerance(tabulated_cylinde
 
 def test_a_tighter_tolerance_refines_the_grid_and_meets_it():
     src = magpy.current.Circle(current=500.0, diameter=0.06)
-    coarse = pk.field(src, tol=1e-2, region=(-0.01, -0.01, 0.02, 0.01, 0.01, 0.04)).compile()
-    fine = pk.field(src, tol=1e-4, region=(-0.01, -0.01, 0.02, 0.01, 0.01, 0.04)).compile()
+    coarse = pk.field(src, tol=1e-2, region=(-0.01, -0.01, 0.02, 0.01, 0.01, 0.04),
+                      mode="table").compile()
+    fine = pk.field(src, tol=1e-4, region=(-0.01, -0.01, 0.02, 0.01, 0.01, 0.04),
+                    mode="table").compile()
     assert fine.info["nodes"] > coarse.info["nodes"]
     assert fine.info["gradient_error"] <= 1e-4 < coarse.info["gradient_error"]
     # the error measured on the table is honest: check it independently at fresh points
@@ -70,7 +72,7 @@ def test_a_collection_passed_from_python_is_summed():
 def test_the_default_region_covers_the_bodies():
     f = pk.field("magpylib", **{"class": "Circle", "params": {"current": 100.0,
                                                                "diameter": 0.05}},
-                 tol=1e-3).compile(FieldRequest(np.array([[0.0, 0.0, 0.04]])))
+                 tol=1e-3, mode="table").compile(FieldRequest(np.array([[0.0, 0.0, 0.04]])))
     lo, hi = (np.array(v) for v in f.info["region_m"])
     assert np.all(lo < [0, 0, 0.04]) and np.all(hi > [0, 0, 0.04])
 
@@ -94,4 +96,5 @@ def test_bad_declarations_are_typed_errors(params, error, words):
 
 def test_a_tabulated_field_without_bodies_or_region_says_what_to_give():
     with pytest.raises(InputError, match="region"):
-        pk.field("magpylib", **{"class": "Cylinder", "params": CYLINDER}).compile()
+        pk.field("magpylib", **{"class": "Cylinder", "params": CYLINDER},
+                 mode="table").compile()

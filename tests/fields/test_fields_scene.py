@@ -35,6 +35,7 @@ class = "Cylinder"
 params = { polarization = [0.0, 0.0, 1.0], dimension = [0.05, 0.01] }
 position = [0.0, 0.0, 0.0]
 orientation = [0.0, 0.0, 0.0]
+mode = "table"
 tol = 1e-4
 region = [-0.01, -0.01, 0.025, 0.01, 0.01, 0.045]
 
