@@ -36,7 +36,6 @@ _BEING_SPLIT = {
     "poissonkit/numerics/solver.py",  # solve: 153
     "poissonkit/scene/schema.py",  # _scene_from_mapping: 121
     "poissonkit/structure/hamiltonize.py",  # 670 lines; hamiltonize: 167
-    "poissonkit/structure/jacobi.py",  # 615 lines
     "poissonkit/structure/poisson_map.py",  # push_forward: 104
     "poissonkit/structure/randompoints.py",  # 603 lines
     "poissonkit/structure/verification/engine.py",  # verify: 145
