@@ -37,7 +37,6 @@ _BEING_SPLIT = {
     "poissonkit/scene/schema.py",  # _scene_from_mapping: 121
     "poissonkit/structure/hamiltonize.py",  # 670 lines; hamiltonize: 167
     "poissonkit/structure/poisson_map.py",  # push_forward: 104
-    "poissonkit/structure/randompoints.py",  # 603 lines
     "poissonkit/structure/verification/engine.py",  # verify: 145
     "poissonkit/sweeps/api.py",  # sweep: 134
 }
