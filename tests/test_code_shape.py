@@ -34,7 +34,6 @@ _BEING_SPLIT = {
     "poissonkit/numerics/integrators/driver.py",  # drive: 181 (a typed problem instead)
     "poissonkit/numerics/integrators/wisdom_holman.py",  # 945 lines (becomes a package)
     "poissonkit/numerics/solver.py",  # solve: 153
-    "poissonkit/sweeps/api.py",  # sweep: 134
 }
 
 
