@@ -231,6 +231,24 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
     elif tol is not None:
         raise InputError("tol is only used with model='auto'")
     entry = potential(model)
+    resolved = _resolved_params(entry, model, given, read)
+    estimate = _estimate(families, model, dist, body1, body2)
+    _check_poles(resolved, model, rvec, n1, n2, dist)
+    u, force, torque1, torque2 = _loads(entry, resolved, model, rvec, n1, n2, dist)
+    return PairInteraction(model=model, energy=float(u), force=force, torque1=torque1,
+                           torque2=torque2, estimated_error=estimate)
+
+
+def _resolved_params(entry: PairPotential, model: str, given: Mapping[str, object],
+                     read: set[str]) -> dict[str, object]:
+    """The potential's resolved parameters from ``given`` (per-body quantities completed by the
+    potential; those only a model family reads are dropped).
+
+    Raises
+    ------
+    UnknownNameError
+        A parameter that neither the potential nor its family knows.
+    """
     needed = [p.name for p in entry.params]
     known = set(needed) | read | {q + i for q in entry.body_quantities for i in ("1", "2")}
     unknown = sorted(set(given) - known)
@@ -238,14 +256,31 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
         raise UnknownNameError(f"parameter of {model!r}", unknown[0], needed)
     completed = given if entry.complete_params is None else entry.complete_params(given)
     completed = {k: v for k, v in completed.items() if k in needed or k not in read}
-    resolved = entry.resolve_params(completed)
-    estimate = _estimate(families, model, dist, body1, body2)
+    return entry.resolve_params(completed)
+
+
+def _check_poles(resolved: Mapping[str, object], model: str, rvec: np.ndarray, n1: np.ndarray,
+                 n2: np.ndarray, dist: float) -> None:
+    """Refuse dumbbells (``half_length1/2``) with two coinciding poles (:class:`OverlapError`)."""
     if "half_length1" in resolved and "half_length2" in resolved:
         l1, l2 = float(resolved["half_length1"]), float(resolved["half_length2"])
         gaps = [np.linalg.norm(rvec + s2 * l2 * n2 - s1 * l1 * n1)
                 for s1 in (1, -1) for s2 in (1, -1)]
         if min(gaps) <= 1e-9 * (dist + l1 + l2):
             raise OverlapError(f"{model}: two poles coincide (r = {dist:.6g} m)")
+
+
+def _loads(entry: PairPotential, resolved: Mapping[str, object], model: str, rvec: np.ndarray,
+           n1: np.ndarray, n2: np.ndarray, dist: float
+           ) -> tuple[float, np.ndarray, np.ndarray, np.ndarray]:
+    """``(energy, force on body 2, torque on body 1, torque on body 2)`` from the potential's
+    partial derivatives in ``r`` and the three cosines (read-only arrays).
+
+    Raises
+    ------
+    InputError
+        The potential is singular or not finite at this configuration.
+    """
     e = rvec / dist
     c1, c2, c3 = float(e @ n1), float(e @ n2), float(n1 @ n2)
     try:
@@ -263,8 +298,7 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
     torque1 = u1 * np.cross(e, n1) + u3 * np.cross(n2, n1)
     for arr in (force, torque1, torque2):
         arr.setflags(write=False)
-    return PairInteraction(model=model, energy=float(u), force=force, torque1=torque1,
-                           torque2=torque2, estimated_error=estimate)
+    return u, force, torque1, torque2
 
 
 def _family_for(families: Sequence[ModelFamily], body1: Mapping[str, object],

@@ -28,19 +28,10 @@ MAX_FUNCTION_LINES = 100
 
 #: Files over a limit whose split is in progress (paths relative to the repository root).
 _BEING_SPLIT = {
-    "plugins/poissonkit_nonholonomic/verify.py",  # verify_system: 132 lines
-    "poissonkit/interaction.py",  # pair_interaction: 120 (the magnet calculator moves)
     "poissonkit/numerics/builtin.py",  # poissonkit_integrators: 102 (one entry per integrator)
     "poissonkit/numerics/integrators/driver.py",  # drive: 181 (a typed problem instead)
     "poissonkit/numerics/integrators/wisdom_holman.py",  # 945 lines (becomes a package)
     "poissonkit/numerics/solver.py",  # solve: 153
-    "poissonkit/scene/schema.py",  # _scene_from_mapping: 121
-    "poissonkit/structure/hamiltonize.py",  # 670 lines; hamiltonize: 167
-    "poissonkit/structure/jacobi.py",  # 615 lines
-    "poissonkit/structure/poisson_map.py",  # push_forward: 104
-    "poissonkit/structure/randompoints.py",  # 603 lines
-    "poissonkit/structure/verification/engine.py",  # verify: 145
-    "poissonkit/sweeps/api.py",  # sweep: 134
 }
 
 

@@ -210,23 +210,9 @@ def verify_system(system: HamiltonianSystem, *, mode: str = "auto", points: int 
         raise InputError(f"mode must be 'auto', 'exact' or 'random', got {mode!r}")
     t_start = time.perf_counter()
     coords = system.coords
-    n = len(coords)
     P = system.structure
-    M = P.matrix
-    H, N = sp.sympify(system.hamiltonian), sp.sympify(system.multiplier)
-    pieces = [H, N, *system.casimirs.values(), *system.integrals.values(), *M]
-    if system.measure is not None:
-        pieces.append(system.measure)
-    if system.original is not None:
-        pieces.extend(system.original.values())
-    has_f = has_undefined_functions(pieces)
-    if mode == "random" and has_f:
-        raise InputError("random mode cannot evaluate undefined functions; use mode='exact'")
-    if mode == "auto":
-        size = sum(sp.count_ops(e) for e in M if e != 0) + sp.count_ops(H) + sp.count_ops(N)
-        use = "random" if not has_f and size > AUTO_EXACT_OPS else "exact"
-    else:
-        use = mode
+    H = sp.sympify(system.hamiltonian)
+    use, has_f = _method(system, mode)
     constraints = tuple(system.constraints)
 
     checks: list[dict[str, Any]] = []
@@ -242,40 +228,87 @@ def verify_system(system: HamiltonianSystem, *, mode: str = "auto", points: int 
     inv = [k for k, F in funcs.items() if k != "H" and not _proportional(F, H, coords, has_f)]
     pairs = list(itertools.combinations([*inv, "H"], 2))
     if use == "exact":
-        X = dict(zip(coords, system.vector_field()))
-        for name, F in system.integrals.items():
-            checks.append(_core_check(
-                f"first integral {name}: X(F) = 0",
-                lambda cons, F=F: is_first_integral(X, F, constraints=cons, coords=coords),
-                constraints))
-        for a, b in pairs:
-            na, nb = _label(a), _label(b)
-            checks.append(_core_check(
-                f"involution {{{na}, {nb}}} = 0",
-                lambda cons, a=a, b=b: in_involution(P, [funcs[a], funcs[b]], constraints=cons),
-                constraints))
-        if system.original is not None:
-            checks.append(_core_check(
-                "X = N P dH reproduces the original equations of motion",
-                lambda cons: is_conformally_hamiltonian(system.original, P, H, N,
-                                                        constraints=cons),
-                constraints))
-        if system.measure is not None:
-            checks.append(_core_check(
-                f"invariant measure rho = {_short(system.measure)}: div(rho X) = 0",
-                lambda cons: is_invariant_measure(X, system.measure, constraints=cons,
-                                                  coords=coords),
-                constraints))
+        checks.extend(_exact_field_checks(system, pairs, funcs, constraints))
     else:
         checks.extend(_random_field_checks(system, pairs, funcs, points, seed))
     if extra:
-        from poissonkit_nonholonomic.claims import CLAIMS
+        checks.extend(_extra_checks(system))
+    return _report(system, use, checks, t_start)
 
-        for claim in CLAIMS.get(system.name, ()):
-            t0 = time.perf_counter()
-            ok, detail, method = claim(system)
-            checks.append(_result(claim.__doc__.strip().splitlines()[0], ok, method,
-                                  time.perf_counter() - t0, detail))
+
+def _method(system: HamiltonianSystem, mode: str) -> tuple[str, bool]:
+    """``(method used, whether undefined functions occur)`` for ``mode``: ``"auto"`` picks
+    the random method for large systems free of undefined functions."""
+    M = system.structure.matrix
+    H, N = sp.sympify(system.hamiltonian), sp.sympify(system.multiplier)
+    pieces = [H, N, *system.casimirs.values(), *system.integrals.values(), *M]
+    if system.measure is not None:
+        pieces.append(system.measure)
+    if system.original is not None:
+        pieces.extend(system.original.values())
+    has_f = has_undefined_functions(pieces)
+    if mode == "random" and has_f:
+        raise InputError("random mode cannot evaluate undefined functions; use mode='exact'")
+    if mode == "auto":
+        size = sum(sp.count_ops(e) for e in M if e != 0) + sp.count_ops(H) + sp.count_ops(N)
+        return ("random" if not has_f and size > AUTO_EXACT_OPS else "exact"), has_f
+    return mode, has_f
+
+
+def _exact_field_checks(system: HamiltonianSystem, pairs, funcs: Mapping[Any, sp.Expr],
+                        constraints: tuple[sp.Expr, ...]) -> list[dict[str, Any]]:
+    """Integrals, involution, equations and measure proved exactly (on the constraint set
+    where the system has one, see :func:`_core_check`)."""
+    coords = system.coords
+    P = system.structure
+    H, N = sp.sympify(system.hamiltonian), sp.sympify(system.multiplier)
+    checks: list[dict[str, Any]] = []
+    X = dict(zip(coords, system.vector_field()))
+    for name, F in system.integrals.items():
+        checks.append(_core_check(
+            f"first integral {name}: X(F) = 0",
+            lambda cons, F=F: is_first_integral(X, F, constraints=cons, coords=coords),
+            constraints))
+    for a, b in pairs:
+        na, nb = _label(a), _label(b)
+        checks.append(_core_check(
+            f"involution {{{na}, {nb}}} = 0",
+            lambda cons, a=a, b=b: in_involution(P, [funcs[a], funcs[b]], constraints=cons),
+            constraints))
+    if system.original is not None:
+        checks.append(_core_check(
+            "X = N P dH reproduces the original equations of motion",
+            lambda cons: is_conformally_hamiltonian(system.original, P, H, N,
+                                                    constraints=cons),
+            constraints))
+    if system.measure is not None:
+        checks.append(_core_check(
+            f"invariant measure rho = {_short(system.measure)}: div(rho X) = 0",
+            lambda cons: is_invariant_measure(X, system.measure, constraints=cons,
+                                              coords=coords),
+            constraints))
+    return checks
+
+
+def _extra_checks(system: HamiltonianSystem) -> list[dict[str, Any]]:
+    """The system-specific claims of :mod:`poissonkit_nonholonomic.claims`."""
+    from poissonkit_nonholonomic.claims import CLAIMS
+
+    checks: list[dict[str, Any]] = []
+    for claim in CLAIMS.get(system.name, ()):
+        t0 = time.perf_counter()
+        ok, detail, method = claim(system)
+        checks.append(_result(claim.__doc__.strip().splitlines()[0], ok, method,
+                              time.perf_counter() - t0, detail))
+    return checks
+
+
+def _report(system: HamiltonianSystem, use: str, checks: list[dict[str, Any]],
+            t_start: float) -> dict[str, Any]:
+    """The JSON-able report of :func:`verify_system` (see its Returns)."""
+    coords = system.coords
+    n = len(coords)
+    M = system.structure.matrix
     brackets = {f"{{{coords[i]},{coords[j]}}}": _short(M[i, j])
                 for i in range(n) for j in range(i + 1, n) if M[i, j] != 0}
     equations = {}

@@ -380,46 +380,87 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
     assembly = None
     overrides: dict[str, Any] = {}
     if "bodies" in data:
-        raw = data["bodies"]
-        if not isinstance(raw, list) or not raw:
-            raise SceneError("bodies: must be a non-empty array of tables ([[bodies]])")
-        check_size(len(raw), _pair_count(raw, data), "bodies")
-        bodies = tuple(_body(b, defaults, f"bodies[{k}]") for k, b in enumerate(raw))
-        seen: dict[str, int] = {}
-        for k, b in enumerate(bodies):
-            b.setdefault("name", f"b{k}")
-            if b["name"] in seen:
-                raise SceneError(f"bodies[{k}].name: {b['name']!r} is already used by "
-                                 f"bodies[{seen[b['name']]}]")
-            seen[b["name"]] = k
+        bodies = _bodies(data, defaults)
     else:
-        table = _table(data["assembly"], "assembly")
-        _keys(table, ASSEMBLY_KEYS, "assembly")
-        aname = _string(table.get("name"), "assembly.name")
-        entry = _lookup("assembly", aname, "assembly.name")
-        aparams = _params(table.get("params", {}), "assembly.params")
-        try:
-            resolved = entry.resolve_params(aparams)
-        except PoissonkitError as exc:
-            raise SceneError(f"assembly.params: {exc}") from None
-        except ArithmeticError as exc:  # n = 10**400: beyond float range
-            raise SceneError(f"assembly.params: a value is out of range ({exc})") from None
-        size = 1
-        for key in _COUNT_PARAMS:
-            value = resolved.get(key)
-            if isinstance(value, int) and not isinstance(value, bool) and value > 0:
-                size *= value
-        if size > MAX_COUNT:  # beyond any memory, and beyond float range in the estimate
-            raise SceneError(f"assembly.params: {len(str(size))}-digit body count, more than "
-                             f"{MAX_COUNT:.0e} bodies")
-        check_size(size, held_pairs(size, data, assembly=resolved), "assembly.params")
-        assembly = (aname, aparams)
-        overrides = dict(_table(table.get("overrides", {}), "assembly.overrides"))
-        _body_keys(overrides, "assembly.overrides")
-        for key in list(overrides):
-            if key not in BODY_KEYS:
-                overrides[key] = _attribute(overrides[key], f"assembly.overrides.{key}")
+        assembly, overrides = _assembly(data)
+    potential, pot_params, mode, cutoff, pairs = _interactions(data, bodies, assembly)
+    if "run" not in data:
+        raise SceneError("run: missing ([run] with at least duration)")
+    run = _run(data["run"])
+    planner = _planner(data["planner"]) if "planner" in data else None
+    if planner is not None and "fields" in data:  # re-planned runs rebuild the pair system
+        raise SceneError("fields: [[fields]] with a [planner] is not supported yet; drop one")
+    scene = Scene(name=name, description=description, bodies=bodies, assembly=assembly,
+                  assembly_overrides=overrides, potential=potential, potential_params=pot_params,
+                  pairs_mode=mode, pairs=pairs, cutoff=cutoff, run=run, planner=planner,
+                  source=source, fields=_fields(data["fields"]) if "fields" in data else ())
+    if bodies:
+        check_overlaps(bodies, "bodies")
+    else:
+        from poissonkit.scene.build import scene_graph
 
+        try:
+            graph = scene_graph(scene, edges=False)
+        except (OverflowError, ZeroDivisionError):  # body_radius = 1e300 or 1e-320: the
+            # volume overflows or underflows to zero
+            raise SceneError("assembly.params: a size or moment is out of range") from None
+        check_overlaps([graph.nodes[n] for n in graph.nodes], "assembly")
+    return scene
+
+
+def _bodies(data: Mapping[str, Any], defaults: Mapping[str, Any]) -> tuple[dict[str, Any], ...]:
+    """The ``[[bodies]]`` tables, completed by ``defaults``, each with a unique name."""
+    raw = data["bodies"]
+    if not isinstance(raw, list) or not raw:
+        raise SceneError("bodies: must be a non-empty array of tables ([[bodies]])")
+    check_size(len(raw), _pair_count(raw, data), "bodies")
+    bodies = tuple(_body(b, defaults, f"bodies[{k}]") for k, b in enumerate(raw))
+    seen: dict[str, int] = {}
+    for k, b in enumerate(bodies):
+        b.setdefault("name", f"b{k}")
+        if b["name"] in seen:
+            raise SceneError(f"bodies[{k}].name: {b['name']!r} is already used by "
+                             f"bodies[{seen[b['name']]}]")
+        seen[b["name"]] = k
+    return bodies
+
+
+def _assembly(data: Mapping[str, Any]) -> tuple[tuple[str, dict[str, Any]], dict[str, Any]]:
+    """``((name, params), overrides)`` of the ``[assembly]`` table, its size checked."""
+    table = _table(data["assembly"], "assembly")
+    _keys(table, ASSEMBLY_KEYS, "assembly")
+    aname = _string(table.get("name"), "assembly.name")
+    entry = _lookup("assembly", aname, "assembly.name")
+    aparams = _params(table.get("params", {}), "assembly.params")
+    try:
+        resolved = entry.resolve_params(aparams)
+    except PoissonkitError as exc:
+        raise SceneError(f"assembly.params: {exc}") from None
+    except ArithmeticError as exc:  # n = 10**400: beyond float range
+        raise SceneError(f"assembly.params: a value is out of range ({exc})") from None
+    size = 1
+    for key in _COUNT_PARAMS:
+        value = resolved.get(key)
+        if isinstance(value, int) and not isinstance(value, bool) and value > 0:
+            size *= value
+    if size > MAX_COUNT:  # beyond any memory, and beyond float range in the estimate
+        raise SceneError(f"assembly.params: {len(str(size))}-digit body count, more than "
+                         f"{MAX_COUNT:.0e} bodies")
+    check_size(size, held_pairs(size, data, assembly=resolved), "assembly.params")
+    assembly = (aname, aparams)
+    overrides = dict(_table(table.get("overrides", {}), "assembly.overrides"))
+    _body_keys(overrides, "assembly.overrides")
+    for key in list(overrides):
+        if key not in BODY_KEYS:
+            overrides[key] = _attribute(overrides[key], f"assembly.overrides.{key}")
+    return assembly, overrides
+
+
+def _interactions(data: Mapping[str, Any], bodies: tuple[dict[str, Any], ...],
+                  assembly: tuple[str, dict[str, Any]] | None
+                  ) -> tuple[Any, dict[str, Any], Any, float | None, tuple[PairDecl, ...]]:
+    """``(potential, params, pairs mode, cutoff, listed pairs)`` of the ``[interactions]``
+    table (listed pairs name known bodies unless an assembly makes them)."""
     inter = _table(data.get("interactions", {}), "interactions")
     _keys(inter, INTERACTION_KEYS, "interactions")
     potential = inter.get("potential")
@@ -460,29 +501,7 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
         if not planner_given:
             raise SceneError("interactions.potential: missing (needed when pairs = 'all'; "
                              "or use pairs = 'listed' or a [planner])")
-
-    if "run" not in data:
-        raise SceneError("run: missing ([run] with at least duration)")
-    run = _run(data["run"])
-    planner = _planner(data["planner"]) if "planner" in data else None
-    if planner is not None and "fields" in data:  # re-planned runs rebuild the pair system
-        raise SceneError("fields: [[fields]] with a [planner] is not supported yet; drop one")
-    scene = Scene(name=name, description=description, bodies=bodies, assembly=assembly,
-                  assembly_overrides=overrides, potential=potential, potential_params=pot_params,
-                  pairs_mode=mode, pairs=tuple(pairs), cutoff=cutoff, run=run, planner=planner,
-                  source=source, fields=_fields(data["fields"]) if "fields" in data else ())
-    if bodies:
-        check_overlaps(bodies, "bodies")
-    else:
-        from poissonkit.scene.build import scene_graph
-
-        try:
-            graph = scene_graph(scene, edges=False)
-        except (OverflowError, ZeroDivisionError):  # body_radius = 1e300 or 1e-320: the
-            # volume overflows or underflows to zero
-            raise SceneError("assembly.params: a size or moment is out of range") from None
-        check_overlaps([graph.nodes[n] for n in graph.nodes], "assembly")
-    return scene
+    return potential, pot_params, mode, cutoff, tuple(pairs)
 
 
 def _pair_count(raw: list[Any], data: Mapping[str, Any]) -> int:

@@ -57,6 +57,7 @@ from poissonkit.structure._exact_linear import (
 )
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
+from poissonkit.structure.hamiltonize_ansatz import ansatz_columns, checked_ansatz
 from poissonkit.structure.hamiltonize_input import build_problem
 from poissonkit.structure.hamiltonize_problem import (
     Ansatz,
@@ -68,28 +69,9 @@ from poissonkit.structure.hamiltonize_span import casimir_combinations, impose_s
 
 #: Name stem of the free parameters of a solution family (``t1, t2, ...``).
 PARAMETER_STEM = "t"
-_POSITION_STEMS = ("gamma", "q", "nu")
 
 
 # ------------------------------------------------------------------------------ helpers
-def _default_split(coords: Sequence[sp.Symbol]) -> tuple[tuple, tuple]:
-    pos = tuple(c for c in coords if str(c).split(".")[-1].split("_")[0] in _POSITION_STEMS)
-    if not pos:
-        return tuple(coords), ()
-    return pos, tuple(c for c in coords if c not in pos)
-
-
-def _monomials(n: int, idx: Sequence[int], degree: int) -> list[tuple[int, ...]]:
-    out = []
-    for d in range(degree + 1):
-        for combo in itertools.combinations_with_replacement(idx, d):
-            e = [0] * n
-            for j in combo:
-                e[j] += 1
-            out.append(tuple(e))
-    return out
-
-
 def _has_radical(e: sp.Expr) -> bool:
     return any(isinstance(a, sp.Pow) and not a.exp.is_Integer for a in sp.preorder_traversal(e))
 
@@ -223,12 +205,11 @@ def hamiltonize(system=None, *, field=None, coords=None, params=None, hamiltonia
         :func:`~poissonkit.structure.parsing.declare_parameters` (``["a", "b"]``,
         ``{"k": {"positive": True}}``). The search then runs over ``QQ(parameters)``.
     integrals
-        First integrals ``I_k`` (a sequence, named ``I1, I2, ...``, or a mapping; with a
-        system also names of its integrals). Without ``hamiltonian``: ``H = sum c_k I_k`` is
-        searched with unknown constants ``c`` (see :mod:`~poissonkit.structure.hamiltonize_span`;
-        a negative answer covers every combination). With it: ``H`` is fixed and each found
-        bracket reports which combinations of the integrals are its Casimirs
-        (``res.integral_casimirs``).
+        First integrals ``I_k`` (a sequence, named ``I1, I2, ...``, or a mapping; with a system
+        also names of its integrals). Without ``hamiltonian``: ``H = sum c_k I_k`` is searched with
+        unknown constants ``c`` (see :mod:`~poissonkit.structure.hamiltonize_span`; a negative
+        answer covers every combination). With it: ``H`` is fixed and each found bracket reports
+        which combinations of the integrals are its Casimirs (``res.integral_casimirs``).
     measure
         Invariant-measure density ``rho`` of ``field`` (multiplier ``"auto"`` then uses it).
     name
@@ -286,34 +267,34 @@ def hamiltonize(system=None, *, field=None, coords=None, params=None, hamiltonia
     ...                      integrals=["x1**2 + x2**2", "x3**2"], degree=1)
     >>> res.found
     True
-    >>> from poissonkit.structure.hamiltonize import hamiltonize
-    >>> hamiltonize("nh.chaplygin_ball", degree=2).status  # doctest: +SKIP
+    >>> pk.hamiltonize("nh.chaplygin_ball", degree=2).status  # doctest: +SKIP
     'no_linear_solution'
-    >>> res = hamiltonize("nh.chaplygin_ball", degree=3)   # doctest: +SKIP
-    >>> res.found, res.parameters                          # doctest: +SKIP
+    >>> res = pk.hamiltonize("nh.chaplygin_ball", degree=3)   # doctest: +SKIP
+    >>> res.found, res.parameters                             # doctest: +SKIP
     (True, ())
     """
     t0 = time.perf_counter()
     problem, ints = build_problem(system, field=field, coords=coords, params=params,
                                   hamiltonian=hamiltonian, integrals=integrals,
                                   casimirs=casimirs, measure=measure, name=name)
+    return _search(problem, ints, t0, ansatz, multiplier, prefactor, degree, positions, momenta,
+                   momentum_terms, zero, max_jacobi_parameters)
+
+
+def _search(problem: HamiltonizationProblem, ints, t0: float, ansatz: Ansatz | None,
+            multiplier, prefactor, degree: int | None, positions: Sequence | None,
+            momenta: Sequence | None, momentum_terms: str, zero: Sequence,
+            max_jacobi_parameters: int) -> HamiltonizeResult:
+    """:func:`hamiltonize` on a built problem (``t0``: the start time of the call): the
+    multiplier and the ansatz, then steps 2 and 3 (linear conditions, then Jacobi)."""
+    N, s, how = _prefactor_and_multiplier(problem, multiplier, prefactor)
+    ansatz = checked_ansatz(problem, ansatz, multiplier, prefactor, degree, positions, momenta,
+                            momentum_terms, s, zero)
     coords = problem.coords
     span = problem.hamiltonian_span
-    N, s, how = _prefactor_and_multiplier(problem, multiplier, prefactor)
     poly_mult = isinstance(multiplier, tuple)
-    if poly_mult and span:
-        raise InputError("a polynomial multiplier ansatz and a Hamiltonian searched among "
-                         "integrals cannot be combined; fix one of them")
-    if ansatz is None:
-        ansatz = _build_ansatz(coords, positions, momenta, degree, momentum_terms, s, zero)
-    elif degree is not None or prefactor is not None:
-        raise InputError("give either an Ansatz or degree/prefactor, not both")
-    for c in ansatz.positions + ansatz.momenta:
-        if c not in coords:
-            raise InputError(f"Ansatz coordinate {c} is not a coordinate of the system")
-    if problem.hamiltonian is None and not span and not problem.casimir_forms():
-        raise InputError("nothing to search for: no Hamiltonian and no Casimirs given")
-    columns = _columns(ansatz, coords, multiplier[1] if poly_mult else None, max(1, len(span)))
+    columns = ansatz_columns(ansatz, coords, multiplier[1] if poly_mult else None,
+                             max(1, len(span)))
     t1 = time.perf_counter()
     system_ = _assemble(problem, ansatz.prefactor, N, columns, poly_mult)
     t2 = time.perf_counter()
@@ -372,46 +353,6 @@ def hamiltonize(system=None, *, field=None, coords=None, params=None, hamiltonia
     stats["jacobi_equations"] = out.pop("count")
     stats["seconds_jacobi"] = time.perf_counter() - t4
     return finish(status, multiplier=Nfam, family=family, **out)
-
-
-def _build_ansatz(coords, positions, momenta, degree, momentum_terms, s, zero) -> Ansatz:
-    """The :class:`Ansatz` from :func:`hamiltonize`'s keyword arguments."""
-    pos, mom = _default_split(coords)
-    if positions is not None:
-        pos = tuple(_coord(coords, c) for c in positions)
-    if momenta is not None:
-        mom = tuple(_coord(coords, c) for c in momenta)
-    elif positions is not None:
-        mom = tuple(c for c in coords if c not in pos)
-    return Ansatz(pos, mom, 1 if degree is None else degree,
-                  momentum_terms if mom else "none", s, _zero_pairs(zero, coords, pos, mom))
-
-
-def _columns(ansatz: Ansatz, coords, mu_degree: int | None, copies: int = 1) -> list[tuple]:
-    """The unknowns: ``("P", i, j, monomial, k)`` (``Q_k^{ij} += u * monomial``, ``i < j``; one
-    copy ``Q_k`` per integral of a Hamiltonian span, else ``k = 0``) and, for a multiplier
-    ansatz, ``("mu", None, None, monomial, 0)``."""
-    n = len(coords)
-    pidx = [coords.index(c) for c in ansatz.positions]
-    midx = [coords.index(c) for c in ansatz.momenta]
-    mono_list = []
-    for b in _monomials(n, pidx, ansatz.degree):
-        if ansatz.momentum_terms in ("affine", "none") or not midx:
-            mono_list.append(b)
-        if ansatz.momentum_terms != "none":
-            for m in midx:
-                e = list(b)
-                e[m] += 1
-                mono_list.append(tuple(e))
-    columns: list[tuple] = []
-    for k in range(copies):
-        for i in range(n):
-            for j in range(i + 1, n):
-                if (i, j) not in ansatz.zero:
-                    columns.extend(("P", i, j, mono, k) for mono in mono_list)
-    if mu_degree is not None:
-        columns.extend(("mu", None, None, mono, 0) for mono in _monomials(n, range(n), mu_degree))
-    return columns
 
 
 @dataclass
@@ -557,28 +498,6 @@ def _impose_jacobi(Qm, s, coords, tau, fld, family, Nfam, mu) -> tuple[str, dict
                     "multiplier.")))
     return "found", dict(count=len(eqs), parameters=tau, jacobi_equations=basis,
                          solutions=tuple(members), multipliers=tuple(mults))
-
-
-def _coord(coords, c) -> sp.Symbol:
-    for x in coords:
-        if x == c or str(x) == str(c):
-            return x
-    from poissonkit.errors import UnknownNameError
-
-    raise UnknownNameError("coordinate", str(c), [str(x) for x in coords])
-
-
-def _zero_pairs(zero, coords, pos, mom) -> frozenset:
-    if isinstance(zero, str):
-        zero = (zero,)
-    pairs = set()
-    for item in zero:
-        if item in ("positions", "momenta"):
-            group = [coords.index(c) for c in (pos if item == "positions" else mom)]
-            pairs |= {(a, b) for a, b in itertools.combinations(sorted(group), 2)}
-        else:
-            pairs.add(tuple(item))
-    return frozenset(pairs)
 
 
 def _inconsistent_core(labels, rows, rhs, ncols, K) -> list[int]:

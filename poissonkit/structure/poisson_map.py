@@ -182,8 +182,16 @@ def push_forward(P: Bivector, phi: Sequence, new_coords: Sequence, *,
         return finish(Jmat.subs(sub), "solve")
 
     # 3. elimination (graph ideal), after the kept coordinates have been renamed
+    mat, rels = _eliminate(Jmat.subs(sub), eqs, rest, ys, params)
+    return finish(mat, "groebner", rels)
+
+
+def _eliminate(mat: sp.Matrix, eqs: list[sp.Expr], rest: list[sp.Symbol],
+               ys: Sequence[sp.Symbol], params: set) -> tuple[sp.Matrix, tuple[sp.Expr, ...]]:
+    """Step 3 of :func:`push_forward`: the entries of ``mat`` (kept coordinates renamed) reduced
+    modulo a lex Groebner basis of the graph ideal ``eqs``, eliminating the old coordinates
+    ``rest``; with the equations of the image (the basis elements free of ``rest``)."""
     at = _Atomizer()
-    mat = Jmat.subs(sub)
     ents = [at(e) for e in mat]
     graph = [sp.fraction(sp.together(at(e)))[0] for e in eqs]
     atoms = sorted(at.back, key=str)
@@ -202,7 +210,9 @@ def push_forward(P: Bivector, phi: Sequence, new_coords: Sequence, *,
         dd = G.reduce(sp.expand(den))[1]
         out.append(at.restore(nn / dd))
     rels = tuple(sp.factor(at.restore(g)) for g in image)
-    return finish(sp.Matrix(len(ys), len(ys), out), "groebner", rels)
+    return sp.Matrix(len(ys), len(ys), out), rels
+
+
 
 
 def is_poisson_map(phi: Sequence, P: Bivector, Q: Bivector,

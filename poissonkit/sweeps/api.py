@@ -12,6 +12,7 @@ import numpy as np
 
 from poissonkit.contracts import SweepScene
 from poissonkit.errors import InputError
+from poissonkit.plugin.contributions import OutcomeEntry
 from poissonkit.sweeps.execute import (
     PointResult,
     batch_size_for,
@@ -31,7 +32,7 @@ from poissonkit.sweeps.integrity import (
     verify_store,
 )
 from poissonkit.sweeps.outcomes import outcome_entries, resolve_outcomes
-from poissonkit.sweeps.params import Axis, Range, design_from
+from poissonkit.sweeps.params import Axis, Design, Range, design_from
 from poissonkit.sweeps.scenes import sweep_scene
 from poissonkit.sweeps.store import (
     ZarrWriter,
@@ -127,6 +128,28 @@ def sweep(scene: SweepScene | str | Path,
     ds = empty_dataset(design, names, attrs, units)
     variables = [*names, "completed", "failed", "error"]
     shape = design.shape
+    ds, path, chunks = _open_store(store, ds, shape, variables, resume, overwrite)
+
+    completed = np.asarray(ds["completed"].values, dtype=bool).reshape(-1)
+    total = design.size
+    done = int(completed.sum())
+    failures = int(np.asarray(ds["failed"].values).sum())
+    if done == total:
+        return ds
+    arrays = _run_pending(sc, design, ds, chosen, variables, path, chunks, completed, done,
+                          failures, client=client, scheduler=scheduler, workers=workers,
+                          batch_size=batch_size, retries=retries, progress=progress,
+                          on_batch=on_batch)
+    for n, v in arrays.items():
+        ds[n].values = v
+    return ds
+
+
+def _open_store(store: str | Path | None, ds: xr.Dataset, shape: tuple[int, ...],
+                variables: list[str], resume: bool, overwrite: bool
+                ) -> tuple[xr.Dataset, Path | None, tuple[int, ...] | None]:
+    """``(dataset, path, chunks)``: a resumed store's verified results filled into ``ds`` (its
+    chunks kept), or a new store checked to be absent or replaceable (chunks still open)."""
     path = None if store is None else Path(store)
     chunks: tuple[int, ...] | None = None
     if path is not None:
@@ -136,7 +159,7 @@ def sweep(scene: SweepScene | str | Path,
             check_layout(path, ds, chunks)
             message = repair_message(path, verified.untrusted)
             if message is not None:
-                warnings.warn(message, StoreRepairWarning, stacklevel=2)
+                warnings.warn(message, StoreRepairWarning, stacklevel=3)
             ds = fill_dataset(ds, verified, chunks)
             refresh_coords(path, ds)
         elif path.exists() and not overwrite:
@@ -145,12 +168,19 @@ def sweep(scene: SweepScene | str | Path,
     elif resume:
         raise InputError("resume needs a store")
 
-    completed = np.asarray(ds["completed"].values, dtype=bool).reshape(-1)
+    return ds, path, chunks
+
+
+def _run_pending(sc: SweepScene, design: Design, ds: xr.Dataset,
+                 chosen: tuple[OutcomeEntry, ...], variables: list[str],
+                 path: Path | None, chunks: tuple[int, ...] | None, completed: np.ndarray,
+                 done: int, failures: int, *, client: Client | None, scheduler: str | None,
+                 workers: int | None, batch_size: int | None, retries: int, progress: bool,
+                 on_batch: Callable[[int, int], None] | None) -> dict[str, np.ndarray]:
+    """Run the points not ``completed``, one task per chunk, writing each finished chunk to
+    the store at ``path``; the arrays of every variable, completed and new results."""
+    shape = design.shape
     total = design.size
-    done = int(completed.sum())
-    failures = int(np.asarray(ds["failed"].values).sum())
-    if done == total:
-        return ds
     arrays = {n: np.array(ds[n].values) for n in variables}
     count = [done]
     writer: ZarrWriter | None = None
@@ -200,6 +230,4 @@ def sweep(scene: SweepScene | str | Path,
                 progress=progress, total=total, done=done, failures=failures, parts=parts)
     finally:
         close()
-    for n, v in arrays.items():
-        ds[n].values = v
-    return ds
+    return arrays

@@ -115,54 +115,77 @@ def verify(obj: Verifiable, name: str = "", doc: str = "", *, casimir_degree: in
         "budget_seconds": timeout if timeout > 0 else None,
     })
     budget = f"{timeout:g} s" if timeout > 0 else "no budget"
-    failed = False
     start = time.perf_counter()
     with BoundedChecks(tasks, timeout) as run:
-        kind, value = run.result(0)
-        if kind == "done":
-            jac = value
-            failed = jac["is_poisson"] == almost_poisson
-        else:
-            jac = {"is_poisson": None, "method": method, "failures": {},
-                   "false_positive_bound": None, "seconds": None, "note": ""}
-            if kind == "undecided":
-                report["undecided"].append(f"Jacobi identity (not decided within {budget})")
-            else:
-                report["errors"].append(f"Jacobi identity: {value}")
-        jac["as_claimed"] = None if jac["is_poisson"] is None else not failed
-        report["jacobi"] = jac
+        jac, failed = _jacobi_entry(run, method, almost_poisson, budget, report)
         if sys_ is not None:
-            entries = []
-            for k, (what, _) in enumerate(claim_checks, start=1):
-                kind, value = run.result(k)
-                if kind == "done":
-                    entry = {"what": what, "holds": value["holds"],
-                             "status": "holds" if value["holds"] else "fails"}
-                    if value["method"]:
-                        entry["method"] = value["method"]
-                    if value["failures"]:
-                        entry["failures"] = value["failures"]
-                    failed = failed or not value["holds"]
-                elif kind == "undecided":
-                    entry = {"what": what, "holds": None, "status": "undecided"}
-                    report["undecided"].append(f"{what} (not decided within {budget})")
-                else:  # an unverified claim is never ok
-                    entry = {"what": what, "holds": False, "status": "error", "error": value}
-                    report["errors"].append(f"{what}: {value}")
-                entries.append(entry)
-            report["system"] = {"hamiltonian": str(sys_.hamiltonian),
-                                "multiplier": str(sys_.multiplier), "checks": entries}
-            if i_eq is not None:
-                kind, value = run.result(i_eq)
-                if kind == "done":
-                    report["system"]["equations_of_motion"] = value
-                else:
-                    notes.append(f"equations of motion: not formed ({value or budget})")
+            failed = _system_entry(run, sys_, claim_checks, i_eq, budget, report) or failed
         if jac["is_poisson"] is True and i_rank is not None:
             _searches(run, i_rank, i_cas, casimir_degree, budget, report)
         elif jac["is_poisson"] is False:
             notes.append("rank and Casimirs skipped: not a Poisson structure")
     report["seconds"] = round(time.perf_counter() - start, 3)
+    return _with_status(report, failed)
+
+
+def _jacobi_entry(run: BoundedChecks, method: str, almost_poisson: bool, budget: str,
+                  report: VerifyReport) -> tuple[dict, bool]:
+    """The Jacobi verdict (check 0) as ``report["jacobi"]``, and whether it contradicts the
+    entry's claim (Poisson, or almost-Poisson)."""
+    failed = False
+    kind, value = run.result(0)
+    if kind == "done":
+        jac = value
+        failed = jac["is_poisson"] == almost_poisson
+    else:
+        jac = {"is_poisson": None, "method": method, "failures": {},
+               "false_positive_bound": None, "seconds": None, "note": ""}
+        if kind == "undecided":
+            report["undecided"].append(f"Jacobi identity (not decided within {budget})")
+        else:
+            report["errors"].append(f"Jacobi identity: {value}")
+    jac["as_claimed"] = None if jac["is_poisson"] is None else not failed
+    report["jacobi"] = jac
+    return jac, failed
+
+
+def _system_entry(run: BoundedChecks, sys_, claim_checks: list, i_eq: int | None, budget: str,
+                  report: VerifyReport) -> bool:
+    """The system's claims (checks ``1..len(claim_checks)``) and equations of motion (check
+    ``i_eq``) as ``report["system"]``; whether a claim fails."""
+    failed = False
+    entries = []
+    for k, (what, _) in enumerate(claim_checks, start=1):
+        kind, value = run.result(k)
+        if kind == "done":
+            entry = {"what": what, "holds": value["holds"],
+                     "status": "holds" if value["holds"] else "fails"}
+            if value["method"]:
+                entry["method"] = value["method"]
+            if value["failures"]:
+                entry["failures"] = value["failures"]
+            failed = failed or not value["holds"]
+        elif kind == "undecided":
+            entry = {"what": what, "holds": None, "status": "undecided"}
+            report["undecided"].append(f"{what} (not decided within {budget})")
+        else:  # an unverified claim is never ok
+            entry = {"what": what, "holds": False, "status": "error", "error": value}
+            report["errors"].append(f"{what}: {value}")
+        entries.append(entry)
+    report["system"] = {"hamiltonian": str(sys_.hamiltonian),
+                        "multiplier": str(sys_.multiplier), "checks": entries}
+    if i_eq is not None:
+        kind, value = run.result(i_eq)
+        if kind == "done":
+            report["system"]["equations_of_motion"] = value
+        else:
+            report["notes"].append(f"equations of motion: not formed ({value or budget})")
+    return failed
+
+
+def _with_status(report: VerifyReport, failed: bool) -> VerifyReport:
+    """``report`` with its status, ``ok`` and exit code: an error outranks a failed claim,
+    which outranks an undecided one."""
     if report["errors"]:
         status = "error"
     elif failed:
