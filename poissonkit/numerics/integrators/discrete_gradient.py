@@ -58,17 +58,19 @@ from poissonkit.errors import CapabilityError, InputError, IntegrationError
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
     NO_CONVERGENCE,
+    RUNNING,
     RawResult,
     SaveBuffer,
     check_step,
     locate_division,
     state_digest,
     step_end_kernels,
+    step_tail,
 )
 from poissonkit.numerics.integrators.capabilities import DISCRETE_GRADIENT
 from poissonkit.numerics.integrators.driver import Control, LoopState, drive
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import all_finite, copy_into, copy_row_compensated
+from poissonkit.numerics.kernels import copy_into
 
 #: The discrete gradients this method offers (``"auto"`` chooses from the Hamiltonian).
 GRADIENTS = ("auto", "avf", "gonzalez")
@@ -190,7 +192,8 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
     jac = ks.jac if ks.jac is not None else _nojac
     skew, grad, energy = dg.skew, dg.grad, dg.energy
     gz = bool(gonzalez)  # a compile-time constant of the loop
-    remember, check = step_end_kernels(ks)
+    remember = step_end_kernels(ks)[0]
+    tail = step_tail(ks, compensated=True)
 
     @jit
     def run(y, c, t0, h, n_total, tol, maxiter, newton, nodes, weights, href, data, work,
@@ -274,7 +277,7 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
                                 A[i, j] = -0.5 * h * J[i, j]
                             A[i, i] += 1.0
                         if not _lu_factor(A, piv):
-                            return 6, t0 + gstep * h, k + 1, nsave, nfev, 0.0
+                            return NO_CONVERGENCE, t0 + gstep * h, k + 1, nsave, nfev, 0.0
                     _lu_solve(A, piv, G, delta)
                 else:
                     copy_into(G, delta)
@@ -304,23 +307,13 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
                 s = y[i] + v
                 c[i] = (s - y[i]) - v
                 y[i] = s
-            if not all_finite(y):
-                return 1, t, k + 1, nsave, nfev, 0.0
-            if not ok:
-                return 6, t, k + 1, nsave, nfev, 0.0
             last = gstep >= n_total
-            flag, value = check(y, data, work, contact, escape, watch, hist)
-            if last or gstep % save_every == 0:
-                out_t[nsave] = t
-                copy_row_compensated(y, c, out_y, nsave)
-                nsave += 1
-            if flag != 0:
-                return flag, t, k + 1, nsave, nfev, value
-            if last:
-                return 5, t, k + 1, nsave, nfev, 0.0
-            if nsave == out_t.shape[0]:
-                return 4, t, k + 1, nsave, nfev, 0.0
-        return 0, t0 + (step0 + max_steps) * h, max_steps, nsave, nfev, 0.0
+            status, nsave, value = tail(y, c, t, RUNNING if ok else NO_CONVERGENCE, last,
+                                        last or gstep % save_every == 0, track, data, work,
+                                        contact, escape, watch, hist, out_t, out_y, nsave)
+            if status != RUNNING:
+                return status, t, k + 1, nsave, nfev, value
+        return RUNNING, t0 + (step0 + max_steps) * h, max_steps, nsave, nfev, 0.0
 
     _runners[key] = (run, (ks, dg))  # keep the kernels (and their ids) alive
     return run

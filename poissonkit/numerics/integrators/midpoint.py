@@ -25,17 +25,19 @@ from poissonkit.errors import InputError, IntegrationError
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
     NO_CONVERGENCE,
+    RUNNING,
     RawResult,
     SaveBuffer,
     check_step,
     locate_division,
     state_digest,
     step_end_kernels,
+    step_tail,
 )
 from poissonkit.numerics.integrators.capabilities import MIDPOINT
 from poissonkit.numerics.integrators.driver import Control, LoopState, drive
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import all_finite, copy_into, copy_row, gauss_solve
+from poissonkit.numerics.kernels import copy_into, gauss_solve
 
 
 @jit
@@ -53,7 +55,8 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
         return hit[0]
     rhs = kernels.rhs
     jac = kernels.jac if kernels.jac is not None else _nojac
-    remember, check = step_end_kernels(kernels)
+    remember = step_end_kernels(kernels)[0]
+    tail = step_tail(kernels)
 
     @jit
     def run(y, t0, h, n_total, tol, maxiter, newton, data, work, save_every, step0, max_steps,
@@ -93,7 +96,7 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
                             A[i, j] = -0.5 * h * J[i, j]
                         A[i, i] += 1.0
                     if not gauss_solve(A, G, delta):
-                        return 6, t0 + gstep * h, k + 1, nsave, nfev, 0.0
+                        return NO_CONVERGENCE, t0 + gstep * h, k + 1, nsave, nfev, 0.0
                 else:
                     copy_into(G, delta)
                 dn = 0.0
@@ -114,23 +117,13 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
                 prev = dn
             t = t0 + gstep * h
             copy_into(Y, y)
-            if not all_finite(y):
-                return 1, t, k + 1, nsave, nfev, 0.0
-            if not ok:
-                return 6, t, k + 1, nsave, nfev, 0.0
             last = gstep >= n_total
-            flag, value = check(y, data, work, contact, escape, watch, hist)
-            if last or gstep % save_every == 0:
-                out_t[nsave] = t
-                copy_row(y, out_y, nsave)
-                nsave += 1
-            if flag != 0:
-                return flag, t, k + 1, nsave, nfev, value
-            if last:
-                return 5, t, k + 1, nsave, nfev, 0.0
-            if nsave == out_t.shape[0]:
-                return 4, t, k + 1, nsave, nfev, 0.0
-        return 0, t0 + (step0 + max_steps) * h, max_steps, nsave, nfev, 0.0
+            status, nsave, value = tail(y, y, t, RUNNING if ok else NO_CONVERGENCE, last,
+                                        last or gstep % save_every == 0, track, data, work,
+                                        contact, escape, watch, hist, out_t, out_y, nsave)
+            if status != RUNNING:
+                return status, t, k + 1, nsave, nfev, value
+        return RUNNING, t0 + (step0 + max_steps) * h, max_steps, nsave, nfev, 0.0
 
     _runners[key] = (run, kernels)
     return run

@@ -54,8 +54,8 @@ per step.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -71,6 +71,7 @@ from poissonkit.errors import InputError
 from poissonkit.numerics.conforms import conforms
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
+    RUNNING,
     HasLoopKernels,
     RawResult,
     SaveBuffer,
@@ -78,21 +79,18 @@ from poissonkit.numerics.integrators.base import (
     check_step,
     locate_division,
     state_digest,
-    step_end_kernels,
+    step_tail,
 )
 from poissonkit.numerics.integrators.capabilities import SPLITTING
 from poissonkit.numerics.integrators.compositions import (
     TABLES as HIGH_ORDER_TABLES,
+)
+from poissonkit.numerics.integrators.compositions import (
     HighOrderTable,
 )
 from poissonkit.numerics.integrators.driver import Control, LoopState, drive
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import (
-    all_finite,
-    copy_into,
-    copy_row,
-    copy_row_compensated,
-)
+from poissonkit.numerics.kernels import copy_into
 
 # --------------------------------------------------------------------------- coefficients
 _SUZUKI_P = 1.0 / (4.0 - 4.0 ** (1.0 / 3.0))
@@ -248,10 +246,6 @@ SCHEMES.update((t.name, _high_order(t)) for t in HIGH_ORDER_TABLES.values())
 
 
 # --------------------------------------------------------------------------- compiled loop
-#: the NaN check of every step, inlined (a call per step costs as much as a small system's
-#: force evaluation)
-_all_finite = jit(inline="always")(all_finite.py_func)
-
 _runners: dict[tuple[int, bool], tuple[CompiledFunction, CompiledKernels]] = {}
 
 
@@ -267,7 +261,7 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
     if hit is not None:
         return hit[0]
     min_distance = kernels.min_distance
-    check = step_end_kernels(kernels)[1]
+    tail = step_tail(kernels, compensated)
     if compensated:
         drift, kick = kernels.drift_compensated, kernels.kick_compensated
     else:
@@ -378,26 +372,12 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
                 last = gstep >= n_total
                 t = t_end if last else t_orig + gstep * h
             k += 1
-            if not _all_finite(y):
-                return 1, t, k, nsave, 0.0
-            flag = 0
-            value = 0.0
-            if track:  # (the check's calls cost even when skipped: keep them off the plain loop)
-                flag, value = check(y, data, work, contact, escape, watch, hist)
-            if last or gstep % save_every == 0:
-                out_t[nsave] = t
-                if comp:
-                    copy_row_compensated(y, c, out_y, nsave)
-                else:
-                    copy_row(y, out_y, nsave)
-                nsave += 1
-            if flag != 0:
-                return flag, t, k, nsave, value
-            if last:
-                return 5, t, k, nsave, 0.0
-            if nsave == out_t.shape[0]:
-                return 4, t, k, nsave, 0.0
-        return 0, t, k, nsave, 0.0
+            status, nsave, value = tail(y, c, t, RUNNING, last, last or gstep % save_every == 0,
+                                        track, data, work, contact, escape, watch, hist, out_t,
+                                        out_y, nsave)
+            if status != RUNNING:
+                return status, t, k, nsave, value
+        return RUNNING, t, k, nsave, 0.0
 
     _runners[key] = (run, kernels)
     return run

@@ -72,18 +72,21 @@ from poissonkit.contracts import (
 from poissonkit.errors import InputError, IntegrationError
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
+    NONFINITE,
+    RUNNING,
     RawResult,
     SaveBuffer,
     check_step,
     locate_division,
     state_digest,
     step_end_kernels,
+    step_tail,
 )
 from poissonkit.numerics.integrators.capabilities import TIME_TRANSFORMED
 from poissonkit.numerics.integrators.driver import Control, LoopState, drive
 from poissonkit.numerics.integrators.splitting import WEIGHTS, drift_kick_coefficients
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import all_finite, copy_into, copy_row
+from poissonkit.numerics.kernels import all_finite, copy_into
 from poissonkit.numerics.nbody import apply_forces
 
 #: loop status codes beyond :mod:`~poissonkit.numerics.integrators.base`'s
@@ -162,7 +165,8 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
     if hit is not None:
         return hit[0]
     drift, forces = kernels.drift, kernels.forces
-    remember, check = step_end_kernels(kernels)
+    remember = step_end_kernels(kernels)[0]
+    tail = step_tail(kernels)
     apply = _apply_two_body if layout == _TWO_BODY else apply_forces
 
     @jit
@@ -194,7 +198,7 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
             if not den > 0.0:
                 return dt, SHIFT_TOO_SMALL, v
             apply(y, b[s] * ds * _power(g0 / den, kexp), data, work)
-        return dt, 0, 0.0
+        return dt, RUNNING, 0.0
 
     @jit
     def run(y, t0, t_end, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work, save_every, step0,
@@ -211,11 +215,11 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
                 remember(y, prev, prev2, hist, t)
             copy_into(y, trial)
             dt, code, bad = tt_step(y, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work)
-            if code != 0:
+            if code != RUNNING:
                 copy_into(trial, y)  # leave the last good state for the error message
                 return code, t, k, nsave, bad
-            if dt != dt or not all_finite(y):
-                return 1, t, k + 1, nsave, 0.0
+            if math.isnan(dt) or not all_finite(y):
+                return NONFINITE, t, k + 1, nsave, 0.0
             if not dt > 0.0:
                 copy_into(trial, y)
                 return NO_PROGRESS, t, k, nsave, dt
@@ -227,20 +231,12 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
             else:
                 t += dt
             k += 1
-            if not all_finite(y):
-                return 1, t, k, nsave, 0.0
-            flag, value = check(y, data, work, contact, escape, watch, hist)
-            if last or gstep % save_every == 0:
-                out_t[nsave] = t
-                copy_row(y, out_y, nsave)
-                nsave += 1
-            if flag != 0:
-                return flag, t, k, nsave, value
-            if last:
-                return 5, t, k, nsave, 0.0
-            if nsave == out_t.shape[0]:
-                return 4, t, k, nsave, 0.0
-        return 0, t, k, nsave, 0.0
+            status, nsave, value = tail(y, y, t, RUNNING, last, last or gstep % save_every == 0,
+                                        track, data, work, contact, escape, watch, hist, out_t,
+                                        out_y, nsave)
+            if status != RUNNING:
+                return status, t, k, nsave, value
+        return RUNNING, t, k, nsave, 0.0
 
     _runners[key] = (run, plain_step, kernels)
     return run
