@@ -69,8 +69,14 @@ from poissonkit.numerics.integrators.base import (
 )
 from poissonkit.numerics.integrators.capabilities import DISCRETE_GRADIENT
 from poissonkit.numerics.integrators.driver import Control, LoopState, drive
+from poissonkit.numerics.integrators.newton import (
+    CONVERGED,
+    SINGULAR,
+    near_increment,
+    newton_solver,
+    no_jacobian,
+)
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import copy_into
 
 #: The discrete gradients this method offers (``"auto"`` chooses from the Hamiltonian).
 GRADIENTS = ("auto", "avf", "gonzalez")
@@ -121,62 +127,6 @@ def avf_nodes(degree: int) -> tuple[np.ndarray, np.ndarray]:
     return 0.5 * (x + 1.0), 0.5 * w
 
 
-@jit(inline="always")
-def _lu_factor(A, piv):
-    """LU factorisation with partial pivoting in place (``piv`` the row swaps); False if
-    ``A`` is singular to working precision."""
-    n = A.shape[0]
-    for k in range(n):
-        p = k
-        best = abs(A[k, k])
-        for i in range(k + 1, n):
-            if abs(A[i, k]) > best:
-                best = abs(A[i, k])
-                p = i
-        if best == 0.0:
-            return False
-        piv[k] = p
-        if p != k:
-            for j in range(n):
-                tmp = A[k, j]
-                A[k, j] = A[p, j]
-                A[p, j] = tmp
-        for i in range(k + 1, n):
-            A[i, k] /= A[k, k]
-            f = A[i, k]
-            if f != 0.0:
-                for j in range(k + 1, n):
-                    A[i, j] -= f * A[k, j]
-    return True
-
-
-@jit(inline="always")
-def _lu_solve(A, piv, b, x):
-    """Solve ``A x = b`` with the factors of :func:`_lu_factor` (``b`` is overwritten)."""
-    n = b.shape[0]
-    for k in range(n):
-        p = piv[k]
-        if p != k:
-            tmp = b[k]
-            b[k] = b[p]
-            b[p] = tmp
-    for i in range(n):
-        acc = b[i]
-        for j in range(i):
-            acc -= A[i, j] * x[j]
-        x[i] = acc
-    for i in range(n - 1, -1, -1):
-        acc = x[i]
-        for j in range(i + 1, n):
-            acc -= A[i, j] * x[j]
-        x[i] = acc / A[i, i]
-
-
-@jit
-def _nojac(y, data, work, out):
-    return
-
-
 _runners: dict[tuple[int, int, int, int, bool], tuple[CompiledFunction, object]] = {}
 
 
@@ -189,11 +139,59 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
     if hit is not None:
         return hit[0]
     rhs = ks.rhs
-    jac = ks.jac if ks.jac is not None else _nojac
+    jac = ks.jac if ks.jac is not None else no_jacobian
     skew, grad, energy = dg.skew, dg.grad, dg.energy
     gz = bool(gonzalez)  # a compile-time constant of the loop
     remember = step_end_kernels(ks)[0]
     tail = step_tail(ks, compensated=True)
+
+    @jit(inline="always")
+    def residual(D, y, h, mid, G, data, work, args):
+        # G(D) = D − h S((x + x')/2) ∇̄H(x, x'), x' = x + D
+        c, nodes, weights, href, up, S, g, e1, gb, xs = args
+        n = D.shape[0]
+        for i in range(n):
+            mid[i] = y[i] + 0.5 * D[i]
+        skew(mid, up)
+        q = 0
+        for i in range(n):
+            for j in range(i + 1, n):
+                S[i, j] = up[q]
+                S[j, i] = -up[q]
+                q += 1
+        if gz:
+            # x' exactly as the compensated update below will store it: the level
+            # H(x') = href is met by the stored state itself
+            for i in range(n):
+                xs[i] = y[i] + (D[i] - c[i])
+            energy(xs, e1)
+            grad(mid, g)
+            dot = 0.0
+            dd = 0.0
+            for i in range(n):
+                gb[i] = g[i]
+                dot += g[i] * D[i]
+                dd += D[i] * D[i]
+            if dd > 0.0:
+                corr = (e1[0] - href - dot) / dd
+                for i in range(n):
+                    gb[i] += corr * D[i]
+        else:
+            for i in range(n):
+                gb[i] = 0.0
+            for r in range(nodes.shape[0]):
+                for i in range(n):
+                    xs[i] = y[i] + nodes[r] * D[i]
+                grad(xs, g)
+                for i in range(n):
+                    gb[i] += weights[r] * g[i]
+        for i in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += S[i, j] * gb[j]
+            G[i] = D[i] - h * acc
+
+    solve = newton_solver(residual, jac, near_increment, simplified=True)
 
     @jit
     def run(y, c, t0, h, n_total, tol, maxiter, newton, nodes, weights, href, data, work,
@@ -214,6 +212,7 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
         A = np.empty((n, n))
         delta = np.empty(n)
         piv = np.empty(n, dtype=np.int64)
+        args = (c, nodes, weights, href, up, S, g, e1, gb, xs)
         nsave = 0
         nfev = 0
         track = contact > 0.0 or escape > 0.0 or watch > 0.0
@@ -225,82 +224,15 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
             nfev += 1
             for i in range(n):
                 D[i] = h * f[i]
-            ok = False
-            prev = np.inf
-            for it in range(maxiter):
-                for i in range(n):
-                    mid[i] = y[i] + 0.5 * D[i]
-                skew(mid, up)
-                q = 0
-                for i in range(n):
-                    for j in range(i + 1, n):
-                        S[i, j] = up[q]
-                        S[j, i] = -up[q]
-                        q += 1
-                if gz:
-                    # x' exactly as the compensated update below will store it: the level
-                    # H(x') = href is met by the stored state itself
-                    for i in range(n):
-                        xs[i] = y[i] + (D[i] - c[i])
-                    energy(xs, e1)
-                    grad(mid, g)
-                    dot = 0.0
-                    dd = 0.0
-                    for i in range(n):
-                        gb[i] = g[i]
-                        dot += g[i] * D[i]
-                        dd += D[i] * D[i]
-                    if dd > 0.0:
-                        corr = (e1[0] - href - dot) / dd
-                        for i in range(n):
-                            gb[i] += corr * D[i]
-                else:
-                    for i in range(n):
-                        gb[i] = 0.0
-                    for r in range(nodes.shape[0]):
-                        for i in range(n):
-                            xs[i] = y[i] + nodes[r] * D[i]
-                        grad(xs, g)
-                        for i in range(n):
-                            gb[i] += weights[r] * g[i]
-                nfev += 1
-                for i in range(n):
-                    acc = 0.0
-                    for j in range(n):
-                        acc += S[i, j] * gb[j]
-                    G[i] = D[i] - h * acc
-                if newton:
-                    if it == 0:  # simplified Newton: one Jacobian and factorisation a step
-                        jac(mid, data, work, J)
-                        for i in range(n):
-                            for j in range(n):
-                                A[i, j] = -0.5 * h * J[i, j]
-                            A[i, i] += 1.0
-                        if not _lu_factor(A, piv):
-                            return NO_CONVERGENCE, t0 + gstep * h, k + 1, nsave, nfev, 0.0
-                    _lu_solve(A, piv, G, delta)
-                else:
-                    copy_into(G, delta)
-                dn = 0.0
-                dm = 0.0
-                yn = 0.0
-                for i in range(n):
-                    D[i] -= delta[i]
-                    dn = max(dn, abs(delta[i]))
-                    dm = max(dm, abs(D[i]))
-                    yn = max(yn, abs(y[i]))
-                if not math.isfinite(dn):
-                    break
-                if dn <= tol * dm:
-                    ok = True
-                    break
-                # round-off floor: the correction stopped shrinking while already tiny
-                # (Gonzalez's correction divides the rounding of H by |D|: its floor is of
-                # order eps (1 + |y|), not eps |D|)
-                if dn >= prev and dn <= 1e3 * tol * (dm + 1e-2 * (1.0 + yn)):
-                    ok = True
-                    break
-                prev = dn
+            yn = 0.0
+            for i in range(n):
+                yn = max(yn, abs(y[i]))
+            outcome, nf = solve(D, y, h, tol, maxiter, newton, yn, data, work, args, mid, G, J,
+                                A, piv, delta)
+            nfev += nf
+            if outcome == SINGULAR:
+                return NO_CONVERGENCE, t0 + gstep * h, k + 1, nsave, nfev, 0.0
+            ok = outcome == CONVERGED
             t = t0 + gstep * h
             for i in range(n):  # Kahan: the state is y - c
                 v = D[i] - c[i]

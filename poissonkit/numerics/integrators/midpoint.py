@@ -36,14 +36,15 @@ from poissonkit.numerics.integrators.base import (
 )
 from poissonkit.numerics.integrators.capabilities import MIDPOINT
 from poissonkit.numerics.integrators.driver import Control, LoopState, drive
+from poissonkit.numerics.integrators.newton import (
+    CONVERGED,
+    SINGULAR,
+    near_state,
+    newton_solver,
+    no_jacobian,
+)
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import copy_into, gauss_solve
-
-
-@jit
-def _nojac(y, data, work, out):
-    return
-
+from poissonkit.numerics.kernels import copy_into
 
 _runners: dict[int, tuple[CompiledFunction, CompiledKernels]] = {}
 
@@ -54,9 +55,22 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
     if hit is not None:
         return hit[0]
     rhs = kernels.rhs
-    jac = kernels.jac if kernels.jac is not None else _nojac
+    jac = kernels.jac if kernels.jac is not None else no_jacobian
     remember = step_end_kernels(kernels)[0]
     tail = step_tail(kernels)
+
+    @jit(inline="always")
+    def residual(Z, y, h, mid, G, data, work, args):
+        # G(Y) = Y − y − h f((y + Y)/2)
+        f = args[0]
+        n = Z.shape[0]
+        for i in range(n):
+            mid[i] = 0.5 * (y[i] + Z[i])
+        rhs(mid, data, work, f)
+        for i in range(n):
+            G[i] = Z[i] - y[i] - h * f[i]
+
+    solve = newton_solver(residual, jac, near_state, simplified=False)
 
     @jit
     def run(y, t0, h, n_total, tol, maxiter, newton, data, work, save_every, step0, max_steps,
@@ -69,6 +83,8 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
         J = np.empty((n, n))
         A = np.empty((n, n))
         delta = np.empty(n)
+        piv = np.empty(n, dtype=np.int64)
+        args = (f,)
         nsave = 0
         nfev = 0
         track = contact > 0.0 or escape > 0.0 or watch > 0.0
@@ -80,41 +96,12 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
             nfev += 1
             for i in range(n):
                 Y[i] = y[i] + h * f[i]
-            ok = False
-            prev = np.inf
-            for it in range(maxiter):
-                for i in range(n):
-                    mid[i] = 0.5 * (y[i] + Y[i])
-                rhs(mid, data, work, f)
-                nfev += 1
-                for i in range(n):
-                    G[i] = Y[i] - y[i] - h * f[i]
-                if newton:
-                    jac(mid, data, work, J)
-                    for i in range(n):
-                        for j in range(n):
-                            A[i, j] = -0.5 * h * J[i, j]
-                        A[i, i] += 1.0
-                    if not gauss_solve(A, G, delta):
-                        return NO_CONVERGENCE, t0 + gstep * h, k + 1, nsave, nfev, 0.0
-                else:
-                    copy_into(G, delta)
-                dn = 0.0
-                yn = 0.0
-                for i in range(n):
-                    Y[i] -= delta[i]
-                    dn = max(dn, abs(delta[i]))
-                    yn = max(yn, abs(Y[i]))
-                if not math.isfinite(dn):
-                    break
-                if dn <= tol * (1.0 + yn):
-                    ok = True
-                    break
-                # round-off floor: the correction stopped shrinking while already tiny
-                if dn >= prev and dn <= 1e3 * tol * (1.0 + yn):
-                    ok = True
-                    break
-                prev = dn
+            outcome, nf = solve(Y, y, h, tol, maxiter, newton, 0.0, data, work, args, mid, G, J,
+                                A, piv, delta)
+            nfev += nf
+            if outcome == SINGULAR:
+                return NO_CONVERGENCE, t0 + gstep * h, k + 1, nsave, nfev, 0.0
+            ok = outcome == CONVERGED
             t = t0 + gstep * h
             copy_into(Y, y)
             last = gstep >= n_total

@@ -25,7 +25,7 @@ Sources (coefficients copied to 40 digits from REBOUND's ``src/integrator_saba.c
 from __future__ import annotations
 
 import math
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 
@@ -52,7 +52,7 @@ def saba_coefficients(n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.array(c), np.array(d)
 
 
-@lru_cache(maxsize=None)
+@cache
 def _saba_table(n: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
     x, w = np.polynomial.legendre.leggauss(n)  # costly next to a short run: computed once
     x = 0.5 * (x + 1.0)
