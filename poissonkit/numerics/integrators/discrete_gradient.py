@@ -272,9 +272,9 @@ class DiscreteGradient:
         iteration).
     """
 
-    family = "implicit"
-    capabilities = DISCRETE_GRADIENT
-    order = 2
+    family = DISCRETE_GRADIENT.family
+    capabilities = DISCRETE_GRADIENT.capabilities
+    order = DISCRETE_GRADIENT.order
     name = "discrete_gradient"
 
     def __init__(self, gradient: str = "auto", tol: float = 1e-14, max_iterations: int = 50,

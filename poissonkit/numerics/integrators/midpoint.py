@@ -129,9 +129,9 @@ class ImplicitMidpoint:
         Use Newton's method when the system has a Jacobian.
     """
 
-    family = "implicit"
-    capabilities = MIDPOINT
-    order = 2
+    family = MIDPOINT.family
+    capabilities = MIDPOINT.capabilities
+    order = MIDPOINT.order
     name = "midpoint"
 
     def __init__(self, tol: float = 1e-14, max_iterations: int = 50, newton: bool = True) -> None:

@@ -34,8 +34,8 @@ class ScipyIVP:
         Largest step (``0`` = unlimited).
     """
 
-    family = "scipy"
-    capabilities = SCIPY
+    family = SCIPY.family
+    capabilities = SCIPY.capabilities
 
     def __init__(self, method: str = "DOP853", atol: float = 0.0, max_step: float = 0.0) -> None:
         if method not in ("RK45", "DOP853", "Radau", "LSODA"):

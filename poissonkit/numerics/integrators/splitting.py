@@ -407,8 +407,8 @@ class Splitting:
         default, and then the arithmetic is exactly the plain one.
     """
 
-    family = "splitting"
-    capabilities = SPLITTING
+    family = SPLITTING.family
+    capabilities = SPLITTING.capabilities
 
     def __init__(self, order: int = 6, adaptive: bool = False, reference_distance: float = 0.0,
                  iterations: int = 1, scheme: str | Scheme | None = None,

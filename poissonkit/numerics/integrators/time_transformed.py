@@ -266,8 +266,8 @@ class TimeTransformedSplitting:
         like ``r^{3/2}`` instead of ``r³`` (Preto–Tremaine's ``f(x) = x^{1−k}/(1−k)``).
     """
 
-    family = "time_transformed"
-    capabilities = TIME_TRANSFORMED
+    family = TIME_TRANSFORMED.family
+    capabilities = TIME_TRANSFORMED.capabilities
 
     def __init__(self, order: int = 6, shift: float = 0.0, exponent: float = 1.0) -> None:
         if order not in WEIGHTS:

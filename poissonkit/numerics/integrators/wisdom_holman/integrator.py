@@ -64,8 +64,8 @@ class WisdomHolman:
     interaction (and there is no cutoff) the kick is a dedicated pair loop.
     """
 
-    family = "hierarchical"
-    capabilities = WISDOM_HOLMAN
+    family = WISDOM_HOLMAN.family
+    capabilities = WISDOM_HOLMAN.capabilities
 
     def __init__(self, stages: int = 1, corrector: bool = False, table: str = "",
                  correctors: int = 0) -> None:
