@@ -61,14 +61,23 @@ from poissonkit.numerics.integrators.base import (
     RUNNING,
     RawResult,
     SaveBuffer,
-    check_step,
-    locate_division,
-    state_digest,
     step_end_kernels,
     step_tail,
 )
 from poissonkit.numerics.integrators.capabilities import DISCRETE_GRADIENT
-from poissonkit.numerics.integrators.driver import Control, LoopState, drive
+from poissonkit.numerics.integrators.driver import (
+    Control,
+    LoopProblem,
+    LoopState,
+    drive,
+)
+from poissonkit.numerics.integrators.glue import (
+    ChunkResult,
+    Scratch,
+    describe,
+    fixed_grid,
+    guard_division,
+)
 from poissonkit.numerics.integrators.newton import (
     CONVERGED,
     SINGULAR,
@@ -311,10 +320,7 @@ class DiscreteGradient:
             raise CapabilityError(self.name, "needs_kernels", f"{type(system).__name__} has no "
                                   "symbolic form (N, P, H); compile a HamiltonianSystem with "
                                   "compile_system")
-        h = check_step(step, t_end - t0, self.name)
-        span = t_end - t0
-        n_total = max(1, math.ceil(span / h - 1e-12))
-        h = span / n_total
+        h, n_total = fixed_grid(self.name, step, t0, t_end)
         itol = float(tol) if tol is not None else self.tol
         dg = discrete_gradient_kernels(system)
         mode = self._choose(dg.degree)
@@ -327,9 +333,7 @@ class DiscreteGradient:
         run = _runner(system, dg, gonzalez)
         y = np.array(y0, dtype=float)
         data, work = system.data, system.work()
-        rows = min(n_total // save_every + 2, 4096)
-        scratch = SaveBuffer(y.size, 4)
-        no_hist = np.zeros(5)
+        scratch = Scratch(y.size)
         # Gonzalez: H(x) of every step is the run's initial energy (equal in exact arithmetic),
         # so the rounding of the computed energies does not add up from step to step
         e0 = np.empty(1)
@@ -337,29 +341,22 @@ class DiscreteGradient:
         href = float(e0[0])
         args = (itol, self.max_iterations, newton, nodes, weights, href, data, work)
 
-        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
-                  ) -> tuple[int, float, int, int, int, float]:
-            start, start_c = st.y.copy(), st.comp.copy()
-            try:
-                return run(st.y, st.comp, t0, h, n_total, *args, save_every, st.steps,
-                           max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, st.prev,
-                           st.prev2, st.hist)
-            except ZeroDivisionError:
-                raise locate_division(self.name, one_step, start - start_c, st.t,
-                                      st.steps) from None
+        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
+            return run(st.y, st.comp, t0, h, n_total, *args, save_every, st.steps, max_steps,
+                       buf.cur_t, buf.cur_y, contact, escape, watch, st.prev, st.prev2, st.hist)
 
         def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
             cs = np.zeros_like(ys)
-            out = run(ys, cs, t0, h, n_total, *args, save_every, done, 1, scratch.cur_t,
-                      scratch.cur_y, 0.0, 0.0, 0.0, ys, ys, no_hist)
+            out = run(ys, cs, t0, h, n_total, *args, save_every, done, 1, scratch.t, scratch.y,
+                      0.0, 0.0, 0.0, ys, ys, scratch.hist)
             ys -= cs
             return out[0], out[1]
 
         def advance(ys: np.ndarray, s: float) -> np.ndarray:
             yc = np.array(ys, dtype=float)
             cc = np.zeros_like(yc)
-            status = run(yc, cc, 0.0, s, 1, *args, 1, 0, 1, scratch.cur_t, scratch.cur_y,
-                         0.0, 0.0, 0.0, yc, yc, no_hist)[0]
+            status = run(yc, cc, 0.0, s, 1, *args, 1, 0, 1, scratch.t, scratch.y, 0.0, 0.0, 0.0,
+                         yc, yc, scratch.hist)[0]
             if status == NO_CONVERGENCE:
                 raise IntegrationError(f"{self.name}: Newton did not converge while locating "
                                        "an event")
@@ -373,14 +370,14 @@ class DiscreteGradient:
                     "reduce the step")
             return None
 
-        problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
-                   "t_end": float(t_end).hex(), "n_total": n_total, "save_every": save_every,
-                   "dim": int(y.size), "tol": float(itol).hex(), "newton": bool(newton),
-                   "gradient": mode, "nodes": int(nodes.size), "y0": state_digest(y)}
-        raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
-                    save_every=save_every, control=control, chunk=chunk, advance=advance,
-                    done=lambda st: st.steps >= n_total, failure=failure, problem=problem,
-                    buffer_rows=rows, compensated=True)
+        raw = drive(LoopProblem(
+            self.name, system, y, t0, t_end,
+            guard_division(self.name, chunk, lambda st: (one_step, st.y - st.comp)), advance,
+            lambda st: st.steps >= n_total,
+            describe(self.name, h, t0, t_end, n_total, save_every, y, tol=float(itol).hex(),
+                     newton=bool(newton), gradient=mode, nodes=int(nodes.size)),
+            min(n_total // save_every + 2, 4096), events, progress, save_every, control,
+            failure, compensated=True))
         raw.extra.update(step=h, newton=newton, gradient=mode,
                          nodes=0 if gonzalez else int(nodes.size))
         return raw

@@ -9,7 +9,6 @@ the N-body systems (fixed-point iteration there).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -28,14 +27,23 @@ from poissonkit.numerics.integrators.base import (
     RUNNING,
     RawResult,
     SaveBuffer,
-    check_step,
-    locate_division,
-    state_digest,
     step_end_kernels,
     step_tail,
 )
 from poissonkit.numerics.integrators.capabilities import MIDPOINT
-from poissonkit.numerics.integrators.driver import Control, LoopState, drive
+from poissonkit.numerics.integrators.driver import (
+    Control,
+    LoopProblem,
+    LoopState,
+    drive,
+)
+from poissonkit.numerics.integrators.glue import (
+    ChunkResult,
+    Scratch,
+    describe,
+    fixed_grid,
+    guard_division,
+)
 from poissonkit.numerics.integrators.newton import (
     CONVERGED,
     SINGULAR,
@@ -153,42 +161,30 @@ class ImplicitMidpoint:
         if not isinstance(system, HasCompiledKernels):
             raise InputError(f"midpoint needs a compiled system, got {type(system).__name__}")
         kernels = system.kernels
-        h = check_step(step, t_end - t0, self.name)
-        span = t_end - t0
-        n_total = max(1, math.ceil(span / h - 1e-12))
-        h = span / n_total
+        h, n_total = fixed_grid(self.name, step, t0, t_end)
         itol = float(tol) if tol is not None else self.tol
         newton = self.newton and kernels.jac is not None
         contact, escape, watch = event_thresholds(events)
         run = _runner(kernels)
         y = np.array(y0, dtype=float)
         data, work = system.data, system.work()
-        rows = min(n_total // save_every + 2, 4096)
-        scratch = SaveBuffer(y.size, 4)
-        no_hist = np.zeros(5)
+        scratch = Scratch(y.size)
+        iters = self.max_iterations
 
-        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
-                  ) -> tuple[int, float, int, int, int, float]:
-            start = st.y.copy()
-            try:
-                status, t_new, k, nsave, nf, value = run(
-                    st.y, t0, h, n_total, itol, self.max_iterations, newton, data, work,
-                    save_every, st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch,
-                    st.prev, st.prev2, st.hist)
-            except ZeroDivisionError:
-                raise locate_division(self.name, one_step, start, st.t, st.steps) from None
-            return status, t_new, k, nsave, nf, value
+        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
+            return run(st.y, t0, h, n_total, itol, iters, newton, data, work, save_every,
+                       st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch,
+                       st.prev, st.prev2, st.hist)
 
         def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
-            out = run(ys, t0, h, n_total, itol, self.max_iterations, newton, data, work,
-                      save_every, done, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, ys, ys,
-                      no_hist)
+            out = run(ys, t0, h, n_total, itol, iters, newton, data, work, save_every, done, 1,
+                      scratch.t, scratch.y, 0.0, 0.0, 0.0, ys, ys, scratch.hist)
             return out[0], out[1]
 
         def advance(ys: np.ndarray, s: float) -> np.ndarray:
             yc = np.array(ys, dtype=float)
-            status = run(yc, 0.0, s, 1, itol, self.max_iterations, newton, data, work, 1, 0, 1,
-                         scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, yc, yc, no_hist)[0]
+            status = run(yc, 0.0, s, 1, itol, iters, newton, data, work, 1, 0, 1, scratch.t,
+                         scratch.y, 0.0, 0.0, 0.0, yc, yc, scratch.hist)[0]
             if status == NO_CONVERGENCE:
                 raise IntegrationError("midpoint: iteration did not converge while locating an "
                                        "event")
@@ -197,18 +193,17 @@ class ImplicitMidpoint:
         def failure(status: int, st: LoopState) -> Exception | None:
             if status == NO_CONVERGENCE:
                 return IntegrationError(
-                    f"midpoint: iteration did not converge to {itol:g} in "
-                    f"{self.max_iterations} iterations at step {st.steps} (t = {st.t:.6g}); "
-                    "reduce the step")
+                    f"midpoint: iteration did not converge to {itol:g} in {iters} iterations "
+                    f"at step {st.steps} (t = {st.t:.6g}); reduce the step")
             return None
 
-        problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
-                   "t_end": float(t_end).hex(), "n_total": n_total, "save_every": save_every,
-                   "dim": int(y.size), "tol": float(itol).hex(), "newton": bool(newton),
-                   "y0": state_digest(y)}
-        raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
-                    save_every=save_every, control=control, chunk=chunk, advance=advance,
-                    done=lambda st: st.steps >= n_total, failure=failure, problem=problem,
-                    buffer_rows=rows)
+        raw = drive(LoopProblem(
+            self.name, system, y, t0, t_end,
+            guard_division(self.name, chunk, lambda st: (one_step, st.y.copy())), advance,
+            lambda st: st.steps >= n_total,
+            describe(self.name, h, t0, t_end, n_total, save_every, y,
+                     tol=float(itol).hex(), newton=bool(newton)),
+            min(n_total // save_every + 2, 4096), events, progress, save_every, control,
+            failure))
         raw.extra.update(step=h, newton=newton)
         return raw

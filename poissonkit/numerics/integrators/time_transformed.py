@@ -77,13 +77,18 @@ from poissonkit.numerics.integrators.base import (
     RawResult,
     SaveBuffer,
     check_step,
-    locate_division,
     state_digest,
     step_end_kernels,
     step_tail,
 )
 from poissonkit.numerics.integrators.capabilities import TIME_TRANSFORMED
-from poissonkit.numerics.integrators.driver import Control, LoopState, drive
+from poissonkit.numerics.integrators.driver import (
+    Control,
+    LoopProblem,
+    LoopState,
+    drive,
+)
+from poissonkit.numerics.integrators.glue import ChunkResult, Scratch, guard_division
 from poissonkit.numerics.integrators.splitting import WEIGHTS, drift_kick_coefficients
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import all_finite, copy_into
@@ -336,27 +341,21 @@ class TimeTransformedSplitting:
         run = _runner(kernels, layout)
         plain = _plain(kernels, layout)
         trial = np.empty_like(y)
-        scratch = SaveBuffer(y.size, 4)
-        no_hist = np.zeros(5)
+        scratch = Scratch(y.size)
         a, b, kexp = self.a, self.b, self.exponent
 
-        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
-                  ) -> tuple[int, float, int, int, int, float]:
-            start = st.y.copy()
-            try:
-                status, t_new, k, nsave, value = run(
-                    st.y, st.t, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work,
-                    save_every, st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape,
-                    watch, trial, st.prev, st.prev2, st.hist)
-            except ZeroDivisionError:
-                raise locate_division(self.name, one_step, start, st.t, st.steps) from None
+        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
+            status, t_new, k, nsave, value = run(
+                st.y, st.t, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work, save_every,
+                st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, trial,
+                st.prev, st.prev2, st.hist)
             st.detail = value
             return status, t_new, k, nsave, k * len(b), value
 
         def one_step(ys: np.ndarray, ts: float, done_steps: int) -> tuple[int, float]:
             out = run(ys, ts, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work,
-                      save_every, done_steps, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0,
-                      trial, ys, ys, no_hist)
+                      save_every, done_steps, 1, scratch.t, scratch.y, 0.0, 0.0, 0.0, trial, ys,
+                      ys, scratch.hist)
             return out[0], out[1]
 
         def advance(ys: np.ndarray, s: float) -> np.ndarray:
@@ -392,9 +391,10 @@ class TimeTransformedSplitting:
                    # progress-bar granularity only (the number of steps is not known ahead)
                    "n_total": max(1, math.ceil((t_end - t0) / ds)),
                    "y0": state_digest(y0)}
-        raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
-                    save_every=save_every, control=control, chunk=chunk, advance=advance,
-                    done=done, failure=failure, problem=problem, buffer_rows=4096)
+        raw = drive(LoopProblem(
+            self.name, system, y, t0, t_end,
+            guard_division(self.name, chunk, lambda st: (one_step, st.y.copy())), advance, done,
+            problem, 4096, events, progress, save_every, control, failure))
         raw.extra.update(step=ds, order=self.order, shift=C, exponent=self.exponent,
                          time_transformed=True)
         return raw

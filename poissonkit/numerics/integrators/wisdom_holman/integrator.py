@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -20,12 +19,21 @@ from poissonkit.numerics.integrators.base import (
     RawResult,
     SaveBuffer,
     StepFn,
-    check_step,
-    locate_division,
-    state_digest,
 )
 from poissonkit.numerics.integrators.capabilities import WISDOM_HOLMAN
-from poissonkit.numerics.integrators.driver import Control, LoopState, drive
+from poissonkit.numerics.integrators.driver import (
+    Control,
+    LoopProblem,
+    LoopState,
+    drive,
+)
+from poissonkit.numerics.integrators.glue import (
+    ChunkResult,
+    Scratch,
+    describe,
+    fixed_grid,
+    guard_division,
+)
 from poissonkit.numerics.integrators.wisdom_holman.jacobi import jacobi_of
 from poissonkit.numerics.integrators.wisdom_holman.loop import runner
 from poissonkit.numerics.integrators.wisdom_holman.tables import (
@@ -127,10 +135,7 @@ class WisdomHolman:
             raise InputError(f"{self.name} does not take external fields (the centre of mass "
                              "would drift freely); use a splitting instead")
         kernels = system.kernels
-        h = check_step(step, t_end - t0, self.name)
-        span = t_end - t0
-        n_total = max(1, math.ceil(span / h - 1e-12))
-        h = span / n_total
+        h, n_total = fixed_grid(self.name, step, t0, t_end)
         contact, escape, watch = event_thresholds(events)
         run, process = runner(kernels, _gravity_only(system))
         y = np.array(y0, dtype=float)
@@ -147,50 +152,43 @@ class WisdomHolman:
         tau = self.g * h ** 3
         c, dk = self.c, self.d
         per_step = dk.shape[0] + (3 if self.corrector else 0)
-        scratch = SaveBuffer(y.size, 4)
-        no_hist = np.zeros(5)
+        scratch = Scratch(y.size)
+        masses = (m, mfrac, inv_eta, gm, gmass)
 
-        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
-                  ) -> tuple[int, float, int, int, int, float]:
-            start = {key: arr.copy() for key, arr in st.carry.items()}
-            try:
-                status, t_new, k, nsave, value = run(
-                    st.y, st.carry["xj"], st.carry["uj"], st.carry["merge"], m, mfrac, inv_eta,
-                    gm, gmass, t0, h, n_total, c, dk, tau, proc, data, work, save_every,
-                    st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, st.prev,
-                    st.prev2, st.hist)
-            except ZeroDivisionError:
-                raise locate_division(self.name, _replay(start), st.y, st.t, st.steps) from None
+        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
+            status, t_new, k, nsave, value = run(
+                st.y, st.carry["xj"], st.carry["uj"], st.carry["merge"], *masses, t0, h, n_total,
+                c, dk, tau, proc, data, work, save_every, st.steps, max_steps, buf.cur_t,
+                buf.cur_y, contact, escape, watch, st.prev, st.prev2, st.hist)
             return status, t_new, k, nsave, k * per_step, value
 
-        def _replay(start: dict[str, np.ndarray]) -> StepFn:
+        def replay(st: LoopState) -> tuple[StepFn, np.ndarray]:
+            start = {key: arr.copy() for key, arr in st.carry.items()}
+
             def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
-                out = run(ys, start["xj"], start["uj"], start["merge"], m, mfrac, inv_eta, gm,
-                          gmass, t0, h, n_total, c, dk, tau, proc, data, work, save_every, done,
-                          1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, ys, ys, no_hist)
+                out = run(ys, start["xj"], start["uj"], start["merge"], *masses, t0, h, n_total,
+                          c, dk, tau, proc, data, work, save_every, done, 1, scratch.t,
+                          scratch.y, 0.0, 0.0, 0.0, ys, ys, scratch.hist)
                 return out[0], out[1]
-            return one_step
+            return one_step, st.y.copy()
 
         def advance(ys: np.ndarray, s: float) -> np.ndarray:
             # one whole step of length s from a state (event location)
             yc = np.array(ys, dtype=float)
             xs, us = jacobi_of(yc, m)
             if proc.shape[0]:
-                process(xs, us, proc, -1.0, s, m, mfrac, inv_eta, gm, gmass, data, work)
+                process(xs, us, proc, -1.0, s, *masses, data, work)
             ts = self.g * s ** 3
-            run(yc, xs, us, np.zeros(2), m, mfrac, inv_eta, gm, gmass, 0.0, s, 1, c, dk, ts,
-                proc, data, work, 1, 0, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, yc, yc,
-                no_hist)
+            run(yc, xs, us, np.zeros(2), *masses, 0.0, s, 1, c, dk, ts, proc, data, work, 1, 0,
+                1, scratch.t, scratch.y, 0.0, 0.0, 0.0, yc, yc, scratch.hist)
             return yc
 
-        problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
-                   "t_end": float(t_end).hex(), "n_total": n_total, "save_every": save_every,
-                   "dim": int(y.size), "G": float(G).hex(), "y0": state_digest(y)}
-        raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
-                    save_every=save_every, control=control, chunk=chunk, advance=advance,
-                    done=lambda st: st.steps >= n_total, failure=lambda status, st: None,
-                    problem=problem, buffer_rows=min(n_total // save_every + 2, 4096),
-                    carry={"xj": xj, "uj": uj, "merge": np.zeros(2)})
+        raw = drive(LoopProblem(
+            self.name, system, y, t0, t_end, guard_division(self.name, chunk, replay), advance,
+            lambda st: st.steps >= n_total,
+            describe(self.name, h, t0, t_end, n_total, save_every, y, G=float(G).hex()),
+            min(n_total // save_every + 2, 4096), events, progress, save_every, control,
+            carry={"xj": xj, "uj": uj, "merge": np.zeros(2)}))
         raw.nfev = raw.steps * per_step
         raw.extra.update(step=h, stages=self.stages, corrector=self.corrector)
         if self.table:
