@@ -3,15 +3,27 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 from poissonkit.contracts import Integrator
 from poissonkit.numerics.integrators import capabilities as caps
+from poissonkit.numerics.integrators.capabilities import Traits
 from poissonkit.plugin.contributions import IntegratorEntry, Param
 from poissonkit.plugin.hookspecs import hookimpl
 
 #: A registry parameter's value (see :class:`~poissonkit.plugin.contributions.Param`).
 Option = float | int | str | bool
 Factory = Callable[..., Integrator]
+
+def _entry(traits: Traits, name: str, doc: str, factory: Factory,
+           params: tuple[Param, ...] = (), order: int = 0,
+           choices: dict[str, tuple[Any, ...]] | None = None) -> IntegratorEntry:
+    """A registry entry whose family, capabilities and (unless the member states its own)
+    order come from the family's one declaration ``traits``."""
+    return IntegratorEntry(name=name, doc=doc, params=params, factory=factory,
+                           order=order or traits.order, family=traits.family,
+                           capabilities=traits.capabilities, choices=dict(choices or {}))
+
 
 _SPLIT_PARAMS = (
     Param("adaptive", "bool", "time-symmetrised distance-based step for close encounters", False),
@@ -114,42 +126,36 @@ _SCIPY_PARAMS = (
 def poissonkit_integrators() -> list[IntegratorEntry]:
     """poissonkit's integrators: splittings, implicit midpoint, scipy baselines."""
     out = [
-        IntegratorEntry(
-            name=f"splitting{p}",
-            doc=_SPLIT_DOCS[p] + " Compiled time loop; fixed step (give step=); preserves |ν|, "
-            "(ν, m), total linear and angular momentum to round-off; symplectic on each leaf.",
-            params=_SPLIT_PARAMS, factory=_splitting(p), order=p, family="splitting",
-            capabilities=caps.SPLITTING)
+        _entry(caps.SPLITTING, f"splitting{p}",
+               _SPLIT_DOCS[p] + " Compiled time loop; fixed step (give step=); preserves |ν|, "
+               "(ν, m), total linear and angular momentum to round-off; symplectic on each leaf.",
+               _splitting(p), _SPLIT_PARAMS, order=p)
         for p in (2, 4, 6, 8)
     ]
     out += [
-        IntegratorEntry(
-            name=name, doc=doc + " Exact sub-flows as splitting2–8, so the same invariants hold "
-            "to round-off; its order uses {V,{V,{V,T}}} = 0, true for every splittable system.",
-            params=_SPLIT_PARAMS, factory=_splitting(p, name), order=p, family="splitting",
-            capabilities=caps.SPLITTING)
+        _entry(caps.SPLITTING, name, doc + " Exact sub-flows as splitting2–8, so the same "
+               "invariants hold to round-off; its order uses {V,{V,{V,T}}} = 0, true for every "
+               "splittable system.", _splitting(p, name), _SPLIT_PARAMS, order=p)
         for name, (p, doc) in _RKN_DOCS.items()
     ]
     from poissonkit.numerics.integrators.compositions import TABLES  # pure data, no numba
 
     out += [
-        IntegratorEntry(
-            name=t.name, doc=t.doc + " Exact sub-flows as splitting2–8, so the same invariants "
-            "hold to round-off.", params=_SPLIT_PARAMS, factory=_splitting(t.order, t.name),
-            order=t.order, family="splitting", capabilities=caps.SPLITTING)
+        _entry(caps.SPLITTING, t.name, t.doc + " Exact sub-flows as splitting2–8, so the same "
+               "invariants hold to round-off.", _splitting(t.order, t.name), _SPLIT_PARAMS,
+               order=t.order)
         for t in TABLES.values()
     ]
     out.extend(
-        IntegratorEntry(
-            name=f"logh{p}",
-            doc=_LOGH_DOCS[p] + " in the logarithmic Hamiltonian ln(T + p_t) − ln(C − V) "
+        _entry(
+            caps.TIME_TRANSFORMED, f"logh{p}",
+            _LOGH_DOCS[p] + " in the logarithmic Hamiltonian ln(T + p_t) − ln(C − V) "
             "(Mikkola & Tanikawa 1999; Preto & Tremaine 1999): exact drifts and kicks for "
             "rescaled times, so the physical step shrinks where the potential well is deep "
             "(close encounters); step = fictitious-time step (= physical step at the start). "
             "Preserves |ν|, (ν, m), total linear and angular momentum to round-off; symplectic "
             "in extended phase space, energy error bounded. TwoBodySystem and NBodySystem.",
-            params=_LOGH_PARAMS, factory=_logh(p), order=p, family="time_transformed",
-            capabilities=caps.TIME_TRANSFORMED)
+            _logh(p), _LOGH_PARAMS, order=p)
         for p in (2, 4, 6, 8))
     wh_doc = ("Wisdom–Holman splitting in Jacobi coordinates (exact Kepler drifts, interaction "
               "kicks; SABA_n of Laskar & Robutel 2001) for point masses around one dominant "
@@ -158,58 +164,61 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
               "Compiled loop on the shared driver: located events, checkpoints, streaming. "
               "table= picks a Blanes et al. (2013) method (e.g. 10_6_4), correctors= a "
               "Wisdom-Holman-Touma symplectic corrector (as WHFast).")
-    out.append(IntegratorEntry(
-        name="wisdom_holman", doc=wh_doc + " stages=1 is the classical WH map (as WHFast).",
-        params=(Param("stages", "int", "kicks per step n = 1 ... 4 (SABA_n)", 1, positive=True),
-                Param("table", "str", "Blanes et al. 2013 method instead of SABA_n: 10_4, "
-                      "8_6_4, 10_6_4, h8_4_4, h8_6_4, h10_6_4 ('' = SABA_n)", ""),
-                Param("correctors", "int", "order 3, 5, 7, 11 or 17 of the Wisdom-Holman-Touma "
-                      "symplectic corrector (stages=1, as WHFast; 0 = none)", 0)),
-        factory=_wisdom_holman(False), order=2, family="hierarchical",
-        capabilities=caps.WISDOM_HOLMAN))
-    out.append(IntegratorEntry(
-        name="wisdom_holman_corrected", doc=wh_doc + " With the SABAC_n corrector: error "
-        "O(eps h^2n + eps^2 h^4), 3 extra force evaluations per step.",
-        params=(Param("stages", "int", "kicks per step n = 2 ... 4 (SABAC_n)", 4,
-                      positive=True),
-                Param("correctors", "int", "order 3, 5, 7, 11 or 17 of the Wisdom-Holman-Touma "
-                      "symplectic corrector (stages=1; 0 = none)", 0)),
-        factory=_wisdom_holman(True), order=4, family="hierarchical",
-        capabilities=caps.WISDOM_HOLMAN))
-    out.append(IntegratorEntry(
-        name="midpoint",
-        doc="Implicit midpoint rule (order 2, symmetric); preserves all quadratic invariants. "
+    from poissonkit.numerics.integrators.discrete_gradient import GRADIENTS
+    from poissonkit.numerics.integrators.wisdom_holman.tables import (
+        CORRECTOR_G,
+        CORRECTOR_ORDERS,
+        TABLE_ORDERS,
+    )
+
+    wh_choices = {"stages": tuple(sorted(CORRECTOR_G)), "correctors": (0, *CORRECTOR_ORDERS)}
+    out.append(_entry(
+        caps.WISDOM_HOLMAN, "wisdom_holman", wh_doc + " stages=1 is the classical WH map (as "
+        "WHFast).", _wisdom_holman(False),
+        (Param("stages", "int", "kicks per step n = 1 ... 4 (SABA_n)", 1, positive=True),
+         Param("table", "str", "Blanes et al. 2013 method instead of SABA_n: 10_4, "
+               "8_6_4, 10_6_4, h8_4_4, h8_6_4, h10_6_4 ('' = SABA_n)", ""),
+         Param("correctors", "int", "order 3, 5, 7, 11 or 17 of the Wisdom-Holman-Touma "
+               "symplectic corrector (stages=1, as WHFast; 0 = none)", 0)),
+        order=2, choices={**wh_choices, "table": ("", *sorted(TABLE_ORDERS))}))
+    out.append(_entry(
+        caps.WISDOM_HOLMAN, "wisdom_holman_corrected", wh_doc + " With the SABAC_n corrector: "
+        "error O(eps h^2n + eps^2 h^4), 3 extra force evaluations per step.",
+        _wisdom_holman(True),
+        (Param("stages", "int", "kicks per step n = 2 ... 4 (SABAC_n)", 4, positive=True),
+         Param("correctors", "int", "order 3, 5, 7, 11 or 17 of the Wisdom-Holman-Touma "
+               "symplectic corrector (stages=1; 0 = none)", 0)),
+        order=4, choices=wh_choices))
+    out.append(_entry(
+        caps.MIDPOINT, "midpoint",
+        "Implicit midpoint rule (order 2, symmetric); preserves all quadratic invariants. "
         "Any compiled system, including deformed brackets; Newton with the generated Jacobian, "
-        "else fixed-point iteration.",
-        params=(Param("tol", "float", "iteration tolerance (relative)", 1e-14, positive=True),
-                Param("max_iterations", "int", "iteration limit per step", 50, positive=True),
-                Param("newton", "bool", "use Newton's method when a Jacobian exists", True)),
-        factory=_midpoint, order=2, family="implicit", capabilities=caps.MIDPOINT))
-    out.append(IntegratorEntry(
-        name="discrete_gradient",
-        doc="Energy-preserving discrete-gradient method (order 2, symmetric) for any compiled "
+        "else fixed-point iteration.", _midpoint,
+        (Param("tol", "float", "iteration tolerance (relative)", 1e-14, positive=True),
+         Param("max_iterations", "int", "iteration limit per step", 50, positive=True),
+         Param("newton", "bool", "use Newton's method when a Jacobian exists", True))))
+    out.append(_entry(
+        caps.DISCRETE_GRADIENT, "discrete_gradient",
+        "Energy-preserving discrete-gradient method (order 2, symmetric) for any compiled "
         "symbolic system x' = N P grad H: x' = x + h S(midpoint) grad_bar H(x, x') with the "
         "average vector field (exact Gauss-Legendre quadrature, polynomial H) or Gonzalez's "
         "midpoint discrete gradient (any H); H conserved to round-off, linear and quadratic "
         "Casimirs too, other Casimirs to O(h^2). Cohen & Hairer 2011; McLachlan, Quispel & "
-        "Robidoux 1999.",
-        params=(Param("gradient", "str", "discrete gradient: auto (avf for polynomial H, else "
-                      "gonzalez), avf or gonzalez", "auto"),
-                Param("tol", "float", "Newton tolerance relative to the step's increment",
-                      1e-14, positive=True),
-                Param("max_iterations", "int", "iteration limit per step", 50, positive=True),
-                Param("newton", "bool", "Newton's method with the field's Jacobian at the "
-                      "midpoint (else fixed-point iteration)", True)),
-        factory=_discrete_gradient, order=2, family="implicit",
-        capabilities=caps.DISCRETE_GRADIENT))
+        "Robidoux 1999.", _discrete_gradient,
+        (Param("gradient", "str", "discrete gradient: auto (avf for polynomial H, else "
+               "gonzalez), avf or gonzalez", "auto"),
+         Param("tol", "float", "Newton tolerance relative to the step's increment",
+               1e-14, positive=True),
+         Param("max_iterations", "int", "iteration limit per step", 50, positive=True),
+         Param("newton", "bool", "Newton's method with the field's Jacobian at the "
+               "midpoint (else fixed-point iteration)", True)),
+        choices={"gradient": GRADIENTS}))
     for method, order, doc in (
             ("RK45", 5, "scipy solve_ivp RK45 (Dormand–Prince 5(4)), adaptive; baseline."),
             ("DOP853", 8, ("scipy solve_ivp DOP853 (Dormand–Prince 8(5,3)), adaptive; "
                            "baseline and high-accuracy reference.")),
             ("Radau", 5, "scipy solve_ivp Radau IIA (order 5), implicit, for stiff problems."),
             ("LSODA", 0, "scipy solve_ivp LSODA (Adams/BDF switching), variable order.")):
-        out.append(IntegratorEntry(name=method.lower(), doc=doc + " Tolerance: tol (rtol; atol "
-                                   "defaults to tol).", params=_SCIPY_PARAMS,
-                                   factory=_scipy(method), order=order, family="scipy",
-                                   capabilities=caps.SCIPY))
+        out.append(_entry(caps.SCIPY, method.lower(), doc + " Tolerance: tol (rtol; atol "
+                          "defaults to tol).", _scipy(method), _SCIPY_PARAMS, order=order))
     return out

@@ -5,13 +5,12 @@ from __future__ import annotations
 import math
 import os
 import time
-from dataclasses import replace
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 from typing import TYPE_CHECKING
 
-from numpy.typing import ArrayLike
-
 import numpy as np
+from numpy.typing import ArrayLike
 
 from poissonkit.contracts import (
     Event,
@@ -22,7 +21,12 @@ from poissonkit.contracts import (
     NumericsSystem,
     System,
 )
-from poissonkit.errors import CapabilityError, DimensionError, InputError, IntegrationError
+from poissonkit.errors import (
+    CapabilityError,
+    DimensionError,
+    InputError,
+    IntegrationError,
+)
 from poissonkit.numerics.conforms import conforms
 from poissonkit.numerics.solution import Solution
 from poissonkit.plugin.contributions import Capabilities
@@ -80,6 +84,45 @@ def _finite_number(value: object, name: str) -> float:
     if not math.isfinite(v):
         raise InputError(f"{name} must be a finite number, got {value!r}")
     return v
+
+
+def _check_arguments(system: System, y0: ArrayLike, t0: float, t_end: float,
+                     save_every: int, step: float | None, tol: float | None
+                     ) -> tuple[np.ndarray, float, float, float | None, float | None]:
+    """:func:`solve`'s numbers checked (:class:`InputError` / :class:`DimensionError` naming
+    the argument) and converted: ``(y0, t0, t_end, step, tol)``."""
+    try:
+        y0 = np.array(y0, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"y0 must be a flat sequence of numbers, got {y0!r} ({exc})") from None
+    # a bare set of compiled kernels (no ``dim``) takes the state's length
+    dim = system.dim if conforms(system, NumericsSystem) else y0.size
+    if y0.ndim != 1 or y0.size != dim:
+        raise DimensionError(f"y0 has shape {y0.shape}, the system needs ({dim},)")
+    if not np.all(np.isfinite(y0)):
+        raise InputError("y0 contains NaN or inf")
+    t0 = _finite_number(t0, "t0")
+    t_end = _finite_number(t_end, "t_end")
+    if not t_end > t0:
+        raise InputError(f"t_end must be > t0 = {t0}, got {t_end!r}")
+    if not isinstance(save_every, (int, np.integer)) or save_every < 1:
+        raise InputError(f"save_every must be a positive int, got {save_every!r}")
+    if save_every > MAX_STEPS:  # compiled loops count in int64: 2**63 overflows inside
+        raise InputError(f"save_every must be at most {MAX_STEPS:.0e}, got {save_every!r}")
+    if step is not None:
+        step = _finite_number(step, "step")
+        if not step > 0:
+            raise InputError(f"step must be positive, got {step!r}")
+        if step > t_end - t0:  # scipy refuses a first step beyond the interval
+            raise InputError(f"step {step!r} is longer than t_end - t0 = {t_end - t0!r}")
+        if (t_end - t0) / step > MAX_STEPS:  # 1e-300: an overflow deep inside, or a hang
+            raise InputError(f"step {step!r} would take more than {MAX_STEPS:.0e} steps to "
+                             f"reach t_end = {t_end!r}")
+    if tol is not None:
+        tol = _finite_number(tol, "tol")
+        if not tol > 0:
+            raise InputError(f"tol must be positive, got {tol!r}")
+    return y0, t0, t_end, step, tol
 
 
 def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator = "splitting6",
@@ -162,66 +205,35 @@ def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator 
     CheckpointError
         ``resume`` without a valid checkpoint, or one of another problem.
     """
-    try:
-        y0 = np.array(y0, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"y0 must be a flat sequence of numbers, got {y0!r} ({exc})") from None
-    # a bare set of compiled kernels (no ``dim``) takes the state's length
-    dim = system.dim if conforms(system, NumericsSystem) else y0.size
-    if y0.ndim != 1 or y0.size != dim:
-        raise DimensionError(f"y0 has shape {y0.shape}, the system needs ({dim},)")
-    if not np.all(np.isfinite(y0)):
-        raise InputError("y0 contains NaN or inf")
-    t0 = _finite_number(t0, "t0")
-    t_end = _finite_number(t_end, "t_end")
-    if not t_end > t0:
-        raise InputError(f"t_end must be > t0 = {t0}, got {t_end!r}")
-    if not isinstance(save_every, (int, np.integer)) or save_every < 1:
-        raise InputError(f"save_every must be a positive int, got {save_every!r}")
-    if save_every > MAX_STEPS:  # compiled loops count in int64: 2**63 overflows inside
-        raise InputError(f"save_every must be at most {MAX_STEPS:.0e}, got {save_every!r}")
-    if step is not None:
-        step = _finite_number(step, "step")
-        if not step > 0:
-            raise InputError(f"step must be positive, got {step!r}")
-        if step > t_end - t0:  # scipy refuses a first step beyond the interval
-            raise InputError(f"step {step!r} is longer than t_end - t0 = {t_end - t0!r}")
-        if (t_end - t0) / step > MAX_STEPS:  # 1e-300: an overflow deep inside, or a hang
-            raise InputError(f"step {step!r} would take more than {MAX_STEPS:.0e} steps to "
-                             f"reach t_end = {t_end!r}")
-    if tol is not None:
-        tol = _finite_number(tol, "tol")
-        if not tol > 0:
-            raise InputError(f"tol must be positive, got {tol!r}")
+    y0, t0, t_end, step, tol = _check_arguments(system, y0, t0, t_end, save_every, step, tol)
     from poissonkit.numerics.events import check_events
 
     events = check_events(events)
     integ, caps = _integrator_and_capabilities(method, options)
     if t_eval is not None:
-        from poissonkit.numerics.sample_times import check_sample_times
-
-        if save_every != 1:
-            raise InputError("give t_eval or save_every, not both (t_eval chooses the saved "
-                             "states)")
-        if checkpoint is not None or resume:
-            raise InputError("t_eval cannot be combined with checkpoint/resume: a run saving "
-                             "states at given times is not checkpointed; use save_every")
-        times = check_sample_times(t_eval, t0, t_end)
-        refuse_beyond(caps, integ.name, system, events, None)
-        if conforms(system, HasOverlapCheck):
-            system.check_overlap(y0)
-        return _solve_at_times(integ, system, y0, t0, t_end, times, step=step, tol=tol,
-                               events=events, progress=progress, stop=stop, stream=stream)
+        return _solve_at_times(integ, caps, system, y0, t0, t_end, t_eval, step=step, tol=tol,
+                               events=events, progress=progress, stop=stop, stream=stream,
+                               save_every=save_every, checkpointed=checkpoint is not None
+                               or resume)
     control = _control(checkpoint, resume, stream, stop)
     refuse_beyond(caps, integ.name, system, events, control)
     if conforms(system, HasOverlapCheck):  # coincident bodies: singular forces whatever
         system.check_overlap(y0)              # the method
+    return _run(integ, caps, system, y0, t0, t_end, control, step=step, tol=tol, events=events,
+                progress=progress, save_every=int(save_every))
+
+
+def _run(integ: Integrator, caps: Capabilities, system: System, y0: np.ndarray, t0: float,
+         t_end: float, control: Control | None, *, step: float | None, tol: float | None,
+         events: Sequence[Event], progress: bool, save_every: int) -> Solution:
+    """Run the checked problem with the controls the integrator honours; a stream it cannot
+    fill is written once it is done."""
     control, late_stream = _within(caps, control)
     kwargs = {"control": control} if control is not None else {}  # older integrators: none
     start = time.perf_counter()
     try:
         raw = integ.integrate(system, y0, t_end, step=step, tol=tol, events=events,
-                              progress=progress, save_every=int(save_every), t0=t0, **kwargs)
+                              progress=progress, save_every=save_every, t0=t0, **kwargs)
     except ZeroDivisionError:
         # built-in integrators name the step themselves; this catches third-party ones
         raise IntegrationError(f"{integ.name}: division by zero in a compiled kernel (two "
@@ -237,12 +249,25 @@ def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator 
                     tol=tol, message=raw.message, extra=raw.extra)
 
 
-def _solve_at_times(integ: Integrator, system: System, y0: np.ndarray, t0: float,
-                    t_end: float, times: np.ndarray, *, step: float | None, tol: float | None,
-                    events: Sequence[Event], progress: bool, stop: Callable[[], bool] | None,
-                    stream: TrajectoryStream | str | os.PathLike[str] | None) -> Solution:
+def _solve_at_times(integ: Integrator, caps: Capabilities, system: System, y0: np.ndarray,
+                    t0: float, t_end: float, t_eval: ArrayLike, *, step: float | None,
+                    tol: float | None, events: Sequence[Event], progress: bool,
+                    stop: Callable[[], bool] | None,
+                    stream: TrajectoryStream | str | os.PathLike[str] | None,
+                    save_every: int, checkpointed: bool) -> Solution:
     """``solve`` with ``t_eval``: piece by piece through the sample times."""
-    from poissonkit.numerics.sample_times import integrate_at_times
+    from poissonkit.numerics.sample_times import check_sample_times, integrate_at_times
+
+    if save_every != 1:
+        raise InputError("give t_eval or save_every, not both (t_eval chooses the saved "
+                         "states)")
+    if checkpointed:
+        raise InputError("t_eval cannot be combined with checkpoint/resume: a run saving "
+                         "states at given times is not checkpointed; use save_every")
+    times = check_sample_times(t_eval, t0, t_end)
+    refuse_beyond(caps, integ.name, system, events, None)
+    if conforms(system, HasOverlapCheck):
+        system.check_overlap(y0)
 
     if stop is not None and not callable(stop):
         raise InputError(f"stop must be a callable returning a bool, got {stop!r}")

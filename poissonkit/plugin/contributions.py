@@ -293,17 +293,65 @@ class SystemEntry(Entry):
 
 
 @dataclass(frozen=True)
+class IntegratorOption:
+    """One option of an integrator, as data (:meth:`IntegratorEntry.options`).
+
+    Attributes
+    ----------
+    name, type, default, doc, unit
+        As the entry's :class:`Param` declares them (``type``: ``"float"``, ``"int"``,
+        ``"str"``, ``"bool"`` or ``"vector"``; ``default`` ``None``: required).
+    choices
+        The allowed values, or ``()`` when any value of the type is allowed.
+    """
+
+    name: str
+    type: str
+    default: Any
+    doc: str
+    unit: str = ""
+    choices: tuple[Any, ...] = ()
+
+
+@dataclass(frozen=True)
 class IntegratorEntry(Entry):
     """A time integrator. ``factory(**params)`` returns an object following the integrator
     contract (:class:`poissonkit.contracts.Integrator`). ``order`` is the classical order (0 if
     adaptive with variable order); ``family`` is e.g. ``"splitting"``, ``"implicit"``,
     ``"scipy"``; ``capabilities`` declares what it can do (:class:`Capabilities`), which
-    :func:`~poissonkit.numerics.solve` checks before it runs."""
+    :func:`~poissonkit.numerics.solve` checks before it runs. ``choices`` maps an option
+    (a name of :attr:`params`) to its allowed values; :meth:`options` lists the options as
+    data (for scenes, the command line and the docs)."""
 
     factory: Callable[..., Any] = field(default=_missing)
     order: int = 0
     family: str = ""
     capabilities: Capabilities = field(default_factory=Capabilities)
+    choices: Mapping[str, tuple[Any, ...]] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        names = {p.name for p in self.params}
+        for key in self.choices:
+            if key not in names:
+                raise InputError(f"integrator {self.name!r}: choices for {key!r}, which is not "
+                                 f"one of its options ({', '.join(sorted(names)) or 'none'})")
+
+    def options(self) -> tuple[IntegratorOption, ...]:
+        """Every option with its type, default, doc, unit and allowed values."""
+        return tuple(IntegratorOption(p.name, p.type, p.default, p.doc, p.unit,
+                                      tuple(self.choices.get(p.name, ())))
+                     for p in self.params)
+
+    def resolve_params(self, given: Mapping[str, Any]) -> dict[str, Any]:
+        """:meth:`Entry.resolve_params` (unknown names raise
+        :class:`~poissonkit.errors.UnknownNameError` listing the valid options), then each value
+        with declared choices must be one of them (:class:`~poissonkit.errors.InputError`)."""
+        out = super().resolve_params(given)
+        for key, allowed in self.choices.items():
+            if key in given and out[key] not in allowed:
+                raise InputError(f"{self.name}: option {key!r} must be one of "
+                                 f"{', '.join(map(repr, allowed))}; got {given[key]!r}")
+        return out
 
 
 @dataclass(frozen=True)

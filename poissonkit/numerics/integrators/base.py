@@ -300,7 +300,7 @@ def step_end_kernels(kernels: CompiledKernels) -> tuple[CompiledFunction, Compil
 
     @jit(inline="always")
     def check(y, data, work, contact, escape, watch, hist):
-        flag = 0
+        flag = RUNNING
         value = 0.0
         if contact > 0.0 or watch > 0.0:
             d = min_distance(y, data, work)
@@ -308,17 +308,73 @@ def step_end_kernels(kernels: CompiledKernels) -> tuple[CompiledFunction, Compil
             d0 = hist[0]
             d1 = hist[1]
             if watch > 0.0 and d1 <= d0 and d > d1 and d1 - 2.0 * max(d0 - d1, d - d1) < watch:
-                flag = 7
+                flag = GRAZE
                 value = d1
             elif contact > 0.0 and d < contact:
-                flag = 2
+                flag = COLLISION
                 value = d
-        if flag == 0 and escape > 0.0:
+        if flag == RUNNING and escape > 0.0:
             d = max_radius(y, data)
             if d > escape:
-                flag = 3
+                flag = ESCAPE
                 value = d
         return flag, value
 
     _step_end[key] = (remember, check, kernels)  # keep the kernels (and their ids) alive
     return remember, check
+
+
+_tails: dict[tuple[int, int, bool], tuple[CompiledFunction, CompiledKernels]] = {}
+
+
+def step_tail(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunction:
+    """The end of one step of every compiled fixed-step loop, compiled (inlined into the loop).
+
+    ``tail(y, c, t, fail, last, save, track, data, work, contact, escape, watch, hist, out_t,
+    out_y, nsave) -> (status, nsave, value)`` runs, in this order: the NaN/inf test of ``y``
+    (:data:`NONFINITE`), the loop's own failure ``fail`` (a status, :data:`RUNNING` for none),
+    the event test at the step end when ``track`` (:func:`step_end_kernels`' ``check``: status
+    and offending value), saving the row ``(t, y)`` into ``out_t``, ``out_y`` at ``nsave`` when
+    ``save`` (``y − c`` for a ``compensated`` loop), then :data:`DONE` when ``last``,
+    :data:`BUFFER_FULL` when the buffer is full, else :data:`RUNNING` (go on). A loop returns
+    whenever the status is not :data:`RUNNING`.
+    """
+    from poissonkit.numerics.jit import jit
+    from poissonkit.numerics.kernels import all_finite, copy_row, copy_row_compensated
+
+    key = (id(kernels.min_distance), id(kernels.max_radius), bool(compensated))
+    hit = _tails.get(key)
+    if hit is not None:
+        return hit[0]
+    check = step_end_kernels(kernels)[1]
+    finite = jit(inline="always")(all_finite.py_func)
+    comp = bool(compensated)  # a compile-time constant of the closure
+
+    @jit(inline="always")
+    def tail(y, c, t, fail, last, save, track, data, work, contact, escape, watch, hist, out_t,
+             out_y, nsave):
+        if not finite(y):
+            return NONFINITE, nsave, 0.0
+        if fail != RUNNING:
+            return fail, nsave, 0.0
+        flag = RUNNING
+        value = 0.0
+        if track:  # (the check's calls cost even when skipped: keep them off the plain loop)
+            flag, value = check(y, data, work, contact, escape, watch, hist)
+        if save:
+            out_t[nsave] = t
+            if comp:
+                copy_row_compensated(y, c, out_y, nsave)
+            else:
+                copy_row(y, out_y, nsave)
+            nsave += 1
+        if flag != RUNNING:
+            return flag, nsave, value
+        if last:
+            return DONE, nsave, 0.0
+        if nsave == out_t.shape[0]:
+            return BUFFER_FULL, nsave, 0.0
+        return RUNNING, nsave, 0.0
+
+    _tails[key] = (tail, kernels)  # keep the kernels (and their ids) alive
+    return tail

@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-__all__ = ["HighOrderTable", "TABLES"]
+__all__ = ["TABLES", "HighOrderTable"]
 
 
 @dataclass(frozen=True)

@@ -58,17 +58,34 @@ from poissonkit.errors import CapabilityError, InputError, IntegrationError
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
     NO_CONVERGENCE,
+    RUNNING,
     RawResult,
     SaveBuffer,
-    check_step,
-    locate_division,
-    state_digest,
     step_end_kernels,
+    step_tail,
 )
 from poissonkit.numerics.integrators.capabilities import DISCRETE_GRADIENT
-from poissonkit.numerics.integrators.driver import Control, LoopState, drive
+from poissonkit.numerics.integrators.driver import (
+    Control,
+    LoopProblem,
+    LoopState,
+    drive,
+)
+from poissonkit.numerics.integrators.glue import (
+    ChunkResult,
+    Scratch,
+    describe,
+    fixed_grid,
+    guard_division,
+)
+from poissonkit.numerics.integrators.newton import (
+    CONVERGED,
+    SINGULAR,
+    near_increment,
+    newton_solver,
+    no_jacobian,
+)
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import all_finite, copy_into, copy_row_compensated
 
 #: The discrete gradients this method offers (``"auto"`` chooses from the Hamiltonian).
 GRADIENTS = ("auto", "avf", "gonzalez")
@@ -119,62 +136,6 @@ def avf_nodes(degree: int) -> tuple[np.ndarray, np.ndarray]:
     return 0.5 * (x + 1.0), 0.5 * w
 
 
-@jit(inline="always")
-def _lu_factor(A, piv):
-    """LU factorisation with partial pivoting in place (``piv`` the row swaps); False if
-    ``A`` is singular to working precision."""
-    n = A.shape[0]
-    for k in range(n):
-        p = k
-        best = abs(A[k, k])
-        for i in range(k + 1, n):
-            if abs(A[i, k]) > best:
-                best = abs(A[i, k])
-                p = i
-        if best == 0.0:
-            return False
-        piv[k] = p
-        if p != k:
-            for j in range(n):
-                tmp = A[k, j]
-                A[k, j] = A[p, j]
-                A[p, j] = tmp
-        for i in range(k + 1, n):
-            A[i, k] /= A[k, k]
-            f = A[i, k]
-            if f != 0.0:
-                for j in range(k + 1, n):
-                    A[i, j] -= f * A[k, j]
-    return True
-
-
-@jit(inline="always")
-def _lu_solve(A, piv, b, x):
-    """Solve ``A x = b`` with the factors of :func:`_lu_factor` (``b`` is overwritten)."""
-    n = b.shape[0]
-    for k in range(n):
-        p = piv[k]
-        if p != k:
-            tmp = b[k]
-            b[k] = b[p]
-            b[p] = tmp
-    for i in range(n):
-        acc = b[i]
-        for j in range(i):
-            acc -= A[i, j] * x[j]
-        x[i] = acc
-    for i in range(n - 1, -1, -1):
-        acc = x[i]
-        for j in range(i + 1, n):
-            acc -= A[i, j] * x[j]
-        x[i] = acc / A[i, i]
-
-
-@jit
-def _nojac(y, data, work, out):
-    return
-
-
 _runners: dict[tuple[int, int, int, int, bool], tuple[CompiledFunction, object]] = {}
 
 
@@ -187,10 +148,59 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
     if hit is not None:
         return hit[0]
     rhs = ks.rhs
-    jac = ks.jac if ks.jac is not None else _nojac
+    jac = ks.jac if ks.jac is not None else no_jacobian
     skew, grad, energy = dg.skew, dg.grad, dg.energy
     gz = bool(gonzalez)  # a compile-time constant of the loop
-    remember, check = step_end_kernels(ks)
+    remember = step_end_kernels(ks)[0]
+    tail = step_tail(ks, compensated=True)
+
+    @jit(inline="always")
+    def residual(D, y, h, mid, G, data, work, args):
+        # G(D) = D − h S((x + x')/2) ∇̄H(x, x'), x' = x + D
+        c, nodes, weights, href, up, S, g, e1, gb, xs = args
+        n = D.shape[0]
+        for i in range(n):
+            mid[i] = y[i] + 0.5 * D[i]
+        skew(mid, up)
+        q = 0
+        for i in range(n):
+            for j in range(i + 1, n):
+                S[i, j] = up[q]
+                S[j, i] = -up[q]
+                q += 1
+        if gz:
+            # x' exactly as the compensated update below will store it: the level
+            # H(x') = href is met by the stored state itself
+            for i in range(n):
+                xs[i] = y[i] + (D[i] - c[i])
+            energy(xs, e1)
+            grad(mid, g)
+            dot = 0.0
+            dd = 0.0
+            for i in range(n):
+                gb[i] = g[i]
+                dot += g[i] * D[i]
+                dd += D[i] * D[i]
+            if dd > 0.0:
+                corr = (e1[0] - href - dot) / dd
+                for i in range(n):
+                    gb[i] += corr * D[i]
+        else:
+            for i in range(n):
+                gb[i] = 0.0
+            for r in range(nodes.shape[0]):
+                for i in range(n):
+                    xs[i] = y[i] + nodes[r] * D[i]
+                grad(xs, g)
+                for i in range(n):
+                    gb[i] += weights[r] * g[i]
+        for i in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += S[i, j] * gb[j]
+            G[i] = D[i] - h * acc
+
+    solve = newton_solver(residual, jac, near_increment, simplified=True)
 
     @jit
     def run(y, c, t0, h, n_total, tol, maxiter, newton, nodes, weights, href, data, work,
@@ -211,6 +221,7 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
         A = np.empty((n, n))
         delta = np.empty(n)
         piv = np.empty(n, dtype=np.int64)
+        args = (c, nodes, weights, href, up, S, g, e1, gb, xs)
         nsave = 0
         nfev = 0
         track = contact > 0.0 or escape > 0.0 or watch > 0.0
@@ -222,105 +233,28 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
             nfev += 1
             for i in range(n):
                 D[i] = h * f[i]
-            ok = False
-            prev = np.inf
-            for it in range(maxiter):
-                for i in range(n):
-                    mid[i] = y[i] + 0.5 * D[i]
-                skew(mid, up)
-                q = 0
-                for i in range(n):
-                    for j in range(i + 1, n):
-                        S[i, j] = up[q]
-                        S[j, i] = -up[q]
-                        q += 1
-                if gz:
-                    # x' exactly as the compensated update below will store it: the level
-                    # H(x') = href is met by the stored state itself
-                    for i in range(n):
-                        xs[i] = y[i] + (D[i] - c[i])
-                    energy(xs, e1)
-                    grad(mid, g)
-                    dot = 0.0
-                    dd = 0.0
-                    for i in range(n):
-                        gb[i] = g[i]
-                        dot += g[i] * D[i]
-                        dd += D[i] * D[i]
-                    if dd > 0.0:
-                        corr = (e1[0] - href - dot) / dd
-                        for i in range(n):
-                            gb[i] += corr * D[i]
-                else:
-                    for i in range(n):
-                        gb[i] = 0.0
-                    for r in range(nodes.shape[0]):
-                        for i in range(n):
-                            xs[i] = y[i] + nodes[r] * D[i]
-                        grad(xs, g)
-                        for i in range(n):
-                            gb[i] += weights[r] * g[i]
-                nfev += 1
-                for i in range(n):
-                    acc = 0.0
-                    for j in range(n):
-                        acc += S[i, j] * gb[j]
-                    G[i] = D[i] - h * acc
-                if newton:
-                    if it == 0:  # simplified Newton: one Jacobian and factorisation a step
-                        jac(mid, data, work, J)
-                        for i in range(n):
-                            for j in range(n):
-                                A[i, j] = -0.5 * h * J[i, j]
-                            A[i, i] += 1.0
-                        if not _lu_factor(A, piv):
-                            return 6, t0 + gstep * h, k + 1, nsave, nfev, 0.0
-                    _lu_solve(A, piv, G, delta)
-                else:
-                    copy_into(G, delta)
-                dn = 0.0
-                dm = 0.0
-                yn = 0.0
-                for i in range(n):
-                    D[i] -= delta[i]
-                    dn = max(dn, abs(delta[i]))
-                    dm = max(dm, abs(D[i]))
-                    yn = max(yn, abs(y[i]))
-                if not math.isfinite(dn):
-                    break
-                if dn <= tol * dm:
-                    ok = True
-                    break
-                # round-off floor: the correction stopped shrinking while already tiny
-                # (Gonzalez's correction divides the rounding of H by |D|: its floor is of
-                # order eps (1 + |y|), not eps |D|)
-                if dn >= prev and dn <= 1e3 * tol * (dm + 1e-2 * (1.0 + yn)):
-                    ok = True
-                    break
-                prev = dn
+            yn = 0.0
+            for i in range(n):
+                yn = max(yn, abs(y[i]))
+            outcome, nf = solve(D, y, h, tol, maxiter, newton, yn, data, work, args, mid, G, J,
+                                A, piv, delta)
+            nfev += nf
+            if outcome == SINGULAR:
+                return NO_CONVERGENCE, t0 + gstep * h, k + 1, nsave, nfev, 0.0
+            ok = outcome == CONVERGED
             t = t0 + gstep * h
             for i in range(n):  # Kahan: the state is y - c
                 v = D[i] - c[i]
                 s = y[i] + v
                 c[i] = (s - y[i]) - v
                 y[i] = s
-            if not all_finite(y):
-                return 1, t, k + 1, nsave, nfev, 0.0
-            if not ok:
-                return 6, t, k + 1, nsave, nfev, 0.0
             last = gstep >= n_total
-            flag, value = check(y, data, work, contact, escape, watch, hist)
-            if last or gstep % save_every == 0:
-                out_t[nsave] = t
-                copy_row_compensated(y, c, out_y, nsave)
-                nsave += 1
-            if flag != 0:
-                return flag, t, k + 1, nsave, nfev, value
-            if last:
-                return 5, t, k + 1, nsave, nfev, 0.0
-            if nsave == out_t.shape[0]:
-                return 4, t, k + 1, nsave, nfev, 0.0
-        return 0, t0 + (step0 + max_steps) * h, max_steps, nsave, nfev, 0.0
+            status, nsave, value = tail(y, c, t, RUNNING if ok else NO_CONVERGENCE, last,
+                                        last or gstep % save_every == 0, track, data, work,
+                                        contact, escape, watch, hist, out_t, out_y, nsave)
+            if status != RUNNING:
+                return status, t, k + 1, nsave, nfev, value
+        return RUNNING, t0 + (step0 + max_steps) * h, max_steps, nsave, nfev, 0.0
 
     _runners[key] = (run, (ks, dg))  # keep the kernels (and their ids) alive
     return run
@@ -347,9 +281,9 @@ class DiscreteGradient:
         iteration).
     """
 
-    family = "implicit"
-    capabilities = DISCRETE_GRADIENT
-    order = 2
+    family = DISCRETE_GRADIENT.family
+    capabilities = DISCRETE_GRADIENT.capabilities
+    order = DISCRETE_GRADIENT.order
     name = "discrete_gradient"
 
     def __init__(self, gradient: str = "auto", tol: float = 1e-14, max_iterations: int = 50,
@@ -386,10 +320,7 @@ class DiscreteGradient:
             raise CapabilityError(self.name, "needs_kernels", f"{type(system).__name__} has no "
                                   "symbolic form (N, P, H); compile a HamiltonianSystem with "
                                   "compile_system")
-        h = check_step(step, t_end - t0, self.name)
-        span = t_end - t0
-        n_total = max(1, math.ceil(span / h - 1e-12))
-        h = span / n_total
+        h, n_total = fixed_grid(self.name, step, t0, t_end)
         itol = float(tol) if tol is not None else self.tol
         dg = discrete_gradient_kernels(system)
         mode = self._choose(dg.degree)
@@ -402,9 +333,7 @@ class DiscreteGradient:
         run = _runner(system, dg, gonzalez)
         y = np.array(y0, dtype=float)
         data, work = system.data, system.work()
-        rows = min(n_total // save_every + 2, 4096)
-        scratch = SaveBuffer(y.size, 4)
-        no_hist = np.zeros(5)
+        scratch = Scratch(y.size)
         # Gonzalez: H(x) of every step is the run's initial energy (equal in exact arithmetic),
         # so the rounding of the computed energies does not add up from step to step
         e0 = np.empty(1)
@@ -412,29 +341,22 @@ class DiscreteGradient:
         href = float(e0[0])
         args = (itol, self.max_iterations, newton, nodes, weights, href, data, work)
 
-        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
-                  ) -> tuple[int, float, int, int, int, float]:
-            start, start_c = st.y.copy(), st.comp.copy()
-            try:
-                return run(st.y, st.comp, t0, h, n_total, *args, save_every, st.steps,
-                           max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, st.prev,
-                           st.prev2, st.hist)
-            except ZeroDivisionError:
-                raise locate_division(self.name, one_step, start - start_c, st.t,
-                                      st.steps) from None
+        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
+            return run(st.y, st.comp, t0, h, n_total, *args, save_every, st.steps, max_steps,
+                       buf.cur_t, buf.cur_y, contact, escape, watch, st.prev, st.prev2, st.hist)
 
         def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
             cs = np.zeros_like(ys)
-            out = run(ys, cs, t0, h, n_total, *args, save_every, done, 1, scratch.cur_t,
-                      scratch.cur_y, 0.0, 0.0, 0.0, ys, ys, no_hist)
+            out = run(ys, cs, t0, h, n_total, *args, save_every, done, 1, scratch.t, scratch.y,
+                      0.0, 0.0, 0.0, ys, ys, scratch.hist)
             ys -= cs
             return out[0], out[1]
 
         def advance(ys: np.ndarray, s: float) -> np.ndarray:
             yc = np.array(ys, dtype=float)
             cc = np.zeros_like(yc)
-            status = run(yc, cc, 0.0, s, 1, *args, 1, 0, 1, scratch.cur_t, scratch.cur_y,
-                         0.0, 0.0, 0.0, yc, yc, no_hist)[0]
+            status = run(yc, cc, 0.0, s, 1, *args, 1, 0, 1, scratch.t, scratch.y, 0.0, 0.0, 0.0,
+                         yc, yc, scratch.hist)[0]
             if status == NO_CONVERGENCE:
                 raise IntegrationError(f"{self.name}: Newton did not converge while locating "
                                        "an event")
@@ -448,14 +370,14 @@ class DiscreteGradient:
                     "reduce the step")
             return None
 
-        problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
-                   "t_end": float(t_end).hex(), "n_total": n_total, "save_every": save_every,
-                   "dim": int(y.size), "tol": float(itol).hex(), "newton": bool(newton),
-                   "gradient": mode, "nodes": int(nodes.size), "y0": state_digest(y)}
-        raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
-                    save_every=save_every, control=control, chunk=chunk, advance=advance,
-                    done=lambda st: st.steps >= n_total, failure=failure, problem=problem,
-                    buffer_rows=rows, compensated=True)
+        raw = drive(LoopProblem(
+            self.name, system, y, t0, t_end,
+            guard_division(self.name, chunk, lambda st: (one_step, st.y - st.comp)), advance,
+            lambda st: st.steps >= n_total,
+            describe(self.name, h, t0, t_end, n_total, save_every, y, tol=float(itol).hex(),
+                     newton=bool(newton), gradient=mode, nodes=int(nodes.size)),
+            min(n_total // save_every + 2, 4096), events, progress, save_every, control,
+            failure, compensated=True))
         raw.extra.update(step=h, newton=newton, gradient=mode,
                          nodes=0 if gonzalez else int(nodes.size))
         return raw

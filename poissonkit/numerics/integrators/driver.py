@@ -110,37 +110,37 @@ Problem = Mapping[str, object]
 ChunkFn = Callable[[LoopState, int, SaveBuffer], tuple[int, float, int, int, int, float]]
 
 
-def drive(name: str, system: HasCompiledKernels, y0: np.ndarray, t0: float, t_end: float, *,
-          events: Sequence[Event], progress: bool, save_every: int, control: Control | None,
-          chunk: ChunkFn, advance: Callable[[np.ndarray, float], np.ndarray],
-          done: Callable[[LoopState], bool],
-          failure: Callable[[int, LoopState], Exception | None], problem: Problem,
-          buffer_rows: int, compensated: bool = False,
-          carry: Mapping[str, np.ndarray] | None = None) -> RawResult:
-    """Run ``chunk`` until ``done``; see the module docstring.
+def no_failure(status: int, st: LoopState) -> Exception | None:
+    """A loop with no method-specific status: every unknown status is unexpected."""
+    return None
 
-    Parameters
+
+@dataclass(frozen=True)
+class LoopProblem:
+    """What :func:`drive` runs: the problem, the run's options and the compiled loop.
+
+    Attributes
     ----------
     name
         Method name (messages).
     system, y0, t0, t_end
         The problem.
-    events, progress, save_every
-        As in :func:`~poissonkit.numerics.solve`.
-    control
-        Checkpoint / resume / stream / stop, or ``None``.
     chunk
         ``chunk(state, max_steps, buf) -> (status, t, steps_done, rows_saved, nfev, value)``.
     advance
         ``advance(y, s)``: one step of length ``s`` from a copy of ``y`` (event location).
     done
         Whether the state has reached the end time.
-    failure
-        Typed error for a method-specific status (e.g. no convergence), else ``None``.
-    problem
+    description
         Plain-data description checked on resume.
     buffer_rows
         Rows per compiled chunk buffer.
+    events, progress, save_every
+        As in :func:`~poissonkit.numerics.solve`.
+    control
+        Checkpoint / resume / stream / stop, or ``None``.
+    failure
+        Typed error for a method-specific status (e.g. no convergence), else ``None``.
     compensated
         The loop carries a compensation array ``LoopState.comp`` (compensated summation); it is
         part of the state, so it is checkpointed and restored with ``y``.
@@ -150,162 +150,233 @@ def drive(name: str, system: HasCompiledKernels, y0: np.ndarray, t0: float, t_en
         would not be exact): checkpointed and restored in place, so a resumed run continues
         bit-identically.
     """
-    events = check_events(events)
-    contact, escape, watch = event_thresholds(events)
-    control = control or Control()
-    ck = control.checkpoint
-    stream = control.stream
-    n = y0.size
-    st = LoopState(y=np.array(y0, dtype=float), t=float(t0), steps=0, prev=np.zeros(n),
-                   prev2=np.zeros(n), hist=np.array([np.inf, np.inf, np.inf, t0, t0]),
-                   comp=np.zeros(n) if compensated else np.empty(0), carry=dict(carry or {}))
-    if contact > 0 or watch > 0:
-        st.hist[2] = centre_distance(system, st.y)
-    buf = SaveBuffer(n, buffer_rows, sink=stream)
-    resumed_from = None
-    if stream is not None and not control.resume and stream.parts:
-        from poissonkit.errors import InputError
 
-        # a fresh run's rows would be numbered after another run's parts: never mix them
-        raise InputError(f"stream folder {stream.folder} already holds trajectory parts; use an "
-                         "empty folder, or resume=True to continue that run")
-    if control.resume:
+    name: str
+    system: HasCompiledKernels
+    y0: np.ndarray
+    t0: float
+    t_end: float
+    chunk: ChunkFn
+    advance: Callable[[np.ndarray, float], np.ndarray]
+    done: Callable[[LoopState], bool]
+    description: Problem
+    buffer_rows: int
+    events: Sequence[Event] = ()
+    progress: bool = False
+    save_every: int = 1
+    control: Control | None = None
+    failure: Callable[[int, LoopState], Exception | None] = no_failure
+    compensated: bool = False
+    carry: Mapping[str, np.ndarray] = field(default_factory=dict)
+
+
+_LEGACY = ("name", "system", "y0", "t0", "t_end")
+
+
+def drive(problem: LoopProblem | str, *args: Any, **kwargs: Any) -> RawResult:
+    """Run ``problem.chunk`` until ``problem.done``; see the module docstring.
+
+    The older call ``drive(name, system, y0, t0, t_end, *, events=…, chunk=…, problem=…, …)``
+    (the fields of :class:`LoopProblem` as keywords, ``problem`` for ``description``) still
+    works.
+    """
+    if not isinstance(problem, LoopProblem):
+        given = dict(zip(_LEGACY, (problem, *args), strict=False))
+        if "problem" in kwargs:
+            kwargs["description"] = kwargs.pop("problem")
+        if kwargs.get("carry") is None:
+            kwargs.pop("carry", None)
+        problem = LoopProblem(**given, **kwargs)
+    run = _Run(problem)
+    try:
+        run.loop()
+    finally:
+        if run.bar is not None:
+            run.bar.close()
+    return run.result()
+
+
+class _Run:
+    """One :func:`drive` call: the loop state, the buffer and what happens between chunks."""
+
+    def __init__(self, p: LoopProblem) -> None:
+        self.p = p
+        self.events = check_events(p.events)
+        self.contact, _, self.watch = event_thresholds(self.events)
+        self.control = p.control or Control()
+        self.ck = self.control.checkpoint
+        self.stream = self.control.stream
+        n = p.y0.size
+        self.st = LoopState(y=np.array(p.y0, dtype=float), t=float(p.t0), steps=0,
+                            prev=np.zeros(n), prev2=np.zeros(n),
+                            hist=np.array([np.inf, np.inf, np.inf, p.t0, p.t0]),
+                            comp=np.zeros(n) if p.compensated else np.empty(0),
+                            carry=dict(p.carry))
+        if self.contact > 0 or self.watch > 0:
+            self.st.hist[2] = centre_distance(p.system, self.st.y)
+        self.buf = SaveBuffer(n, p.buffer_rows, sink=self.stream)
+        self.resumed_from: object = None
+        if self.stream is not None and not self.control.resume and self.stream.parts:
+            from poissonkit.errors import InputError
+
+            # a fresh run's rows would be numbered after another run's parts: never mix them
+            raise InputError(f"stream folder {self.stream.folder} already holds trajectory "
+                             "parts; use an empty folder, or resume=True to continue that run")
+        if self.control.resume:
+            self.resume()
+        else:
+            self.buf.add(p.t0, self.st.y)
+        self.bar = progress_bar(p.progress, p.t_end - p.t0, p.name)
+        if self.bar is not None and self.st.t > p.t0:
+            self.bar.update(self.st.t - p.t0)
+        self.status_msg = "done"
+        self.interrupted = False
+
+    def resume(self) -> None:
+        """Restore the newest checkpoint of the control's folder into the state."""
+        from poissonkit.numerics.checkpoint import CheckpointError
+
+        p, st, ck = self.p, self.st, self.ck
         if ck is None:
             from poissonkit.errors import InputError
 
             raise InputError("resume needs checkpoint=Checkpoint(folder, every)")
-        resumed_from, arrays, meta = newest_checkpoint(ck.folder)
-        check_matches(meta, problem)
+        self.resumed_from, arrays, meta = newest_checkpoint(ck.folder)
+        check_matches(meta, p.description)
         st.y, st.prev, st.prev2, st.hist = (np.array(arrays[k], dtype=float)
                                             for k in ("y", "prev", "prev2", "hist"))
-        if compensated:
+        if p.compensated:
             if "comp" not in arrays:
-                from poissonkit.numerics.checkpoint import CheckpointError
-
                 raise CheckpointError("checkpoint has no compensation array; it was not written "
                                       "by a compensated run (compensated=True)")
             st.comp = np.array(arrays["comp"], dtype=float)
         for key, arr in st.carry.items():
             saved = arrays.get(f"carry_{key}")
             if saved is None or saved.shape != arr.shape:
-                from poissonkit.numerics.checkpoint import CheckpointError
-
                 raise CheckpointError(f"checkpoint has no {key!r} array of shape {arr.shape}; "
-                                      f"it was not written by {name}")
+                                      f"it was not written by {p.name}")
             arr[...] = saved
         st.t, st.steps, st.nfev = float(arrays["t"]), int(arrays["steps"]), int(meta["nfev"])
         st.records = [EventRecord(**r) for r in meta["records"]]
-        if stream is not None:
+        if self.stream is not None:
             if "stream_parts" not in meta:
-                from poissonkit.numerics.checkpoint import CheckpointError
-
                 raise CheckpointError("checkpoint was written without a stream; resume without")
-            stream.truncate(int(meta["stream_parts"]), int(meta["stream_rows"]))
+            self.stream.truncate(int(meta["stream_parts"]), int(meta["stream_rows"]))
         if "rows_t" in arrays:
-            buf.ts, buf.ys = [arrays["rows_t"]], [arrays["rows_y"]]
-            buf.held = len(arrays["rows_t"])
-    else:
-        buf.add(t0, st.y)
-    span = t_end - t0
-    bar = progress_bar(progress, span, name)
-    if bar is not None and st.t > t0:
-        bar.update(st.t - t0)
-    cap = STOP_CHUNK if control.stop is not None else (1 << 62)
-    prog_chunk = max(1, int(problem.get("n_total", 200)) // 200) if progress else (1 << 62)
-    next_ck = (st.steps // ck.every + 1) * ck.every if ck is not None else None
-    status_msg = "done"
-    interrupted = False
+            self.buf.ts, self.buf.ys = [arrays["rows_t"]], [arrays["rows_y"]]
+            self.buf.held = len(arrays["rows_t"])
 
-    def save_checkpoint() -> None:
-        meta: dict[str, Any] = {"problem": dict(problem), "nfev": st.nfev,
-                                "records": [asdict(r) for r in st.records], "method": name,
+    def save_checkpoint(self) -> None:
+        """Write the state, the event records and the held rows (or the stream's position)."""
+        p, st, ck, buf = self.p, self.st, self.ck, self.buf
+        assert ck is not None
+        meta: dict[str, Any] = {"problem": dict(p.description), "nfev": st.nfev,
+                                "records": [asdict(r) for r in st.records], "method": p.name,
                                 "every": ck.every}
         arrays = {"y": st.y, "prev": st.prev, "prev2": st.prev2, "hist": st.hist,
                   "t": np.float64(st.t), "steps": np.int64(st.steps)}
-        if compensated:
+        if p.compensated:
             arrays["comp"] = st.comp
         arrays.update({f"carry_{key}": arr for key, arr in st.carry.items()})
-        if stream is not None:
+        if self.stream is not None:
             buf.spill(force=True)
-            meta.update(stream_parts=stream.parts, stream_rows=stream.rows)
+            meta.update(stream_parts=self.stream.parts, stream_rows=self.stream.rows)
         else:
             arrays["rows_t"], arrays["rows_y"] = buf.arrays()
         write_checkpoint(ck, st.steps, arrays, json.loads(json.dumps(meta)))
 
-    try:
-        while not done(st):
+    def loop(self) -> None:
+        """Chunks of compiled steps until the end, a terminal event or a stop request."""
+        p, st, ck, control = self.p, self.st, self.ck, self.control
+        cap = STOP_CHUNK if control.stop is not None else (1 << 62)
+        n_total = int(p.description.get("n_total", 200))  # type: ignore[call-overload]
+        prog_chunk = max(1, n_total // 200) if p.progress else (1 << 62)
+        next_ck = (st.steps // ck.every + 1) * ck.every if ck is not None else None
+        while not p.done(st):
             max_steps = min(cap, prog_chunk)
             if next_ck is not None:
                 max_steps = min(max_steps, next_ck - st.steps)
             t_before = st.t
             tic = time.perf_counter()
-            status, t_new, k, nsave, nf, value = chunk(st, max_steps, buf)
+            status, t_new, k, nsave, nf, _ = p.chunk(st, max_steps, self.buf)
             if control.stop is not None:  # look at stop requests about 10 times a second
                 took = time.perf_counter() - tic
                 if took > 0.2 and cap > 1:
                     cap = max(1, cap // 2)
                 elif took < 0.05 and k == max_steps:
                     cap = min(2 * cap, MAX_STOP_CHUNK)
-            buf.commit(nsave)
+            self.buf.commit(nsave)
             st.steps += k
             st.nfev += nf
             st.t = t_new
-            if bar is not None:
-                bar.update(t_new - t_before)
-            if status == NONFINITE:
-                raise NonFiniteStateError(st.steps, st.t, f"{name} step {st.steps} produced "
-                                          "NaN/inf")
-            if status == COLLISION and _all_clear(system, events, st.y):
-                pass  # only a candidate (e.g. bounding spheres of solids overlap); dips inside
-                # the step are the grazing test's business
-            elif status in (COLLISION, ESCAPE, GRAZE):
-                segs = [(st.prev, st.hist[4], st.t - st.hist[4])]
-                if status == GRAZE:
-                    segs.insert(0, (st.prev2, st.hist[3], st.hist[4] - st.hist[3]))
-                recorded, terminal = locate(system, events, Window(segs, advance), st.steps,
-                                            graze=status != ESCAPE)
-                st.records.extend(rec for _, rec in recorded)
-                if terminal is not None:
-                    ev, rec, y_hit = terminal
-                    buf.drop_after(rec.time)
-                    buf.add(rec.time, y_hit)
-                    st.y[:] = y_hit
-                    st.comp[:] = 0.0
-                    st.t, st.steps = rec.time, rec.step
-                    raise_or_record(ev, rec, st.records)
-                    status_msg = "event"
-                    break
-            elif status not in (RUNNING, BUFFER_FULL, DONE):
-                exc = failure(status, st)
-                raise exc if exc is not None else IntegrationError(
-                    f"{name}: unexpected status {status}")
-            buf.spill()
-            if next_ck is not None and st.steps >= next_ck and not done(st):
-                save_checkpoint()
-                next_ck += ck.every
-            if control.stop is not None and control.stop() and not done(st):
-                interrupted = True
-                status_msg = f"interrupted at step {st.steps} (t = {st.t:.10g})"
-                if ck is not None:
-                    save_checkpoint()
-                if buf.last_t != st.t:  # the partial result ends where it stopped
-                    buf.add(st.t, st.state())
+            if self.bar is not None:
+                self.bar.update(t_new - t_before)
+            if self.after_chunk(status):
                 break
-    finally:
-        if bar is not None:
-            bar.close()
-    extra: dict[str, Any] = {"peak_rows_in_memory": buf.peak_rows, "interrupted": interrupted}
-    if resumed_from is not None:
-        extra["resumed_from"] = str(resumed_from)
-    if stream is not None:
-        buf.spill(force=True)
-        extra.update(stream=str(stream.folder), streamed_rows=stream.rows)
-        ts = np.array([t0, st.t])
-        ys = np.vstack([np.asarray(y0, dtype=float), st.state()])
-    else:
-        ts, ys = buf.arrays()
-    return RawResult(ts, ys, st.steps, nfev=st.nfev, events=st.records, message=status_msg,
-                     extra=extra)
+            self.buf.spill()
+            if next_ck is not None and ck is not None and st.steps >= next_ck \
+                    and not p.done(st):
+                self.save_checkpoint()
+                next_ck += ck.every
+            if control.stop is not None and control.stop() and not p.done(st):
+                self.interrupted = True
+                self.status_msg = f"interrupted at step {st.steps} (t = {st.t:.10g})"
+                if ck is not None:
+                    self.save_checkpoint()
+                if self.buf.last_t != st.t:  # the partial result ends where it stopped
+                    self.buf.add(st.t, st.state())
+                break
+
+    def after_chunk(self, status: int) -> bool:
+        """Act on a chunk's status: raise its error, locate its events; True at a terminal
+        event (the run ends there)."""
+        p, st = self.p, self.st
+        if status == NONFINITE:
+            raise NonFiniteStateError(st.steps, st.t, f"{p.name} step {st.steps} produced "
+                                      "NaN/inf")
+        if status == COLLISION and _all_clear(p.system, self.events, st.y):
+            return False  # only a candidate (e.g. bounding spheres of solids overlap); dips
+            # inside the step are the grazing test's business
+        if status in (COLLISION, ESCAPE, GRAZE):
+            segs = [(st.prev, st.hist[4], st.t - st.hist[4])]
+            if status == GRAZE:
+                segs.insert(0, (st.prev2, st.hist[3], st.hist[4] - st.hist[3]))
+            recorded, terminal = locate(p.system, self.events, Window(segs, p.advance),
+                                        st.steps, graze=status != ESCAPE)
+            st.records.extend(rec for _, rec in recorded)
+            if terminal is None:
+                return False
+            ev, rec, y_hit = terminal
+            self.buf.drop_after(rec.time)
+            self.buf.add(rec.time, y_hit)
+            st.y[:] = y_hit
+            st.comp[:] = 0.0
+            st.t, st.steps = rec.time, rec.step
+            raise_or_record(ev, rec, st.records)
+            self.status_msg = "event"
+            return True
+        if status not in (RUNNING, BUFFER_FULL, DONE):
+            exc = p.failure(status, st)
+            raise exc if exc is not None else IntegrationError(
+                f"{p.name}: unexpected status {status}")
+        return False
+
+    def result(self) -> RawResult:
+        """The saved rows (or, streaming, the first and last state) and the run's extras."""
+        p, st, buf, stream = self.p, self.st, self.buf, self.stream
+        extra: dict[str, Any] = {"peak_rows_in_memory": buf.peak_rows,
+                                 "interrupted": self.interrupted}
+        if self.resumed_from is not None:
+            extra["resumed_from"] = str(self.resumed_from)
+        if stream is not None:
+            buf.spill(force=True)
+            extra.update(stream=str(stream.folder), streamed_rows=stream.rows)
+            ts = np.array([p.t0, st.t])
+            ys = np.vstack([np.asarray(p.y0, dtype=float), st.state()])
+        else:
+            ts, ys = buf.arrays()
+        return RawResult(ts, ys, st.steps, nfev=st.nfev, events=st.records,
+                         message=self.status_msg, extra=extra)
 
 
 def _all_clear(system: HasCompiledKernels, events: Sequence[Event], y: np.ndarray) -> bool:

@@ -9,7 +9,6 @@ the N-body systems (fixed-point iteration there).
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -25,23 +24,35 @@ from poissonkit.errors import InputError, IntegrationError
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
     NO_CONVERGENCE,
+    RUNNING,
     RawResult,
     SaveBuffer,
-    check_step,
-    locate_division,
-    state_digest,
     step_end_kernels,
+    step_tail,
 )
 from poissonkit.numerics.integrators.capabilities import MIDPOINT
-from poissonkit.numerics.integrators.driver import Control, LoopState, drive
+from poissonkit.numerics.integrators.driver import (
+    Control,
+    LoopProblem,
+    LoopState,
+    drive,
+)
+from poissonkit.numerics.integrators.glue import (
+    ChunkResult,
+    Scratch,
+    describe,
+    fixed_grid,
+    guard_division,
+)
+from poissonkit.numerics.integrators.newton import (
+    CONVERGED,
+    SINGULAR,
+    near_state,
+    newton_solver,
+    no_jacobian,
+)
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import all_finite, copy_into, copy_row, gauss_solve
-
-
-@jit
-def _nojac(y, data, work, out):
-    return
-
+from poissonkit.numerics.kernels import copy_into
 
 _runners: dict[int, tuple[CompiledFunction, CompiledKernels]] = {}
 
@@ -52,8 +63,22 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
     if hit is not None:
         return hit[0]
     rhs = kernels.rhs
-    jac = kernels.jac if kernels.jac is not None else _nojac
-    remember, check = step_end_kernels(kernels)
+    jac = kernels.jac if kernels.jac is not None else no_jacobian
+    remember = step_end_kernels(kernels)[0]
+    tail = step_tail(kernels)
+
+    @jit(inline="always")
+    def residual(Z, y, h, mid, G, data, work, args):
+        # G(Y) = Y − y − h f((y + Y)/2)
+        f = args[0]
+        n = Z.shape[0]
+        for i in range(n):
+            mid[i] = 0.5 * (y[i] + Z[i])
+        rhs(mid, data, work, f)
+        for i in range(n):
+            G[i] = Z[i] - y[i] - h * f[i]
+
+    solve = newton_solver(residual, jac, near_state, simplified=False)
 
     @jit
     def run(y, t0, h, n_total, tol, maxiter, newton, data, work, save_every, step0, max_steps,
@@ -66,6 +91,8 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
         J = np.empty((n, n))
         A = np.empty((n, n))
         delta = np.empty(n)
+        piv = np.empty(n, dtype=np.int64)
+        args = (f,)
         nsave = 0
         nfev = 0
         track = contact > 0.0 or escape > 0.0 or watch > 0.0
@@ -77,60 +104,21 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
             nfev += 1
             for i in range(n):
                 Y[i] = y[i] + h * f[i]
-            ok = False
-            prev = np.inf
-            for it in range(maxiter):
-                for i in range(n):
-                    mid[i] = 0.5 * (y[i] + Y[i])
-                rhs(mid, data, work, f)
-                nfev += 1
-                for i in range(n):
-                    G[i] = Y[i] - y[i] - h * f[i]
-                if newton:
-                    jac(mid, data, work, J)
-                    for i in range(n):
-                        for j in range(n):
-                            A[i, j] = -0.5 * h * J[i, j]
-                        A[i, i] += 1.0
-                    if not gauss_solve(A, G, delta):
-                        return 6, t0 + gstep * h, k + 1, nsave, nfev, 0.0
-                else:
-                    copy_into(G, delta)
-                dn = 0.0
-                yn = 0.0
-                for i in range(n):
-                    Y[i] -= delta[i]
-                    dn = max(dn, abs(delta[i]))
-                    yn = max(yn, abs(Y[i]))
-                if not math.isfinite(dn):
-                    break
-                if dn <= tol * (1.0 + yn):
-                    ok = True
-                    break
-                # round-off floor: the correction stopped shrinking while already tiny
-                if dn >= prev and dn <= 1e3 * tol * (1.0 + yn):
-                    ok = True
-                    break
-                prev = dn
+            outcome, nf = solve(Y, y, h, tol, maxiter, newton, 0.0, data, work, args, mid, G, J,
+                                A, piv, delta)
+            nfev += nf
+            if outcome == SINGULAR:
+                return NO_CONVERGENCE, t0 + gstep * h, k + 1, nsave, nfev, 0.0
+            ok = outcome == CONVERGED
             t = t0 + gstep * h
             copy_into(Y, y)
-            if not all_finite(y):
-                return 1, t, k + 1, nsave, nfev, 0.0
-            if not ok:
-                return 6, t, k + 1, nsave, nfev, 0.0
             last = gstep >= n_total
-            flag, value = check(y, data, work, contact, escape, watch, hist)
-            if last or gstep % save_every == 0:
-                out_t[nsave] = t
-                copy_row(y, out_y, nsave)
-                nsave += 1
-            if flag != 0:
-                return flag, t, k + 1, nsave, nfev, value
-            if last:
-                return 5, t, k + 1, nsave, nfev, 0.0
-            if nsave == out_t.shape[0]:
-                return 4, t, k + 1, nsave, nfev, 0.0
-        return 0, t0 + (step0 + max_steps) * h, max_steps, nsave, nfev, 0.0
+            status, nsave, value = tail(y, y, t, RUNNING if ok else NO_CONVERGENCE, last,
+                                        last or gstep % save_every == 0, track, data, work,
+                                        contact, escape, watch, hist, out_t, out_y, nsave)
+            if status != RUNNING:
+                return status, t, k + 1, nsave, nfev, value
+        return RUNNING, t0 + (step0 + max_steps) * h, max_steps, nsave, nfev, 0.0
 
     _runners[key] = (run, kernels)
     return run
@@ -149,9 +137,9 @@ class ImplicitMidpoint:
         Use Newton's method when the system has a Jacobian.
     """
 
-    family = "implicit"
-    capabilities = MIDPOINT
-    order = 2
+    family = MIDPOINT.family
+    capabilities = MIDPOINT.capabilities
+    order = MIDPOINT.order
     name = "midpoint"
 
     def __init__(self, tol: float = 1e-14, max_iterations: int = 50, newton: bool = True) -> None:
@@ -173,42 +161,30 @@ class ImplicitMidpoint:
         if not isinstance(system, HasCompiledKernels):
             raise InputError(f"midpoint needs a compiled system, got {type(system).__name__}")
         kernels = system.kernels
-        h = check_step(step, t_end - t0, self.name)
-        span = t_end - t0
-        n_total = max(1, math.ceil(span / h - 1e-12))
-        h = span / n_total
+        h, n_total = fixed_grid(self.name, step, t0, t_end)
         itol = float(tol) if tol is not None else self.tol
         newton = self.newton and kernels.jac is not None
         contact, escape, watch = event_thresholds(events)
         run = _runner(kernels)
         y = np.array(y0, dtype=float)
         data, work = system.data, system.work()
-        rows = min(n_total // save_every + 2, 4096)
-        scratch = SaveBuffer(y.size, 4)
-        no_hist = np.zeros(5)
+        scratch = Scratch(y.size)
+        iters = self.max_iterations
 
-        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
-                  ) -> tuple[int, float, int, int, int, float]:
-            start = st.y.copy()
-            try:
-                status, t_new, k, nsave, nf, value = run(
-                    st.y, t0, h, n_total, itol, self.max_iterations, newton, data, work,
-                    save_every, st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch,
-                    st.prev, st.prev2, st.hist)
-            except ZeroDivisionError:
-                raise locate_division(self.name, one_step, start, st.t, st.steps) from None
-            return status, t_new, k, nsave, nf, value
+        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
+            return run(st.y, t0, h, n_total, itol, iters, newton, data, work, save_every,
+                       st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch,
+                       st.prev, st.prev2, st.hist)
 
         def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
-            out = run(ys, t0, h, n_total, itol, self.max_iterations, newton, data, work,
-                      save_every, done, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, ys, ys,
-                      no_hist)
+            out = run(ys, t0, h, n_total, itol, iters, newton, data, work, save_every, done, 1,
+                      scratch.t, scratch.y, 0.0, 0.0, 0.0, ys, ys, scratch.hist)
             return out[0], out[1]
 
         def advance(ys: np.ndarray, s: float) -> np.ndarray:
             yc = np.array(ys, dtype=float)
-            status = run(yc, 0.0, s, 1, itol, self.max_iterations, newton, data, work, 1, 0, 1,
-                         scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, yc, yc, no_hist)[0]
+            status = run(yc, 0.0, s, 1, itol, iters, newton, data, work, 1, 0, 1, scratch.t,
+                         scratch.y, 0.0, 0.0, 0.0, yc, yc, scratch.hist)[0]
             if status == NO_CONVERGENCE:
                 raise IntegrationError("midpoint: iteration did not converge while locating an "
                                        "event")
@@ -217,18 +193,17 @@ class ImplicitMidpoint:
         def failure(status: int, st: LoopState) -> Exception | None:
             if status == NO_CONVERGENCE:
                 return IntegrationError(
-                    f"midpoint: iteration did not converge to {itol:g} in "
-                    f"{self.max_iterations} iterations at step {st.steps} (t = {st.t:.6g}); "
-                    "reduce the step")
+                    f"midpoint: iteration did not converge to {itol:g} in {iters} iterations "
+                    f"at step {st.steps} (t = {st.t:.6g}); reduce the step")
             return None
 
-        problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
-                   "t_end": float(t_end).hex(), "n_total": n_total, "save_every": save_every,
-                   "dim": int(y.size), "tol": float(itol).hex(), "newton": bool(newton),
-                   "y0": state_digest(y)}
-        raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
-                    save_every=save_every, control=control, chunk=chunk, advance=advance,
-                    done=lambda st: st.steps >= n_total, failure=failure, problem=problem,
-                    buffer_rows=rows)
+        raw = drive(LoopProblem(
+            self.name, system, y, t0, t_end,
+            guard_division(self.name, chunk, lambda st: (one_step, st.y.copy())), advance,
+            lambda st: st.steps >= n_total,
+            describe(self.name, h, t0, t_end, n_total, save_every, y,
+                     tol=float(itol).hex(), newton=bool(newton)),
+            min(n_total // save_every + 2, 4096), events, progress, save_every, control,
+            failure))
         raw.extra.update(step=h, newton=newton)
         return raw

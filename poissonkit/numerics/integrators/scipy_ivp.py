@@ -13,7 +13,13 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from poissonkit.contracts import Event, HasCompiledKernels, HasJacobian, NumericsSystem, System
+from poissonkit.contracts import (
+    Event,
+    HasCompiledKernels,
+    HasJacobian,
+    NumericsSystem,
+    System,
+)
 from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
 from poissonkit.numerics.events import EventRecord, check_events, raise_or_record
 from poissonkit.numerics.integrators.base import RawResult
@@ -34,8 +40,8 @@ class ScipyIVP:
         Largest step (``0`` = unlimited).
     """
 
-    family = "scipy"
-    capabilities = SCIPY
+    family = SCIPY.family
+    capabilities = SCIPY.capabilities
 
     def __init__(self, method: str = "DOP853", atol: float = 0.0, max_step: float = 0.0) -> None:
         if method not in ("RK45", "DOP853", "Radau", "LSODA"):

@@ -54,8 +54,8 @@ per step.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from collections.abc import Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -71,28 +71,36 @@ from poissonkit.errors import InputError
 from poissonkit.numerics.conforms import conforms
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
+    RUNNING,
     HasLoopKernels,
     RawResult,
     SaveBuffer,
     StepFn,
     check_step,
-    locate_division,
-    state_digest,
-    step_end_kernels,
+    step_tail,
 )
 from poissonkit.numerics.integrators.capabilities import SPLITTING
 from poissonkit.numerics.integrators.compositions import (
     TABLES as HIGH_ORDER_TABLES,
+)
+from poissonkit.numerics.integrators.compositions import (
     HighOrderTable,
 )
-from poissonkit.numerics.integrators.driver import Control, LoopState, drive
-from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import (
-    all_finite,
-    copy_into,
-    copy_row,
-    copy_row_compensated,
+from poissonkit.numerics.integrators.driver import (
+    Control,
+    LoopProblem,
+    LoopState,
+    drive,
 )
+from poissonkit.numerics.integrators.glue import (
+    ChunkResult,
+    Scratch,
+    describe,
+    fixed_grid,
+    guard_division,
+)
+from poissonkit.numerics.jit import jit
+from poissonkit.numerics.kernels import copy_into
 
 # --------------------------------------------------------------------------- coefficients
 _SUZUKI_P = 1.0 / (4.0 - 4.0 ** (1.0 / 3.0))
@@ -248,10 +256,6 @@ SCHEMES.update((t.name, _high_order(t)) for t in HIGH_ORDER_TABLES.values())
 
 
 # --------------------------------------------------------------------------- compiled loop
-#: the NaN check of every step, inlined (a call per step costs as much as a small system's
-#: force evaluation)
-_all_finite = jit(inline="always")(all_finite.py_func)
-
 _runners: dict[tuple[int, bool], tuple[CompiledFunction, CompiledKernels]] = {}
 
 
@@ -267,7 +271,7 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
     if hit is not None:
         return hit[0]
     min_distance = kernels.min_distance
-    check = step_end_kernels(kernels)[1]
+    tail = step_tail(kernels, compensated)
     if compensated:
         drift, kick = kernels.drift_compensated, kernels.kick_compensated
     else:
@@ -378,26 +382,12 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
                 last = gstep >= n_total
                 t = t_end if last else t_orig + gstep * h
             k += 1
-            if not _all_finite(y):
-                return 1, t, k, nsave, 0.0
-            flag = 0
-            value = 0.0
-            if track:  # (the check's calls cost even when skipped: keep them off the plain loop)
-                flag, value = check(y, data, work, contact, escape, watch, hist)
-            if last or gstep % save_every == 0:
-                out_t[nsave] = t
-                if comp:
-                    copy_row_compensated(y, c, out_y, nsave)
-                else:
-                    copy_row(y, out_y, nsave)
-                nsave += 1
-            if flag != 0:
-                return flag, t, k, nsave, value
-            if last:
-                return 5, t, k, nsave, 0.0
-            if nsave == out_t.shape[0]:
-                return 4, t, k, nsave, 0.0
-        return 0, t, k, nsave, 0.0
+            status, nsave, value = tail(y, c, t, RUNNING, last, last or gstep % save_every == 0,
+                                        track, data, work, contact, escape, watch, hist, out_t,
+                                        out_y, nsave)
+            if status != RUNNING:
+                return status, t, k, nsave, value
+        return RUNNING, t, k, nsave, 0.0
 
     _runners[key] = (run, kernels)
     return run
@@ -427,8 +417,8 @@ class Splitting:
         default, and then the arithmetic is exactly the plain one.
     """
 
-    family = "splitting"
-    capabilities = SPLITTING
+    family = SPLITTING.family
+    capabilities = SPLITTING.capabilities
 
     def __init__(self, order: int = 6, adaptive: bool = False, reference_distance: float = 0.0,
                  iterations: int = 1, scheme: str | Scheme | None = None,
@@ -497,11 +487,11 @@ class Splitting:
                              "NBodySystem have them); use compensated=False")
         if conforms(system, HasStateCheck):
             system.check_state(y0)
-        h = check_step(step, t_end - t0, self.name)
-        span = t_end - t0
-        n_total = max(1, math.ceil(span / h - 1e-12))
-        if not self.adaptive:
-            h = span / n_total
+        if self.adaptive:  # the base step as given; the loop adapts it
+            h = check_step(step, t_end - t0, self.name)
+            n_total = max(1, math.ceil((t_end - t0) / h - 1e-12))
+        else:
+            h, n_total = fixed_grid(self.name, step, t0, t_end)
         contact, escape, watch = event_thresholds(events)
         run = _runner(kernels, comp)
         fsal = self.fsal and not self.adaptive
@@ -514,54 +504,44 @@ class Splitting:
             dref = float(kernels.min_distance(y, data, work))
             if not np.isfinite(dref) or dref <= 0:
                 raise InputError("adaptive splitting needs at least two bodies at distinct places")
-        rows = min(n_total // save_every + 2, 4096) if not self.adaptive else 4096
-        scratch = SaveBuffer(y.size, 4)
-        no_hist = np.zeros(5)
+        scratch = Scratch(y.size)
+        table = (self.adaptive, dref, self.iterations, self.a, self.b, fsal, data, work)
 
-        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
-                  ) -> tuple[int, float, int, int, int, float]:
-            start, start_c = st.y.copy(), st.comp.copy()
-            try:
-                status, t_new, k, nsave, value = run(
-                    st.y, st.comp, t0, st.t, t_end, h, n_total, self.adaptive, dref,
-                    self.iterations, self.a, self.b, fsal, data, work, save_every, st.steps,
-                    max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, trial, ctrial,
-                    st.prev, st.prev2, st.hist)
-            except ZeroDivisionError:
-                replay = _replay(start_c)
-                raise locate_division(self.name, replay, start, st.t, st.steps) from None
+        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
+            status, t_new, k, nsave, value = run(
+                st.y, st.comp, t0, st.t, t_end, h, n_total, *table, save_every, st.steps,
+                max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, trial, ctrial, st.prev,
+                st.prev2, st.hist)
             return status, t_new, k, nsave, 0, value
 
-        def _replay(cs: np.ndarray) -> StepFn:
+        def replay(st: LoopState) -> tuple[StepFn, np.ndarray]:
+            cs = st.comp.copy()
+
             def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
-                out = run(ys, cs, t0, ts, t_end, h, n_total, self.adaptive, dref,
-                          self.iterations, self.a, self.b, fsal, data, work, save_every, done, 1,
-                          scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, trial, ctrial, ys, ys,
-                          no_hist)
+                out = run(ys, cs, t0, ts, t_end, h, n_total, *table, save_every, done, 1,
+                          scratch.t, scratch.y, 0.0, 0.0, 0.0, trial, ctrial, ys, ys,
+                          scratch.hist)
                 return out[0], out[1]
-            return one_step
+            return one_step, st.y.copy()
 
         def advance(ys: np.ndarray, s: float) -> np.ndarray:
             # one step from a state (event location): the compensation starts from zero
             yc = np.array(ys, dtype=float)
             cc = np.zeros_like(yc) if comp else ctrial
             run(yc, cc, 0.0, 0.0, s, s, 1, False, dref, 0, self.a, self.b, fsal, data, work, 1,
-                0, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0, trial, ctrial, yc, yc, no_hist)
+                0, 1, scratch.t, scratch.y, 0.0, 0.0, 0.0, trial, ctrial, yc, yc, scratch.hist)
             return yc - cc if comp else yc
 
         def done(st: LoopState) -> bool:
             return st.t >= t_end if self.adaptive else st.steps >= n_total
 
-        problem = {"method": self.name, "h": float(h).hex(), "t0": float(t0).hex(),
-                   "t_end": float(t_end).hex(), "n_total": n_total, "save_every": save_every,
-                   "dim": int(y.size), "dref": float(dref).hex(),
-                   "y0": state_digest(y)}
-        if comp:  # only then, so that checkpoints of plain runs keep their description
-            problem["compensated"] = True
-        raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
-                    save_every=save_every, control=control, chunk=chunk, advance=advance,
-                    done=done, failure=lambda status, st: None, problem=problem,
-                    buffer_rows=rows, compensated=comp)
+        # "compensated" only when set, so that checkpoints of plain runs keep their description
+        more = {"dref": float(dref).hex(), **({"compensated": True} if comp else {})}
+        raw = drive(LoopProblem(
+            self.name, system, y, t0, t_end, guard_division(self.name, chunk, replay), advance,
+            done, describe(self.name, h, t0, t_end, n_total, save_every, y, **more),
+            min(n_total // save_every + 2, 4096) if not self.adaptive else 4096, events,
+            progress, save_every, control, compensated=comp))
         if self.adaptive:
             raw.nfev = raw.steps * self.stages * (1 + self.iterations)
         else:  # FSAL: one more kick wherever a state was saved (upper bound)

@@ -72,18 +72,26 @@ from poissonkit.contracts import (
 from poissonkit.errors import InputError, IntegrationError
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
+    NONFINITE,
+    RUNNING,
     RawResult,
     SaveBuffer,
     check_step,
-    locate_division,
     state_digest,
     step_end_kernels,
+    step_tail,
 )
 from poissonkit.numerics.integrators.capabilities import TIME_TRANSFORMED
-from poissonkit.numerics.integrators.driver import Control, LoopState, drive
+from poissonkit.numerics.integrators.driver import (
+    Control,
+    LoopProblem,
+    LoopState,
+    drive,
+)
+from poissonkit.numerics.integrators.glue import ChunkResult, Scratch, guard_division
 from poissonkit.numerics.integrators.splitting import WEIGHTS, drift_kick_coefficients
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import all_finite, copy_into, copy_row
+from poissonkit.numerics.kernels import all_finite, copy_into
 from poissonkit.numerics.nbody import apply_forces
 
 #: loop status codes beyond :mod:`~poissonkit.numerics.integrators.base`'s
@@ -162,7 +170,8 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
     if hit is not None:
         return hit[0]
     drift, forces = kernels.drift, kernels.forces
-    remember, check = step_end_kernels(kernels)
+    remember = step_end_kernels(kernels)[0]
+    tail = step_tail(kernels)
     apply = _apply_two_body if layout == _TWO_BODY else apply_forces
 
     @jit
@@ -194,7 +203,7 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
             if not den > 0.0:
                 return dt, SHIFT_TOO_SMALL, v
             apply(y, b[s] * ds * _power(g0 / den, kexp), data, work)
-        return dt, 0, 0.0
+        return dt, RUNNING, 0.0
 
     @jit
     def run(y, t0, t_end, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work, save_every, step0,
@@ -211,11 +220,11 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
                 remember(y, prev, prev2, hist, t)
             copy_into(y, trial)
             dt, code, bad = tt_step(y, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work)
-            if code != 0:
+            if code != RUNNING:
                 copy_into(trial, y)  # leave the last good state for the error message
                 return code, t, k, nsave, bad
-            if dt != dt or not all_finite(y):
-                return 1, t, k + 1, nsave, 0.0
+            if math.isnan(dt) or not all_finite(y):
+                return NONFINITE, t, k + 1, nsave, 0.0
             if not dt > 0.0:
                 copy_into(trial, y)
                 return NO_PROGRESS, t, k, nsave, dt
@@ -227,20 +236,12 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
             else:
                 t += dt
             k += 1
-            if not all_finite(y):
-                return 1, t, k, nsave, 0.0
-            flag, value = check(y, data, work, contact, escape, watch, hist)
-            if last or gstep % save_every == 0:
-                out_t[nsave] = t
-                copy_row(y, out_y, nsave)
-                nsave += 1
-            if flag != 0:
-                return flag, t, k, nsave, value
-            if last:
-                return 5, t, k, nsave, 0.0
-            if nsave == out_t.shape[0]:
-                return 4, t, k, nsave, 0.0
-        return 0, t, k, nsave, 0.0
+            status, nsave, value = tail(y, y, t, RUNNING, last, last or gstep % save_every == 0,
+                                        track, data, work, contact, escape, watch, hist, out_t,
+                                        out_y, nsave)
+            if status != RUNNING:
+                return status, t, k, nsave, value
+        return RUNNING, t, k, nsave, 0.0
 
     _runners[key] = (run, plain_step, kernels)
     return run
@@ -270,8 +271,8 @@ class TimeTransformedSplitting:
         like ``r^{3/2}`` instead of ``r³`` (Preto–Tremaine's ``f(x) = x^{1−k}/(1−k)``).
     """
 
-    family = "time_transformed"
-    capabilities = TIME_TRANSFORMED
+    family = TIME_TRANSFORMED.family
+    capabilities = TIME_TRANSFORMED.capabilities
 
     def __init__(self, order: int = 6, shift: float = 0.0, exponent: float = 1.0) -> None:
         if order not in WEIGHTS:
@@ -340,27 +341,21 @@ class TimeTransformedSplitting:
         run = _runner(kernels, layout)
         plain = _plain(kernels, layout)
         trial = np.empty_like(y)
-        scratch = SaveBuffer(y.size, 4)
-        no_hist = np.zeros(5)
+        scratch = Scratch(y.size)
         a, b, kexp = self.a, self.b, self.exponent
 
-        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer
-                  ) -> tuple[int, float, int, int, int, float]:
-            start = st.y.copy()
-            try:
-                status, t_new, k, nsave, value = run(
-                    st.y, st.t, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work,
-                    save_every, st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape,
-                    watch, trial, st.prev, st.prev2, st.hist)
-            except ZeroDivisionError:
-                raise locate_division(self.name, one_step, start, st.t, st.steps) from None
+        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
+            status, t_new, k, nsave, value = run(
+                st.y, st.t, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work, save_every,
+                st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, trial,
+                st.prev, st.prev2, st.hist)
             st.detail = value
             return status, t_new, k, nsave, k * len(b), value
 
         def one_step(ys: np.ndarray, ts: float, done_steps: int) -> tuple[int, float]:
             out = run(ys, ts, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work,
-                      save_every, done_steps, 1, scratch.cur_t, scratch.cur_y, 0.0, 0.0, 0.0,
-                      trial, ys, ys, no_hist)
+                      save_every, done_steps, 1, scratch.t, scratch.y, 0.0, 0.0, 0.0, trial, ys,
+                      ys, scratch.hist)
             return out[0], out[1]
 
         def advance(ys: np.ndarray, s: float) -> np.ndarray:
@@ -396,9 +391,10 @@ class TimeTransformedSplitting:
                    # progress-bar granularity only (the number of steps is not known ahead)
                    "n_total": max(1, math.ceil((t_end - t0) / ds)),
                    "y0": state_digest(y0)}
-        raw = drive(self.name, system, y, t0, t_end, events=events, progress=progress,
-                    save_every=save_every, control=control, chunk=chunk, advance=advance,
-                    done=done, failure=failure, problem=problem, buffer_rows=4096)
+        raw = drive(LoopProblem(
+            self.name, system, y, t0, t_end,
+            guard_division(self.name, chunk, lambda st: (one_step, st.y.copy())), advance, done,
+            problem, 4096, events, progress, save_every, control, failure))
         raw.extra.update(step=ds, order=self.order, shift=C, exponent=self.exponent,
                          time_transformed=True)
         return raw

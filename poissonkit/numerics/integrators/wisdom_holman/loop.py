@@ -1,0 +1,172 @@
+"""The compiled Wisdom–Holman time loop around one system's kernels."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from poissonkit.contracts import CompiledFunction, CompiledKernels
+from poissonkit.numerics.integrators.base import (
+    NONFINITE,
+    RUNNING,
+    step_end_kernels,
+    step_tail,
+)
+from poissonkit.numerics.integrators.wisdom_holman.kepler import drift_all
+from poissonkit.numerics.integrators.wisdom_holman.kicks import (
+    gravity_correct,
+    gravity_kick,
+    gravity_modified_kick,
+    gravity_steps,
+    kick_kernels,
+)
+from poissonkit.numerics.jit import jit
+
+runners: dict[tuple[int, bool], tuple[CompiledFunction, CompiledFunction, CompiledKernels]] = {}
+
+
+def runner(kernels: CompiledKernels, pure_gravity: bool
+            ) -> tuple[CompiledFunction, CompiledFunction]:
+    """The compiled Wisdom–Holman loop and corrector around one system's kernels (cached).
+
+    ``pure_gravity``: the interaction is Newtonian gravity alone, so the kick is the dedicated
+    pair loop :func:`gravity_kick_accel` instead of the system's general force kernel.
+    """
+    key = (id(kernels.forces), pure_gravity)
+    hit = runners.get(key)
+    if hit is not None:
+        return hit[0], hit[1]
+    remember = step_end_kernels(kernels)[0]
+    tail = step_tail(kernels)
+
+    kk = kick_kernels(kernels.forces, pure_gravity)
+    kick, correct, modified_kick = kk.kick, kk.correct, kk.modified_kick
+    process, sync_processed = kk.process, kk.sync_processed
+
+    @jit
+    def run(y, xj, uj, carried, m, mfrac, inv_eta, gm, gmass, t_orig, h, n_total, c, dk, tau,
+            proc, data, work, save_every, step0, max_steps, out_t, out_y, contact, escape,
+            watch, prev, prev2, hist):
+        """Advance the Jacobi state ``xj, uj`` (written to ``y`` at every save and on return).
+
+        Returns (status, t, steps done, saved, value). Without corrector the last drift of a
+        step is merged into the first drift of the next; with it, the closing corrector of a
+        step and the opening one of the next are one kick (both depend on positions only).
+        ``carried = [pending drift, corrector opened]`` is that merge's state between calls:
+        a call ends by writing into ``y`` the state at ``t`` computed from *copies*, so where
+        a chunk ends never changes the arithmetic (resumed runs are bit-identical). With a
+        symplectic corrector ``proc`` (rows of ``Z`` operators), ``xj, uj`` are the processed
+        coordinates and every state written to ``y`` is corrected first.
+
+        With events, every step end is synchronised into ``y`` and checked; ``prev``, ``prev2``
+        and ``hist`` are the event-search memory (see :mod:`poissonkit.numerics.locate`).
+        """
+        n = m.shape[0]
+        ybuf = y.copy()
+        r = np.empty((n, 3))
+        u = np.empty((n, 3))
+        a = np.empty((n, 3))
+        aj = np.empty((n, 3))
+        xt = np.empty((n, 3))
+        a_plus = np.empty((n, 3))
+        ns = dk.shape[0]
+        nsave = 0
+        pending = carried[0]
+        opened = carried[1] != 0.0
+        track = contact > 0.0 or escape > 0.0 or watch > 0.0
+        # the corrector kick: with a symplectic corrector in the middle of the (one-stage)
+        # step, sharing the kick's force evaluation; else on both ends (SABAC_n)
+        mid = tau != 0.0 and proc.shape[0] > 0
+        ends = tau != 0.0 and not mid
+        ok = True
+        t = t_orig + step0 * h
+        next_save = (step0 // save_every + 1) * save_every
+        k = 0
+        while k < max_steps:
+            if pure_gravity and not track and not ends:
+                # the steps before the next one that writes out, in one tight call
+                free = min(max_steps - k, next_save - (step0 + k) - 1,
+                           n_total - (step0 + k) - 1)
+                if free > 0:
+                    pending, fine = gravity_steps(xj, uj, free, pending, c, dk, h,
+                                                  2.0 * tau if mid else 0.0, m, mfrac, inv_eta,
+                                                  gm, gmass, r, a, aj, xt, a_plus)
+                    ok = fine and ok
+                    k += free
+                    t = t_orig + (step0 + k) * h
+                    continue
+            gstep = step0 + k + 1
+            if track:
+                remember(y, prev, prev2, hist, t)
+            if ends and not opened:
+                if pure_gravity:
+                    gravity_correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, xt,
+                                    a_plus)
+                else:
+                    correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                            a_plus, data, work)
+            ok = drift_all(xj, uj, gm, pending + c[0] * h) and ok
+            pending = 0.0
+            for s in range(ns):
+                # (the gravity-only calls take no force-kernel tuple: passing it, even to an
+                # inlined function, costs reference counting at every call)
+                if pure_gravity and mid:
+                    gravity_modified_kick(xj, uj, dk[s] * h, 2.0 * tau, m, mfrac, inv_eta, gm,
+                                          gmass, r, a, aj, xt, a_plus)
+                elif pure_gravity:
+                    gravity_kick(xj, uj, dk[s] * h, m, mfrac, inv_eta, gm, gmass, r, a, aj)
+                elif mid:
+                    modified_kick(xj, uj, dk[s] * h, 2.0 * tau, m, mfrac, inv_eta, gm, gmass,
+                                  ybuf, r, a, aj, xt, a_plus, data, work)
+                else:
+                    kick(xj, uj, dk[s] * h, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data,
+                         work)
+                if s + 1 < ns:
+                    ok = drift_all(xj, uj, gm, c[s + 1] * h) and ok
+            last = gstep >= n_total
+            k += 1
+            t = t_orig + gstep * h
+            saving = gstep == next_save  # (a counter: no integer division per step)
+            if saving:
+                next_save += save_every
+            need = last or saving or track
+            if ends:
+                ok = drift_all(xj, uj, gm, c[ns] * h) and ok
+                tau_end = tau if need else 2.0 * tau
+                if pure_gravity:
+                    gravity_correct(xj, uj, tau_end, m, mfrac, inv_eta, gm, gmass, r, a, aj, xt,
+                                    a_plus)
+                else:
+                    correct(xj, uj, tau_end, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                            a_plus, data, work)
+                opened = not need
+            elif need:
+                ok = drift_all(xj, uj, gm, c[ns] * h) and ok
+            else:
+                pending = c[ns] * h
+            if not need:
+                continue
+            ok = sync_processed(xj, uj, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y, r,
+                                u) and ok
+            status, nsave, value = tail(y, y, t, RUNNING if ok else NONFINITE, last,
+                                        last or saving, track, data, work, contact, escape,
+                                        watch, hist, out_t, out_y, nsave)
+            if status == NONFINITE:
+                carried[0] = pending
+                carried[1] = 1.0 if opened else 0.0
+            if status != RUNNING:
+                return status, t, k, nsave, value
+        # chunk done between saves: the state at t, from copies (the merge state is kept)
+        carried[0] = pending
+        carried[1] = 1.0 if opened else 0.0
+        xc = xj.copy()
+        uc = uj.copy()
+        ok = drift_all(xc, uc, gm, pending) and ok
+        if opened:
+            correct(xc, uc, -tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus, data,
+                    work)
+        ok = sync_processed(xc, uc, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y, r,
+                            u) and ok
+        return RUNNING if ok else NONFINITE, t, k, nsave, 0.0
+
+    runners[key] = (run, process, kernels)
+    return run, process
