@@ -53,6 +53,7 @@ from poissonkit.report.run_units import (  # noqa: F401  (also importable from h
     time_unit,
     trajectory_rows,
 )
+from poissonkit.traits import offers
 
 if TYPE_CHECKING:
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
@@ -397,7 +398,7 @@ def _with_contact(spec: RunSpec) -> RunSpec:
     from dataclasses import replace
 
     si = (spec.metadata or {}).get("parameters_SI") or {}
-    if spec.events or not {"a", "h"} <= set(si) or isinstance(spec.system, HasBodies):
+    if spec.events or not {"a", "h"} <= set(si) or offers(spec.system, HasBodies):
         return spec
     from poissonkit.numerics.events import TWO_BODY_NAMES, BodyShape, Contact
 

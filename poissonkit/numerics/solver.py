@@ -27,9 +27,9 @@ from poissonkit.errors import (
     InputError,
     IntegrationError,
 )
-from poissonkit.numerics.conforms import conforms
 from poissonkit.numerics.solution import Solution
 from poissonkit.plugin.contributions import Capabilities
+from poissonkit.traits import offers
 
 if TYPE_CHECKING:
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
@@ -96,7 +96,7 @@ def _check_arguments(system: System, y0: ArrayLike, t0: float, t_end: float,
     except (TypeError, ValueError) as exc:
         raise InputError(f"y0 must be a flat sequence of numbers, got {y0!r} ({exc})") from None
     # a bare set of compiled kernels (no ``dim``) takes the state's length
-    dim = system.dim if conforms(system, NumericsSystem) else y0.size
+    dim = system.dim if offers(system, NumericsSystem) else y0.size
     if y0.ndim != 1 or y0.size != dim:
         raise DimensionError(f"y0 has shape {y0.shape}, the system needs ({dim},)")
     if not np.all(np.isfinite(y0)):
@@ -217,7 +217,7 @@ def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator 
                                or resume)
     control = _control(checkpoint, resume, stream, stop)
     refuse_beyond(caps, integ.name, system, events, control)
-    if conforms(system, HasOverlapCheck):  # coincident bodies: singular forces whatever
+    if offers(system, HasOverlapCheck):  # coincident bodies: singular forces whatever
         system.check_overlap(y0)              # the method
     return _run(integ, caps, system, y0, t0, t_end, control, step=step, tol=tol, events=events,
                 progress=progress, save_every=int(save_every))
@@ -266,7 +266,7 @@ def _solve_at_times(integ: Integrator, caps: Capabilities, system: System, y0: n
                          "states at given times is not checkpointed; use save_every")
     times = check_sample_times(t_eval, t0, t_end)
     refuse_beyond(caps, integ.name, system, events, None)
-    if conforms(system, HasOverlapCheck):
+    if offers(system, HasOverlapCheck):
         system.check_overlap(y0)
 
     if stop is not None and not callable(stop):
@@ -328,13 +328,13 @@ def refuse_beyond(caps: Capabilities, name: str, system: System, events: Sequenc
         raise CapabilityError(name, "located_events", f"{inside[0]} events are located inside "
                               "the step; use a splitting, logh, midpoint or wisdom_holman "
                               "(this method locates sign changes only)")
-    if caps.point_masses_only and conforms(system, HasBodies) and (
+    if caps.point_masses_only and offers(system, HasBodies) and (
             system.n_tops or system.n_moving != len(system.bodies)):
         raise CapabilityError(name, "point_masses_only", "the system has tops or fixed "
                               "bodies; this method needs moving point masses only")
     if not (caps.needs_kernels or caps.needs_splitting):
         return
-    if not conforms(system, HasCompiledKernels):
+    if not offers(system, HasCompiledKernels):
         raise CapabilityError(name, "needs_kernels", f"{type(system).__name__} has no compiled "
                               "kernels (kernels, data, work()); compile it with "
                               "compile_system or use a scipy method")

@@ -21,6 +21,7 @@ import numpy as np
 from poissonkit.contracts import HasBodies
 from poissonkit.errors import InputError
 from poissonkit.report.summary import Diagnostics
+from poissonkit.traits import offers
 
 __all__ = ["PLOTS", "PlotEntry", "RunData", "figures_for", "register_plot", "write_figures"]
 
@@ -72,7 +73,7 @@ class RunData:
     @property
     def n_bodies(self) -> int:
         """Number of bodies, fixed ones included (2 for the seed's two-body form)."""
-        if isinstance(self.system, HasBodies):
+        if offers(self.system, HasBodies):
             return len(self.system.bodies)
         return 2 if self.relative is not None else 0
 

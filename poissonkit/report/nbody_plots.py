@@ -16,6 +16,7 @@ import numpy as np
 from poissonkit.numerics.nbody import NBodySystem
 from poissonkit.report.figures import RunData, register_plot
 from poissonkit.report.plotkit import figure, thin
+from poissonkit.traits import offers
 
 __all__ = ["HasEnergyParts", "closest_pair_axes", "configuration_axes", "energy_partition",
            "energy_partition_axes", "model_timeline_axes", "positions_si"]
@@ -194,7 +195,7 @@ def energy_partition(system: NBodySystem, y: np.ndarray) -> dict[str, np.ndarray
     interaction ``= H − kinetic − rotational``.
     """
     y = np.atleast_2d(y)
-    if isinstance(system, HasEnergyParts):
+    if offers(system, HasEnergyParts):
         parts = {k: np.asarray(v, dtype=float) for k, v in system.energy_parts(y).items()}
         parts.setdefault("total", cast(np.ndarray, sum(parts.values())))
         return parts

@@ -13,6 +13,7 @@ import numpy as np
 
 from poissonkit.contracts import HasBodies, HasLayout, HasScales, HasUnpack, Trajectory
 from poissonkit.numerics.units import Scales
+from poissonkit.traits import offers
 
 if TYPE_CHECKING:
     from poissonkit.numerics.runspec import RunSpec
@@ -21,13 +22,13 @@ if TYPE_CHECKING:
 def scales_of(system: object) -> Scales | None:
     """The internal units of ``system`` (:class:`~poissonkit.contracts.HasScales`), ``None``
     for a system in SI units."""
-    s = system.scales if isinstance(system, HasScales) else None
+    s = system.scales if offers(system, HasScales) else None
     return s if isinstance(s, Scales) else None
 
 
 def layout_of(system: object) -> tuple[str, ...]:
     """Names of the state's components (:class:`~poissonkit.contracts.HasLayout`), or ()."""
-    return tuple(system.layout) if isinstance(system, HasLayout) else ()
+    return tuple(system.layout) if offers(system, HasLayout) else ()
 
 
 def time_unit(spec: RunSpec) -> float:
@@ -52,15 +53,15 @@ def relative_position(spec: RunSpec, y: np.ndarray) -> np.ndarray | None:
     """Relative position ``r_2 - r_1`` of a two-body run (internal units), or ``None``."""
     system = spec.system
     # bodies in the state (N-body form): the first two moving ones, or the first one
-    n_moving = system.n_moving if isinstance(system, HasBodies) else 0
-    if isinstance(system, HasUnpack) and n_moving == 2:
+    n_moving = system.n_moving if offers(system, HasBodies) else 0
+    if offers(system, HasUnpack) and n_moving == 2:
         r = system.unpack(y)["r"]
         diff: np.ndarray = r[:, 1] - r[:, 0]
         return diff
     if layout_of(system)[:3] and y.shape[1] == 18:  # the seed's centre-of-mass form
         rel: np.ndarray = y[:, 0:3]
         return rel
-    if isinstance(system, HasUnpack) and n_moving >= 1:
+    if offers(system, HasUnpack) and n_moving >= 1:
         first: np.ndarray = system.unpack(y)["r"][:, 0]
         return first
     return None

@@ -20,6 +20,7 @@ from poissonkit.contracts import (
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.diagnostics import QUANTITIES, Drift, drifts
 from poissonkit.numerics.diagnostics import report as report_drifts
+from poissonkit.traits import offers
 
 
 @dataclass(frozen=True)
@@ -101,7 +102,7 @@ def diagnostics(system: HasEnergy, t: np.ndarray, y: np.ndarray) -> Diagnostics:
     if not np.all(np.isfinite(y)):
         raise InputError("trajectory contains non-finite values")
     found = drifts(system, y)
-    if isinstance(system, HasBodyMomenta):
+    if offers(system, HasBodyMomenta):
         j = np.asarray(system.angular_momentum(y), dtype=float).reshape(y.shape[0], 3)
     else:
         j = np.zeros((y.shape[0], 3))
@@ -120,19 +121,19 @@ def conserved_quantities(system: HasEnergy) -> dict[str, str]:
     may declare ``not_conserved`` (a mapping name → reason) itself
     (:class:`~poissonkit.contracts.DeclaresNotConserved`).
     """
-    declared = system.not_conserved if isinstance(system, DeclaresNotConserved) else None
+    declared = system.not_conserved if offers(system, DeclaresNotConserved) else None
     if declared is not None:
         return dict(declared)
     out: dict[str, str] = {}
-    bodies = system.bodies if isinstance(system, HasBodies) else ()
+    bodies = system.bodies if offers(system, HasBodies) else ()
     fixed = [b.name for b in bodies or () if b.fixed]
-    external = system.external_fields if isinstance(system, HasExternalFields) else None
+    external = system.external_fields if offers(system, HasExternalFields) else None
     reason = (f"fixed bodies ({', '.join(fixed)}) exert outside forces and torques" if fixed
               else "external fields act on the bodies" if external else None)
     if reason:
         out["linear_momentum"] = reason
         out["angular_momentum"] = reason
-    if not isinstance(system, HasBodyMomenta):
+    if not offers(system, HasBodyMomenta):
         out.setdefault("linear_momentum", "the system does not define it")
         out.setdefault("angular_momentum", "the system does not define it")
     return out

@@ -27,6 +27,7 @@ import numpy as np
 from poissonkit.contracts import HasBodies, HasLayout, HasUnpack
 from poissonkit.errors import DimensionError, MissingDependencyError
 from poissonkit.report.provenance import SI_UNITS
+from poissonkit.traits import offers
 
 if TYPE_CHECKING:
     import xarray
@@ -68,11 +69,11 @@ def _body_variables(system: object, y: np.ndarray, layout: tuple[str, ...]
                                list[str]]:
     """Per-body variables (SI) and the body names, or ``({}, [])`` for a system without
     bodies."""
-    if not isinstance(system, HasUnpack):
+    if not offers(system, HasUnpack):
         return {}, []
     parts = system.unpack(y, si=True)
     tbc = ("time", "body", "component")
-    if isinstance(system, HasBodies) and {"r", "p", "nu", "m"} <= set(parts):
+    if offers(system, HasBodies) and {"r", "p", "nu", "m"} <= set(parts):
         moving = _names_with(layout, "r_x")
         tops = _names_with(layout, "nu_x")
         in_state = set(moving) | set(tops)
@@ -165,7 +166,7 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
     y = np.atleast_2d(np.asarray(y, dtype=float))
     if y.shape[0] != t.shape[0]:
         raise DimensionError(f"{t.shape[0]} times but {y.shape[0]} states")
-    layout = tuple(system.layout) if isinstance(system, HasLayout) else ()
+    layout = tuple(system.layout) if offers(system, HasLayout) else ()
     if len(layout) != y.shape[1]:
         layout = tuple(f"y{k}" for k in range(y.shape[1]))
     variables, bodies = _body_variables(system, y, layout)

@@ -22,15 +22,6 @@ DATA_NAMES = frozenset({"data", "work", "fd", "lists", "gdata"})
 #: modules that may index these names (none: the data is built by keyword)
 BUILDERS: frozenset[str] = frozenset()
 
-#: modules changed on another branch at the same time; their positional reads
-#: (``system.data[0]``/``[1]``/``[:3]``/``[:6]``, ``work[2]``, ``work[0]``) are replaced by names
-#: when both land. Delete this set then: the test must hold without it.
-PENDING = frozenset({
-    "poissonkit/numerics/integrators/time_transformed.py",
-    "poissonkit/numerics/integrators/wisdom_holman.py",
-})
-
-
 def _is_position(node: ast.expr) -> bool:
     """An integer constant, ``-k``, or a slice whose bounds are such constants."""
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
@@ -74,7 +65,7 @@ def test_no_positional_reads_of_kernel_data() -> None:
     hits = []
     for path in _sources():
         rel = path.relative_to(ROOT).as_posix()
-        if rel in BUILDERS or rel in PENDING:
+        if rel in BUILDERS:
             continue
         hits += positional_reads(path.read_text(encoding="utf-8"), rel)
     assert not hits, "kernel data read by position:\n" + "\n".join(hits)

@@ -1,5 +1,5 @@
 """The lean per-step path: direct-sum loop kernels (same numbers as the general kernels), the
-protocol checks of ``solve`` (same answers as ``isinstance``) and the remembered state checks
+declared traits ``solve`` asks (same answers as ``isinstance``) and the remembered state checks
 (bad input still rejected with the typed error)."""
 
 from __future__ import annotations
@@ -19,10 +19,10 @@ from poissonkit.contracts import (
 )
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics import AllPairs, Body, NBodySystem, solve
-from poissonkit.numerics.conforms import conforms
 from poissonkit.numerics.events import Collision
 from poissonkit.numerics.integrators.base import HasLoopKernels
 from poissonkit.numerics.nbody import NonUnitAxisError, OverlapError
+from poissonkit.traits import SystemTraits, offers
 
 R = sp.Symbol("r", real=True)
 
@@ -118,19 +118,24 @@ def test_loop_kernels_only_where_the_direct_sum_is_exact():
     assert NBodySystem(top, [AllPairs(1 / R)]).loop_kernels() is None
 
 
-def test_conforms_answers_as_isinstance():
+def test_offers_reads_the_declaration_and_answers_as_isinstance():
+    # the declared traits of an N-body system say what isinstance says (every contract the
+    # solver asks about); non-systems are answered by isinstance itself
     system, _ = five_bodies()
-
-    class Blocked(NBodySystem):
-        check_overlap = None  # a method set to None does not count (typing's rule)
-
-    blocked = Blocked([Body("a", 1.0)])
     protos = (NumericsSystem, HasOverlapCheck, HasCompiledKernels, HasStateCheck, HasBodies,
               HasGravity, HasLoopKernels, Integrator)
-    for obj in (system, blocked, object(), 3.0, "splitting2"):
+    for obj in (system, object(), 3.0, "splitting2"):
         for proto in protos:
-            assert conforms(obj, proto) is isinstance(obj, proto), (obj, proto)
-    assert not conforms(blocked, HasOverlapCheck)
+            assert offers(obj, proto) is isinstance(obj, proto), (obj, proto)
+
+    class Blocked(NBodySystem):
+        """A subclass that removes a method must declare so: its traits are data."""
+
+        check_overlap = None
+        traits = SystemTraits(*(c for c in NBodySystem.traits.contracts
+                                if c is not HasOverlapCheck))
+
+    assert not offers(Blocked([Body("a", 1.0)]), HasOverlapCheck)
 
 
 def test_remembered_checks_still_reject_bad_states():

@@ -12,6 +12,7 @@ import sympy as sp
 
 from poissonkit import contracts
 from poissonkit.errors import InputError
+from poissonkit.numerics.integrators.base import HasLoopKernels
 from poissonkit.traits import SystemTraits, offers
 
 #: every runtime-checkable contract a numerics system may fulfil (those code asks about)
@@ -19,7 +20,7 @@ SYSTEM_CONTRACTS = [p for name, p in vars(contracts).items()
                     if inspect.isclass(p) and getattr(p, "_is_runtime_protocol", False)
                     and (name.startswith(("Has", "Declares")) or name in (
                         "NumericsSystem", "CompiledFrom"))
-                    and name != "HasRunCost"]
+                    and name != "HasRunCost"] + [HasLoopKernels]
 
 
 def _systems():

@@ -86,6 +86,7 @@ from poissonkit.numerics.integrators.newton import (
     no_jacobian,
 )
 from poissonkit.numerics.jit import jit
+from poissonkit.traits import offers
 
 #: The discrete gradients this method offers (``"auto"`` chooses from the Hamiltonian).
 GRADIENTS = ("auto", "avf", "gonzalez")
@@ -316,7 +317,7 @@ class DiscreteGradient:
         """Integrate with fixed step ``step``; ``tol`` overrides the Newton tolerance
         (``control``: checkpoints, streaming, stop requests, see
         :func:`~poissonkit.numerics.integrators.driver.drive`)."""
-        if not isinstance(system, HasSymbolicForm) or not isinstance(system, HasCompiledKernels):
+        if not offers(system, HasSymbolicForm) or not offers(system, HasCompiledKernels):
             raise CapabilityError(self.name, "needs_kernels", f"{type(system).__name__} has no "
                                   "symbolic form (N, P, H); compile a HamiltonianSystem with "
                                   "compile_system")

@@ -53,6 +53,7 @@ from poissonkit.numerics.integrators.newton import (
 )
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import copy_into
+from poissonkit.traits import offers
 
 _runners: dict[int, tuple[CompiledFunction, CompiledKernels]] = {}
 
@@ -158,7 +159,7 @@ class ImplicitMidpoint:
         """Integrate with fixed step ``step``; ``tol`` overrides the iteration tolerance
         (``control``: checkpoints, streaming, stop requests, see
         :func:`~poissonkit.numerics.integrators.driver.drive`)."""
-        if not isinstance(system, HasCompiledKernels):
+        if not offers(system, HasCompiledKernels):
             raise InputError(f"midpoint needs a compiled system, got {type(system).__name__}")
         kernels = system.kernels
         h, n_total = fixed_grid(self.name, step, t0, t_end)

@@ -25,6 +25,7 @@ from poissonkit.numerics.events import EventRecord, check_events, raise_or_recor
 from poissonkit.numerics.integrators.base import RawResult
 from poissonkit.numerics.integrators.capabilities import SCIPY
 from poissonkit.numerics.integrators.driver import Control
+from poissonkit.traits import offers
 
 
 class ScipyIVP:
@@ -76,7 +77,7 @@ class ScipyIVP:
                              f"{MAX_STEPS:.0e} steps to reach t_end = {t_end!r}")
         counter = [0]
         fun: Callable[[float, np.ndarray], np.ndarray]
-        if isinstance(system, HasCompiledKernels):
+        if offers(system, HasCompiledKernels):
             data, work, f = system.data, system.work(), system.kernels.rhs
 
             def fun(t: float, y: np.ndarray) -> np.ndarray:
@@ -92,7 +93,7 @@ class ScipyIVP:
                     raise NonFiniteStateError(counter[0], t, f"{self.name}: non-finite RHS at "
                                               f"evaluation {counter[0]}")
                 return out
-        elif isinstance(system, NumericsSystem):
+        elif offers(system, NumericsSystem):
             rhs = system.rhs
 
             def fun(t: float, y: np.ndarray) -> np.ndarray:
@@ -102,7 +103,7 @@ class ScipyIVP:
             raise InputError(f"{self.name} needs a system with rhs(t, y) or compiled kernels; "
                              f"{type(system).__name__} has neither")
         events = check_events(events)
-        if events and not isinstance(system, HasCompiledKernels):
+        if events and not offers(system, HasCompiledKernels):
             raise InputError(f"{self.name}: events need a system with compiled kernels "
                              f"(distances, radii); {type(system).__name__} has none")
         ev_funcs = []
@@ -120,7 +121,7 @@ class ScipyIVP:
             kwargs["max_step"] = self.max_step
         if step is not None and self.method != "LSODA":
             kwargs["first_step"] = float(step)
-        if self.method in ("Radau",) and isinstance(system, HasJacobian):
+        if self.method in ("Radau",) and offers(system, HasJacobian):
             kwargs["jac"] = system.jacobian
         res = solve_ivp(fun, (t0, t_end), np.asarray(y0, dtype=float), method=self.method,
                         events=[e[1] for e in ev_funcs] or None, **kwargs)

@@ -68,7 +68,6 @@ from poissonkit.contracts import (
     System,
 )
 from poissonkit.errors import InputError
-from poissonkit.numerics.conforms import conforms
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (
     RUNNING,
@@ -101,6 +100,7 @@ from poissonkit.numerics.integrators.glue import (
 )
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import copy_into
+from poissonkit.traits import offers
 
 # --------------------------------------------------------------------------- coefficients
 _SUZUKI_P = 1.0 / (4.0 - 4.0 ** (1.0 / 3.0))
@@ -472,12 +472,12 @@ class Splitting:
                   control: Control | None = None) -> RawResult:
         """Integrate from ``t0`` to ``t_end`` with the compiled loop (see :func:`drive` for
         ``control``: checkpoints, streaming, stop requests)."""
-        if not conforms(system, HasCompiledKernels) or not system.kernels.splittable:
+        if not offers(system, HasCompiledKernels) or not system.kernels.splittable:
             raise InputError(f"{self.name} needs a system with exact kinetic/potential flows "
                              f"(NBodySystem, TwoBodySystem); {type(system).__name__} has none — "
                              "use 'midpoint' or a scipy method")
         # a leaner form of the kernels for the loop (same numbers), if the system has one
-        lean = system.loop_kernels() if conforms(system, HasLoopKernels) else None
+        lean = system.loop_kernels() if offers(system, HasLoopKernels) else None
         kernels, data, work = (lean if lean is not None
                                else (system.kernels, system.data, system.work()))
         comp = self.compensated
@@ -485,7 +485,7 @@ class Splitting:
             raise InputError(f"{self.name}: compensated=True needs compensated drift/kick kernels, "
                              f"which {type(system).__name__} does not have (TwoBodySystem and "
                              "NBodySystem have them); use compensated=False")
-        if conforms(system, HasStateCheck):
+        if offers(system, HasStateCheck):
             system.check_state(y0)
         if self.adaptive:  # the base step as given; the loop adapts it
             h = check_step(step, t_end - t0, self.name)

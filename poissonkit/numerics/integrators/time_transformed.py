@@ -93,6 +93,7 @@ from poissonkit.numerics.integrators.splitting import WEIGHTS, drift_kick_coeffi
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import all_finite, copy_into
 from poissonkit.numerics.nbody import apply_forces
+from poissonkit.traits import offers
 
 #: loop status codes beyond :mod:`~poissonkit.numerics.integrators.base`'s
 KINETIC_LOST, SHIFT_TOO_SMALL, NO_PROGRESS = 8, 9, 10
@@ -114,8 +115,8 @@ def kinetic_energy(y, idx, w):
 
 @numba.njit(cache=True, error_model="numpy")
 def _apply_two_body(y, h, data, work):
-    """Kick ``p, m', m''`` by ``h`` times the forces left in ``work[0]`` by ``forces``."""
-    f = work[0]
+    """Kick ``p, m', m''`` by ``h`` times the forces left in ``work.partials`` by ``forces``."""
+    f = work.partials
     for d in range(3):
         y[3 + d] += h * f[d]
         y[9 + d] += h * f[3 + d]
@@ -138,12 +139,14 @@ def _layout(system: System, name: str) -> tuple[int, np.ndarray, np.ndarray]:
     from poissonkit.numerics.twobody import TwoBodySystem
 
     if isinstance(system, TwoBodySystem):
-        mu, a1, a2 = (float(v) for v in system.data[:3])
+        d = system.data
+        mu, a1, a2 = float(d.reduced_mass), float(d.alpha1), float(d.alpha2)
         idx = np.array([3, 4, 5, 9, 10, 11, 15, 16, 17], dtype=np.int64)
         w = np.array([1 / mu] * 3 + [a1] * 3 + [a2] * 3)
         return _TWO_BODY, idx, w
     if isinstance(system, NBodySystem):
-        mass, alpha = np.asarray(system.data[0], float), np.asarray(system.data[1], float)
+        mass = np.asarray(system.data.mass, float)
+        alpha = np.asarray(system.data.alpha, float)
         nm = mass.shape[0]
         idx, w = [], []
         for s in range(nm):
@@ -307,14 +310,14 @@ class TimeTransformedSplitting:
                   control: Control | None = None) -> RawResult:
         """Integrate from ``t0`` to ``t_end``; ``step`` is the fictitious-time step ``Δs``,
         equal to the physical step at the initial state (see :func:`drive` for ``control``)."""
-        if not isinstance(system, HasCompiledKernels) or not system.kernels.splittable:
+        if not offers(system, HasCompiledKernels) or not system.kernels.splittable:
             raise InputError(f"{self.name} needs a system with exact kinetic/potential flows "
                              f"(NBodySystem, TwoBodySystem); {type(system).__name__} has none")
         layout, kidx, kw = _layout(system, self.name)
         kernels = system.kernels
         if kernels.forces is None:
             raise InputError(f"{self.name}: {type(system).__name__} has no forces kernel")
-        if isinstance(system, HasStateCheck):
+        if offers(system, HasStateCheck):
             system.check_state(y0)
         ds = check_step(step, t_end - t0, self.name)
         y = np.array(y0, dtype=float)

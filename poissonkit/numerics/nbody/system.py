@@ -19,7 +19,7 @@ import numpy.typing as npt
 from poissonkit import contracts
 from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import DimensionError, InputError
-from poissonkit.numerics.integrators.base import LoopKernels
+from poissonkit.numerics.integrators.base import HasLoopKernels, LoopKernels
 from poissonkit.numerics.fields.base import CompiledField, FieldLike, compile_fields
 from poissonkit.numerics.fields.compose import field_data, field_term
 from poissonkit.numerics.kernels import Kernels
@@ -120,7 +120,7 @@ class NBodySystem:
                           contracts.HasEnergy, contracts.HasBodyMomenta,
                           contracts.HasExternalFields, contracts.HasPoissonStructure,
                           contracts.HasUnpack, contracts.HasScales, contracts.HasBodies,
-                          contracts.HasGravity)
+                          contracts.HasGravity, HasLoopKernels)
 
     def __init__(self, bodies: Sequence[Body], interactions: Sequence[Interaction | AllPairs] = (),
                  cutoff: float | None = None, scales: Scales | None = None,

@@ -43,6 +43,7 @@ from poissonkit.numerics.integrators.wisdom_holman.tables import (
     corrector_operators,
     saba_coefficients,
 )
+from poissonkit.traits import offers
 
 
 class WisdomHolman:
@@ -121,8 +122,8 @@ class WisdomHolman:
 
         # (an NBodySystem has all three; the Protocol checks are slow next to a short run)
         if not (isinstance(system, NBodySystem) or (
-                isinstance(system, HasGravity) and isinstance(system, HasBodies)
-                and isinstance(system, HasCompiledKernels))) or system.kernels.forces is None:
+                offers(system, HasGravity) and offers(system, HasBodies)
+                and offers(system, HasCompiledKernels))) or system.kernels.forces is None:
             raise InputError(f"{self.name} needs an NBodySystem of point masses with gravity; "
                              f"{type(system).__name__} is not one — use a splitting instead")
         G = system.gravity_constant()  # raises a typed error naming what is missing
@@ -139,7 +140,7 @@ class WisdomHolman:
         contact, escape, watch = event_thresholds(events)
         run, process = runner(kernels, _gravity_only(system))
         y = np.array(y0, dtype=float)
-        m = np.ascontiguousarray(system.data[0], dtype=float)
+        m = np.ascontiguousarray(system.data.mass, dtype=float)
         eta = np.cumsum(m)
         mfrac, inv_eta = m / eta, 1.0 / eta
         gm = G * eta

@@ -215,7 +215,7 @@ def kick_kernels(forces: CompiledFunction | None, pure_gravity: bool) -> KickKer
                 for d in range(3):
                     ybuf[6 * i + d] = r[i, d]
             forces(ybuf, data, work)
-            F = work[2]
+            F = work.F
             for i in range(n):
                 for d in range(3):
                     a[i, d] = F[i, d] / m[i]
