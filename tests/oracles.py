@@ -4,6 +4,8 @@ poissonkit): the Kepler two-body orbit and the free rigid body.
 * :class:`KeplerOrbit`: a two-body orbit from its elements, solved with a robust solver of
   Kepler's equation (:func:`solve_kepler`); :func:`kepler_step_mp` advances any state along
   its exact conic in arbitrary precision (universal variables), an independent formulation.
+* :func:`nbody_gravity_reference`: point masses under gravity, Newton's equations solved by
+  DOP853 at rtol 1e-13 (a reference, not a closed form: for three bodies there is none);
 * :func:`free_top_axis`: the figure axis of a free symmetric top (precession about the fixed
   angular momentum); :func:`euler_top`: the body-frame angular momentum of a free asymmetric
   rigid body (Jacobi elliptic functions).
@@ -161,6 +163,29 @@ def kepler_step_mp(x: np.ndarray, v: np.ndarray, mu: float, dt: float,
         fd, gd = -mu_ * g1 / (r * r0), 1 - mu_ * g2 / r
         return (np.array([float(f * p + gg * q) for p, q in zip(x, v)]),
                 np.array([float(fd * p + gd * q) for p, q in zip(x, v)]))
+
+
+def nbody_gravity_reference(m: np.ndarray, x: np.ndarray, v: np.ndarray, t_end: float,
+                            G: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """Positions and velocities at ``t_end`` of point masses under Newtonian gravity: Newton's
+    equations written out here, solved by scipy's DOP853 at rtol 1e-13 (no closed form for
+    three bodies; about 1e-11 relative over a few orbits)."""
+    from scipy.integrate import solve_ivp
+
+    m = np.asarray(m, float)
+    n = len(m)
+
+    def rhs(_t: float, y: np.ndarray) -> np.ndarray:
+        pos = y[:3 * n].reshape(n, 3)
+        d = pos[None, :, :] - pos[:, None, :]  # d[i, j] = x_j - x_i
+        r3 = np.linalg.norm(d, axis=-1) ** 3
+        np.fill_diagonal(r3, np.inf)
+        acc = G * (m[None, :, None] * d / r3[:, :, None]).sum(axis=1)
+        return np.concatenate([y[3 * n:], acc.ravel()])
+
+    y0 = np.concatenate([np.ravel(x), np.ravel(v)])
+    sol = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=1e-13, atol=1e-15)
+    return sol.y[:3 * n, -1].reshape(n, 3), sol.y[3 * n:, -1].reshape(n, 3)
 
 
 # ------------------------------------------------------------------------------ rigid bodies
