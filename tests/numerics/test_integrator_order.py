@@ -26,6 +26,7 @@ below the errors of the high-order tables at small steps.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -172,7 +173,7 @@ def test_every_integrator_reaches_its_declared_order(name, entry):
     if tolerance_driven(entry):
         tols = (1e-4, 1e-6, 1e-8, 1e-10)
         errs = [_error(problem, name, options, tol=tol) for tol in tols]
-        assert all(b < a for a, b in zip(errs, errs[1:])), (tols, errs)  # converges
+        assert all(b < a for a, b in itertools.pairwise(errs)), (tols, errs)  # converges
         assert errs[-1] < 1e-3 * errs[0] and errs[-1] < 1e-7, (tols, errs)
         return
     assert entry.order > 0, f"{name}: a fixed-step method must declare its order"
