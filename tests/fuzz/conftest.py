@@ -1,13 +1,3 @@
-"""Fuzz tests: print how many inputs each target tried and how they ended."""
-
-from __future__ import annotations
-
-
-def pytest_terminal_summary(terminalreporter, exitstatus, config):
-    import fuzzkit
-
-    lines = fuzzkit.summary_lines()
-    if lines:
-        terminalreporter.section("fuzz counts")
-        for line in lines:
-            terminalreporter.write_line(line)
+"""Fuzz tests. The counts of inputs each target tried (``fuzzkit.COUNTS``) are printed in the
+terminal summary by ``tests/conftest.py``, which also sums them over xdist's workers (the
+controlling process loads no conftest below ``tests/``)."""

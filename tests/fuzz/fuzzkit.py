@@ -112,12 +112,4 @@ def special_floats() -> list[float]:
     return [math.nan, math.inf, -math.inf, 0.0, -0.0, -1.0, 1e-320, 1e308, -1e308, 5e-324]
 
 
-def summary_lines() -> list[str]:
-    lines = []
-    for target, c in sorted(COUNTS.items()):
-        lines.append(f"{target:<22} tried {c['tried']:>7}  worked {c['ok']:>7}  "
-                     f"typed errors {c['typed_error']:>7}  anything else {c['other']:>3}")
-    return lines
-
-
 slow = pytest.mark.slow

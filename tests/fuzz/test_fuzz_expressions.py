@@ -39,7 +39,10 @@ def test_parser_returns_a_finite_expression_or_a_parse_error(text):
     _parse(text)
 
 
-@pytest.mark.parametrize("payload", payloads())
+# ids by position: each payload names this process's random marker file, and xdist's workers
+# must collect the same test ids
+@pytest.mark.parametrize("payload", payloads(),
+                         ids=[f"payload{i}" for i in range(len(payloads()))])
 def test_parser_never_executes_a_payload(payload):
     _parse(payload)
 

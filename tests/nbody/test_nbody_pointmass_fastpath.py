@@ -1,17 +1,17 @@
 """The orientation-free fast path: equal to the general pair loop, and right on a Kepler orbit.
 
 Truths: the general loop (axis terms, torques) on the same scene; the closed-form Kepler
-orbit (Kepler's equation solved with mpmath at 30 digits).
+orbit (the shared oracle ``tests/oracles.py``).
 """
 
 from __future__ import annotations
 
 import math
 
-import mpmath
 import numpy as np
 import pytest
 import sympy as sp
+from oracles import KeplerOrbit  # type: ignore[import-not-found]
 
 from poissonkit.numerics import AllPairs, Body, Interaction, NBodySystem, solve
 
@@ -59,16 +59,7 @@ def test_fast_path_equals_general_path_on_a_mixed_magnet_and_point_mass_scene():
 
 def kepler_closed_form(t: float, mu: float, a: float, e: float) -> tuple[np.ndarray, np.ndarray]:
     """Relative position and velocity on an ellipse starting at pericentre (x axis) at t = 0."""
-    mpmath.mp.dps = 30
-    n = mpmath.sqrt(mu / a**3)
-    M = n * t
-    E = mpmath.findroot(lambda E: E - e * mpmath.sin(E) - M, M)
-    b = a * mpmath.sqrt(1 - e * e)
-    rr = a * (1 - e * mpmath.cos(E))
-    dE = n * a / rr
-    x = [a * (mpmath.cos(E) - e), b * mpmath.sin(E), 0]
-    v = [-a * mpmath.sin(E) * dE, b * mpmath.cos(E) * dE, 0]
-    return np.array([float(c) for c in x]), np.array([float(c) for c in v])
+    return KeplerOrbit(mu=mu, a=a, e=e).state(t)
 
 
 def two_body(m0: float = 1.0, m1: float = 0.25, a: float = 1.0, e: float = 0.6):

@@ -1,7 +1,7 @@
 """``solve(t_eval=...)``: states at requested times for every kind of method.
 
 Independent truth: the two-body Kepler problem, whose relative position at any time follows from
-Kepler's equation (solved here by Newton's method in numpy, not by poissonkit).
+Kepler's equation (the shared oracle ``tests/oracles.py``, not poissonkit).
 """
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 import pytest
+from oracles import KeplerOrbit  # type: ignore[import-not-found]
 
 from poissonkit.errors import InputError
 from poissonkit.numerics import AllPairs, Body, NBodySystem, solve
@@ -22,13 +23,7 @@ PERIOD = 2 * math.pi * math.sqrt(A**3 / MU)
 
 def kepler_relative_position(t: np.ndarray) -> np.ndarray:
     """Relative position at times ``t`` of the orbit starting at pericentre on x."""
-    mean = 2 * math.pi * np.asarray(t) / PERIOD
-    ecc = mean.copy()
-    for _ in range(50):
-        ecc -= (ecc - E * np.sin(ecc) - mean) / (1 - E * np.cos(ecc))
-    x = A * (np.cos(ecc) - E)
-    y = A * math.sqrt(1 - E * E) * np.sin(ecc)
-    return np.stack([x, y, np.zeros_like(x)], axis=1)
+    return KeplerOrbit(mu=MU, a=A, e=E).state(np.asarray(t, dtype=float))[0]
 
 
 @pytest.fixture(scope="module")

@@ -13,6 +13,7 @@ from numerics_helpers import (  # type: ignore[import-not-found]
     orbit_state,
     unit,
 )
+from oracles import KeplerOrbit  # type: ignore[import-not-found]
 
 from poissonkit.errors import CollisionError, InputError, IntegrationError, UnknownNameError
 from poissonkit.numerics import AllPairs, Body, Collision, NBodySystem, TwoBodySystem, solve
@@ -26,14 +27,8 @@ ECC = 0.9
 
 def kepler_state(t: float) -> np.ndarray:
     """Analytic Kepler orbit (GM = 1, a = 1, e = 0.9; apocentre at t = 0, on -x): (r, p)."""
-    M = np.pi + t  # mean anomaly, mean motion 1
-    E = M
-    for _ in range(60):  # Newton on Kepler's equation E - e sin E = M
-        E = E - (E - ECC * np.sin(E) - M) / (1 - ECC * np.cos(E))
-    Ed = 1 / (1 - ECC * np.cos(E))
-    b = np.sqrt(1 - ECC**2)
-    return np.array([np.cos(E) - ECC, b * np.sin(E), 0.0,
-                     -np.sin(E) * Ed, b * np.cos(E) * Ed, 0.0])
+    x, v = KeplerOrbit(mu=1.0, a=1.0, e=ECC, mean_anomaly=np.pi).state(t)
+    return np.concatenate([x, v])
 
 
 @pytest.fixture(scope="module")
