@@ -23,7 +23,7 @@ def _real(value: object, what: str, kind: str) -> float:
         raise InputError(f"{what} must be {kind}, got {value!r}")
     try:
         return float(value)  # type: ignore[arg-type]  # anything float() takes is welcome
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an int like 10**400
         raise InputError(f"{what} must be {kind}, got {value!r}") from None
 
 

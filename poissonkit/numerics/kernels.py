@@ -35,6 +35,7 @@ import numba
 import numpy as np
 
 from poissonkit.contracts import CompiledFunction
+from poissonkit.numerics.linalg import gauss_solve  # noqa: F401  (the one LU solver; importable here as before)
 
 
 class Kernels(NamedTuple):
@@ -171,41 +172,3 @@ def zero2(a):
     for i in range(a.shape[0]):
         for j in range(a.shape[1]):
             a[i, j] = 0.0
-
-
-@numba.njit(cache=True, error_model="numpy")
-def gauss_solve(A, b, x):
-    """Solve ``A x = b`` by Gaussian elimination with partial pivoting (A, b overwritten).
-
-    Returns False if ``A`` is singular to working precision.
-    """
-    n = b.shape[0]
-    for k in range(n):
-        p = k
-        best = abs(A[k, k])
-        for i in range(k + 1, n):
-            if abs(A[i, k]) > best:
-                best = abs(A[i, k])
-                p = i
-        if best == 0.0:
-            return False
-        if p != k:
-            for j in range(n):
-                tmp = A[k, j]
-                A[k, j] = A[p, j]
-                A[p, j] = tmp
-            tmp = b[k]
-            b[k] = b[p]
-            b[p] = tmp
-        for i in range(k + 1, n):
-            f = A[i, k] / A[k, k]
-            if f != 0.0:
-                for j in range(k, n):
-                    A[i, j] -= f * A[k, j]
-                b[i] -= f * b[k]
-    for i in range(n - 1, -1, -1):
-        acc = b[i]
-        for j in range(i + 1, n):
-            acc -= A[i, j] * x[j]
-        x[i] = acc / A[i, i]
-    return True
