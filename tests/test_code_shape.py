@@ -27,12 +27,7 @@ MAX_MODULE_LINES = 600
 MAX_FUNCTION_LINES = 100
 
 #: Files over a limit whose split is in progress (paths relative to the repository root).
-_BEING_SPLIT = {
-    "poissonkit/numerics/builtin.py",  # poissonkit_integrators: 102 (one entry per integrator)
-    "poissonkit/numerics/integrators/driver.py",  # drive: 181 (a typed problem instead)
-    "poissonkit/numerics/integrators/wisdom_holman.py",  # 945 lines (becomes a package)
-    "poissonkit/numerics/solver.py",  # solve: 153
-}
+_BEING_SPLIT: set[str] = set()
 
 
 def _sources() -> list[Path]:

@@ -23,11 +23,19 @@ MAG = {"mass": 7.658e-4, "alpha": 3.872e7, "moment": 0.15546875}
 def _same_system(a, b) -> None:
     assert a.scales == b.scales
     assert repr(a.interactions) == repr(b.interactions)
-    for x, y in zip(a.data, b.data):
-        if isinstance(x, np.ndarray):
-            assert x.dtype == y.dtype and np.array_equal(x, y)
-        else:
-            assert x == y
+    _same_data(a.data, b.data)
+
+
+def _same_data(x, y) -> None:
+    """Kernel data equal to the bit, slot by slot (nested named tuples included)."""
+    if isinstance(x, tuple):
+        assert type(x) is type(y) and len(x) == len(y)
+        for u, v in zip(x, y):
+            _same_data(u, v)
+    elif isinstance(x, np.ndarray):
+        assert x.dtype == y.dtype and np.array_equal(x, y)
+    else:
+        assert x == y
 
 
 @pytest.mark.parametrize("cutoff", [None, 0.05])
