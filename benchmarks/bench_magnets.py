@@ -80,7 +80,7 @@ def accuracy_table() -> list[tuple]:
     """Worst relative force error, torque and energy error (over the dipole scale) of each
     cheap model vs the exact cylinder, per separation, over coaxial, side-by-side, T and
     random orientations."""
-    from poissonkit.interaction import OverlapError, pair_interaction
+    from poissonkit.pairs import OverlapError, pair_interaction
 
     z, x = np.array([0, 0, 1.0]), np.array([1.0, 0, 0])
     rng = np.random.default_rng(2)

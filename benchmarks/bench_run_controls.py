@@ -27,7 +27,7 @@ def best_of(n: int, fn) -> float:
 
 def main() -> None:
     for name in ("two_magnets", "magnet_chain"):
-        spec = build_run(load_scene(ROOT / "poissonkit" / "scenes" / f"{name}.toml"))
+        spec = build_run(load_scene(ROOT / "poissonkit" / "scene" / "shipped" / f"{name}.toml"))
         h = spec.step / 200  # long enough that per-run overheads do not dominate
 
         def plain():

@@ -1,6 +1,6 @@
 """Sweeping a potential parameter against sweeping an initial condition: compilations and time.
 
-The scene is ``poissonkit/scenes/two_magnets.toml`` (two cylinder magnets, the magnets plugin's
+The scene is ``poissonkit/scene/shipped/two_magnets.toml`` (two cylinder magnets, the magnets plugin's
 ``dumbbell`` potential). Two 16-point sweeps on one local Dask worker through the sweeps API
 (what ``poissonkit sweep`` runs):
 
@@ -33,7 +33,7 @@ from poissonkit.sweeps import grid, sweep
 from poissonkit.sweeps.compiles import compilations
 from poissonkit.sweeps.execute import make_client
 
-SCENE = Path(__file__).resolve().parents[1] / "poissonkit" / "scenes" / "two_magnets.toml"
+SCENE = Path(__file__).resolve().parents[1] / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"
 POINTS = 16
 AXES = {
     "potential parameter (bodies.right.moment)": ("bodies.right.moment", 0.10, 0.20),
@@ -105,7 +105,7 @@ def in_process() -> dict[str, float]:
     import numpy as np
 
     from poissonkit.sweeps.compiles import count_compilations
-    from poissonkit.sweeps.scenes import TomlScene
+    from poissonkit.sweeps.targets import TomlScene
 
     count_compilations()
     scene = TomlScene.from_file(SCENE)

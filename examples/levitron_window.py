@@ -95,7 +95,7 @@ def main(argv: list[str] | None = None) -> None:
     from matplotlib.patches import Patch
 
     from poissonkit.sweeps.plot import FATE_COLOURS
-    from poissonkit.sweeps.scenes import FATES
+    from poissonkit.sweeps.targets import FATES
 
     fig, ax = plt.subplots(figsize=(7.5, 4.6))
     draw_map(ax, None, ds, x="spin_rpm", y="mass", labels=LABELS)

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from poissonkit.interaction import pair_interaction
+from poissonkit.pairs import pair_interaction
 
 # the seed 000 magnets: diameter 2.5 mm, height 20 mm, magnetisation 1.58359e6 A/m
 MAGNET = dict(magnetization=1.58359e6, radius=1.25e-3, length=20e-3)

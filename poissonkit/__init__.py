@@ -93,8 +93,8 @@ _LAZY: dict[str, str] = {
     "CompiledField": "poissonkit.numerics.fields.base",
     "external_fields": "poissonkit.plugin.registry",
     # magnets
-    "pair_interaction": "poissonkit.interaction",
-    "PairInteraction": "poissonkit.interaction",
+    "pair_interaction": "poissonkit.pairs",
+    "PairInteraction": "poissonkit.pairs",
     # scenes
     "load_scene": "poissonkit.scene.loader",
     "build_run": "poissonkit.scene.build",

@@ -25,7 +25,7 @@ if TYPE_CHECKING:
     from poissonkit.numerics.integrators.base import RawResult
     from poissonkit.numerics.integrators.driver import Control
     from poissonkit.structure import Bivector
-    from poissonkit.sweeps.scenes import RunRecord
+    from poissonkit.sweeps.targets import RunRecord
 
 # --------------------------------------------------------------------------- numerics systems
 #: A compiled (numba) function; its signature is fixed by the slot it fills in
@@ -523,7 +523,7 @@ class SweepScene(Protocol):
     """What a sweep runs: a small picklable description of a scene, sent to every worker.
 
     :func:`poissonkit.sweeps.sweep` accepts any object with these members (a TOML scene,
-    :class:`poissonkit.sweeps.scenes.TomlScene`, or a plugin's, e.g. the ``sweep`` factory of a
+    :class:`poissonkit.sweeps.targets.TomlScene`, or a plugin's, e.g. the ``sweep`` factory of a
     :class:`~poissonkit.plugin.SceneEntry`).
     """
 

@@ -43,7 +43,7 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("numerics", ("numerics",)),
     # scenes (schema, loader, graph → system, planner) and the pair-interaction calculator,
     # which evaluates registered potentials between two placed bodies
-    ("scene", ("scene", "interaction")),
+    ("scene", ("scene", "pairs")),
     # summaries, trajectories, figures and the 3D view of runs
     ("report", ("report",)),
     # sweeps on Dask over scenes
@@ -66,7 +66,7 @@ CONTRACTS_MAY_NAME = {
     # the symbolic bivector itself (a sympy matrix with its whole algebra)
     "poissonkit.structure": {"Bivector"},
     # holds a Solution and the system of the sweep's run
-    "poissonkit.sweeps.scenes": {"RunRecord"},
+    "poissonkit.sweeps.targets": {"RunRecord"},
 }
 
 

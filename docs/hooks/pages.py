@@ -32,7 +32,7 @@ SECTIONS: tuple[tuple[str, str, str, str], ...] = (
     ("poissonkit.commands.verify", "structure", "", ""),
     ("poissonkit.numerics", "numerics", "Numerics",
      "Compiled systems, the solver and its solution."),
-    ("poissonkit.interaction", "magnets", "Magnet interactions",
+    ("poissonkit.pairs", "magnets", "Magnet interactions",
      "Energy, force and torques of a pair of magnets."),
     ("poissonkit.scene", "scenes", "Scenes", "Scene files and the runs built from them."),
     ("poissonkit.plugin", "registries", "Registries and plugins",

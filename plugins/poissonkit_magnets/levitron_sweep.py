@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from poissonkit.errors import InputError, UnknownNameError
-from poissonkit.sweeps.scenes import RunRecord, cut_solution, record_units
+from poissonkit.sweeps.targets import RunRecord, cut_solution, record_units
 
 #: Swept parameters: units and meaning.
 LEVITRON_PARAMETERS: Mapping[str, tuple[str, str]] = {

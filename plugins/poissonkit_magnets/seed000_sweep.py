@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from poissonkit.errors import InputError, UnknownNameError
-from poissonkit.sweeps.scenes import RunRecord, cut_solution as _cut, record_units as _units
+from poissonkit.sweeps.targets import RunRecord, cut_solution as _cut, record_units as _units
 
 #: Named parameters of the seed scene: units and meaning (``initial.<name>`` is an alias).
 SEED_PARAMETERS: Mapping[str, tuple[str, str]] = {

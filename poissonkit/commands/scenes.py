@@ -2,7 +2,7 @@
 
 Two kinds: scenes registered by plugins (:class:`~poissonkit.plugin.SceneEntry`, e.g. the
 magnets plugin's ``seed000``, the default of ``poissonkit run``) and the scene files shipped
-with the package (``poissonkit/scenes/*.toml``, run by their stem). Each is listed with its
+with the package (``poissonkit/scene/shipped/*.toml``, run by their stem). Each is listed with its
 one-line description; ``--json`` gives the same as a list of objects.
 """
 

@@ -115,7 +115,7 @@ def main(args: argparse.Namespace) -> int:
         print(f"\npoissonkit sweep: interrupted; finished points are in {store}; run the same "
               "command with --resume to compute the rest", file=sys.stderr)
         return 130
-    from poissonkit.sweeps.scenes import FATES
+    from poissonkit.sweeps.targets import FATES
 
     counts = {name: int(((ds["fate"] == k) & ~ds["failed"]).sum())
               for k, name in enumerate(FATES)}

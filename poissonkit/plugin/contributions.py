@@ -366,7 +366,7 @@ class SceneEntry(Entry):
     the run it returns. ``default`` marks the scene ``poissonkit run`` uses without an argument
     (the first one flagged, built-in plugins first). ``sweep(**options)``, if given, returns the
     scene's sweep adapter for ``poissonkit sweep NAME`` (an object with ``key``, ``settings``,
-    ``check``, ``units``, ``prepare`` and ``run``; see :mod:`poissonkit.sweeps.scenes`).
+    ``check``, ``units``, ``prepare`` and ``run``; see :mod:`poissonkit.sweeps.targets`).
     """
 
     load: SceneLoader = field(default=_missing)
@@ -378,7 +378,7 @@ class SceneEntry(Entry):
 class ModelFamily(Entry):
     """Pair potentials that model the same physical pair at several fidelities.
 
-    The planner (:mod:`poissonkit.scene.model_planner`) and ``pair_interaction(\"auto\", ...)``
+    The planner (:mod:`poissonkit.scene.planner.choice`) and ``pair_interaction(\"auto\", ...)``
     pick per pair the cheapest model of the family whose estimated error is within a tolerance.
 
     Attributes
@@ -433,7 +433,7 @@ class OutcomeEntry(Entry):
         Value of points not (yet) computed or failed.
     compute
         ``compute(record) -> value`` of one finished run, a
-        :class:`poissonkit.sweeps.scenes.RunRecord` (solution, fate, distances, units).
+        :class:`poissonkit.sweeps.targets.RunRecord` (solution, fate, distances, units).
     """
 
     dtype: str = "f8"

@@ -114,7 +114,7 @@ def poissonkit_outcomes() -> list[OutcomeEntry]:
     list of OutcomeEntry
         Each with a name, a doc string, a numpy dtype, an SI unit, a fill value for points not
         computed, and ``compute(record)`` of the run's
-        :class:`~poissonkit.sweeps.scenes.RunRecord`; choose them with
+        :class:`~poissonkit.sweeps.targets.RunRecord`; choose them with
         ``sweep(..., outcomes=[...])`` or ``poissonkit sweep --outcomes``.
     """
     raise NotImplementedError  # a specification: pluggy calls the implementations

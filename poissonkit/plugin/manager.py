@@ -43,13 +43,13 @@ from poissonkit.plugin.contributions import (
 
 #: Built-in plugin modules: (plugin name, module path). Registered like any other plugin.
 BUILTIN_PLUGINS: tuple[tuple[str, str], ...] = (
-    ("core-systems", "poissonkit.structure.builtin"),
-    ("core-integrators", "poissonkit.numerics.builtin"),
-    ("core-fields", "poissonkit.numerics.fields.builtin"),
-    ("magnets", "poissonkit_magnets.plugin"),
-    ("nbody", "poissonkit_nbody.plugin"),
-    ("nonholonomic", "poissonkit_nonholonomic.plugin"),
-    ("core-outcomes", "poissonkit.sweeps.builtin"),
+    ("core-systems", "poissonkit.structure.hooks"),
+    ("core-integrators", "poissonkit.numerics.hooks"),
+    ("core-fields", "poissonkit.numerics.fields.hooks"),
+    ("magnets", "poissonkit_magnets.hooks"),
+    ("nbody", "poissonkit_nbody.hooks"),
+    ("nonholonomic", "poissonkit_nonholonomic.hooks"),
+    ("core-outcomes", "poissonkit.sweeps.hooks"),
 )
 
 #: hook name -> (registry kind, entry type)

@@ -172,7 +172,7 @@ def _quiet_floats() -> np.errstate:
 
 def build_scene(scene: Scene, scales: Scales | str | None = "auto") -> BuiltScene:
     """Build a scene's system, initial state and internal units: the one path runs
-    (:func:`build_run`) and sweeps (:class:`poissonkit.sweeps.scenes.TomlScene`) share.
+    (:func:`build_run`) and sweeps (:class:`poissonkit.sweeps.targets.TomlScene`) share.
 
     Parameters
     ----------

@@ -1,5 +1,5 @@
 """Reading scene files (TOML) into validated :class:`~poissonkit.scene.schema.Scene` objects,
-and the scene files shipped with the package (``poissonkit/scenes/*.toml``, runnable by name)."""
+and the scene files shipped with the package (``poissonkit/scene/shipped/*.toml``, runnable by name)."""
 
 from __future__ import annotations
 
@@ -50,9 +50,9 @@ def shipped_scenes() -> dict[str, Path]:
     Returns
     -------
     dict of str to Path
-        E.g. ``{"two_magnets": .../poissonkit/scenes/two_magnets.toml, ...}``, sorted by name.
+        E.g. ``{"two_magnets": .../poissonkit/scene/shipped/two_magnets.toml, ...}``, sorted by name.
     """
-    folder = resources.files("poissonkit") / "scenes"
+    folder = resources.files("poissonkit") / "scene" / "shipped"
     if not folder.is_dir():
         return {}
     found = {Path(str(f)).stem: Path(str(f)) for f in folder.iterdir()

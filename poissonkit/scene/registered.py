@@ -3,7 +3,7 @@
 The core knows no scene by name: a plugin registers a :class:`~poissonkit.plugin.SceneEntry`
 (the magnets plugin registers ``seed000`` and flags it as the default), and the commands turn
 it into a :class:`~poissonkit.numerics.runspec.RunSpec` here. The scene files under
-``poissonkit/scenes/`` (package data) run by their stem (``poissonkit run two_magnets``).
+``poissonkit/scene/shipped/`` (package data) run by their stem (``poissonkit run two_magnets``).
 :func:`scene_catalog` lists both kinds (``poissonkit scenes``); :func:`resolve_scene` turns a
 command-line ``SCENE`` into a file or a registered name.
 """

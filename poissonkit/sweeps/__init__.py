@@ -6,7 +6,7 @@ Dask cluster (a local one by default), reduces each run to outcomes from a typed
 batch, so an interrupted sweep resumes where it stopped. Guide: ``docs/sweeps.md``.
 
 Modules: :mod:`~poissonkit.sweeps.params` (design), :mod:`~poissonkit.sweeps.paths` (parameter
-paths of a scene file), :mod:`~poissonkit.sweeps.scenes` (what one run is),
+paths of a scene file), :mod:`~poissonkit.sweeps.targets` (what one run is),
 :mod:`~poissonkit.sweeps.outcomes` (registry), :mod:`~poissonkit.sweeps.chaos` (MEGNO),
 :mod:`~poissonkit.sweeps.execute` (Dask), :mod:`~poissonkit.sweeps.store` (Zarr),
 :mod:`~poissonkit.sweeps.integrity` (chunk ownership, completion records, verified resume),
@@ -25,7 +25,7 @@ from poissonkit.sweeps.integrity import StoreRepairWarning
 from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, OUTCOMES, Outcome
 from poissonkit.sweeps.params import Axis, Design, Range, grid, parse_param
 from poissonkit.sweeps.paths import SweepPathError
-from poissonkit.sweeps.scenes import FATES, TomlScene, sweep_scene
+from poissonkit.sweeps.targets import FATES, TomlScene, sweep_scene
 
 if TYPE_CHECKING:
     import xarray as xr

@@ -33,7 +33,7 @@ from poissonkit.sweeps.integrity import (
 )
 from poissonkit.sweeps.outcomes import outcome_entries, resolve_outcomes
 from poissonkit.sweeps.params import Axis, Design, Range, design_from
-from poissonkit.sweeps.scenes import sweep_scene
+from poissonkit.sweeps.targets import sweep_scene
 from poissonkit.sweeps.store import (
     ZarrWriter,
     check_layout,
@@ -66,7 +66,7 @@ def sweep(scene: SweepScene | str | Path,
         A registered scene name (e.g. ``"seed000"``, swept through its entry's ``sweep``
         factory), the path of a TOML scene file, or a ready
         :class:`~poissonkit.contracts.SweepScene` (a
-        :class:`~poissonkit.sweeps.scenes.TomlScene` or a plugin's, e.g.
+        :class:`~poissonkit.sweeps.targets.TomlScene` or a plugin's, e.g.
         ``poissonkit_magnets.seed000_sweep.SeedScene``).
     params
         Swept parameters by path (``docs/sweeps.md``): :func:`~poissonkit.sweeps.params.grid`

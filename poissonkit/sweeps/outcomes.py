@@ -2,9 +2,9 @@
 
 Every entry (:class:`~poissonkit.plugin.contributions.OutcomeEntry`) has a name, a numpy dtype,
 SI units, a fill value for points not computed, a description, and a function of the
-:class:`~poissonkit.sweeps.scenes.RunRecord`. Entries come from the plugin hook
+:class:`~poissonkit.sweeps.targets.RunRecord`. Entries come from the plugin hook
 ``poissonkit_outcomes``: the built-in ones below are registered through it
-(:mod:`poissonkit.sweeps.builtin`) like any plugin's. Choose them with
+(:mod:`poissonkit.sweeps.hooks`) like any plugin's. Choose them with
 ``sweep(..., outcomes=[...])`` or ``poissonkit sweep --outcomes a,b``; unknown names fail with the
 list of available ones. Drifts are the maxima over the run of the relative diagnostics of
 :mod:`poissonkit.numerics.diagnostics`, under the same names as in ``summary.json``.
@@ -20,7 +20,7 @@ import numpy as np
 from poissonkit.contracts import HasMomenta
 from poissonkit.errors import UnknownNameError
 from poissonkit.plugin.contributions import OutcomeEntry
-from poissonkit.sweeps.scenes import FATES, RunRecord
+from poissonkit.sweeps.targets import FATES, RunRecord
 from poissonkit.traits import offers
 
 
@@ -56,7 +56,7 @@ def _megno(rec: RunRecord) -> float:
     return megno(system, y0, t_end, method=method, step=step)
 
 
-#: The built-in outcomes (registered by :mod:`poissonkit.sweeps.builtin`).
+#: The built-in outcomes (registered by :mod:`poissonkit.sweeps.hooks`).
 BUILTIN_OUTCOMES: tuple[OutcomeEntry, ...] = (
     _outcome("fate", "i1", "1", -1,
              "fate of the run: 0 bounded, 1 collision, 2 escape (-1 not computed)",

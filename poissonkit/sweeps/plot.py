@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from poissonkit.errors import InputError
-from poissonkit.sweeps.scenes import FATES
+from poissonkit.sweeps.targets import FATES
 
 if TYPE_CHECKING:  # matplotlib and xarray are imported where used
     import xarray as xr

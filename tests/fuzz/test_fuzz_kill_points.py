@@ -30,7 +30,7 @@ from poissonkit.numerics.checkpoint import checkpoints
 from poissonkit.killpoints import ENV, PHASES
 
 ROOT = Path(__file__).resolve().parents[2]
-TWO = ROOT / "poissonkit" / "scenes" / "two_magnets.toml"
+TWO = ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"
 EXAMPLES = int(os.environ.get("POISSONKIT_FUZZ_KILL_EXAMPLES", "30"))
 TIMEOUT_S = 300  # a process over this is a hang
 _REFERENCES: dict[tuple[int, int], dict[str, bytes]] = {}

@@ -1,4 +1,4 @@
-"""Fuzzing scene files: mutations of every shipped scene (``poissonkit/scenes/*.toml``).
+"""Fuzzing scene files: mutations of every shipped scene (``poissonkit/scene/shipped/*.toml``).
 
 Mutations at random places of the parsed file: deleted keys and tables, swapped types,
 NaN/inf/negative/zero values, unknown names (keys, potentials, integrators, models), huge sizes,
@@ -25,7 +25,7 @@ from poissonkit.scene.loader import loads_scene
 from poissonkit.scene.schema import scene_from_mapping
 
 ROOT = Path(__file__).resolve().parents[2]
-SCENE_FILES = sorted((ROOT / "poissonkit" / "scenes").glob("*.toml"))
+SCENE_FILES = sorted((ROOT / "poissonkit" / "scene" / "shipped").glob("*.toml"))
 TEXTS = {p.name: p.read_text() for p in SCENE_FILES}
 SCENES = {name: tomllib.loads(text) for name, text in TEXTS.items()}
 

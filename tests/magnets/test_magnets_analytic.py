@@ -14,7 +14,7 @@ import pytest
 import sympy as sp
 
 from poissonkit.conventions import MU0
-from poissonkit.interaction import pair_interaction
+from poissonkit.pairs import pair_interaction
 from poissonkit_magnets.analytic import (
     C1, C2, C3, R, dipole_core, dipole_expr, dumbbell_core, dumbbell_expr,
     effective_half_length,

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from poissonkit.errors import InputError, UnknownNameError
-from poissonkit.interaction import OverlapError, pair_interaction
+from poissonkit.pairs import OverlapError, pair_interaction
 from poissonkit_magnets.fidelity import cheapest_model, estimated_error
 
 CHEAP = ("dipole", "dumbbell", "dumbbell_octupole")

@@ -12,7 +12,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from poissonkit.conventions import MU0
-from poissonkit.interaction import pair_interaction
+from poissonkit.pairs import pair_interaction
 
 A, H, M = 1.25e-3, 20e-3, 1.58359e6
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from poissonkit.errors import InputError, PoissonkitError, UnknownNameError
-from poissonkit.interaction import OverlapError, cylinder_gap, pair_interaction
+from poissonkit.pairs import OverlapError, cylinder_gap, pair_interaction
 from poissonkit.plugin import potential
 
 A, H, M = 1.25e-3, 20e-3, 1.58359e6

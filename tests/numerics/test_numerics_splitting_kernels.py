@@ -27,7 +27,7 @@ RKN = ("splitting4_bm", "splitting6_bm")
 def test_rkn_condition_holds_for_the_two_top_bracket():
     # {V,{V,{V,T}}} = 0 for any configuration potential V(r, nu', nu''), with poissonkit's own
     # bracket of seed 000 (canonical + e(3) + e(3)); {V,{V,T}} is free of the momenta
-    from poissonkit.structure.builtin import two_tops
+    from poissonkit.structure.hooks import two_tops
 
     P = two_tops()
     c = P.coords

@@ -25,37 +25,37 @@ def _first(entries, prefix="echo_"):
 
 @hookimpl
 def poissonkit_potentials():
-    from poissonkit_nbody import plugin
+    from poissonkit_nbody import hooks
 
-    return _first(plugin.poissonkit_potentials())
+    return _first(hooks.poissonkit_potentials())
 
 
 @hookimpl
 def poissonkit_assemblies():
-    from poissonkit_nbody import plugin
+    from poissonkit_nbody import hooks
 
-    return _first(plugin.poissonkit_assemblies())
+    return _first(hooks.poissonkit_assemblies())
 
 
 @hookimpl
 def poissonkit_systems():
-    from poissonkit.structure import builtin
+    from poissonkit.structure import hooks
 
-    return _first(builtin.poissonkit_systems())
+    return _first(hooks.poissonkit_systems())
 
 
 @hookimpl
 def poissonkit_integrators():
-    from poissonkit.numerics import builtin
+    from poissonkit.numerics import hooks
 
-    return _first(builtin.poissonkit_integrators())
+    return _first(hooks.poissonkit_integrators())
 
 
 @hookimpl
 def poissonkit_scenes():
-    from poissonkit_magnets import plugin
+    from poissonkit_magnets import hooks
 
-    return _first(plugin.poissonkit_scenes())
+    return _first(hooks.poissonkit_scenes())
 
 
 @hookimpl
@@ -69,13 +69,13 @@ def poissonkit_model_families():
 
 @hookimpl
 def poissonkit_outcomes():
-    from poissonkit.sweeps import builtin
+    from poissonkit.sweeps import hooks
 
-    return _first(builtin.poissonkit_outcomes())
+    return _first(hooks.poissonkit_outcomes())
 
 
 @hookimpl
 def poissonkit_fields():
-    from poissonkit.numerics.fields import builtin
+    from poissonkit.numerics.fields import hooks
 
-    return _first(builtin.poissonkit_fields())
+    return _first(hooks.poissonkit_fields())

@@ -16,7 +16,7 @@ import pytest
 from poissonkit.killpoints import ENV, PHASES
 
 ROOT = Path(__file__).resolve().parents[2]
-TWO = ROOT / "poissonkit" / "scenes" / "two_magnets.toml"
+TWO = ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"
 #: 1000 steps, a checkpoint (and a part) every 100: 10 checkpoints, 11 parts, 1001 rows
 RUN = ["run", str(TWO), "--duration", "0.001", "--step", "1e-6", "--no-progress", "--no-plots"]
 EVERY = ["--checkpoint-every", "100"]

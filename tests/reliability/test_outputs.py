@@ -22,7 +22,7 @@ from poissonkit.numerics.checkpoint import TrajectoryStream, checkpoints, read_t
 from poissonkit.report import atomic
 
 ROOT = Path(__file__).resolve().parents[2]
-TWO = ROOT / "poissonkit" / "scenes" / "two_magnets.toml"
+TWO = ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"
 
 
 def test_atomic_write_keeps_old_content_on_failure(tmp_path):

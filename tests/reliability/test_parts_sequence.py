@@ -122,7 +122,7 @@ def test_resume_of_a_finished_run_is_refused_untouched(tmp_path, capsys):
 def cli_scene():
     from pathlib import Path
 
-    return Path(__file__).resolve().parents[2] / "poissonkit" / "scenes" / "two_magnets.toml"
+    return Path(__file__).resolve().parents[2] / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"
 
 
 def test_long_trajectory_dataset_is_a_zarr_store_written_in_parts(tmp_path, monkeypatch):

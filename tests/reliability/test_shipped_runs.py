@@ -18,7 +18,7 @@ from poissonkit import cli
 from poissonkit.commands.run import EXIT_CONTACT, EXIT_ENERGY
 
 ROOT = Path(__file__).resolve().parents[2]
-SCENES = sorted((ROOT / "poissonkit" / "scenes").glob("*.toml"))
+SCENES = sorted((ROOT / "poissonkit" / "scene" / "shipped").glob("*.toml"))
 #: scenes cheap enough for the default run (one dumbbell kernel to compile)
 QUICK_SCENES = {"two_magnets"}
 #: examples/nonholonomic_verify.py exits 1 by design for now: its survey lists known
@@ -111,7 +111,7 @@ def test_magnets_snapping_together_stop_at_the_located_contact(tmp_path, capsys)
 
 def test_energy_error_above_tolerance_warns_and_exits_nonzero(tmp_path, capsys):
     out = tmp_path / "out"
-    code = cli.main(["run", str(ROOT / "poissonkit" / "scenes" / "two_magnets.toml"),
+    code = cli.main(["run", str(ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"),
                      "--duration", "0.01", "--energy-tol", "1e-16", "--out", str(out),
                      "--no-progress", "--no-plots"])
     err = capsys.readouterr().err
@@ -139,7 +139,7 @@ def test_long_trajectory_stays_on_disk_in_parts(tmp_path, monkeypatch, capsys):
     monkeypatch.setattr(run, "MAX_NPZ_ROWS", 100)
     monkeypatch.setattr(run, "PLOT_ROWS", 40)
     out = tmp_path / "out"
-    scene = ROOT / "poissonkit" / "scenes" / "two_magnets.toml"
+    scene = ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"
     assert cli.main(["run", str(scene), "--duration", "0.02", "--out", str(out),
                      "--no-progress", "--no-plots"]) == 0
     s = _summary(out)

@@ -19,7 +19,7 @@ from poissonkit import cli
 xr = pytest.importorskip("xarray")
 
 ROOT = Path(__file__).resolve().parents[2]
-TWO = ROOT / "poissonkit" / "scenes" / "two_magnets.toml"
+TWO = ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"
 QUIET = ["--no-progress", "--no-plots"]
 
 

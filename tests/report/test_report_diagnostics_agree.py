@@ -21,7 +21,7 @@ from poissonkit.numerics.diagnostics import QUANTITIES
 from poissonkit.numerics.solution import Solution
 from poissonkit.report import conserved_quantities, diagnostics, invariant_report
 from poissonkit.sweeps.outcomes import OUTCOMES
-from poissonkit.sweeps.scenes import RunRecord
+from poissonkit.sweeps.targets import RunRecord
 
 ARGS = ["--periods", "0.5", "--tilt", "0.01", "--no-contact"]
 

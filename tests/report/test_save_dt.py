@@ -50,7 +50,7 @@ def test_save_dt_refuses_options_that_choose_rows_themselves(tmp_path, monkeypat
 def test_a_scene_file_saves_at_its_run_save_dt(tmp_path, monkeypatch):
     import tomllib
 
-    scene = (ROOT / "poissonkit" / "scenes" / "two_magnets.toml").read_text()
+    scene = (ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml").read_text()
     text = scene.replace("[run]", "[run]\nsave_dt = 0.0004", 1)
     assert tomllib.loads(text)["run"]["save_dt"] == 0.0004
     path = tmp_path / "sampled.toml"
@@ -70,6 +70,6 @@ def test_save_dt_and_save_every_in_one_scene_are_refused():
     from poissonkit.errors import SceneError
     from poissonkit.scene import loads_scene
 
-    text = (ROOT / "poissonkit" / "scenes" / "two_magnets.toml").read_text()
+    text = (ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml").read_text()
     with pytest.raises(SceneError, match="give one"):
         loads_scene(text.replace("[run]", "[run]\nsave_dt = 0.0004\nsave_every = 2", 1))

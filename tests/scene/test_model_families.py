@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from poissonkit.errors import UnknownNameError
-from poissonkit.interaction import NoModelFamilyError, pair_interaction
+from poissonkit.pairs import NoModelFamilyError, pair_interaction
 from poissonkit.plugin import model_families, reset
 from poissonkit.scene.assembly import EdgeSpec
 from poissonkit.scene.bodies import BodyModel

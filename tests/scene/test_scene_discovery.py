@@ -1,6 +1,6 @@
 """Finding scenes from the command line: ``poissonkit scenes``, runs by name, ``run --help``.
 
-Truth used: the shipped scene files are the ``*.toml`` files of ``poissonkit/scenes/`` with the
+Truth used: the shipped scene files are the ``*.toml`` files of ``poissonkit/scene/shipped/`` with the
 ``description`` their TOML text states; the only registered scene of the built-in plugins is
 ``seed000`` (the default); a shipped scene run by name is the same problem as its file run by
 path; pyproject's package data must install every shipped file.
@@ -28,7 +28,7 @@ from poissonkit.scene.loader import scene_description, shipped_scene, shipped_sc
 from poissonkit.scene.registered import resolve_scene, scene_catalog
 
 ROOT = Path(__file__).resolve().parents[2]
-FOLDER = ROOT / "poissonkit" / "scenes"
+FOLDER = ROOT / "poissonkit" / "scene" / "shipped"
 SHIPPED = sorted(p.stem for p in FOLDER.glob("*.toml"))
 
 
@@ -52,7 +52,7 @@ def test_package_data_installs_every_shipped_scene():
     pyproject = tomllib.loads((ROOT / "pyproject.toml").read_text())
     patterns = pyproject["tool"]["setuptools"]["package-data"]["poissonkit"]
     for name in SHIPPED:
-        assert any(fnmatch.fnmatch(f"scenes/{name}.toml", p) for p in patterns), patterns
+        assert any(fnmatch.fnmatch(f"scene/shipped/{name}.toml", p) for p in patterns), patterns
 
 
 def test_scene_description_is_the_files_description_line(tmp_path):

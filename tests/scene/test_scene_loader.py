@@ -16,7 +16,7 @@ from poissonkit.scene.geometry import distance, shape_of
 
 ROOT = Path(__file__).resolve().parents[2]  # the project root
 
-EXAMPLES = sorted((ROOT / "poissonkit" / "scenes").glob("*.toml"))
+EXAMPLES = sorted((ROOT / "poissonkit" / "scene" / "shipped").glob("*.toml"))
 
 BASE = {
     "name": "pair",
@@ -65,7 +65,7 @@ def test_at_least_three_example_scenes_are_shipped():
 
 def test_two_magnet_scene_energy_equals_the_pole_sum():
     """The built system's energy at t = 0 is the Coulomb energy of the four poles (SI)."""
-    spec = build_run(load_scene(ROOT / "poissonkit" / "scenes" / "two_magnets.toml"))
+    spec = build_run(load_scene(ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"))
     E = spec.system.energy(spec.y0) * spec.system.scales.energy
     truth = dumbbell_energy(np.array([0.04, 0, 0]), [0, 0, 1], [0, 0, -1], 0.15546875, 0.01)
     assert E == pytest.approx(truth, rel=1e-12)
@@ -195,7 +195,7 @@ def test_cli_runs_a_scene_file(tmp_path):
     from poissonkit.cli import main
 
     out = tmp_path / "out"
-    code = main(["run", str(ROOT / "poissonkit" / "scenes" / "two_magnets.toml"), "--duration",
+    code = main(["run", str(ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"), "--duration",
                  "0.002", "--out", str(out), "--no-progress", "--no-plots"])
     assert code == 0
     assert (out / "trajectory.npz").is_file()

@@ -115,7 +115,7 @@ def poissonkit_scenes():
 
 
 def test_a_plugin_scene_given_as_toml_runs_like_the_scene_file(tmp_path, monkeypatch):
-    toml = ROOT / "poissonkit" / "scenes" / "two_magnets.toml"
+    toml = ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"
     (tmp_path / "pk_test_scenes.py").write_text(
         textwrap.dedent(_TOML_SCENE_PLUGIN.format(toml=str(toml))))
     monkeypatch.syspath_prepend(str(tmp_path))

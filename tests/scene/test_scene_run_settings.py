@@ -167,7 +167,7 @@ def test_bad_values_are_typed_errors(every, limit):
 
 def test_all_fixed_sweep_point_is_bounded_without_warnings(tmp_path):
     # the sweep path took the spread of the moving bodies: with none, np.max of an empty array
-    from poissonkit.sweeps.scenes import TomlScene
+    from poissonkit.sweeps.targets import TomlScene
 
     scene = TomlScene.from_file(_scene(tmp_path, """name = "still"
 [[bodies]]

@@ -15,7 +15,7 @@ import numpy as np
 from poissonkit.errors import UnknownNameError
 from poissonkit.plugin.contributions import OutcomeEntry
 from poissonkit.plugin.hookspecs import hookimpl
-from poissonkit.sweeps.scenes import RunRecord
+from poissonkit.sweeps.targets import RunRecord
 
 
 def twice_min(record: RunRecord) -> float:

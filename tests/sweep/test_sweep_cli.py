@@ -74,7 +74,7 @@ def test_interrupted_client_resumes_to_the_same_dataset(tmp_path):
 @pytest.mark.slow  # starts a two-worker cluster that compiles the N-body kernels
 def test_cli_sweeps_a_toml_scene_on_two_workers(tmp_path, capsys):
     out = tmp_path / "toml"
-    code = cli.main(["sweep", str(ROOT / "poissonkit" / "scenes" / "two_magnets.toml"),
+    code = cli.main(["sweep", str(ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"),
                      "--param", "bodies.right.r.0=0.025,0.04", "--param", "bodies.right.p.1=0,1e-4",
                      "--workers", "2", "--no-progress", "--out", str(out)])
     assert code == 0

@@ -135,7 +135,7 @@ def test_random_design_through_a_scheduler_address(dask_client, reference):
 @pytest.mark.slow  # compiles the N-body kernels on every worker (about a minute when loaded)
 def test_toml_scene_sweep(dask_client):
     root = Path(__file__).resolve().parents[2]
-    ds = sweep(root / "poissonkit" / "scenes" / "two_magnets.toml",
+    ds = sweep(root / "poissonkit" / "scene" / "shipped" / "two_magnets.toml",
                {"bodies.right.r.0": [0.025, 0.04]}, client=dask_client, progress=False)
     assert ds["fate"].dims == ("bodies.right.r.0",)
     assert ds["bodies.right.r.0"].attrs["units"] == "m"

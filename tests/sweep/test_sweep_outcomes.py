@@ -15,7 +15,7 @@ import pytest
 
 from poissonkit.errors import UnknownNameError
 from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, OUTCOMES, reduce_run, resolve_outcomes
-from poissonkit.sweeps.scenes import FATES
+from poissonkit.sweeps.targets import FATES
 from poissonkit_magnets.seed000_sweep import SeedScene
 
 P_ORB = 6.4910356642626862477e-4  # N s, seed 000

@@ -12,9 +12,9 @@ from poissonkit.errors import InputError, PoissonkitError, SceneError, UnknownNa
 from poissonkit.sweeps.params import Axis, Range, design_from, grid, parse_param
 from poissonkit_magnets.seed000_sweep import SeedScene
 
-from poissonkit.sweeps.scenes import TomlScene, set_path
+from poissonkit.sweeps.targets import TomlScene, set_path
 
-TWO_MAGNETS = Path(__file__).resolve().parents[2] / "poissonkit" / "scenes" / "two_magnets.toml"
+TWO_MAGNETS = Path(__file__).resolve().parents[2] / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"
 
 
 def test_grid_list_and_range_parse():

@@ -15,10 +15,10 @@ import xarray as xr
 from poissonkit import cli
 from poissonkit.errors import SceneError
 from poissonkit.sweeps.paths import SweepPathError, check_path
-from poissonkit.sweeps.scenes import TomlScene
+from poissonkit.sweeps.targets import TomlScene
 
 ROOT = Path(__file__).resolve().parents[2]
-TWO_MAGNETS = ROOT / "poissonkit" / "scenes" / "two_magnets.toml"
+TWO_MAGNETS = ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"
 
 
 @pytest.fixture

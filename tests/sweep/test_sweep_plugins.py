@@ -13,7 +13,7 @@ from poissonkit.contracts import SweepScene
 from poissonkit.errors import InputError, SceneError, UnknownNameError
 from poissonkit.sweeps import sweep
 from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, OUTCOMES, resolve_outcomes
-from poissonkit.sweeps.scenes import TomlScene, sweep_scene
+from poissonkit.sweeps.targets import TomlScene, sweep_scene
 from poissonkit_magnets.seed000_sweep import SeedScene
 from sweep_outcome_plugin import EchoScene
 
@@ -32,7 +32,7 @@ def outcome_plugin(monkeypatch):
 
 
 def test_sweep_scenes_follow_the_protocol():
-    toml = TomlScene.from_file(ROOT / "poissonkit" / "scenes" / "two_magnets.toml")
+    toml = TomlScene.from_file(ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml")
     for scene in (toml, SeedScene(), EchoScene()):
         assert isinstance(scene, SweepScene)
         assert sweep_scene(scene) is scene

@@ -16,9 +16,9 @@ import pytest
 from poissonkit.sweeps import sweep
 from poissonkit.sweeps.compiles import compilations, count_compilations
 from poissonkit.sweeps.outcomes import DEFAULT_OUTCOMES, reduce_run
-from poissonkit.sweeps.scenes import TomlScene
+from poissonkit.sweeps.targets import TomlScene
 
-SCENE = Path(__file__).resolve().parents[2] / "poissonkit" / "scenes" / "two_magnets.toml"
+SCENE = Path(__file__).resolve().parents[2] / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"
 MOMENTS = (0.12, 0.14, 0.17, 0.2)
 
 

@@ -25,7 +25,7 @@ def _dot(a, b):
 def test_energy_of_two_tops_with_generic_potential_is_conserved():
     # FORMULAS.md §1 (21): {H, H} = 0 for every U(r, c', c'', c'''). vector_field() expands
     # inside U's arguments, dH does not: both literal forms must be one quantity.
-    from poissonkit.structure.builtin import two_tops_hamiltonian
+    from poissonkit.structure.hooks import two_tops_hamiltonian
 
     S = two_tops_hamiltonian()
     assert is_first_integral(S, S.hamiltonian)

@@ -16,7 +16,7 @@ Modules, one job each:
 * :mod:`~poissonkit.numerics.fields.tricubic` — tricubic Hermite tables of a vector field;
 * :mod:`~poissonkit.numerics.fields.tabulated` — a table chosen from a tolerance, its error;
 * :mod:`~poissonkit.numerics.fields.compose` — the system's kernels with the field terms;
-* :mod:`~poissonkit.numerics.fields.builtin` — the built-in ``gravity`` and ``uniform``.
+* :mod:`~poissonkit.numerics.fields.hooks` — the built-in ``gravity`` and ``uniform``.
 """
 
 from __future__ import annotations

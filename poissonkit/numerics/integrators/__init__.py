@@ -8,7 +8,7 @@ family in :mod:`~poissonkit.numerics.integrators.capabilities`) and
 into a :class:`~poissonkit.numerics.Solution`. The compiled loops share
 :func:`~poissonkit.numerics.integrators.driver.drive` (events, checkpoints, streaming, stop).
 Registry entries (name, doc, typed parameters, capabilities) live in
-:mod:`poissonkit.numerics.builtin`.
+:mod:`poissonkit.numerics.hooks`.
 """
 
 from poissonkit.numerics.integrators.base import RawResult

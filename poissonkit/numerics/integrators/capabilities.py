@@ -2,7 +2,7 @@
 
 A :class:`Traits` names the family, its :class:`~poissonkit.plugin.contributions.Capabilities`
 and, when the family has one, its classical order. The registry entries
-(:mod:`poissonkit.numerics.builtin`) and the integrator classes both read them from here, so the
+(:mod:`poissonkit.numerics.hooks`) and the integrator classes both read them from here, so the
 entry :func:`~poissonkit.numerics.solve` checks and the object it runs agree. Pure data: the
 registry reads it without loading a compiled loop.
 """

@@ -229,7 +229,7 @@ _SRKN14A_B = (0.09171915262446165, 0.183983170005006, -0.05653436583288827,
               0.004914688774712854, 0.143761127168358, 0.328567693746804)
 
 #: Optimised tables selectable by name (``Splitting(scheme=...)``); the registered ones are
-#: listed in :mod:`poissonkit.numerics.builtin`.
+#: listed in :mod:`poissonkit.numerics.hooks`.
 SCHEMES: dict[str, Scheme] = {s.name: s for s in (
     # Blanes & Moan SRKN_6^b, order 4, 7 kicks (6 evaluations with FSAL)
     _table("splitting4_bm", 4, symmetric_kick_first(

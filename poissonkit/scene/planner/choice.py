@@ -7,7 +7,7 @@ magnets plugin registers dipole / dumbbells / exact cylinders; any plugin can ad
 
 Given a force tolerance ``tol``, each pair that a family applies to gets the cheapest of the
 family's candidate models whose estimated error is within ``tol``, and the choice is re-checked
-as the distances change (:func:`poissonkit.scene.planned_run.run_planned` re-plans every
+as the distances change (:func:`poissonkit.scene.planner.run.run_planned` re-plans every
 ``replan_every`` steps). The estimates are the families' own (for magnets,
 :mod:`poissonkit_magnets.fidelity`; checked against exact models in
 ``tests/scene/test_scene_planner.py`` and ``tests/magnets/test_magnets_fidelity.py``).
@@ -49,7 +49,7 @@ from poissonkit.errors import UnknownNameError
 from poissonkit.plugin.contributions import ModelFamily
 from poissonkit.scene.assembly import EdgeSpec, PairSpec, resolve
 from poissonkit.scene.bodies import BodyModel
-from poissonkit.scene.plans import DroppedPair, PairPlan, Plan, PlannerError
+from poissonkit.scene.planner.plans import DroppedPair, PairPlan, Plan, PlannerError
 
 if TYPE_CHECKING:
     from poissonkit.scene.schema import PlannerSpec
@@ -129,7 +129,7 @@ class Planner:
     cutoff
         Planned pairs farther apart are dropped [m] (``None``: never).
     replan_every
-        Steps between re-plans in :func:`poissonkit.scene.planned_run.run_planned`.
+        Steps between re-plans in :func:`poissonkit.scene.planner.run.run_planned`.
     """
 
     tol: float
@@ -300,7 +300,7 @@ class Planner:
         (bodies, pairs, plan)
             Bodies with orientation-free tops turned into point masses, the resolved
             :class:`poissonkit.scene.assembly.PairSpec` list for ``NBodySystem``, and the
-            :class:`~poissonkit.scene.plans.Plan`.
+            :class:`~poissonkit.scene.planner.plans.Plan`.
         """
         positions = np.array([b.r for b in bodies], float)
         plan, pairs, new_bodies = self._plan(list(bodies), list(edges), positions, None)

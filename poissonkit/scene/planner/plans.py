@@ -1,7 +1,7 @@
 """What a plan holds: the model of each planned pair, the dropped pairs, and model switches.
 
-Produced by :class:`poissonkit.scene.model_planner.Planner` and
-:func:`poissonkit.scene.planned_run.run_planned`; each has a JSON-ready ``report()``.
+Produced by :class:`poissonkit.scene.planner.choice.Planner` and
+:func:`poissonkit.scene.planner.run.run_planned`; each has a JSON-ready ``report()``.
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Planned runs: integrate a scene while its planner re-checks each pair's model.
 
 :func:`run_planned` integrates in chunks of ``replan_every`` steps; between chunks the
-:class:`~poissonkit.scene.model_planner.Planner` re-plans at the new positions, and every model
+:class:`~poissonkit.scene.planner.choice.Planner` re-plans at the new positions, and every model
 switch (a change of Hamiltonian) is recorded with its energy jump.
 """
 
@@ -17,8 +17,8 @@ import numpy as np
 
 from poissonkit.scene.assembly import EdgeSpec, PairSpec
 from poissonkit.scene.bodies import BodyModel
-from poissonkit.scene.model_planner import Planner
-from poissonkit.scene.plans import Plan, PlannerError, Switch
+from poissonkit.scene.planner.choice import Planner
+from poissonkit.scene.planner.plans import Plan, PlannerError, Switch
 
 @dataclass(frozen=True)
 class PlannedRun:

@@ -1,22 +1,22 @@
 """The model-fidelity planner: one import path for its three parts.
 
-* :mod:`poissonkit.scene.model_planner` — :class:`Planner`, the per-pair choice of the cheapest
+* :mod:`poissonkit.scene.planner.choice` — :class:`Planner`, the per-pair choice of the cheapest
   model of a registered model family within a force tolerance (hysteresis, cutoff, point masses).
-* :mod:`poissonkit.scene.plans` — what a plan holds: :class:`Plan`, :class:`PairPlan`,
+* :mod:`poissonkit.scene.planner.plans` — what a plan holds: :class:`Plan`, :class:`PairPlan`,
   :class:`DroppedPair`, :class:`Switch`, and :class:`PlannerError`.
-* :mod:`poissonkit.scene.planned_run` — :func:`run_planned`, the integration loop that re-plans
+* :mod:`poissonkit.scene.planner.run` — :func:`run_planned`, the integration loop that re-plans
   every ``replan_every`` steps, and its result :class:`PlannedRun`.
 """
 
-from poissonkit.scene.model_planner import (
+from poissonkit.scene.planner.choice import (
     CUTOFF_HYSTERESIS,
     Planner,
     body_attributes,
     estimated_error,
     family_of,
 )
-from poissonkit.scene.planned_run import PlannedRun, run_planned
-from poissonkit.scene.plans import DroppedPair, PairPlan, Plan, PlannerError, Switch
+from poissonkit.scene.planner.run import PlannedRun, run_planned
+from poissonkit.scene.planner.plans import DroppedPair, PairPlan, Plan, PlannerError, Switch
 
 __all__ = [
     "CUTOFF_HYSTERESIS", "DroppedPair", "PairPlan", "Plan", "PlannedRun", "Planner",

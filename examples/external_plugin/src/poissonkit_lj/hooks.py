@@ -155,7 +155,7 @@ def _dipole_scene(**_: Any):
 
 
 def _dipole_sweep(**options: Any):
-    from poissonkit.sweeps.scenes import TomlScene
+    from poissonkit.sweeps.targets import TomlScene
 
     return TomlScene.from_file(_scene_path(), **options)
 

@@ -188,7 +188,7 @@ def pair_interaction(model: str, r: Sequence[float], nu1: Sequence[float],
 
     Examples
     --------
-    >>> from poissonkit.interaction import pair_interaction
+    >>> from poissonkit.pairs import pair_interaction
     >>> out = pair_interaction("dipole", (0, 0, 0.1), (0, 0, 1), (0, 0, 1),
     ...                        moment=0.155)
     >>> round(float(out.force[2]), 6)  # coaxial, head to tail: attraction
