@@ -316,6 +316,24 @@ class HasGravity(Protocol):
     def gravity_constant(self) -> float: ...
 
 
+class KineticSplit(NamedTuple):
+    """The kinetic energy of a system of bodies, ``T = ½ Σ_k weights[k] y[momenta[k]]²``, and
+    the layout of its forces kernel: ``"two_body"`` (relative position and momentum, two
+    tops) or ``"bodies"`` (the N-body work arrays). What a time-transformed method needs to
+    split a step into exact kinetic and potential flows."""
+
+    layout: str
+    momenta: np.ndarray
+    weights: np.ndarray
+
+
+@runtime_checkable
+class HasKineticSplit(Protocol):
+    """``kinetic_split()``: the system's :class:`KineticSplit`."""
+
+    def kinetic_split(self) -> KineticSplit: ...
+
+
 #: What :func:`~poissonkit.numerics.solve` accepts: a full numerics system, or a bare set of
 #: compiled kernels (enough for the compiled time loops).
 System = Union[NumericsSystem, HasCompiledKernels]

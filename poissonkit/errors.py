@@ -15,6 +15,11 @@ class PoissonkitError(Exception):
     """Base class of every error raised by poissonkit."""
 
 
+def _detailed(message: str, detail: str) -> str:
+    """``message``, followed by ``: detail`` when there is one."""
+    return f"{message}: {detail}" if detail else message
+
+
 class InputError(PoissonkitError, ValueError):
     """A value given by the user is malformed (wrong shape, not antisymmetric, not finite, ...)."""
 
@@ -83,10 +88,8 @@ class NonFiniteStateError(IntegrationError):
     def __init__(self, step: int, time: float, detail: str = "") -> None:
         self.step = step
         self.time = time
-        msg = f"non-finite state produced at step {step} (t = {time:.6g})"
-        if detail:
-            msg += f": {detail}"
-        super().__init__(msg)
+        super().__init__(_detailed(f"non-finite state produced at step {step} (t = {time:.6g})",
+                                   detail))
 
 
 class EventTerminated(PoissonkitError):
@@ -121,10 +124,7 @@ class CapabilityError(InputError):
     def __init__(self, method: str, capability: str, detail: str = "") -> None:
         self.method = method
         self.capability = capability
-        msg = f"{method} cannot do {capability!r}"
-        if detail:
-            msg += f": {detail}"
-        super().__init__(msg)
+        super().__init__(_detailed(f"{method} cannot do {capability!r}", detail))
 
 
 class UnknownEntryError(UnknownNameError):

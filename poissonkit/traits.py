@@ -48,6 +48,10 @@ class SystemTraits:
                                  f"{c!r}")
         self.contracts: frozenset[type] = frozenset(contracts)
 
+    def extended(self, *contracts: type) -> SystemTraits:
+        """These traits and ``contracts`` (a system class that adds to a family's traits)."""
+        return SystemTraits(*self.contracts, *contracts)
+
     def __contains__(self, contract: object) -> bool:
         return contract in self.contracts
 

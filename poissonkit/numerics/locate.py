@@ -27,13 +27,8 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from poissonkit.contracts import HasCompiledKernels
-from poissonkit.numerics.events import (
-    DEFAULT_RELATIVE_TIME_TOL,
-    ClosestApproach,
-    Event,
-    EventRecord,
-    centre_distance,
-)
+from poissonkit.numerics.events import (DEFAULT_RELATIVE_TIME_TOL, ClosestApproach, Event,
+                                        EventRecord, centre_distance)
 
 #: Samples per step of the window before bisection / golden-section search.
 SAMPLES_PER_STEP = 8

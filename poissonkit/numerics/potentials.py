@@ -22,11 +22,7 @@ import sympy as sp
 
 from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import InputError
-from poissonkit.numerics.codegen import (
-    check_free_symbols,
-    compile_source,
-    scalar_source,
-)
+from poissonkit.numerics.codegen import check_free_symbols, compile_source, scalar_source
 from poissonkit.numerics.jit import jit, load_sources, source_key, store_sources
 from poissonkit.plugin.contributions import PairPotential
 

@@ -25,13 +25,8 @@ from numpy.typing import ArrayLike
 from poissonkit import contracts
 from poissonkit.contracts import CompiledFunction, SymbolicForm
 from poissonkit.errors import DimensionError, InputError
-from poissonkit.numerics.codegen import (
-    array_source,
-    check_free_symbols,
-    compile_source,
-    is_large,
-    jacobian_source,
-)
+from poissonkit.numerics.codegen import (array_source, check_free_symbols, compile_source, is_large,
+                                         jacobian_source)
 from poissonkit.numerics.jit import jit, load_sources, source_key, store_sources
 from poissonkit.numerics.kernels import Kernels, no_drift
 from poissonkit.traits import SystemTraits

@@ -21,22 +21,15 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from poissonkit import contracts
-from poissonkit.contracts import CompiledFunction
+from poissonkit.contracts import CompiledFunction, KineticSplit
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import Kernels, kahan_add, rotate_slot, rotate_slot_compensated
-from poissonkit.numerics.nbody import (
-    NonUnitAxisError,
-    OverlapError,
-    evaluate_energy,
-    evaluate_rhs,
-    resolve_kernel,
-)
-from poissonkit.numerics.nbody.bodies import PotentialLike
+from poissonkit.numerics.nbody import (NonUnitAxisError, OverlapError, evaluate_energy,
+                                       evaluate_rhs, resolve_kernel)
+from poissonkit.numerics.nbody.bodies import BODY_SYSTEM_TRAITS, PotentialLike
 from poissonkit.numerics.potentials import scaled_kernel
 from poissonkit.numerics.units import Scales
-from poissonkit.traits import SystemTraits
 from poissonkit.validation import positive_number
 
 LAYOUT: tuple[str, ...] = tuple(
@@ -210,13 +203,7 @@ class TwoBodySystem:
     """
 
     #: the contracts this class fulfils, declared once (:mod:`poissonkit.traits`)
-    traits = SystemTraits(contracts.NumericsSystem, contracts.HasCompiledKernels,
-                          contracts.HasLayout, contracts.HasStateCheck,
-                          contracts.HasOverlapCheck, contracts.HasCasimirs,
-                          contracts.HasCasimirScales, contracts.HasMomenta,
-                          contracts.HasEnergy, contracts.HasBodyMomenta,
-                          contracts.HasPoissonStructure, contracts.HasUnpack,
-                          contracts.HasScales)
+    traits = BODY_SYSTEM_TRAITS
 
     def __init__(self, mass1: float | None, mass2: float | None, alpha1: float, alpha2: float,
                  potential: PotentialLike, params: Mapping[str, object] | None = None,
@@ -342,6 +329,13 @@ class TwoBodySystem:
             out["m1"] = out["m1"] * s.unit("angular_momentum")
             out["m2"] = out["m2"] * s.unit("angular_momentum")
         return out
+
+    def kinetic_split(self) -> KineticSplit:
+        """``T = |p|²/2μ + α₁|m₁|²/2 + α₂|m₂|²/2`` over the slots of ``p``, ``m1``, ``m2``."""
+        d = self.data
+        mu, a1, a2 = float(d.reduced_mass), float(d.alpha1), float(d.alpha2)
+        return KineticSplit("two_body", np.array([3, 4, 5, 9, 10, 11, 15, 16, 17], dtype=np.int64),
+                            np.array([1 / mu] * 3 + [a1] * 3 + [a2] * 3))
 
     def check_overlap(self, y: ArrayLike) -> None:
         """Raise :class:`~poissonkit.numerics.nbody.OverlapError` if ``r = 0`` in state ``y``."""

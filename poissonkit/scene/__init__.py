@@ -9,13 +9,7 @@ integrates. :mod:`poissonkit.scene.limits` sets how large a scene may be.
 
 from poissonkit.scene.build import BuiltScene, build_run, build_scene, scene_graph
 from poissonkit.scene.loader import load_scene, loads_scene
-from poissonkit.scene.schema import (
-    PairDecl,
-    PlannerSpec,
-    RunSettings,
-    Scene,
-    scene_from_mapping,
-)
+from poissonkit.scene.schema import PairDecl, PlannerSpec, RunSettings, Scene, scene_from_mapping
 
 __all__ = [
     "BuiltScene", "PairDecl", "PlannerSpec", "RunSettings", "Scene", "build_run", "build_scene",

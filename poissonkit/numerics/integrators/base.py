@@ -12,12 +12,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, runtime_checkable
 import numpy as np
 
 from poissonkit.contracts import CompiledFunction, CompiledKernels, KernelData
-from poissonkit.errors import (
-    InputError,
-    IntegrationError,
-    MissingStepError,
-    NonFiniteStateError,
-)
+from poissonkit.errors import InputError, IntegrationError, MissingStepError, NonFiniteStateError
 from poissonkit.numerics.events import EventRecord
 
 # status codes returned by the compiled loops

@@ -47,44 +47,16 @@ from typing import NamedTuple
 
 import numpy as np
 
-from poissonkit.contracts import (
-    CompiledFunction,
-    Event,
-    HasCompiledKernels,
-    HasSymbolicForm,
-    System,
-)
-from poissonkit.errors import CapabilityError, InputError, IntegrationError
-from poissonkit.numerics.events import event_thresholds
-from poissonkit.numerics.integrators.base import (
-    NO_CONVERGENCE,
-    RUNNING,
-    RawResult,
-    SaveBuffer,
-    step_end_kernels,
-    step_tail,
-)
+from poissonkit.contracts import (CompiledFunction, Event, HasCompiledKernels, HasSymbolicForm,
+                                  System)
+from poissonkit.errors import CapabilityError, InputError
+from poissonkit.numerics.integrators.base import RawResult
 from poissonkit.numerics.integrators.capabilities import DISCRETE_GRADIENT
-from poissonkit.numerics.integrators.driver import (
-    Control,
-    LoopProblem,
-    LoopState,
-    drive,
-)
-from poissonkit.numerics.integrators.glue import (
-    ChunkResult,
-    Scratch,
-    describe,
-    fixed_grid,
-    guard_division,
-)
-from poissonkit.numerics.integrators.newton import (
-    CONVERGED,
-    SINGULAR,
-    near_increment,
-    newton_solver,
-    no_jacobian,
-)
+from poissonkit.numerics.integrators.driver import Control
+from poissonkit.numerics.integrators.glue import describe, fixed_grid
+from poissonkit.numerics.integrators.implicit import (ImplicitMethod, ImplicitRun, drive_implicit,
+                                                      implicit_loop)
+from poissonkit.numerics.integrators.newton import near_increment
 from poissonkit.numerics.jit import jit
 from poissonkit.traits import offers
 
@@ -137,6 +109,35 @@ def avf_nodes(degree: int) -> tuple[np.ndarray, np.ndarray]:
     return 0.5 * (x + 1.0), 0.5 * w
 
 
+@jit(inline="always")
+def _scratch(n, f, c, extra):
+    # the residual's args: (c, nodes, weights, href, up, S, g, e1, gb, xs)
+    nodes, weights, href = extra
+    return (c, nodes, weights, href, np.empty(max(n * (n - 1) // 2, 1)), np.zeros((n, n)),
+            np.empty(n), np.empty(1), np.empty(n), np.empty(n))
+
+
+@jit(inline="always")
+def _guess(D, y, f, h):
+    # the explicit Euler increment as the start; the stopping test scales with max|y|
+    n = y.shape[0]
+    for i in range(n):
+        D[i] = h * f[i]
+    yn = 0.0
+    for i in range(n):
+        yn = max(yn, abs(y[i]))
+    return yn
+
+
+@jit(inline="always")
+def _accept(D, y, c):
+    for i in range(y.shape[0]):  # Kahan: the state is y - c
+        v = D[i] - c[i]
+        s = y[i] + v
+        c[i] = (s - y[i]) - v
+        y[i] = s
+
+
 _runners: dict[tuple[int, int, int, int, bool], tuple[CompiledFunction, object]] = {}
 
 
@@ -148,12 +149,8 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
     hit = _runners.get(key)
     if hit is not None:
         return hit[0]
-    rhs = ks.rhs
-    jac = ks.jac if ks.jac is not None else no_jacobian
     skew, grad, energy = dg.skew, dg.grad, dg.energy
     gz = bool(gonzalez)  # a compile-time constant of the loop
-    remember = step_end_kernels(ks)[0]
-    tail = step_tail(ks, compensated=True)
 
     @jit(inline="always")
     def residual(D, y, h, mid, G, data, work, args):
@@ -201,62 +198,8 @@ def _runner(system: HasCompiledKernels, dg: DiscreteGradientKernels,
                 acc += S[i, j] * gb[j]
             G[i] = D[i] - h * acc
 
-    solve = newton_solver(residual, jac, near_increment, simplified=True)
-
-    @jit
-    def run(y, c, t0, h, n_total, tol, maxiter, newton, nodes, weights, href, data, work,
-            save_every, step0, max_steps, out_t, out_y, contact, escape, watch, back1, back2,
-            hist):
-        n = y.shape[0]
-        f = np.empty(n)
-        D = np.empty(n)
-        mid = np.empty(n)
-        xs = np.empty(n)
-        up = np.empty(max(n * (n - 1) // 2, 1))
-        S = np.zeros((n, n))
-        g = np.empty(n)
-        e1 = np.empty(1)
-        gb = np.empty(n)
-        G = np.empty(n)
-        J = np.empty((n, n))
-        A = np.empty((n, n))
-        delta = np.empty(n)
-        piv = np.empty(n, dtype=np.int64)
-        args = (c, nodes, weights, href, up, S, g, e1, gb, xs)
-        nsave = 0
-        nfev = 0
-        track = contact > 0.0 or escape > 0.0 or watch > 0.0
-        for k in range(max_steps):
-            gstep = step0 + k + 1
-            if track:  # event-search memory, see poissonkit.numerics.locate
-                remember(y, back1, back2, hist, t0 + (gstep - 1) * h)
-            rhs(y, data, work, f)
-            nfev += 1
-            for i in range(n):
-                D[i] = h * f[i]
-            yn = 0.0
-            for i in range(n):
-                yn = max(yn, abs(y[i]))
-            outcome, nf = solve(D, y, h, tol, maxiter, newton, yn, data, work, args, mid, G, J,
-                                A, piv, delta)
-            nfev += nf
-            if outcome == SINGULAR:
-                return NO_CONVERGENCE, t0 + gstep * h, k + 1, nsave, nfev, 0.0
-            ok = outcome == CONVERGED
-            t = t0 + gstep * h
-            for i in range(n):  # Kahan: the state is y - c
-                v = D[i] - c[i]
-                s = y[i] + v
-                c[i] = (s - y[i]) - v
-                y[i] = s
-            last = gstep >= n_total
-            status, nsave, value = tail(y, c, t, RUNNING if ok else NO_CONVERGENCE, last,
-                                        last or gstep % save_every == 0, track, data, work,
-                                        contact, escape, watch, hist, out_t, out_y, nsave)
-            if status != RUNNING:
-                return status, t, k + 1, nsave, nfev, value
-        return RUNNING, t0 + (step0 + max_steps) * h, max_steps, nsave, nfev, 0.0
-
+    run = implicit_loop(ks, ImplicitMethod(residual, near_increment, True, _scratch, _guess,
+                                           _accept, compensated=True))
     _runners[key] = (run, (ks, dg))  # keep the kernels (and their ids) alive
     return run
 
@@ -328,57 +271,21 @@ class DiscreteGradient:
         gonzalez = mode == "gonzalez"
         nodes, weights = avf_nodes(max(dg.degree, 0)) if not gonzalez else (np.zeros(1),
                                                                            np.zeros(1))
-        kernels = system.kernels
-        newton = self.newton and kernels.jac is not None
-        contact, escape, watch = event_thresholds(events)
+        newton = self.newton and system.kernels.jac is not None
         run = _runner(system, dg, gonzalez)
         y = np.array(y0, dtype=float)
-        data, work = system.data, system.work()
-        scratch = Scratch(y.size)
         # Gonzalez: H(x) of every step is the run's initial energy (equal in exact arithmetic),
         # so the rounding of the computed energies does not add up from step to step
         e0 = np.empty(1)
         dg.energy(y, e0)
         href = float(e0[0])
-        args = (itol, self.max_iterations, newton, nodes, weights, href, data, work)
-
-        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
-            return run(st.y, st.comp, t0, h, n_total, *args, save_every, st.steps, max_steps,
-                       buf.cur_t, buf.cur_y, contact, escape, watch, st.prev, st.prev2, st.hist)
-
-        def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
-            cs = np.zeros_like(ys)
-            out = run(ys, cs, t0, h, n_total, *args, save_every, done, 1, scratch.t, scratch.y,
-                      0.0, 0.0, 0.0, ys, ys, scratch.hist)
-            ys -= cs
-            return out[0], out[1]
-
-        def advance(ys: np.ndarray, s: float) -> np.ndarray:
-            yc = np.array(ys, dtype=float)
-            cc = np.zeros_like(yc)
-            status = run(yc, cc, 0.0, s, 1, *args, 1, 0, 1, scratch.t, scratch.y, 0.0, 0.0, 0.0,
-                         yc, yc, scratch.hist)[0]
-            if status == NO_CONVERGENCE:
-                raise IntegrationError(f"{self.name}: Newton did not converge while locating "
-                                       "an event")
-            return yc - cc
-
-        def failure(status: int, st: LoopState) -> Exception | None:
-            if status == NO_CONVERGENCE:
-                return IntegrationError(
-                    f"{self.name}: Newton did not converge to {itol:g} in "
-                    f"{self.max_iterations} iterations at step {st.steps} (t = {st.t:.6g}); "
-                    "reduce the step")
-            return None
-
-        raw = drive(LoopProblem(
-            self.name, system, y, t0, t_end,
-            guard_division(self.name, chunk, lambda st: (one_step, st.y - st.comp)), advance,
-            lambda st: st.steps >= n_total,
-            describe(self.name, h, t0, t_end, n_total, save_every, y, tol=float(itol).hex(),
-                     newton=bool(newton), gradient=mode, nodes=int(nodes.size)),
-            min(n_total // save_every + 2, 4096), events, progress, save_every, control,
-            failure, compensated=True))
-        raw.extra.update(step=h, newton=newton, gradient=mode,
+        spec = ImplicitRun(self.name, "Newton", itol, self.max_iterations, newton,
+                           (nodes, weights, href),
+                           describe(self.name, h, t0, t_end, n_total, save_every, y,
+                                    tol=float(itol).hex(), newton=bool(newton), gradient=mode,
+                                    nodes=int(nodes.size)))
+        raw = drive_implicit(run, spec, True, system, y, t0, t_end, h, n_total, events,
+                             progress, save_every, control)
+        raw.extra.update(gradient=mode,
                          nodes=0 if gonzalez else int(nodes.size))
         return raw

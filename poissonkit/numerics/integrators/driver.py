@@ -21,32 +21,13 @@ import numpy as np
 
 from poissonkit.contracts import Event, HasCompiledKernels
 from poissonkit.errors import IntegrationError, NonFiniteStateError
-from poissonkit.numerics.checkpoint import (
-    Checkpoint,
-    TrajectoryStream,
-    check_matches,
-    newest_checkpoint,
-    write_checkpoint,
-)
-from poissonkit.numerics.events import (
-    EventRecord,
-    centre_distance,
-    check_events,
-    event_thresholds,
-    raise_or_record,
-)
-from poissonkit.numerics.integrators.base import (
-    BUFFER_FULL,
-    COLLISION,
-    DONE,
-    ESCAPE,
-    GRAZE,
-    NONFINITE,
-    RUNNING,
-    RawResult,
-    SaveBuffer,
-    progress_bar,
-)
+from poissonkit.numerics.checkpoint import (Checkpoint, TrajectoryStream, check_matches,
+                                            newest_checkpoint, write_checkpoint)
+from poissonkit.numerics.events import (EventRecord, centre_distance, check_events,
+                                        event_thresholds, raise_or_record)
+from poissonkit.numerics.integrators.base import (BUFFER_FULL, COLLISION, DONE, ESCAPE, GRAZE,
+                                                  NONFINITE, RUNNING, RawResult, SaveBuffer,
+                                                  progress_bar)
 from poissonkit.numerics.locate import Window, locate
 
 #: First chunk (steps) between two looks at a stop request; it then adapts so that a look

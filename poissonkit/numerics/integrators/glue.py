@@ -13,13 +13,8 @@ from typing import Any
 
 import numpy as np
 
-from poissonkit.numerics.integrators.base import (
-    SaveBuffer,
-    StepFn,
-    check_step,
-    locate_division,
-    state_digest,
-)
+from poissonkit.numerics.integrators.base import (SaveBuffer, StepFn, check_step, locate_division,
+                                                  state_digest)
 from poissonkit.numerics.integrators.driver import ChunkFn, LoopState
 
 #: a chunk's result: (status, t, steps done, rows saved, evaluations, value)

@@ -13,49 +13,39 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from poissonkit.contracts import (
-    CompiledFunction,
-    CompiledKernels,
-    Event,
-    HasCompiledKernels,
-    System,
-)
-from poissonkit.errors import InputError, IntegrationError
-from poissonkit.numerics.events import event_thresholds
-from poissonkit.numerics.integrators.base import (
-    NO_CONVERGENCE,
-    RUNNING,
-    RawResult,
-    SaveBuffer,
-    step_end_kernels,
-    step_tail,
-)
+from poissonkit.contracts import (CompiledFunction, CompiledKernels, Event, HasCompiledKernels,
+                                  System)
+from poissonkit.errors import InputError
+from poissonkit.numerics.integrators.base import RawResult
 from poissonkit.numerics.integrators.capabilities import MIDPOINT
-from poissonkit.numerics.integrators.driver import (
-    Control,
-    LoopProblem,
-    LoopState,
-    drive,
-)
-from poissonkit.numerics.integrators.glue import (
-    ChunkResult,
-    Scratch,
-    describe,
-    fixed_grid,
-    guard_division,
-)
-from poissonkit.numerics.integrators.newton import (
-    CONVERGED,
-    SINGULAR,
-    near_state,
-    newton_solver,
-    no_jacobian,
-)
+from poissonkit.numerics.integrators.driver import Control
+from poissonkit.numerics.integrators.glue import describe, fixed_grid
+from poissonkit.numerics.integrators.implicit import (ImplicitMethod, ImplicitRun, drive_implicit,
+                                                      implicit_loop)
+from poissonkit.numerics.integrators.newton import near_state
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import copy_into
 from poissonkit.traits import offers
 
 _runners: dict[int, tuple[CompiledFunction, CompiledKernels]] = {}
+
+
+@jit(inline="always")
+def _scratch(n, f, c, extra):
+    return (f,)
+
+
+@jit(inline="always")
+def _guess(Z, y, f, h):
+    # explicit Euler as the start, and no state scale in the stopping test
+    for i in range(y.shape[0]):
+        Z[i] = y[i] + h * f[i]
+    return 0.0
+
+
+@jit(inline="always")
+def _accept(Z, y, c):
+    copy_into(Z, y)
 
 
 def _runner(kernels: CompiledKernels) -> CompiledFunction:
@@ -64,9 +54,6 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
     if hit is not None:
         return hit[0]
     rhs = kernels.rhs
-    jac = kernels.jac if kernels.jac is not None else no_jacobian
-    remember = step_end_kernels(kernels)[0]
-    tail = step_tail(kernels)
 
     @jit(inline="always")
     def residual(Z, y, h, mid, G, data, work, args):
@@ -79,48 +66,8 @@ def _runner(kernels: CompiledKernels) -> CompiledFunction:
         for i in range(n):
             G[i] = Z[i] - y[i] - h * f[i]
 
-    solve = newton_solver(residual, jac, near_state, simplified=False)
-
-    @jit
-    def run(y, t0, h, n_total, tol, maxiter, newton, data, work, save_every, step0, max_steps,
-            out_t, out_y, contact, escape, watch, back1, back2, hist):
-        n = y.shape[0]
-        f = np.empty(n)
-        Y = np.empty(n)
-        mid = np.empty(n)
-        G = np.empty(n)
-        J = np.empty((n, n))
-        A = np.empty((n, n))
-        delta = np.empty(n)
-        piv = np.empty(n, dtype=np.int64)
-        args = (f,)
-        nsave = 0
-        nfev = 0
-        track = contact > 0.0 or escape > 0.0 or watch > 0.0
-        for k in range(max_steps):
-            gstep = step0 + k + 1
-            if track:  # event-search memory, see poissonkit.numerics.locate
-                remember(y, back1, back2, hist, t0 + (gstep - 1) * h)
-            rhs(y, data, work, f)
-            nfev += 1
-            for i in range(n):
-                Y[i] = y[i] + h * f[i]
-            outcome, nf = solve(Y, y, h, tol, maxiter, newton, 0.0, data, work, args, mid, G, J,
-                                A, piv, delta)
-            nfev += nf
-            if outcome == SINGULAR:
-                return NO_CONVERGENCE, t0 + gstep * h, k + 1, nsave, nfev, 0.0
-            ok = outcome == CONVERGED
-            t = t0 + gstep * h
-            copy_into(Y, y)
-            last = gstep >= n_total
-            status, nsave, value = tail(y, y, t, RUNNING if ok else NO_CONVERGENCE, last,
-                                        last or gstep % save_every == 0, track, data, work,
-                                        contact, escape, watch, hist, out_t, out_y, nsave)
-            if status != RUNNING:
-                return status, t, k + 1, nsave, nfev, value
-        return RUNNING, t0 + (step0 + max_steps) * h, max_steps, nsave, nfev, 0.0
-
+    run = implicit_loop(kernels, ImplicitMethod(residual, near_state, False, _scratch, _guess,
+                                                _accept, compensated=False))
     _runners[key] = (run, kernels)
     return run
 
@@ -165,46 +112,10 @@ class ImplicitMidpoint:
         h, n_total = fixed_grid(self.name, step, t0, t_end)
         itol = float(tol) if tol is not None else self.tol
         newton = self.newton and kernels.jac is not None
-        contact, escape, watch = event_thresholds(events)
-        run = _runner(kernels)
         y = np.array(y0, dtype=float)
-        data, work = system.data, system.work()
-        scratch = Scratch(y.size)
-        iters = self.max_iterations
+        spec = ImplicitRun(self.name, "iteration", itol, self.max_iterations, newton, (),
+                           describe(self.name, h, t0, t_end, n_total, save_every, y,
+                                    tol=float(itol).hex(), newton=bool(newton)))
+        return drive_implicit(_runner(kernels), spec, False, system, y, t0, t_end, h, n_total,
+                              events, progress, save_every, control)
 
-        def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
-            return run(st.y, t0, h, n_total, itol, iters, newton, data, work, save_every,
-                       st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch,
-                       st.prev, st.prev2, st.hist)
-
-        def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
-            out = run(ys, t0, h, n_total, itol, iters, newton, data, work, save_every, done, 1,
-                      scratch.t, scratch.y, 0.0, 0.0, 0.0, ys, ys, scratch.hist)
-            return out[0], out[1]
-
-        def advance(ys: np.ndarray, s: float) -> np.ndarray:
-            yc = np.array(ys, dtype=float)
-            status = run(yc, 0.0, s, 1, itol, iters, newton, data, work, 1, 0, 1, scratch.t,
-                         scratch.y, 0.0, 0.0, 0.0, yc, yc, scratch.hist)[0]
-            if status == NO_CONVERGENCE:
-                raise IntegrationError("midpoint: iteration did not converge while locating an "
-                                       "event")
-            return yc
-
-        def failure(status: int, st: LoopState) -> Exception | None:
-            if status == NO_CONVERGENCE:
-                return IntegrationError(
-                    f"midpoint: iteration did not converge to {itol:g} in {iters} iterations "
-                    f"at step {st.steps} (t = {st.t:.6g}); reduce the step")
-            return None
-
-        raw = drive(LoopProblem(
-            self.name, system, y, t0, t_end,
-            guard_division(self.name, chunk, lambda st: (one_step, st.y.copy())), advance,
-            lambda st: st.steps >= n_total,
-            describe(self.name, h, t0, t_end, n_total, save_every, y,
-                     tol=float(itol).hex(), newton=bool(newton)),
-            min(n_total // save_every + 2, 4096), events, progress, save_every, control,
-            failure))
-        raw.extra.update(step=h, newton=newton)
-        return raw

@@ -13,13 +13,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from poissonkit.contracts import (
-    Event,
-    HasCompiledKernels,
-    HasJacobian,
-    NumericsSystem,
-    System,
-)
+from poissonkit.contracts import Event, HasCompiledKernels, HasJacobian, NumericsSystem, System
 from poissonkit.errors import InputError, IntegrationError, NonFiniteStateError
 from poissonkit.numerics.events import EventRecord, check_events, raise_or_record
 from poissonkit.numerics.integrators.base import RawResult

@@ -59,45 +59,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from poissonkit.contracts import (
-    CompiledFunction,
-    CompiledKernels,
-    Event,
-    HasCompiledKernels,
-    HasStateCheck,
-    System,
-)
+from poissonkit.contracts import (CompiledFunction, CompiledKernels, Event, HasCompiledKernels,
+                                  HasStateCheck, System)
 from poissonkit.errors import InputError
 from poissonkit.numerics.events import event_thresholds
-from poissonkit.numerics.integrators.base import (
-    RUNNING,
-    HasLoopKernels,
-    RawResult,
-    SaveBuffer,
-    StepFn,
-    check_step,
-    step_tail,
-)
+from poissonkit.numerics.integrators.base import (RUNNING, HasLoopKernels, RawResult, SaveBuffer,
+                                                  StepFn, check_step, step_tail)
 from poissonkit.numerics.integrators.capabilities import SPLITTING
-from poissonkit.numerics.integrators.compositions import (
-    TABLES as HIGH_ORDER_TABLES,
-)
-from poissonkit.numerics.integrators.compositions import (
-    HighOrderTable,
-)
-from poissonkit.numerics.integrators.driver import (
-    Control,
-    LoopProblem,
-    LoopState,
-    drive,
-)
-from poissonkit.numerics.integrators.glue import (
-    ChunkResult,
-    Scratch,
-    describe,
-    fixed_grid,
-    guard_division,
-)
+from poissonkit.numerics.integrators.compositions import TABLES as HIGH_ORDER_TABLES
+from poissonkit.numerics.integrators.compositions import HighOrderTable
+from poissonkit.numerics.integrators.driver import Control, LoopProblem, LoopState, drive
+from poissonkit.numerics.integrators.glue import (ChunkResult, Scratch, describe, fixed_grid,
+                                                  guard_division)
 from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import copy_into
 from poissonkit.traits import offers

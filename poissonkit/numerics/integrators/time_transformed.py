@@ -61,33 +61,15 @@ from collections.abc import Sequence
 import numba
 import numpy as np
 
-from poissonkit.contracts import (
-    CompiledFunction,
-    CompiledKernels,
-    Event,
-    HasCompiledKernels,
-    HasStateCheck,
-    System,
-)
+from poissonkit.contracts import (CompiledFunction, CompiledKernels, Event, HasCompiledKernels,
+                                  HasKineticSplit, HasStateCheck, System)
 from poissonkit.errors import InputError, IntegrationError
 from poissonkit.numerics.events import event_thresholds
-from poissonkit.numerics.integrators.base import (
-    NONFINITE,
-    RUNNING,
-    RawResult,
-    SaveBuffer,
-    check_step,
-    state_digest,
-    step_end_kernels,
-    step_tail,
-)
+from poissonkit.numerics.integrators.base import (NONFINITE, RUNNING, RawResult, SaveBuffer,
+                                                  check_step, state_digest, step_end_kernels,
+                                                  step_tail)
 from poissonkit.numerics.integrators.capabilities import TIME_TRANSFORMED
-from poissonkit.numerics.integrators.driver import (
-    Control,
-    LoopProblem,
-    LoopState,
-    drive,
-)
+from poissonkit.numerics.integrators.driver import Control, LoopProblem, LoopState, drive
 from poissonkit.numerics.integrators.glue import ChunkResult, Scratch, guard_division
 from poissonkit.numerics.integrators.splitting import WEIGHTS, drift_kick_coefficients
 from poissonkit.numerics.jit import jit
@@ -134,31 +116,15 @@ def _power(x, k):
 
 
 def _layout(system: System, name: str) -> tuple[int, np.ndarray, np.ndarray]:
-    """(forces layout, momentum slots, kinetic weights) of a supported system."""
-    from poissonkit.numerics.nbody import NBodySystem
-    from poissonkit.numerics.twobody import TwoBodySystem
-
-    if isinstance(system, TwoBodySystem):
-        d = system.data
-        mu, a1, a2 = float(d.reduced_mass), float(d.alpha1), float(d.alpha2)
-        idx = np.array([3, 4, 5, 9, 10, 11, 15, 16, 17], dtype=np.int64)
-        w = np.array([1 / mu] * 3 + [a1] * 3 + [a2] * 3)
-        return _TWO_BODY, idx, w
-    if isinstance(system, NBodySystem):
-        mass = np.asarray(system.data.mass, float)
-        alpha = np.asarray(system.data.alpha, float)
-        nm = mass.shape[0]
-        idx, w = [], []
-        for s in range(nm):
-            idx += [6 * s + 3 + d for d in range(3)]
-            w += [1 / mass[s]] * 3
-        for t in range(alpha.shape[0]):
-            idx += [6 * nm + 6 * t + 3 + d for d in range(3)]
-            w += [alpha[t]] * 3
-        return _NBODY, np.array(idx, dtype=np.int64), np.array(w, dtype=float)
-    raise InputError(f"{name} needs a TwoBodySystem or NBodySystem (exact kinetic/potential "
-                     f"flows and a forces kernel); {type(system).__name__} is neither — use a "
-                     "splitting, 'midpoint' or a scipy method")
+    """(forces layout, momentum slots, kinetic weights) of a system of bodies."""
+    if not offers(system, HasKineticSplit):
+        raise InputError(f"{name} needs a TwoBodySystem or NBodySystem (a system of bodies "
+                         "with exact kinetic/potential flows and a forces kernel); "
+                         f"{type(system).__name__} is neither — use a splitting, 'midpoint' or "
+                         "a scipy method")
+    split = system.kinetic_split()
+    return (_TWO_BODY if split.layout == "two_body" else _NBODY,
+            np.asarray(split.momenta, dtype=np.int64), np.asarray(split.weights, dtype=float))
 
 
 # --------------------------------------------------------------------------- compiled loop

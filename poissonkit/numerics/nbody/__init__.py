@@ -51,12 +51,8 @@ from __future__ import annotations
 
 from poissonkit.numerics.nbody.bodies import AllPairs, Body, Interaction, NonUnitAxisError
 from poissonkit.numerics.nbody.celllists import cell_list, forward_cells
-from poissonkit.numerics.nbody.evaluate import (
-    OverlapError,
-    coincident_pair,
-    evaluate_energy,
-    evaluate_rhs,
-)
+from poissonkit.numerics.nbody.evaluate import (OverlapError, coincident_pair, evaluate_energy,
+                                                evaluate_rhs)
 from poissonkit.numerics.nbody.pairkernels import _resolve_kernel  # noqa: F401 (former name)
 from poissonkit.numerics.nbody.pairkernels import resolve_kernel
 from poissonkit.numerics.nbody.state import apply_forces

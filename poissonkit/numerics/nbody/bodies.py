@@ -9,7 +9,18 @@ from typing import TYPE_CHECKING, Union
 
 import numpy as np
 
+from poissonkit import contracts
 from poissonkit.errors import InputError
+from poissonkit.traits import SystemTraits
+
+#: The contracts every system of moving bodies fulfils (two bodies and N bodies alike);
+#: a system class extends them with what it adds (:meth:`SystemTraits.extended`).
+BODY_SYSTEM_TRAITS = SystemTraits(
+    contracts.NumericsSystem, contracts.HasCompiledKernels, contracts.HasLayout,
+    contracts.HasStateCheck, contracts.HasOverlapCheck, contracts.HasCasimirs,
+    contracts.HasCasimirScales, contracts.HasMomenta, contracts.HasEnergy,
+    contracts.HasBodyMomenta, contracts.HasPoissonStructure, contracts.HasUnpack,
+    contracts.HasScales, contracts.HasKineticSplit)
 
 if TYPE_CHECKING:
     import sympy as sp

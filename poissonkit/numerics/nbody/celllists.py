@@ -9,6 +9,7 @@ slabs can run on any threads in any order and still give the same numbers bit fo
 from __future__ import annotations
 
 import os
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -162,13 +163,25 @@ def cell_gather(n, body, W, V, us, F, T):
     return u
 
 
-def pair_shares(pair_one: Dispatcher, pair_r_one: Dispatcher) -> Dispatcher:
-    """``shares(g, central, qa, qb, h, sp_, sn_, body, W, V, cut, B)``: one pair of slots
-    ``qa < qb`` of a cell or neighbour list through potential ``g`` (the orientation-free term
-    if ``central``). Slot ``qb``'s force and torque are added to ``W[h, qb]``, ``V[h, qb]``;
-    returns ``(U, slot qa's force (3), slot qa's torque (3))`` for the caller to sum in
-    registers. Both pair loops (:func:`cell_loops`, the Verlet walk) accumulate through it.
+class SlotSums(NamedTuple):
+    """One slot's pair sums, shared by both pair loops (:func:`cell_loops`, the Verlet walk).
+
+    ``acc = opened(W, V, qa)`` starts slot ``qa``'s sums in registers (its force and torque so
+    far, energy 0); ``acc = add_pair(acc, g, central, qa, qb, h, sp_, sn_, body, W, V, cut, B,
+    cut2, xa, ya, za)`` adds the pair ``qa < qb`` when it lies within ``cut2`` of ``(xa, ya,
+    za)``, slot ``qb``'s force and torque going to ``W[h, qb]``, ``V[h, qb]``; ``closed(W, V, qa,
+    acc)`` stores the slot's sums and returns its energy. No later slot of a loop writes
+    ``W[0, qa]`` (every ``qb > qa``), so the sums are the same with fewer loads and stores.
     """
+
+    opened: Dispatcher
+    add_pair: Dispatcher
+    closed: Dispatcher
+
+
+def slot_sums(pair_one: Dispatcher, pair_r_one: Dispatcher) -> SlotSums:
+    """The :class:`SlotSums` of the pair terms ``pair_one`` (with orientations) and
+    ``pair_r_one`` (orientation-free, used when ``central``)."""
 
     @jit(inline="always")
     def shares(g, central, qa, qb, h, sp_, sn_, body, W, V, cut, B):
@@ -192,7 +205,34 @@ def pair_shares(pair_one: Dispatcher, pair_r_one: Dispatcher) -> Dispatcher:
         W[h, qb, 2] -= d2
         return uu, d0, d1, d2, t0, t1, t2
 
-    return shares
+    @jit(inline="always")
+    def opened(W, V, qa):
+        return (W[0, qa, 0], W[0, qa, 1], W[0, qa, 2], V[0, qa, 0], V[0, qa, 1], V[0, qa, 2],
+                0.0)
+
+    @jit(inline="always")
+    def add_pair(acc, g, central, qa, qb, h, sp_, sn_, body, W, V, cut, B, cut2, xa, ya, za):
+        # cheap distance test before the pair term
+        dx = sp_[qb, 0] - xa
+        dy = sp_[qb, 1] - ya
+        dz = sp_[qb, 2] - za
+        if dx * dx + dy * dy + dz * dz > cut2:
+            return acc
+        uu, d0, d1, d2, t0, t1, t2 = shares(g, central, qa, qb, h, sp_, sn_, body, W, V, cut, B)
+        return (acc[0] + d0, acc[1] + d1, acc[2] + d2, acc[3] + t0, acc[4] + t1, acc[5] + t2,
+                acc[6] + uu)
+
+    @jit(inline="always")
+    def closed(W, V, qa, acc):
+        W[0, qa, 0] = acc[0]
+        W[0, qa, 1] = acc[1]
+        W[0, qa, 2] = acc[2]
+        V[0, qa, 0] = acc[3]
+        V[0, qa, 1] = acc[4]
+        V[0, qa, 2] = acc[5]
+        return acc[6]
+
+    return SlotSums(opened, add_pair, closed)
 
 
 def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> Dispatcher:
@@ -210,7 +250,7 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
         # the same (benchmarks/bench_nbody_parallel.py). Read once, at the first parallel
         # launch; a value the user set wins.
         os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
-    shares = pair_shares(pair_one, pair_r_one)
+    opened, add_pair, closed = slot_sums(pair_one, pair_r_one)
 
     @jit(inline="always")
     def slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B, cut2):
@@ -234,37 +274,14 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
             nf = forward_cells(c, nc, fwd)
             for qa in range(count[c], count[c + 1]):
                 xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
-                # slot qa's own share in registers: no later slot of its loop writes
-                # W[0, qa] (every qb > qa), so the sums are the same with fewer stores
-                wa0, wa1, wa2 = W[0, qa, 0], W[0, qa, 1], W[0, qa, 2]
-                va0, va1, va2 = V[0, qa, 0], V[0, qa, 1], V[0, qa, 2]
-                ua = 0.0
+                acc = opened(W, V, qa)
                 for k in range(-1, nf):
                     c2 = c if k < 0 else fwd[k]
                     h = 1 if c2 >= first_next else 0  # j's cell in the next slab
                     for qb in range(qa + 1 if k < 0 else count[c2], count[c2 + 1]):
-                        # cheap distance test before the pair term
-                        dx = sp_[qb, 0] - xa
-                        dy = sp_[qb, 1] - ya
-                        dz = sp_[qb, 2] - za
-                        if dx * dx + dy * dy + dz * dz > cut2:
-                            continue
-                        uu, d0, d1, d2, t0, t1, t2 = shares(g, central, qa, qb, h, sp_, sn_,
-                                                            body, W, V, cut, B)
-                        wa0 += d0
-                        wa1 += d1
-                        wa2 += d2
-                        va0 += t0
-                        va1 += t1
-                        va2 += t2
-                        ua += uu
-                W[0, qa, 0] = wa0
-                W[0, qa, 1] = wa1
-                W[0, qa, 2] = wa2
-                V[0, qa, 0] = va0
-                V[0, qa, 1] = va1
-                V[0, qa, 2] = va2
-                u += ua
+                        acc = add_pair(acc, g, central, qa, qb, h, sp_, sn_, body, W, V, cut,
+                                       B, cut2, xa, ya, za)
+                u += closed(W, V, qa, acc)
         return u
 
     @jit

@@ -25,14 +25,9 @@ from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import InputError
 from poissonkit.numerics.jit import compile_generated
 from poissonkit.numerics.nbody.bodies import PotentialLike
-from poissonkit.numerics.potentials import (
-    RuntimeKernel,
-    compile_bound_potential,
-    compile_potential,
-    kernel_from_expr,
-    radial_kernel,
-    runtime_potential,
-)
+from poissonkit.numerics.potentials import (RuntimeKernel, compile_bound_potential,
+                                            compile_potential, kernel_from_expr, radial_kernel,
+                                            runtime_potential)
 from poissonkit.plugin.contributions import PairPotential
 
 #: ``(column of the attribute table B, 1 or 2)`` per extra argument of a kernel: the first or

@@ -23,6 +23,17 @@ from poissonkit.numerics.jit import jit
 
 
 @jit(inline="always")
+def third_law(F, i, j, f0, f1, f2):
+    """Newton's third law for one pair: ``f`` added to body ``j``'s force, taken from ``i``'s."""
+    F[j, 0] += f0
+    F[j, 1] += f1
+    F[j, 2] += f2
+    F[i, 0] -= f0
+    F[i, 1] -= f1
+    F[i, 2] -= f2
+
+
+@jit(inline="always")
 def switch(r, cut):
     """``(S, S')`` of the C² switching function, 1 below ``r_s``, 0 at the cutoff."""
     x = (r - cut[2]) * cut[3]
@@ -105,12 +116,7 @@ def pair_terms(kern_any: Dispatcher, kern_r: Dispatcher) -> PairTerms:
     @jit
     def pair_term(g, i, j, pos, nu, F, T, cut, B, bi, bj):
         u, f0, f1, f2, ti0, ti1, ti2, tj0, tj1, tj2 = pair_one(g, i, j, pos, nu, cut, B, bi, bj)
-        F[j, 0] += f0
-        F[j, 1] += f1
-        F[j, 2] += f2
-        F[i, 0] -= f0
-        F[i, 1] -= f1
-        F[i, 2] -= f2
+        third_law(F, i, j, f0, f1, f2)
         T[i, 0] += ti0
         T[i, 1] += ti1
         T[i, 2] += ti2
@@ -141,12 +147,8 @@ def pair_terms(kern_any: Dispatcher, kern_r: Dispatcher) -> PairTerms:
     def pair_r(g, i, j, pos, F, cut, B, bi, bj):
         """Orientation-free pair: no axes, no c1, c2, c3, no torques (the fast path)."""
         u, g0, g1, g2 = pair_r_one(g, i, j, pos, cut, B, bi, bj)
-        F[j, 0] -= g0
-        F[j, 1] -= g1
-        F[j, 2] -= g2
-        F[i, 0] += g0
-        F[i, 1] += g1
-        F[i, 2] += g2
+        # a - b is a + (-b) in IEEE arithmetic: the same bits as subtracting g from F[j]
+        third_law(F, i, j, -g0, -g1, -g2)
         return u
 
     @jit(inline="always")

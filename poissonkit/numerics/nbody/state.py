@@ -19,13 +19,8 @@ import numpy as np
 from numba.core.dispatcher import Dispatcher
 
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import (
-    kahan_add,
-    plain_add,
-    rotate_slot,
-    rotate_slot_compensated,
-    zero2,
-)
+from poissonkit.numerics.kernels import (kahan_add, plain_add, rotate_slot, rotate_slot_compensated,
+                                         zero2)
 from poissonkit.numerics.nbody.assemble import Layout
 
 

@@ -17,28 +17,18 @@ import numpy as np
 import numpy.typing as npt
 
 from poissonkit import contracts
-from poissonkit.contracts import CompiledFunction
+from poissonkit.contracts import CompiledFunction, KineticSplit
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.integrators.base import HasLoopKernels, LoopKernels
 from poissonkit.numerics.fields.base import CompiledField, FieldLike, compile_fields
 from poissonkit.numerics.fields.compose import field_data, field_term
 from poissonkit.numerics.kernels import Kernels
-from poissonkit.numerics.nbody.bodies import AllPairs, Body, Interaction, NonUnitAxisError
-from poissonkit.numerics.nbody.data import (
-    DirectData,
-    Work,
-    direct_data,
-    empty_field_data,
-    new_direct_work,
-    new_work,
-    system_data,
-)
-from poissonkit.numerics.nbody.evaluate import (
-    OverlapError,
-    coincident_pair,
-    evaluate_energy,
-    evaluate_rhs,
-)
+from poissonkit.numerics.nbody.bodies import (BODY_SYSTEM_TRAITS, AllPairs, Body, Interaction,
+                                             NonUnitAxisError)
+from poissonkit.numerics.nbody.data import (DirectData, Work, direct_data, empty_field_data,
+                                            new_direct_work, new_work, system_data)
+from poissonkit.numerics.nbody.evaluate import (OverlapError, coincident_pair, evaluate_energy,
+                                                evaluate_rhs)
 from poissonkit.numerics.nbody.loops import _build_kernels
 from poissonkit.numerics.nbody.options import PARALLEL_MIN_BODIES, check_bodies, check_options
 from poissonkit.numerics.nbody.pairkernels import _dispatcher
@@ -46,7 +36,6 @@ from poissonkit.numerics.nbody.scaling import body_arrays, units_of
 from poissonkit.numerics.nbody.table import kernel_table
 from poissonkit.numerics.nbody.verlet import new_verlet_state
 from poissonkit.numerics.units import Scales
-from poissonkit.traits import SystemTraits
 
 __all__ = ["PARALLEL_MIN_BODIES", "NBodySystem"]
 
@@ -113,14 +102,8 @@ class NBodySystem:
     """
 
     #: the contracts this class fulfils, declared once (:mod:`poissonkit.traits`)
-    traits = SystemTraits(contracts.NumericsSystem, contracts.HasCompiledKernels,
-                          contracts.HasLayout, contracts.HasStateCheck,
-                          contracts.HasOverlapCheck, contracts.HasCasimirs,
-                          contracts.HasCasimirScales, contracts.HasMomenta,
-                          contracts.HasEnergy, contracts.HasBodyMomenta,
-                          contracts.HasExternalFields, contracts.HasPoissonStructure,
-                          contracts.HasUnpack, contracts.HasScales, contracts.HasBodies,
-                          contracts.HasGravity, HasLoopKernels)
+    traits = BODY_SYSTEM_TRAITS.extended(contracts.HasExternalFields, contracts.HasBodies,
+                                         contracts.HasGravity, HasLoopKernels)
 
     def __init__(self, bodies: Sequence[Body], interactions: Sequence[Interaction | AllPairs] = (),
                  cutoff: float | None = None, scales: Scales | None = None,
@@ -450,6 +433,22 @@ class NBodySystem:
             raise OverlapError(f"bodies {a!r} and {b!r} are at the same position "
                                f"{pos[hit[0]].tolist()} (internal units); every pair force is "
                                "singular there")
+
+    def kinetic_split(self) -> KineticSplit:
+        """``T = Σ |p_s|²/2M_s + Σ α_t |m_t|²/2`` over the momentum slots of the moving bodies,
+        then of the tops (the state's order)."""
+        mass = np.asarray(self.data.mass, float)
+        alpha = np.asarray(self.data.alpha, float)
+        nm = mass.shape[0]
+        idx: list[int] = []
+        w: list[float] = []
+        for s in range(nm):
+            idx += [6 * s + 3 + d for d in range(3)]
+            w += [1 / mass[s]] * 3
+        for t in range(alpha.shape[0]):
+            idx += [6 * nm + 6 * t + 3 + d for d in range(3)]
+            w += [alpha[t]] * 3
+        return KineticSplit("bodies", np.array(idx, dtype=np.int64), np.array(w, dtype=float))
 
     def check_overlap(self, y: npt.ArrayLike) -> None:
         """Raise :class:`OverlapError` if two bodies of state ``y`` sit at the same place."""

@@ -16,13 +16,8 @@ from numba.core.dispatcher import Dispatcher
 
 from poissonkit.errors import InputError, UnknownNameError
 from poissonkit.numerics.nbody.bodies import AllPairs, Body, Interaction, PotentialLike
-from poissonkit.numerics.nbody.pairkernels import (
-    _registry_entry,
-    _wrapped,
-    _wrapped_radial,
-    resolve_runtime,
-    unit_values,
-)
+from poissonkit.numerics.nbody.pairkernels import (_registry_entry, _wrapped, _wrapped_radial,
+                                                   resolve_runtime, unit_values)
 from poissonkit.plugin.contributions import PairPotential
 
 Pair = tuple[int, int, int]

@@ -36,12 +36,7 @@ from numba.core.dispatcher import Dispatcher
 from numba.typed import List
 
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.nbody.celllists import (
-    cell_list,
-    cell_list_par,
-    forward_cells,
-    pair_shares,
-)
+from poissonkit.numerics.nbody.celllists import cell_list, cell_list_par, forward_cells, slot_sums
 from poissonkit.numerics.nbody.data import VerletState
 
 
@@ -162,7 +157,7 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
     if parallel:
         # see cell_loops: OpenMP's spinning wait costs dearly on a shared machine
         os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
-    shares = pair_shares(pair_one, pair_r_one)
+    opened, add_pair, closed = slot_sums(pair_one, pair_r_one)
 
     @jit(inline="always")
     def slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body, W, V, cut, B, cut2):
@@ -173,35 +168,13 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
         u = 0.0
         for qa in range(slab_first[x], first_next):
             xa, ya, za = sp_[qa, 0], sp_[qa, 1], sp_[qa, 2]
-            # slot qa's own share in registers: no later slot of its loop writes W[0, qa]
-            # (every listed qb > qa), so the sums are the same, with fewer loads and stores
-            wa0, wa1, wa2 = W[0, qa, 0], W[0, qa, 1], W[0, qa, 2]
-            va0, va1, va2 = V[0, qa, 0], V[0, qa, 1], V[0, qa, 2]
-            ua = 0.0
+            acc = opened(W, V, qa)
             for k in range(start[qa], start[qa + 1]):
                 qb = nbr[k]
-                dx = sp_[qb, 0] - xa
-                dy = sp_[qb, 1] - ya
-                dz = sp_[qb, 2] - za
-                if dx * dx + dy * dy + dz * dz > cut2:
-                    continue
                 h = 1 if qb >= first_next else 0
-                uu, d0, d1, d2, t0, t1, t2 = shares(g, central, qa, qb, h, sp_, sn_, body, W,
-                                                    V, cut, B)
-                wa0 += d0
-                wa1 += d1
-                wa2 += d2
-                va0 += t0
-                va1 += t1
-                va2 += t2
-                ua += uu
-            W[0, qa, 0] = wa0
-            W[0, qa, 1] = wa1
-            W[0, qa, 2] = wa2
-            V[0, qa, 0] = va0
-            V[0, qa, 1] = va1
-            V[0, qa, 2] = va2
-            u += ua
+                acc = add_pair(acc, g, central, qa, qb, h, sp_, sn_, body, W, V, cut, B, cut2,
+                               xa, ya, za)
+            u += closed(W, V, qa, acc)
         return u
 
     def make(build: Dispatcher) -> Callable:
