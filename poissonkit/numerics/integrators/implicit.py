@@ -15,7 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from poissonkit.contracts import CompiledFunction, CompiledKernels, Event, System
+from poissonkit.contracts import CompiledFunction, CompiledKernels, Event, HasCompiledKernels
 from poissonkit.errors import IntegrationError
 from poissonkit.numerics.events import event_thresholds
 from poissonkit.numerics.integrators.base import (NO_CONVERGENCE, RUNNING, RawResult, SaveBuffer,
@@ -126,9 +126,9 @@ class ImplicitRun(NamedTuple):
     description: dict[str, object]
 
 
-def drive_implicit(run: CompiledFunction, spec: ImplicitRun, compensated: bool, system: System,
-                   y: np.ndarray, t0: float, t_end: float, h: float, n_total: int,
-                   events: Sequence[Event], progress: bool, save_every: int,
+def drive_implicit(run: CompiledFunction, spec: ImplicitRun, compensated: bool,
+                   system: HasCompiledKernels, y: np.ndarray, t0: float, t_end: float, h: float,
+                   n_total: int, events: Sequence[Event], progress: bool, save_every: int,
                    control: Control | None) -> RawResult:
     """Drive the compiled loop ``run`` of :func:`implicit_loop` from ``t0`` to ``t_end`` on the
     grid ``h``, ``n_total`` (chunks, one-step replays, located events, failures by name)."""
