@@ -143,6 +143,29 @@ def outcome_entries(names: Iterable[str]) -> tuple[OutcomeEntry, ...]:
 
 
 def reduce_run(rec: RunRecord, names: Iterable[str | OutcomeEntry]) -> dict[str, object]:
-    """Every chosen outcome of one run (by name or entry)."""
+    """Every chosen outcome of one run (by name or entry); an outcome that raises raises."""
     chosen = [n if isinstance(n, OutcomeEntry) else OUTCOMES[n] for n in names]
     return {o.name: o.compute(rec) for o in chosen}
+
+
+def reduce_run_kept(rec: RunRecord, names: Iterable[str | OutcomeEntry]
+                    ) -> tuple[dict[str, object], dict[str, str]]:
+    """Every chosen outcome of one run, an outcome that raises recorded instead of raised.
+
+    Returns
+    -------
+    values, errors
+        ``values[name]`` for every outcome (its ``fill`` where it failed) and
+        ``errors[name]`` = ``"ExceptionType: message"`` for each outcome that raised: one
+        failing outcome (e.g. ``megno``) never discards the run's other outcomes (its fate).
+    """
+    values: dict[str, object] = {}
+    errors: dict[str, str] = {}
+    for n in names:
+        o = n if isinstance(n, OutcomeEntry) else OUTCOMES[n]
+        try:
+            values[o.name] = o.compute(rec)
+        except Exception as exc:  # noqa: BLE001 - any outcome's failure is recorded, not fatal
+            values[o.name] = o.fill
+            errors[o.name] = f"{type(exc).__name__}: {exc}"
+    return values, errors
