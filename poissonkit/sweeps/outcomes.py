@@ -47,6 +47,13 @@ def _final_angular_momentum(rec: RunRecord) -> float:
     return float(np.linalg.norm(j)) * rec.angular_momentum_unit
 
 
+def _left_regime(rec: RunRecord) -> int:
+    """1 when the integrator reported leaving its regime (``Solution.extra["status"]``)."""
+    from poissonkit.numerics.integrators.base import LEFT_REGIME
+
+    return int(rec.solution.extra.get("status") == LEFT_REGIME)
+
+
 def _megno(rec: RunRecord) -> float:
     from poissonkit.sweeps.chaos import megno
 
@@ -83,6 +90,10 @@ BUILTIN_OUTCOMES: tuple[OutcomeEntry, ...] = (
              lambda r: float(np.asarray(r.solution.energy())[-1]) * r.energy_unit),
     _outcome("final_angular_momentum", "f8", "kg m^2/s", math.nan,
              "|total angular momentum| at the end of the run", _final_angular_momentum),
+    _outcome("left_regime", "i1", "1", -1,
+             "1 if the integrator reported that the run left its method's regime (e.g. "
+             "Wisdom-Holman: a pericentre passage the step does not resolve), 0 if not, "
+             "-1 not computed", _left_regime),
     _outcome("megno", "f8", "1", math.nan,
              "mean MEGNO <Y> from two nearby runs (about 2 regular, grows when chaotic)", _megno),
 )
