@@ -140,9 +140,10 @@ def _print_results(ds: xr.Dataset, fates: tuple[str, ...], store: Path) -> None:
     dims = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items())
     parts = [f"{v} {k}" for k, v in counts.items()]
     if "left_regime" in ds:  # "bounded" is not silent about a run its method could not hold
-        outside = int(((ds["fate"] == 0) & (ds["left_regime"] == 1) & ~ds["failed"]).sum())
+        bounded = fates.index("bounded")
+        outside = int(((ds["fate"] == bounded) & (ds["left_regime"] == 1) & ~ds["failed"]).sum())
         if outside:
-            parts[0] += f" ({outside} outside the integrator's regime: left_regime = 1)"
+            parts[bounded] += f" ({outside} outside the integrator's regime: left_regime = 1)"
     print(f"sweep of {ds.attrs.get('scene')} ({dims}): "
           + ", ".join(parts) + f", {int(failed_run.sum())} failed"
           + (f", {partial} with a failed outcome" if partial else ""))
