@@ -89,11 +89,11 @@ def failure_kinds(ds: xr.Dataset) -> list[FailureKind]:
     errors = _flat(ds, "error")
     counts: dict[str, int] = {}
     first: dict[str, int] = {}
-    for k in np.nonzero(completed)[0]:
-        msg = str(errors[k] or "")
-        for kind in kinds_of(bool(failed[k]), msg):
+    for j in np.nonzero(completed)[0]:
+        msg = str(errors[j] or "")
+        for kind in kinds_of(bool(failed[j]), msg):
             counts[kind] = counts.get(kind, 0) + 1
-            first.setdefault(kind, int(k))
+            first.setdefault(kind, int(j))
     out = []
     for kind, n in counts.items():
         k = first[kind]
@@ -157,17 +157,18 @@ def point_table(ds: xr.Dataset, fates: Sequence[str], limit: int = POINT_TABLE_L
     if n > limit:
         tally: dict[tuple[str, str], int] = {}
         for k in range(n):
-            key = (fate_name(k), "ok" if status(k) == "ok" else status(k))
+            key = (fate_name(k), status(k))
             tally[key] = tally.get(key, 0) + 1
-        rows = [(f, s, str(c)) for (f, s), c in sorted(tally.items())]
+        counted = [(f, s, str(c)) for (f, s), c in sorted(tally.items())]
         return (f"{n} points (more than {limit}: counts per fate and status)\n"
-                + _columns(rows, ("fate", "status", "points")))
+                + _columns(counted, ("fate", "status", "points")))
     params = list(point_values(ds, 0)) if n else []
     rows = []
     for k in range(n):
         vals = point_values(ds, k)
         rows.append([_fmt(vals[p]) for p in params] + [fate_name(k)]
                     + [_fmt(float(_flat(ds, m)[k])) for m in names] + [status(k)])
+
     def head(name: str) -> str:  # the name with its SI unit ("1": none)
         unit = str(ds[name].attrs.get("units", "1"))
         return name if unit in ("1", "") else f"{name} [{unit}]"

@@ -16,15 +16,19 @@ import math
 
 import numpy as np
 import pytest
+from poissonkit_magnets.seed000_sweep import SeedScene
 
 from poissonkit import cli
 from poissonkit.plugin.contributions import OutcomeEntry
-from poissonkit.sweeps.chaos import megno
 from poissonkit.sweeps.execute import run_batch
-from poissonkit.sweeps.failures import failure_kinds, failure_table, kinds_of, point_table
+from poissonkit.sweeps.failures import (
+    failure_kinds,
+    failure_table,
+    kinds_of,
+    point_table,
+)
 from poissonkit.sweeps.outcomes import OUTCOMES, reduce_run, reduce_run_kept
 from poissonkit.sweeps.targets import FATES
-from poissonkit_magnets.seed000_sweep import SeedScene
 
 #: a point of the docs' grid that collided and whose MEGNO raised before the fix
 COLLIDING = {"spin_ratio": 2.0, "tilt": 0.2033333333333333}
