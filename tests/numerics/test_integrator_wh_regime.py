@@ -113,3 +113,17 @@ def test_the_check_leaves_the_trajectory_unchanged(save_every):
     assert on.extra["status"] == LEFT_REGIME and "status" not in off.extra
     np.testing.assert_array_equal(on.y, off.y)
     np.testing.assert_array_equal(on.t, off.t)
+
+
+def test_sweep_outcome_left_regime_reads_the_status():
+    from poissonkit.sweeps.outcomes import reduce_run
+    from poissonkit.sweeps.targets import RunRecord
+
+    system, y0, *_ = sun_jupiter_saturn(q_jup=1e9)
+    t_end = 0.6 * _jupiter_period(1e9)
+    found = []
+    for step in (10 * DAY, 1200.0):
+        sol = solve(system, y0, t_end, method="wisdom_holman", step=step)
+        rec = RunRecord(sol, "bounded", math.nan, np.ones(1), 1.0, 1.0, 1.0)
+        found.append(reduce_run(rec, ["left_regime"])["left_regime"])
+    assert found == [1, 0]
