@@ -133,6 +133,8 @@ def test_failures_are_grouped_by_kind_with_the_first_example():
     assert summary.startswith("4 points (more than 3") and "collision" in summary
 
 
+@pytest.mark.slow  # a one-worker cluster (about 20 s); tests/sweep/test_sweep_paths.py checks
+# the exit code on a prepared dataset in the default suite
 def test_cli_exits_non_zero_with_a_table_when_a_point_failed(tmp_path, capsys):
     # orbit_radius = -1 is refused by the run (InputError), the other point runs
     code = cli.main(["sweep", "seed000", "--param", "orbit_radius=-1,0.5", "--param",
