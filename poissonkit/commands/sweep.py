@@ -5,7 +5,11 @@ plugin's ``seed000`` orbit with named parameters ``spin_ratio``, ``tilt``, ``rad
 ``momentum_factor``, ``orbit_radius``) or a TOML scene file whose numbers are addressed by
 path (``bodies.right.r.0``, ``run.step``, ``bodies.top1.spin``). Results go to
 ``OUT/sweep.zarr`` (an xarray Dataset, written as batches finish) and, for a two-parameter sweep,
-a stability map ``OUT/stability_map.png``. Guide: ``docs/sweeps.md``. Example::
+a stability map ``OUT/stability_map.png``. At the end: a per-point table (a summary beyond
+50 points), the counts per fate and, on stderr, the failures by kind. Exit codes:
+:data:`EXIT_OK`, :data:`EXIT_SOME_FAILED` (some runs or outcomes failed),
+:data:`EXIT_ALL_FAILED` (every run failed; also bad input), 2 usage, 130 interrupted. Guide:
+``docs/sweeps.md``. Example::
 
     poissonkit sweep seed000 --param spin_ratio=0:20:11 --param tilt=0:0.2:5 --workers 2
 
