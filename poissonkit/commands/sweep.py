@@ -5,7 +5,11 @@ plugin's ``seed000`` orbit with named parameters ``spin_ratio``, ``tilt``, ``rad
 ``momentum_factor``, ``orbit_radius``) or a TOML scene file whose numbers are addressed by
 path (``bodies.right.r.0``, ``run.step``, ``bodies.top1.spin``). Results go to
 ``OUT/sweep.zarr`` (an xarray Dataset, written as batches finish) and, for a two-parameter sweep,
-a stability map ``OUT/stability_map.png``. Guide: ``docs/sweeps.md``. Example::
+a stability map ``OUT/stability_map.png``. At the end: a per-point table (a summary beyond
+50 points), the counts per fate and, on stderr, the failures by kind. Exit codes:
+:data:`EXIT_OK`, :data:`EXIT_SOME_FAILED` (some runs or outcomes failed),
+:data:`EXIT_ALL_FAILED` (every run failed; also bad input), 2 usage, 130 interrupted. Guide:
+``docs/sweeps.md``. Example::
 
     poissonkit sweep seed000 --param spin_ratio=0:20:11 --param tilt=0:0.2:5 --workers 2
 
@@ -117,13 +121,7 @@ def main(args: argparse.Namespace) -> int:
         return 130
     from poissonkit.sweeps.targets import FATES
 
-    counts = {name: int(((ds["fate"] == k) & ~ds["failed"]).sum())
-              for k, name in enumerate(FATES)}
-    failed = int(ds["failed"].sum())
-    dims = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items())
-    print(f"sweep of {ds.attrs.get('scene')} ({dims}): "
-          + ", ".join(f"{v} {k}" for k, v in counts.items()) + f", {failed} failed")
-    print(f"wrote {store}")
+    _print_results(ds, FATES, store)
     if not args.no_plot and len(ds["fate"].dims) == 2:
         from poissonkit.sweeps.plot import stability_map
 
@@ -134,18 +132,58 @@ def main(args: argparse.Namespace) -> int:
     return _exit_code(ds)
 
 
+def _print_results(ds: xr.Dataset, fates: tuple[str, ...], store: Path) -> None:
+    """The per-point table (a summary for a large sweep), the counts per fate and failures."""
+    from poissonkit.sweeps.failures import outcome_failure_count, point_table
+
+    print(point_table(ds, fates))
+    failed_run = ds["failed"].values
+    partial = outcome_failure_count(ds)
+    counts = {name: int(((ds["fate"] == k) & ~ds["failed"]).sum())
+              for k, name in enumerate(fates)}
+    dims = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items())
+    parts = [f"{v} {k}" for k, v in counts.items()]
+    if "left_regime" in ds:  # "bounded" is not silent about a run its method could not hold
+        bounded = fates.index("bounded")
+        outside = int(((ds["fate"] == bounded) & (ds["left_regime"] == 1) & ~ds["failed"]).sum())
+        if outside:
+            parts[bounded] += f" ({outside} outside the integrator's regime: left_regime = 1)"
+    print(f"sweep of {ds.attrs.get('scene')} ({dims}): "
+          + ", ".join(parts) + f", {int(failed_run.sum())} failed"
+          + (f", {partial} with a failed outcome" if partial else ""))
+    print(f"wrote {store}")
+
+
+#: Exit codes of ``poissonkit sweep`` (2: usage, as for every command; docs/sweeps.md).
+EXIT_OK = 0
+EXIT_ALL_FAILED = 1  #: every point's run failed (nothing computed); also bad input
+EXIT_SOME_FAILED = 5  #: some points' runs or outcomes failed (the rest computed)
+
+
 def _exit_code(ds: xr.Dataset) -> int:
-    """1 (with a line on stderr naming the first error) when every point of the sweep failed:
-    nothing was computed, which a script must not mistake for success; else 0."""
+    """:data:`EXIT_ALL_FAILED` when every point's run failed, :data:`EXIT_SOME_FAILED` when any
+    run or outcome failed, with the failures by kind on stderr (kind, count, first example with
+    its parameter values); else :data:`EXIT_OK`."""
     import sys
 
     import numpy as np
 
+    from poissonkit.sweeps.failures import failure_table, outcome_failure_count
+
+    table = failure_table(ds)
+    if not table:
+        return EXIT_OK
     failed = np.asarray(ds["failed"].values, dtype=bool).reshape(-1)
-    if failed.size == 0 or not failed.all():
-        return 0
-    errors = [str(e) for e in np.asarray(ds["error"].values, dtype=object).reshape(-1) if e]
-    first = errors[0] if errors else "no message"
-    print(f"poissonkit sweep: every point failed ({failed.size} of {failed.size}); first "
-          f"error: {first}", file=sys.stderr)
-    return 1
+    if failed.all():
+        errors = [str(e) for e in np.asarray(ds["error"].values, dtype=object).reshape(-1) if e]
+        first = errors[0] if errors else "no message"
+        print(f"poissonkit sweep: every point failed ({failed.size} of {failed.size}); first "
+              f"error: {first}", file=sys.stderr)
+        print(table, file=sys.stderr)
+        return EXIT_ALL_FAILED
+    print(f"poissonkit sweep: {int(failed.sum())} of {failed.size} runs failed, "
+          f"{outcome_failure_count(ds)} more "
+          f"points have a failed outcome (exit {EXIT_SOME_FAILED}); failures by kind:",
+          file=sys.stderr)
+    print(table, file=sys.stderr)
+    return EXIT_SOME_FAILED

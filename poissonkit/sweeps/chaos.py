@@ -11,6 +11,13 @@ so their saved times coincide. ``(δ'·δ)/|δ|² = d ln|δ|/dt``, so with saved
 ``Y(t_n) = (2/t_n) Σ s̄_i (ln|δ_i| − ln|δ_{i−1}|)``. The shadow is pulled back to distance ``δ₀``
 after every chunk (Benettin renormalisation), keeping ``δ`` in the linear regime. This needs no
 variational equations, so it works for every system and integrator with a fixed step.
+
+A run with a single saved state (cut at its first sample, e.g. a collision at ``t = 0``) has no
+separation history: ``<Y>`` is undefined there and :func:`megno` returns NaN (documented in
+``docs/sweeps.md``). Each chunk starts where the previous one ended (its last saved time), so
+the chunk's span ``n h`` can fall short of ``n`` steps by round-off; a span within a relative
+:data:`SPAN_RTOL` of the step is integrated as one step of that span (what the fixed-step
+grid does anyway, :func:`~poissonkit.numerics.integrators.glue.fixed_grid`).
 """
 
 from __future__ import annotations
@@ -22,6 +29,9 @@ import numpy as np
 from poissonkit.contracts import HasLayout, System
 from poissonkit.errors import InputError
 from poissonkit.traits import offers
+
+#: Relative round-off allowed between a chunk's span and the step (see the module docstring).
+SPAN_RTOL = 1e-9
 
 
 def _axis_slices(system: System, dim: int) -> list[slice]:
@@ -39,6 +49,16 @@ def _on_leaf(y: np.ndarray, axes: list[slice]) -> np.ndarray:
     for s in axes:
         y[s] /= np.linalg.norm(y[s])
     return y
+
+
+def _chunk_step(step: float, span: float) -> float:
+    """The step to give :func:`~poissonkit.numerics.solve` for a chunk of length ``span``:
+    ``step``, or ``span`` when it is shorter than ``step`` by round-off only (the solver refuses
+    a step longer than the interval; with one step the grid takes ``h = span`` either way, so
+    the numbers are those of the exact comparison)."""
+    if span < step and span >= step * (1.0 - SPAN_RTOL):
+        return span
+    return step
 
 
 def megno(system: System, y0: np.ndarray, t_end: float, method: str = "splitting6",
@@ -62,7 +82,9 @@ def megno(system: System, y0: np.ndarray, t_end: float, method: str = "splitting
     Returns
     -------
     float
-        ``<Y>`` at ``t_end``: about 2 for regular motion, growing with time for chaotic motion.
+        ``<Y>`` at ``t_end``: about 2 for regular motion, growing with time for chaotic motion;
+        NaN when nothing past the first state could be compared (a run cut at its first
+        sample, or a separation that is not finite or vanishes at once).
 
     Raises
     ------
@@ -92,8 +114,9 @@ def megno(system: System, y0: np.ndarray, t_end: float, method: str = "splitting
     while done < n_steps:
         n = min(per, n_steps - done)
         t1 = t + n * step
-        a = solve(system, y, t1, method=method, step=step, t0=t)
-        b = solve(system, shadow, t1, method=method, step=step, t0=t)
+        h = _chunk_step(step, t1 - t)
+        a = solve(system, y, t1, method=method, step=h, t0=t)
+        b = solve(system, shadow, t1, method=method, step=h, t0=t)
         m = min(len(a.t), len(b.t))
         ta = np.asarray(a.t)[:m]
         diff = np.linalg.norm(np.asarray(a.y)[:m] - np.asarray(b.y)[:m], axis=1)

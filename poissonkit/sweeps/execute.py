@@ -30,8 +30,8 @@ from poissonkit.plugin.contributions import OutcomeEntry
 if TYPE_CHECKING:  # dask is imported where used
     from distributed import Client
 
-#: One point's result: ``(flat index, outcome values by name or None if it failed, error
-#: message)``.
+#: One point's result: ``(flat index, outcome values by name or None if the run failed, error
+#: message: the run's, or one ``outcome NAME: ...`` line per failed outcome, "" if none)``.
 PointResult = tuple[int, dict[str, object] | None, str]
 
 #: What each worker process has built, by scene key (see :func:`run_batch`).
@@ -60,10 +60,13 @@ def run_batch(scene: SweepScene, points: Sequence[tuple[int, Mapping[str, float]
 
     ``outcomes`` are registry names or the entries themselves (the client sends entries, so
     a plugin's outcome needs no plugin on the workers). An exception inside one run is that
-    point's failure (message kept); it does not stop the batch.
+    point's failure (outcomes ``None``, message kept); it does not stop the batch. An outcome
+    that raises gets its fill value and a line ``outcome NAME: Type: message`` in the point's
+    message, the other outcomes kept (:mod:`poissonkit.sweeps.failures`).
     """
     from poissonkit.sweeps.compiles import count_compilations
-    from poissonkit.sweeps.outcomes import reduce_run
+    from poissonkit.sweeps.failures import outcome_error_text
+    from poissonkit.sweeps.outcomes import reduce_run_kept
 
     count_compilations()  # a worker reports its compilations (compiles.compilations)
     prep = _prepared(scene)
@@ -71,9 +74,12 @@ def run_batch(scene: SweepScene, points: Sequence[tuple[int, Mapping[str, float]
     for idx, values in points:
         try:
             rec = scene.run(prep, values)
-            out.append((idx, reduce_run(rec, outcomes), ""))
         except Exception as exc:  # noqa: BLE001 - any failure of one run is recorded, not fatal
             out.append((idx, None, f"{type(exc).__name__}: {exc}"))
+            continue
+        # an outcome that fails keeps the others (the fate): its message names it
+        found, errors = reduce_run_kept(rec, outcomes)
+        out.append((idx, found, outcome_error_text(errors)))
     return out
 
 

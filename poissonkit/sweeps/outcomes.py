@@ -47,6 +47,13 @@ def _final_angular_momentum(rec: RunRecord) -> float:
     return float(np.linalg.norm(j)) * rec.angular_momentum_unit
 
 
+def _left_regime(rec: RunRecord) -> int:
+    """1 when the integrator reported leaving its regime (``Solution.extra["status"]``)."""
+    from poissonkit.numerics.integrators.base import LEFT_REGIME
+
+    return int(rec.solution.extra.get("status") == LEFT_REGIME)
+
+
 def _megno(rec: RunRecord) -> float:
     from poissonkit.sweeps.chaos import megno
 
@@ -83,6 +90,10 @@ BUILTIN_OUTCOMES: tuple[OutcomeEntry, ...] = (
              lambda r: float(np.asarray(r.solution.energy())[-1]) * r.energy_unit),
     _outcome("final_angular_momentum", "f8", "kg m^2/s", math.nan,
              "|total angular momentum| at the end of the run", _final_angular_momentum),
+    _outcome("left_regime", "i1", "1", -1,
+             "1 if the integrator reported that the run left its method's regime (e.g. "
+             "Wisdom-Holman: a pericentre passage the step does not resolve), 0 if not, "
+             "-1 not computed", _left_regime),
     _outcome("megno", "f8", "1", math.nan,
              "mean MEGNO <Y> from two nearby runs (about 2 regular, grows when chaotic)", _megno),
 )
@@ -143,6 +154,29 @@ def outcome_entries(names: Iterable[str]) -> tuple[OutcomeEntry, ...]:
 
 
 def reduce_run(rec: RunRecord, names: Iterable[str | OutcomeEntry]) -> dict[str, object]:
-    """Every chosen outcome of one run (by name or entry)."""
+    """Every chosen outcome of one run (by name or entry); an outcome that raises raises."""
     chosen = [n if isinstance(n, OutcomeEntry) else OUTCOMES[n] for n in names]
     return {o.name: o.compute(rec) for o in chosen}
+
+
+def reduce_run_kept(rec: RunRecord, names: Iterable[str | OutcomeEntry]
+                    ) -> tuple[dict[str, object], dict[str, str]]:
+    """Every chosen outcome of one run, an outcome that raises recorded instead of raised.
+
+    Returns
+    -------
+    values, errors
+        ``values[name]`` for every outcome (its ``fill`` where it failed) and
+        ``errors[name]`` = ``"ExceptionType: message"`` for each outcome that raised: one
+        failing outcome (e.g. ``megno``) never discards the run's other outcomes (its fate).
+    """
+    values: dict[str, object] = {}
+    errors: dict[str, str] = {}
+    for n in names:
+        o = n if isinstance(n, OutcomeEntry) else OUTCOMES[n]
+        try:
+            values[o.name] = o.compute(rec)
+        except Exception as exc:  # noqa: BLE001 - any outcome's failure is recorded, not fatal
+            values[o.name] = o.fill
+            errors[o.name] = f"{type(exc).__name__}: {exc}"
+    return values, errors

@@ -112,7 +112,8 @@ def _dataset(failed: list[bool]) -> xr.Dataset:
                       coords={"x": np.arange(n, dtype=float)}, attrs={"scene": "fake"})
 
 
-@pytest.mark.parametrize("failed,code", [([True, True, True], 1), ([True, False, True], 0),
+# some points failed: exit 5 with the failures by kind (it was 0, issue 30)
+@pytest.mark.parametrize("failed,code", [([True, True, True], 1), ([True, False, True], 5),
                                          ([False, False], 0)])
 def test_cli_exits_non_zero_when_every_point_failed(failed, code, tmp_path, capsys,
                                                     monkeypatch):
@@ -123,11 +124,13 @@ def test_cli_exits_non_zero_when_every_point_failed(failed, code, tmp_path, caps
                      "--out", str(tmp_path / "o")]) == code
     captured = capsys.readouterr()
     assert f"{sum(failed)} failed" in captured.out
-    if code:
+    if code == 1:
         assert f"every point failed ({len(failed)} of {len(failed)}); first error: boom" \
             in captured.err
     else:
         assert "every point failed" not in captured.err
+    if code == 5:
+        assert "2 of 3 runs failed" in captured.err and "x=0: boom" in captured.err
 
 
 @pytest.mark.slow  # starts a one-worker cluster that compiles the dumbbell kernels

@@ -19,6 +19,12 @@ from poissonkit.numerics.events import EventRecord
 # GRAZE: the smallest distance has a local minimum between step ends worth a closer look
 RUNNING, NONFINITE, COLLISION, ESCAPE, BUFFER_FULL, DONE, NO_CONVERGENCE, GRAZE = range(8)
 
+#: Run status an integrator records in ``RawResult.extra["status"]`` (kept in
+#: ``Solution.extra``) when the run left the regime where its method is accurate; the reasons
+#: are in ``extra["regime"]`` and appended to the message. The numbers are still computed:
+#: this marks them, it does not stop the run.
+LEFT_REGIME = "left_regime"
+
 #: ``one_step(y, t, steps_done) -> (status, t_new)``: one step of a loop, in place (replays).
 StepFn = Callable[[np.ndarray, float, int], tuple[int, float]]
 
@@ -69,6 +75,16 @@ class RawResult:
     events: list[EventRecord] = field(default_factory=list)
     message: str = ""
     extra: dict[str, Any] = field(default_factory=dict)
+
+
+def note_left_regime(raw: RawResult, method: str, reasons: list[str]) -> None:
+    """Record in ``raw`` that the run left ``method``'s regime (nothing if no ``reasons``):
+    ``extra["status"] = LEFT_REGIME``, ``extra["regime"] = reasons``, and the message."""
+    if not reasons:
+        return
+    raw.extra.update(status=LEFT_REGIME, regime=list(reasons))
+    note = f"left the {method} regime: " + "; ".join(reasons)
+    raw.message = f"{raw.message}; {note}" if raw.message else note
 
 
 class SaveBuffer:

@@ -19,6 +19,7 @@ from poissonkit.numerics.integrators.base import (
     RawResult,
     SaveBuffer,
     StepFn,
+    note_left_regime,
 )
 from poissonkit.numerics.integrators.capabilities import WISDOM_HOLMAN
 from poissonkit.numerics.integrators.driver import (
@@ -36,6 +37,7 @@ from poissonkit.numerics.integrators.glue import (
 )
 from poissonkit.numerics.integrators.wisdom_holman.jacobi import jacobi_of
 from poissonkit.numerics.integrators.wisdom_holman.loop import runner
+from poissonkit.numerics.integrators.wisdom_holman.regime import regime_problems
 from poissonkit.numerics.integrators.wisdom_holman.tables import (
     CORRECTOR_G,
     TABLE_ORDERS,
@@ -192,6 +194,11 @@ class WisdomHolman:
             carry={"xj": xj, "uj": uj, "merge": np.zeros(2)}))
         raw.nfev = raw.steps * per_step
         raw.extra.update(step=h, stages=self.stages, corrector=self.corrector)
+        # read from the saved states after the run: the trajectory is untouched
+        names = tuple(str(b.name) for b in system.bodies)
+        exact = m.shape[0] == 2 and _gravity_only(system)  # H_I = 0: no regime to leave
+        note_left_regime(raw, self.name,
+                         regime_problems(raw.y, m, float(G), h, names, exact=exact))
         if self.table:
             raw.extra["table"] = self.table
         if self.correctors:
