@@ -193,6 +193,16 @@ class DeclaresNotConserved(Protocol):
 
 
 @runtime_checkable
+class DeclaresGravityOnly(Protocol):
+    """A system that says whether Newtonian gravity over all its bodies is its only interaction
+    (no other pair term, no cutoff, no external field): a hierarchical method may then use the
+    gravity-only kick."""
+
+    @property
+    def gravity_only(self) -> bool: ...
+
+
+@runtime_checkable
 class HasExternalFields(Protocol):
     """A system acted on by external fields (truthy when it is): its total linear and angular
     momentum are not conserved."""

@@ -103,7 +103,8 @@ class NBodySystem:
 
     #: the contracts this class fulfils, declared once (:mod:`poissonkit.traits`)
     traits = BODY_SYSTEM_TRAITS.extended(contracts.HasExternalFields, contracts.HasBodies,
-                                         contracts.HasGravity, HasLoopKernels)
+                                         contracts.HasGravity, contracts.DeclaresGravityOnly,
+                                         HasLoopKernels)
 
     def __init__(self, bodies: Sequence[Body], interactions: Sequence[Interaction | AllPairs] = (),
                  cutoff: float | None = None, scales: Scales | None = None,
@@ -180,6 +181,13 @@ class NBodySystem:
             raise InputError("the system needs exactly one AllPairs('gravity', ...) over all "
                              "bodies (the Kepler part of a Wisdom–Holman splitting)")
         return self._gravity
+
+    @property
+    def gravity_only(self) -> bool:
+        """True when Newtonian gravity over all bodies is the only interaction (no cutoff, no
+        external field)."""
+        return (self._gravity is not None and len(self.interactions) == 1 and self.cutoff is None
+                and not self.fields)
 
     @property
     def external_fields(self) -> tuple[CompiledField, ...]:

@@ -44,30 +44,17 @@ Modules: :mod:`.tables` (coefficients), :mod:`.kepler` (the Kepler flow), :mod:`
 """
 
 from poissonkit.numerics.integrators.wisdom_holman.integrator import WisdomHolman
-from poissonkit.numerics.integrators.wisdom_holman.jacobi import (
-    from_jacobi,
-    jacobi_of_inertial,
-    to_jacobi,
-)
-from poissonkit.numerics.integrators.wisdom_holman.kepler import (
-    drift_all,
-    drift_planets,
-    kepler_drift,
-    stumpff,
-)
-from poissonkit.numerics.integrators.wisdom_holman.kicks import (
-    gravity_correct,
-    gravity_corrector_kick,
-    gravity_kick,
-    gravity_kick_accel,
-    gravity_kick_jerk,
-    gravity_modified_kick,
-    gravity_steps,
-)
-from poissonkit.numerics.integrators.wisdom_holman.tables import (
-    CORRECTOR_G,
-    saba_coefficients,
-)
+from poissonkit.numerics.integrators.wisdom_holman.jacobi import (from_jacobi, jacobi_of_inertial,
+                                                                  to_jacobi)
+from poissonkit.numerics.integrators.wisdom_holman.kepler import (drift_all, drift_planets,
+                                                                  kepler_drift, stumpff)
+from poissonkit.numerics.integrators.wisdom_holman.kicks import (gravity_correct,
+                                                                 gravity_corrector_kick,
+                                                                 gravity_kick, gravity_kick_accel,
+                                                                 gravity_kick_jerk,
+                                                                 gravity_modified_kick,
+                                                                 gravity_steps)
+from poissonkit.numerics.integrators.wisdom_holman.tables import CORRECTOR_G, saba_coefficients
 
 __all__ = [
     "CORRECTOR_G",

@@ -6,45 +6,22 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from poissonkit.contracts import (
-    Event,
-    HasBodies,
-    HasCompiledKernels,
-    HasGravity,
-    System,
-)
+from poissonkit.contracts import (DeclaresGravityOnly, Event, HasBodies, HasCompiledKernels,
+                                  HasExternalFields, HasGravity, System)
 from poissonkit.errors import InputError
 from poissonkit.numerics.events import event_thresholds
-from poissonkit.numerics.integrators.base import (
-    RawResult,
-    SaveBuffer,
-    StepFn,
-    note_left_regime,
-)
+from poissonkit.numerics.integrators.base import RawResult, SaveBuffer, StepFn, note_left_regime
 from poissonkit.numerics.integrators.capabilities import WISDOM_HOLMAN
-from poissonkit.numerics.integrators.driver import (
-    Control,
-    LoopProblem,
-    LoopState,
-    drive,
-)
-from poissonkit.numerics.integrators.glue import (
-    ChunkResult,
-    Scratch,
-    describe,
-    fixed_grid,
-    guard_division,
-)
+from poissonkit.numerics.integrators.driver import Control, LoopProblem, LoopState, drive
+from poissonkit.numerics.integrators.glue import (ChunkResult, Scratch, describe, fixed_grid,
+                                                  guard_division)
 from poissonkit.numerics.integrators.wisdom_holman.jacobi import jacobi_of
 from poissonkit.numerics.integrators.wisdom_holman.loop import runner
 from poissonkit.numerics.integrators.wisdom_holman.regime import regime_problems
-from poissonkit.numerics.integrators.wisdom_holman.tables import (
-    CORRECTOR_G,
-    TABLE_ORDERS,
-    blanes_coefficients,
-    corrector_operators,
-    saba_coefficients,
-)
+from poissonkit.numerics.integrators.wisdom_holman.tables import (CORRECTOR_G, TABLE_ORDERS,
+                                                                  blanes_coefficients,
+                                                                  corrector_operators,
+                                                                  saba_coefficients)
 from poissonkit.traits import offers
 
 
@@ -120,19 +97,15 @@ class WisdomHolman:
         """Integrate from ``t0`` to ``t_end`` with fixed step ``step`` on the shared driver
         (:func:`~poissonkit.numerics.integrators.driver.drive`: located events, checkpoints,
         streaming, stop requests)."""
-        from poissonkit.numerics.nbody.system import NBodySystem
-
-        # (an NBodySystem has all three; the Protocol checks are slow next to a short run)
-        if not (isinstance(system, NBodySystem) or (
-                offers(system, HasGravity) and offers(system, HasBodies)
-                and offers(system, HasCompiledKernels))) or system.kernels.forces is None:
+        if not (offers(system, HasGravity) and offers(system, HasBodies)
+                and offers(system, HasCompiledKernels)) or system.kernels.forces is None:
             raise InputError(f"{self.name} needs an NBodySystem of point masses with gravity; "
                              f"{type(system).__name__} is not one — use a splitting instead")
         G = system.gravity_constant()  # raises a typed error naming what is missing
         if system.n_tops or system.n_moving != len(system.bodies):
             raise InputError(f"{self.name} needs moving point masses only (no tops, no fixed "
                              "bodies)")
-        if isinstance(system, NBodySystem) and system.fields:
+        if offers(system, HasExternalFields) and system.external_fields:
             # the Jacobi splitting lets the centre of mass drift freely: an external force on
             # it has no place in the kick
             raise InputError(f"{self.name} does not take external fields (the centre of mass "
@@ -209,8 +182,5 @@ class WisdomHolman:
 def _gravity_only(system: System) -> bool:
     """True when Newtonian gravity over all bodies is the system's only interaction (no
     cutoff, no external field): the kick can then use :func:`gravity_kick_accel`."""
-    from poissonkit.numerics.nbody.system import NBodySystem
-
-    return (isinstance(system, NBodySystem) and len(system.interactions) == 1
-            and system.cutoff is None and not system.fields)
+    return offers(system, DeclaresGravityOnly) and system.gravity_only
 

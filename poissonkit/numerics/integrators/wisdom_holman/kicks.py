@@ -15,14 +15,8 @@ import numba
 import numpy as np
 
 from poissonkit.contracts import CompiledFunction
-from poissonkit.numerics.integrators.wisdom_holman.jacobi import (
-    from_jacobi,
-    jacobi_of_inertial,
-)
-from poissonkit.numerics.integrators.wisdom_holman.kepler import (
-    drift_all,
-    drift_planets,
-)
+from poissonkit.numerics.integrators.wisdom_holman.jacobi import from_jacobi, jacobi_of_inertial
+from poissonkit.numerics.integrators.wisdom_holman.kepler import drift_all, drift_planets
 from poissonkit.numerics.jit import jit
 
 

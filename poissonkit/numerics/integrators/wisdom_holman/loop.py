@@ -5,20 +5,11 @@ from __future__ import annotations
 import numpy as np
 
 from poissonkit.contracts import CompiledFunction, CompiledKernels
-from poissonkit.numerics.integrators.base import (
-    NONFINITE,
-    RUNNING,
-    step_end_kernels,
-    step_tail,
-)
+from poissonkit.numerics.integrators.base import NONFINITE, RUNNING, step_end_kernels, step_tail
 from poissonkit.numerics.integrators.wisdom_holman.kepler import drift_all
-from poissonkit.numerics.integrators.wisdom_holman.kicks import (
-    gravity_correct,
-    gravity_kick,
-    gravity_modified_kick,
-    gravity_steps,
-    kick_kernels,
-)
+from poissonkit.numerics.integrators.wisdom_holman.kicks import (gravity_correct, gravity_kick,
+                                                                 gravity_modified_kick,
+                                                                 gravity_steps, kick_kernels)
 from poissonkit.numerics.jit import jit
 
 runners: dict[tuple[int, bool], tuple[CompiledFunction, CompiledFunction, CompiledKernels]] = {}
