@@ -139,9 +139,13 @@ class _Context:
         self.P = [[self.poly(P.matrix[i, j]) for j in range(n)] for i in range(n)]
         self.fields = [[self.poly(e) for e in X] for X in fields]
         for X in self.fields:
-            if any(m and sum(m) != 1 for e in X for m in e.monoms()):
-                raise InputError("the action must be linear: each generating vector field "
-                                 "needs components linear in the coordinates")
+            # linear fields (rotations, ...) or constant ones (translations) keep the invariants
+            # of each degree a kernel inside that degree; affine mixtures do not
+            degs = {sum(m) for e in X for m in e.monoms()}
+            if degs - {0, 1} or degs == {0, 1}:
+                raise InputError("the action must be linear or a translation: each generating "
+                                 "vector field needs components all linear or all constant "
+                                 "in the coordinates")
 
     def poly(self, e: sp.Expr) -> PolyElement:
         e = sp.expand(e)
@@ -339,8 +343,14 @@ def _casimirs(cx: _Context, gens: list[PolyElement], degs: list[int],
     from poissonkit.structure.casimirs import _normalise
 
     found: list[PolyElement] = []
-    for d in range(1, degree + 1):
-        basis = cx.invariants(d)
+    # A bracket homogeneous of one degree maps degree pieces to degree pieces, so Casimirs can be
+    # sought one degree at a time; otherwise (canonical + Lie–Poisson, as for the two tops'
+    # T*R^3 x e(3) x e(3), whose rotation generator r x p + m' + m'' mixes degrees 2 and 1)
+    # all degrees together.
+    degs_P = {sum(m) for row in cx.P for e in row if e for m in e.monoms()}
+    pieces = [[f for d in range(1, degree + 1) for f in cx.invariants(d)]] if len(degs_P) > 1 \
+        else [cx.invariants(d) for d in range(1, degree + 1)]
+    for basis in pieces:
         if not basis:
             continue
         rows: dict[tuple, dict[int, object]] = {}
