@@ -217,7 +217,8 @@ def veselova(a=None, b=None, names: tuple[str, str] = ("gamma", "K")) -> Bivecto
         # The plugin's Veselova system uses this matrix as it is, so its expression tree (and
         # hence every number computed from it) stays as the survey's (65) reads.
         G = eps_matrix(gamma)
-        return _assemble(gamma, K, g * G, g * eps_matrix(K) + (_dot(K, Ag) - _dot(gamma, K)) / g * G)
+        lower = g * eps_matrix(K) + (_dot(K, Ag) - _dot(gamma, K)) / g * G
+        return _assemble(gamma, K, g * G, lower)
     b_ = _scalar(b, "b", positive=False)
     if b_.free_symbols & set(gamma + K):
         raise InputError("b must be a constant (use b=None for the function (gamma, K))")

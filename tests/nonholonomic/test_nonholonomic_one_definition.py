@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import pytest
 import sympy as sp
+from poissonkit_nonholonomic import ball, veselova
 
 import poissonkit as pk
 from poissonkit.structure import deformed
 from poissonkit.structure.bivector import Bivector
-from poissonkit_nonholonomic import ball, veselova
 
 I_SYM = sp.symbols("I1:4", positive=True)
 D_SYM = sp.Symbol("d", positive=True)
@@ -41,7 +41,7 @@ def test_chaplygin_ball_both_routes_identical(I, d):
         assert sp.simplify(a - b) == 0
     # the survey's P_{g,0}, independently of both
     a_ = [1 / (sp.sympify(Ii) + d) for Ii in I]
-    g = lambda gam: sp.sqrt(1 - d * sum(ai * gi**2 for ai, gi in zip(a_, gam)))  # noqa: E731
+    g = lambda gam: sp.sqrt(1 - d * sum(ai * gi**2 for ai, gi in zip(a_, gam)))
     assert _zero(bracket.matrix - deformed.p_gf(g, 0).matrix)
 
 
@@ -60,7 +60,7 @@ def test_veselova_both_routes_identical(a):
     plugin = veselova.veselova(*a)
     bracket = deformed.veselova(a=a)
     assert plugin.structure.matrix == bracket.matrix
-    g = lambda gam: sp.sqrt(sum(ai * gi**2 for ai, gi in zip(a, gam)))  # noqa: E731
+    g = lambda gam: sp.sqrt(sum(ai * gi**2 for ai, gi in zip(a, gam)))
     survey = deformed.p_gf(g, lambda gam: 1 / g(gam)**2, names=("gamma", "K"))
     assert _zero(bracket.matrix - survey.matrix)
     for name, value in plugin.casimirs.items():

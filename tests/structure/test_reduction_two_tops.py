@@ -86,8 +86,8 @@ def test_translations_reduce_two_bodies_to_the_centre_of_mass_form():
     split = sum((p1[a] + p2[a]) ** 2 / (2 * (M1 + M2)) + p_rel[a] ** 2 / (2 * mu) for a in range(3))
     assert sp.simplify(kinetic - split) == 0
     # the kinetic energy is invariant and reduces to the invariants
-    assert sp.simplify(red.reduce(kinetic) - sum(s[f"p1_{a}"] ** 2 / (2 * M1)
-                                                 + s[f"p2_{a}"] ** 2 / (2 * M2) for a in "xyz")) == 0
+    reduced = sum(s[f"p1_{a}"] ** 2 / (2 * M1) + s[f"p2_{a}"] ** 2 / (2 * M2) for a in "xyz")
+    assert sp.simplify(red.reduce(kinetic) - reduced) == 0
 
 
 def _rotation_invariants(P):
@@ -127,7 +127,8 @@ def test_rotation_reduction_casimirs(rotation_reduced):
                 s["d_n1_n1"] + s["n1_z"] ** 2, s["d_n2_n2"] + s["n2_z"] ** 2,
                 s["d_n1_m1"] + s["n1_z"] * s["m1_z"], s["d_n2_m2"] + s["n2_z"] * s["m2_z"]]
     assert len(red.casimirs) == 5
-    monos = sorted({m for f in [*expected, *red.casimirs] for m in sp.Poly(f, *red.symbols).monoms()})
+    both = [*expected, *red.casimirs]
+    monos = sorted({m for f in both for m in sp.Poly(f, *red.symbols).monoms()})
     rows = [[sp.Poly(f, *red.symbols).coeff_monomial(m) for m in monos]
             for f in [*expected, *red.casimirs]]
     assert sp.Matrix(rows).rank() == 5  # the same span
@@ -157,7 +158,7 @@ def test_relative_equilibria_of_the_seed_are_the_reduced_equilibria(rotation_red
     m'' = s2 nu'' the reduced field vanishes iff P^2 = 2 mu R^2 U_rho, U_a = U_b = 0, for all
     spins s1, s2 and any U_c: in the seed's variables (U_r = 2 R U_rho, U_c' = R U_a at c' = 0)
     the centrifugal balance P^2/(mu R) = U_r(R) and no torque, U_c' = U_c'' = 0."""
-    P, vecs, red, _J = rotation_reduced
+    _P, vecs, red, _J = rotation_reduced
     mu, a1, a2, R, Pm, s1, s2 = sp.symbols("mu alpha1 alpha2 R P s1 s2", positive=True)
     field, (Urho, Ua, Ub, Uc) = _reduced_field(red, mu, a1, a2)
     state = {**dict(zip(vecs["r"], (R, 0, 0))), **dict(zip(vecs["p"], (0, Pm, 0))),
