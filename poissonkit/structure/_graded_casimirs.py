@@ -154,13 +154,14 @@ def graded_casimir_rows(B: Bivector, pos: Sequence[int], degree: int
     inner = [k for k in range(nz) if rows and _inner(P, [zw[a][k] for a in range(n)])]
     R = PolyRing(B.coords, sp.QQ, grlex)
     gens = lie_generators(Pz)
+    flips = _inner_involutions(P)
     inner_code = _encode(zw, inner, degree)
     outer_code = _encode(zw, [k for k in range(nz) if k not in inner], degree)
     out: list[PolyElement] = []
     for d in range(1, degree + 1):
         classes: dict[tuple, list[tuple[int, ...]]] = defaultdict(list)
         for combo in combinations_with_replacement(pos, d):
-            if sum(map(inner_code.__getitem__, combo)):
+            if sum(map(inner_code.__getitem__, combo)) or _xor(map(flips.__getitem__, combo)):
                 continue  # an inner grading: no Casimir has a component of this weight
             e = [0] * n
             for j in combo:
@@ -193,6 +194,48 @@ def _encode(zw: list[tuple], ks: Sequence[int], degree: int) -> list[int]:
     return [sum(col[a] * base ** i for i, col in enumerate(cols)) for a in range(len(zw))]
 
 
+def _inner_involutions(P: _Linear) -> list[int]:
+    """Per coordinate, a bitmask of its signs under the involutions ``exp(pi ad x_h)`` that are
+    diagonal in the basis (bit ``k`` set: ``x_a -> -x_a`` under the ``k``-th).
+
+    If ``A = ad x_h`` has ``A^3 = -A`` then ``exp(t A) = 1 + sin t A + (1 - cos t) A^2``, so
+    ``exp(pi A) = 1 + 2 A^2`` exactly. Casimirs are invariant under the flow of every ``x_h``
+    (the coadjoint action of the connected group), so when ``1 + 2 A^2`` is diagonal with signs
+    ``s_a`` only monomials with an even number of factors ``s_a = -1`` occur in a Casimir.
+    Rotations by ``pi`` in ``so(p, q)``, ``u(n)``: they cut the ``Z/2``-classes of the basis
+    ``m_ij`` (all ``2^n`` sign patterns of the axes) down to the two that hold Casimirs.
+    """
+    n = len(P)
+    out = [0] * n
+    k = 0
+    for h in range(n):
+        A = [[Fraction(0)] * n for _ in range(n)]  # A[c][a]: coefficient of x_c in {x_h, x_a}
+        for a in range(n):
+            for c, v in P[h][a]:
+                A[c][a] += v
+        if not any(any(row) for row in A):
+            continue
+        A2 = _matmul(A, A)
+        if _matmul(A2, A) != [[-x for x in row] for row in A]:
+            continue
+        if any(A2[i][j] for i in range(n) for j in range(n) if i != j):
+            continue
+        signs = [1 + 2 * A2[a][a] for a in range(n)]
+        if set(signs) <= {1, -1} and -1 in signs:
+            for a in range(n):
+                if signs[a] == -1:
+                    out[a] |= 1 << k
+            k += 1
+    return out
+
+
+def _matmul(A: list[list[Fraction]], B: list[list[Fraction]]) -> list[list[Fraction]]:
+    n = len(A)
+    cols = [[B[r][c] for r in range(n)] for c in range(n)]
+    return [[sum((x * y for x, y in zip(row, col) if x and y), Fraction(0)) for col in cols]
+            for row in A]
+
+
 def _xor(masks) -> int:
     acc = 0
     for m in masks:
@@ -211,6 +254,8 @@ def lie_generators(P: list[list[list[tuple[int, int]]]] | _Linear, prime: int = 
     it does not (an unlucky prime), every coordinate is returned.
     """
     n = len(P)
+    if any(v.denominator % prime == 0 for row in P for entry in row for _c, v in entry):
+        return list(range(n))
     P = [[[(c, v.numerator * pow(v.denominator, -1, prime) % prime) for c, v in entry]
           for entry in row] for row in P]  # integers or Fractions, reduced mod p
     order = sorted(range(n), key=lambda a: -len({c for row in P[a] for c, _v in row}))
