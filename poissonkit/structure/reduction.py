@@ -138,6 +138,7 @@ class _Context:
         self.R = PolyRing(self.coords, self.K, grlex)
         self.P = [[self.poly(P.matrix[i, j]) for j in range(n)] for i in range(n)]
         self.fields = [[self.poly(e) for e in X] for X in fields]
+        self._column_cache: dict[tuple, tuple] = {}
         for X in self.fields:
             # linear fields (rotations, ...) or constant ones (translations) keep the invariants
             # of each degree a kernel inside that degree; affine mixtures do not
@@ -186,34 +187,43 @@ class _Context:
             e[j] += 1
         return tuple(e)
 
+    def _columns(self, gens: list[PolyElement], degs: list[int], top: int
+                 ) -> tuple[list[tuple[int, ...]], dict[tuple, int], list[dict[int, object]]]:
+        """The monomials in ``gens`` of weight ``<= top`` and their coefficient rows, cached
+        per ``top`` for one list of generators (every bracket of a reduction reuses them)."""
+        cache = self._column_cache
+        key = (id(gens), tuple(degs), top)
+        if key in cache and cache[key][0] is gens:
+            return cache[key][1]
+        exps = [(0,) * len(gens), *gen_monomials(degs, top)]
+        index: dict[tuple, int] = {}
+        rows: list[dict[int, object]] = []
+        for c, e in enumerate(exps):
+            p = self.R.one
+            for g, k in zip(gens, e):
+                if k:
+                    p = p * g ** k
+            for mono, v in p.terms():
+                r = index.setdefault(mono, len(rows))
+                if r == len(rows):
+                    rows.append({})
+                rows[r][c] = v
+        cache[key] = (gens, (exps, index, rows))
+        return exps, index, rows
+
     def express(self, f: PolyElement, gens: list[PolyElement], degs: list[int],
                 syms: Sequence[sp.Symbol]) -> sp.Expr | None:
         """``f`` as a polynomial in ``gens`` (``None`` if it is not one up to its degree)."""
         if not f:
             return sp.Integer(0)
         top = max(sum(m) for m in f.monoms())
-        exps = [(0,) * len(gens), *gen_monomials(degs, top)]
-        cols = []
-        for e in exps:
-            p = self.R.one
-            for g, k in zip(gens, e):
-                if k:
-                    p = p * g ** k
-            cols.append(p)
-        index: dict[tuple, int] = {}
-        rows: list[dict[int, object]] = []
-        for c, p in enumerate(cols):
-            for mono, v in p.terms():
-                r = index.setdefault(mono, len(rows))
-                if r == len(rows):
-                    rows.append({})
-                rows[r][c] = v
+        exps, index, rows = self._columns(gens, degs, top)
         rhs = [self.K.zero] * len(rows)
         for mono, v in f.terms():
             if mono not in index:
                 return None
             rhs[index[mono]] = v
-        sol = solve_sparse(rows, rhs, len(cols), self.K)
+        sol = solve_sparse(rows, rhs, len(exps), self.K)
         if not sol.consistent:
             return None
         return sp.expand(sp.Add(*[self.K.to_sympy(v) * _monomial(syms, exps[c])
