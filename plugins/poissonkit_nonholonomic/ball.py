@@ -41,21 +41,23 @@ def _ball_parts(I1, I2, I3, d):
     return I, d, gam, M, a, Ag, Q, g, MAg, omega
 
 
-def _from_core(I1, I2, I3, d, S=None, **labels) -> HamiltonianSystem:
+def _from_core(I1: Scalar, I2: Scalar, I3: Scalar, d: Scalar, S: tuple[sp.Expr, ...] | None,
+               *, casimirs: tuple[str, str], integrals: tuple[str, str], name: str,
+               doc: str) -> HamiltonianSystem:
     """The core's Chaplygin ball (:func:`poissonkit.structure.deformed.chaplygin_ball_system`,
     the one definition of the model) under this plugin's names, parameters and constraint."""
     I = (positive(I1, "I1"), positive(I2, "I2"), positive(I3, "I3"))
     d = positive(d, "d")
     core = chaplygin_ball_system(I=I, d=d, S=S)
     gam, _M = gamma_M("M")
-    params: dict[str, Any] = {"I1": I[0], "I2": I[1], "I3": I[2], "d": d}
+    params: dict[str, object] = {"I1": I[0], "I2": I[1], "I3": I[2], "d": d}
     if S is not None:
         params["S"] = tuple(S)
     return HamiltonianSystem(
         structure=core.structure, hamiltonian=core.hamiltonian, multiplier=core.multiplier,
-        casimirs=dict(zip(labels["casimirs"], core.casimirs.values())),
-        integrals=dict(zip(labels["integrals"], core.integrals.values())),
-        measure=core.measure, params=params, name=labels["name"], doc=labels["doc"],
+        casimirs=dict(zip(casimirs, core.casimirs.values(), strict=True)),
+        integrals=dict(zip(integrals, core.integrals.values(), strict=True)),
+        measure=core.measure, params=params, name=name, doc=doc,
         original=core.original, constraints=(dot(gam, gam) - 1,))
 
 
@@ -79,7 +81,7 @@ def chaplygin_ball(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar = 1
     HamiltonianSystem
         ``structure = P_g`` of (38) in the ``[v]_eps`` form, ``multiplier = -1/g``.
     """
-    return _from_core(I1, I2, I3, d, casimirs=("H3=(gamma,gamma)", "H4=(gamma,M)"),
+    return _from_core(I1, I2, I3, d, None, casimirs=("H3=(gamma,gamma)", "H4=(gamma,M)"),
                       integrals=("H1=(M,omega)", "H2=(M,M)"), name="nh.chaplygin_ball",
                       doc="Chaplygin ball on a plane, survey (34)-(40): X = -g^{-1} P_g dH.")
 
@@ -99,7 +101,7 @@ def chaplygin_gyrostat(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar
     S
         Constant gyrostatic momentum (3-vector).
     """
-    return _from_core(I1, I2, I3, d, S=three(S, "S"),
+    return _from_core(I1, I2, I3, d, three(S, "S"),
                       casimirs=("H3=(gamma,gamma)", "H4=(gamma,M+S)"),
                       integrals=("H1=(M,omega)", "H2=(M+S,M+S)"), name="nh.chaplygin_gyrostat",
                       doc="Chaplygin ball with a rotor, survey (49): X = -g^{-1} P_sg dH.")
