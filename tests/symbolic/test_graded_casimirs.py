@@ -94,10 +94,12 @@ def test_casimirs_need_only_commute_with_generators(name):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("name,degs", [("so(8)", [2, 4, 4, 6]), ("sp(8)", [2, 4, 6])])
+@pytest.mark.parametrize("name,degs", [("so(8)", [2, 4, 4, 6]), ("sp(8)", [2, 4, 6]),
+                                       ("sl(6)", [2, 3, 4, 5, 6])])
 def test_thirty_dimensional_algebras_to_degree_six(name, degs):
-    """Chevalley: the primitive invariants of so(8) have degrees 2, 4, 4 (Pfaffian), 6 and
-    those of sp(8) 2, 4, 6, 8; each generator is checked a Casimir directly."""
+    """Chevalley: the primitive invariants of so(8) have degrees 2, 4, 4 (Pfaffian), 6, those
+    of sp(8) 2, 4, 6, 8 and those of sl(6) 2, ..., 6; each generator is checked a Casimir
+    directly."""
     from sympy.polys.rings import PolyRing
 
     g = pk.lie_algebra(name)
