@@ -66,6 +66,12 @@ Classical Lie algebras (``lie_algebra(name)``, ``lie_poisson(name)``)
   (coordinates ``nu_i``, ``m_ij``; ``e(3)`` is :func:`~poissonkit.structure.e3`, ``(nu, m)``),
   ``se(n)`` rotations first (``L_ij``, ``P_i``; ``se(3)`` is
   :func:`~poissonkit.structure.se3`). No invariant trace form: no ``X``.
+  Their ``invariants()`` (``floor((n+1)/2)`` of them, the index of ``e(n)``) are named, with
+  ``nu`` the translation and ``M`` (``M_ij = m_ij``) the rotation part and
+  ``Y = [[M, nu], [-nu^T, 0]]`` (size ``n + 1``): ``|nu|^2`` (``|P|^2`` for ``se(n)``);
+  for ``n = 3`` ``(nu, m)`` (``(L, P)``); for ``n >= 4`` ``D_k`` (``k = 2 .. floor(n/2)``),
+  the sum of the principal ``2k``-minors of ``Y`` that contain the last index
+  (``D_1 = |nu|^2``); for odd ``n >= 5`` ``Pf(Y)``, with ``Pf(Y)^2 = det Y``.
 * ``heisenberg(n)``: ``Q_i = E_1(1+i)``, ``P_i = E_(1+i)(n+2)``, ``Z = E_1(n+2)`` in
   ``(n+2) x (n+2)`` matrices, coordinates ``q_i, p_i, z``: ``{q_i, p_j} = delta_ij z``.
 
@@ -114,6 +120,10 @@ HAMILTONIAN_SIGN: int = 1
 
 #: Factor in [P, P] = SCHOUTEN_JACOBI_FACTOR * Jac.
 SCHOUTEN_JACOBI_FACTOR: int = 2
+
+#: Names of the invariants of e(n) (n >= 4; se(n) says |P|^2) in ``invariants()``: D_k for
+#: k = 2 .. floor(n/2), and Pf(Y) for odd n (module notes).
+EUCLID_INVARIANTS: tuple[str, str, str] = ("|nu|^2", "D_{k}", "Pf(Y)")
 
 #: Names of the four pair invariants of seed 000, as used in symbolic potentials.
 PAIR_INVARIANTS: tuple[str, str, str, str] = ("r", "c1", "c2", "c3")

@@ -114,3 +114,37 @@ def test_mu0_is_four_pi_times_1e_minus_7():
 
 def test_pair_invariant_names():
     assert conventions.PAIR_INVARIANTS == ("r", "c1", "c2", "c3")
+
+
+# --- e(n) invariants (issue 34): names and values pinned against determinants computed here
+def _euclid_Y(alg, n):
+    nu = [alg.bivector.symbol(f"nu_{i}") for i in range(1, n + 1)]
+    Y = sp.zeros(n + 1)
+    for i in range(n):
+        for j in range(i + 1, n):
+            Y[i, j] = alg.bivector.symbol(f"m_{i + 1}{j + 1}")
+            Y[j, i] = -Y[i, j]
+        Y[i, n], Y[n, i] = nu[i], -nu[i]
+    return Y
+
+
+def test_euclid_invariant_names_and_values():
+    from itertools import combinations
+
+    from poissonkit.structure.lie_algebras import lie_algebra
+
+    assert conventions.EUCLID_INVARIANTS == ("|nu|^2", "D_{k}", "Pf(Y)")
+    assert set(lie_algebra("e(3)").invariants()) == {"|nu|^2", "(nu, m)"}
+    assert set(lie_algebra("se(3)").invariants()) == {"|P|^2", "(L, P)"}
+    for n, names in ((4, {"|nu|^2", "D_2"}), (5, {"|nu|^2", "D_2", "Pf(Y)"})):
+        alg = lie_algebra(f"e({n})")
+        inv = alg.invariants()
+        assert set(inv) == names
+        Y = _euclid_Y(alg, n)
+        # D_k: the principal 2k-minors of Y containing the last index, summed (k = 1: |nu|^2)
+        for k, name in ((1, "|nu|^2"), (2, "D_2")):
+            minors = sum(Y.extract(list(s) + [n], list(s) + [n]).det(method="berkowitz")
+                         for s in combinations(range(n), 2 * k - 1))
+            assert sp.expand(minors - inv[name]) == 0, name
+        if n % 2:
+            assert sp.expand(inv["Pf(Y)"] ** 2 - Y.det(method="berkowitz")) == 0

@@ -13,6 +13,7 @@ from typing import Any
 import sympy as sp
 
 from poissonkit.structure.bivector import Bivector
+from poissonkit.structure.deformed import chaplygin_ball_system
 from poissonkit.structure.system import HamiltonianSystem
 from poissonkit_nonholonomic.common import (
     Scalar,
@@ -40,11 +41,33 @@ def _ball_parts(I1, I2, I3, d):
     return I, d, gam, M, a, Ag, Q, g, MAg, omega
 
 
+def _from_core(I1: Scalar, I2: Scalar, I3: Scalar, d: Scalar, S: tuple[sp.Expr, ...] | None,
+               *, casimirs: tuple[str, str], integrals: tuple[str, str], name: str,
+               doc: str) -> HamiltonianSystem:
+    """The core's Chaplygin ball (:func:`poissonkit.structure.deformed.chaplygin_ball_system`,
+    the one definition of the model) under this plugin's names, parameters and constraint."""
+    I = (positive(I1, "I1"), positive(I2, "I2"), positive(I3, "I3"))
+    d = positive(d, "d")
+    core = chaplygin_ball_system(I=I, d=d, S=S)
+    gam, _M = gamma_M("M")
+    params: dict[str, object] = {"I1": I[0], "I2": I[1], "I3": I[2], "d": d}
+    if S is not None:
+        params["S"] = tuple(S)
+    return HamiltonianSystem(
+        structure=core.structure, hamiltonian=core.hamiltonian, multiplier=core.multiplier,
+        casimirs=dict(zip(casimirs, core.casimirs.values(), strict=True)),
+        integrals=dict(zip(integrals, core.integrals.values(), strict=True)),
+        measure=core.measure, params=params, name=name, doc=doc,
+        original=core.original, constraints=(dot(gam, gam) - 1,))
+
+
 def chaplygin_ball(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar = 1) -> HamiltonianSystem:
     """Chaplygin ball rolling on a plane, survey (34)–(40).
 
     ``X = -g^{-1} P_g dH`` with ``H = (M, omega)/2``; Casimirs ``(gamma, gamma)``,
-    ``(gamma, M)``; integral ``(M, M)``; invariant measure ``g^{-1} dgamma dM``.
+    ``(gamma, M)``; integral ``(M, M)``; invariant measure ``g^{-1} dgamma dM``. The model is
+    :func:`poissonkit.structure.deformed.chaplygin_ball_system` (``pk.chaplygin_ball`` is its
+    bracket) with this plugin's names and the constraint ``(gamma, gamma) = 1``.
 
     Parameters
     ----------
@@ -58,24 +81,9 @@ def chaplygin_ball(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar = 1
     HamiltonianSystem
         ``structure = P_g`` of (38) in the ``[v]_eps`` form, ``multiplier = -1/g``.
     """
-    I, d, gam, M, a, Ag, Q, g, MAg, omega = _ball_parts(I1, I2, I3, d)
-    G = eps_matrix(gam)
-    P = block(sp.zeros(3), g * G, g * G, g * eps_matrix(M) - d * MAg / g * G)  # (38)
-    H1 = dot(M, [a[i] * M[i] for i in range(3)]) + d * MAg**2 / Q  # (36)
-    original = dict(zip(gam + M, cross(gam, omega) + cross(M, omega)))  # (34)
-    return HamiltonianSystem(
-        structure=Bivector.from_matrix(P, gam + M),
-        hamiltonian=H1 / 2,
-        multiplier=-1 / g,
-        casimirs={"H3=(gamma,gamma)": dot(gam, gam), "H4=(gamma,M)": dot(gam, M)},
-        integrals={"H1=(M,omega)": H1, "H2=(M,M)": dot(M, M)},
-        measure=1 / g,
-        params={"I1": I[0], "I2": I[1], "I3": I[2], "d": d},
-        name="nh.chaplygin_ball",
-        doc="Chaplygin ball on a plane, survey (34)-(40): X = -g^{-1} P_g dH.",
-        original=original,
-        constraints=(dot(gam, gam) - 1,),
-    )
+    return _from_core(I1, I2, I3, d, None, casimirs=("H3=(gamma,gamma)", "H4=(gamma,M)"),
+                      integrals=("H1=(M,omega)", "H2=(M,M)"), name="nh.chaplygin_ball",
+                      doc="Chaplygin ball on a plane, survey (34)-(40): X = -g^{-1} P_g dH.")
 
 
 def chaplygin_gyrostat(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar = 1,
@@ -83,7 +91,8 @@ def chaplygin_gyrostat(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar
     """Chaplygin ball with a rotor (gyrostat), survey (49).
 
     ``Mdot = (M + S) x omega``, ``gammadot = gamma x omega``; bracket ``P_sg`` with the correction
-    term ``(M, A gamma)`` (not ``(M + S, A gamma)``, which does not reproduce (49)).
+    term ``(M, A gamma)`` (not ``(M + S, A gamma)``, which does not reproduce (49)). Built from
+    :func:`poissonkit.structure.deformed.chaplygin_ball_system` with ``S``.
 
     Parameters
     ----------
@@ -92,26 +101,10 @@ def chaplygin_gyrostat(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar
     S
         Constant gyrostatic momentum (3-vector).
     """
-    I, d, gam, M, a, Ag, Q, g, MAg, omega = _ball_parts(I1, I2, I3, d)
-    S = three(S, "S")
-    MS = [M[i] + S[i] for i in range(3)]
-    G = eps_matrix(gam)
-    P = block(sp.zeros(3), g * G, g * G, g * eps_matrix(MS) - d * MAg / g * G)
-    H1 = dot(M, [a[i] * M[i] for i in range(3)]) + d * MAg**2 / Q
-    original = dict(zip(gam + M, cross(gam, omega) + cross(MS, omega)))
-    return HamiltonianSystem(
-        structure=Bivector.from_matrix(P, gam + M),
-        hamiltonian=H1 / 2,
-        multiplier=-1 / g,
-        casimirs={"H3=(gamma,gamma)": dot(gam, gam), "H4=(gamma,M+S)": dot(gam, MS)},
-        integrals={"H1=(M,omega)": H1, "H2=(M+S,M+S)": dot(MS, MS)},
-        measure=1 / g,
-        params={"I1": I[0], "I2": I[1], "I3": I[2], "d": d, "S": tuple(S)},
-        name="nh.chaplygin_gyrostat",
-        doc="Chaplygin ball with a rotor, survey (49): X = -g^{-1} P_sg dH.",
-        original=original,
-        constraints=(dot(gam, gam) - 1,),
-    )
+    return _from_core(I1, I2, I3, d, three(S, "S"),
+                      casimirs=("H3=(gamma,gamma)", "H4=(gamma,M+S)"),
+                      integrals=("H1=(M,omega)", "H2=(M+S,M+S)"), name="nh.chaplygin_gyrostat",
+                      doc="Chaplygin ball with a rotor, survey (49): X = -g^{-1} P_sg dH.")
 
 
 def bmf_parts(I1: Scalar = 1, I2: Scalar = 2, I3: Scalar = 3, d: Scalar = 1) -> dict[str, Any]:

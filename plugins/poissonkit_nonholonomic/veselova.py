@@ -11,15 +11,14 @@ from typing import Any
 
 import sympy as sp
 
-from poissonkit.structure.bivector import Bivector
+from poissonkit.structure.deformed import veselova as veselova_bracket
+from poissonkit.structure.deformed import veselova_gyrostat as veselova_gyrostat_bracket
 from poissonkit.structure.system import HamiltonianSystem
 from poissonkit_nonholonomic.common import (
     Scalar,
     Triple,
-    block,
     cross,
     dot,
-    eps_matrix,
     gamma_M,
     positive,
     three,
@@ -54,7 +53,7 @@ def veselova(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3) -> HamiltonianSyste
     a1, a2, a3
         Inverse principal moments of inertia, ``A = I^{-1}``.
     """
-    a, gam, K, Ag, Q, g = _parts(a1, a2, a3)
+    a, gam, K, _Ag, Q, g = _parts(a1, a2, a3)
     E_A = [1 - ai for ai in a]
     # inverse of (61): M = K + ((E - A) K, gamma) / (A gamma, gamma) * gamma
     coef = dot([E_A[i] * K[i] for i in range(3)], gam) / Q
@@ -63,13 +62,10 @@ def veselova(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3) -> HamiltonianSyste
     # (64): A_g = A - g^-2 (E - A) gamma gamma^T (E - A)
     u = [E_A[i] * gam[i] for i in range(3)]
     H1 = dot(K, [a[i] * K[i] for i in range(3)]) - dot(u, K) ** 2 / Q
-    G = eps_matrix(gam)
     b = dot(gam, K)
-    # (65): lower block g[K]_eps + ((K, grad g) - b/g) Gamma, grad g = A gamma / g
-    P = block(sp.zeros(3), g * G, g * G, g * eps_matrix(K) + (dot(K, Ag) - b) / g * G)
     original = dict(zip(gam + K, cross(gam, omega) + cross(K, omega)))
     return HamiltonianSystem(
-        structure=Bivector.from_matrix(P, gam + K),
+        structure=veselova_bracket(a=a),  # (65), the core's one definition, b = (gamma, K)
         hamiltonian=H1 / 2,
         multiplier=-1 / g,
         casimirs={"H3=(gamma,gamma)": dot(gam, gam), "H4=(gamma,K)": b},
@@ -108,18 +104,16 @@ def veselova_gyrostat(a1: Scalar = 1, a2: Scalar = 2, a3: Scalar = 3, k: Triple 
     ``S = (A K - K - k, gamma) / (A gamma, gamma)``; ``H = [(A K, K) - (A K - K - k, gamma)^2 /
     (A gamma, gamma)] / 2`` (minus sign); ``P_k = g [[0, Gamma], [Gamma, [K + k]_eps + S Gamma]]``.
     """
-    a, gam, K, Ag, Q, g = _parts(a1, a2, a3)
+    a, gam, K, _Ag, Q, g = _parts(a1, a2, a3)
     k = three(k, "k")
     Kk = [K[i] + k[i] for i in range(3)]
     w = [a[i] * K[i] - K[i] - k[i] for i in range(3)]
     S = dot(w, gam) / Q
     omega = [a[i] * (K[i] - S * gam[i]) for i in range(3)]
     H = (dot([a[i] * K[i] for i in range(3)], K) - dot(w, gam) ** 2 / Q) / 2
-    G = eps_matrix(gam)
-    P = block(sp.zeros(3), g * G, g * G, g * eps_matrix(Kk) + g * S * G)
     original = dict(zip(gam + K, cross(gam, omega) + cross(Kk, omega)))
     return HamiltonianSystem(
-        structure=Bivector.from_matrix(P, gam + K),
+        structure=veselova_gyrostat_bracket(a=a, k=k),  # (70), the core's one definition
         hamiltonian=H,
         multiplier=-1 / g,
         casimirs={"(gamma,gamma)": dot(gam, gam), "(K+k,gamma)": dot(Kk, gam)},

@@ -153,20 +153,87 @@ def graded_casimir_rows(B: Bivector, pos: Sequence[int], degree: int
     nz = len(zw[0]) if zw else 0
     inner = [k for k in range(nz) if rows and _inner(P, [zw[a][k] for a in range(n)])]
     R = PolyRing(B.coords, sp.QQ, grlex)
+    gens = lie_generators(Pz)
+    flips = _inner_involutions(P)
+    inner_code = _encode(zw, inner, degree)
+    outer_code = _encode(zw, [k for k in range(nz) if k not in inner], degree)
     out: list[PolyElement] = []
     for d in range(1, degree + 1):
         classes: dict[tuple, list[tuple[int, ...]]] = defaultdict(list)
         for combo in combinations_with_replacement(pos, d):
+            if sum(map(inner_code.__getitem__, combo)) or _xor(map(flips.__getitem__, combo)):
+                continue  # an inner grading: no Casimir has a component of this weight
             e = [0] * n
             for j in combo:
                 e[j] += 1
-            weight = tuple(sum(zw[a][k] for a in combo) for k in range(nz))
-            if any(weight[k] for k in inner):
-                continue  # an inner grading: no Casimir has a component of this weight
-            classes[(weight, _xor(z2[a] for a in combo))].append(tuple(e))
+            key = (sum(map(outer_code.__getitem__, combo)), _xor(map(z2.__getitem__, combo)))
+            classes[key].append(tuple(e))
         for monos in classes.values():
-            out.extend(_class_kernel(Pz, monos, R, _nullspace))
+            out.extend(_class_kernel(Pz, monos, R, _nullspace, gens))
     return out
+
+
+def _encode(zw: list[tuple], ks: Sequence[int], degree: int) -> list[int]:
+    """Per coordinate, its weights in the gradings ``ks`` packed into one integer.
+
+    The weights are scaled to integers per grading and written as signed digits in base
+    ``B > 2 * degree * max|w|``: the sum of at most ``degree`` codes is then the code of the
+    summed weights (no digit overflows), zero exactly when every summed weight is zero, and
+    distinct for distinct weights. One integer addition per factor instead of a tuple of
+    Fractions (the enumeration of monomials dominated the search).
+    """
+    if not ks:
+        return [0] * len(zw)
+    cols = []
+    for k in ks:
+        scale = 1
+        for w in zw:
+            scale = scale * w[k].denominator // gcd(scale, w[k].denominator)
+        cols.append([int(w[k] * scale) for w in zw])
+    base = 2 * degree * max(max(abs(v) for v in col) for col in cols) + 1
+    return [sum(col[a] * base ** i for i, col in enumerate(cols)) for a in range(len(zw))]
+
+
+def _inner_involutions(P: _Linear) -> list[int]:
+    """Per coordinate, a bitmask of its signs under the involutions ``exp(pi ad x_h)`` that are
+    diagonal in the basis (bit ``k`` set: ``x_a -> -x_a`` under the ``k``-th).
+
+    If ``A = ad x_h`` has ``A^3 = -A`` then ``exp(t A) = 1 + sin t A + (1 - cos t) A^2``, so
+    ``exp(pi A) = 1 + 2 A^2`` exactly. Casimirs are invariant under the flow of every ``x_h``
+    (the coadjoint action of the connected group), so when ``1 + 2 A^2`` is diagonal with signs
+    ``s_a`` only monomials with an even number of factors ``s_a = -1`` occur in a Casimir.
+    Rotations by ``pi`` in ``so(p, q)``, ``u(n)``: they cut the ``Z/2``-classes of the basis
+    ``m_ij`` (all ``2^n`` sign patterns of the axes) down to the two that hold Casimirs.
+    """
+    n = len(P)
+    out = [0] * n
+    k = 0
+    for h in range(n):
+        A = [[Fraction(0)] * n for _ in range(n)]  # A[c][a]: coefficient of x_c in {x_h, x_a}
+        for a in range(n):
+            for c, v in P[h][a]:
+                A[c][a] += v
+        if not any(any(row) for row in A):
+            continue
+        A2 = _matmul(A, A)
+        if _matmul(A2, A) != [[-x for x in row] for row in A]:
+            continue
+        if any(A2[i][j] for i in range(n) for j in range(n) if i != j):
+            continue
+        signs = [1 + 2 * A2[a][a] for a in range(n)]
+        if set(signs) <= {1, -1} and -1 in signs:
+            for a in range(n):
+                if signs[a] == -1:
+                    out[a] |= 1 << k
+            k += 1
+    return out
+
+
+def _matmul(A: list[list[Fraction]], B: list[list[Fraction]]) -> list[list[Fraction]]:
+    n = len(A)
+    cols = [[B[r][c] for r in range(n)] for c in range(n)]
+    return [[sum((x * y for x, y in zip(row, col) if x and y), Fraction(0)) for col in cols]
+            for row in A]
 
 
 def _xor(masks) -> int:
@@ -176,9 +243,82 @@ def _xor(masks) -> int:
     return acc
 
 
-def _class_kernel(P: list[list[list[tuple[int, int]]]], monos: list[tuple[int, ...]], R: PolyRing, nullspace
+def lie_generators(P: list[list[list[tuple[int, int]]]] | _Linear, prime: int = 2**31 - 1
+                   ) -> list[int]:
+    """Coordinates ``x_i`` that generate the Lie algebra (a subset, usually a few).
+
+    ``{x_a, C} = {x_b, C} = 0`` imply ``{{x_a, x_b}, C} = 0`` (Jacobi), so a Casimir need only
+    commute with generators of the algebra: far fewer equations than one per coordinate. The
+    generated subalgebra is computed modulo a prime; its dimension mod ``p`` is at most the
+    rational one, so "all of g mod p" certifies that the chosen set generates over ``QQ``. If
+    it does not (an unlucky prime), every coordinate is returned.
+    """
+    n = len(P)
+    if any(v.denominator % prime == 0 for row in P for entry in row for _c, v in entry):
+        return list(range(n))
+    P = [[[(c, v.numerator * pow(v.denominator, -1, prime) % prime) for c, v in entry]
+          for entry in row] for row in P]  # integers or Fractions, reduced mod p
+    order = sorted(range(n), key=lambda a: -len({c for row in P[a] for c, _v in row}))
+    gens: list[int] = []
+    span: dict[int, list[int]] = {}
+    for a in order:
+        if len(span) == n:
+            break
+        if _reduce_mod(_unit(a, n), span, prime) is None:
+            continue  # already generated
+        gens.append(a)
+        span = _closure(P, gens, prime)
+    return gens if len(span) == n else list(range(n))
+
+
+def _unit(a: int, n: int) -> list[int]:
+    v = [0] * n
+    v[a] = 1
+    return v
+
+
+def _reduce_mod(v: list[int], span: dict[int, list[int]], p: int) -> list[int] | None:
+    """``v`` reduced by the echelon rows ``span`` (pivot -> row with 1 at the pivot), or None."""
+    v = [x % p for x in v]
+    for piv, row in span.items():
+        f = v[piv]
+        if f:
+            v = [(x - f * y) % p for x, y in zip(v, row)]
+    return v if any(v) else None
+
+
+def _closure(P, gens: list[int], p: int) -> dict[int, list[int]]:
+    """Echelon basis (mod ``p``) of the subalgebra generated by the coordinates ``gens``."""
+    n = len(P)
+    span: dict[int, list[int]] = {}
+    queue = [_unit(a, n) for a in gens]
+    while queue:
+        v = _reduce_mod(queue.pop(), span, p)
+        if v is None:
+            continue
+        piv = next(k for k, x in enumerate(v) if x)
+        inv = pow(v[piv], -1, p)
+        v = [x * inv % p for x in v]
+        for q, row in span.items():  # keep the rows reduced at the new pivot
+            f = row[piv]
+            if f:
+                span[q] = [(x - f * y) % p for x, y in zip(row, v)]
+        span[piv] = v
+        for g in gens:  # [x_g, v] = sum_j v_j {x_g, x_j}
+            w = [0] * n
+            for j, vj in enumerate(v):
+                if vj:
+                    for c, coef in P[g][j]:
+                        w[c] += vj * coef
+            queue.append(w)
+    return span
+
+
+def _class_kernel(P: list[list[list[tuple[int, int]]]], monos: list[tuple[int, ...]],
+                  R: PolyRing, nullspace, gens: Sequence[int] | None = None
                   ) -> list[PolyElement]:
-    """Kernel of ``C -> ({x_i, C})_i`` on the span of ``monos``."""
+    """Kernel of ``C -> ({x_i, C})_i`` on the span of ``monos`` (``i`` over ``gens``, default
+    every coordinate)."""
     n = len(P)
     rows: dict[tuple, dict[int, int]] = {}
     for col, m in enumerate(monos):
@@ -188,7 +328,7 @@ def _class_kernel(P: list[list[list[tuple[int, int]]]], monos: list[tuple[int, .
                 continue
             base = list(m)
             base[j] -= 1
-            for i in range(n):
+            for i in (range(n) if gens is None else gens):
                 for c, v in P[i][j]:
                     t = base.copy()
                     t[c] += 1

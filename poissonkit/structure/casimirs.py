@@ -22,6 +22,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from itertools import combinations_with_replacement
+from math import gcd, lcm
 
 import sympy as sp
 from sympy.polys.matrices import DomainMatrix
@@ -35,11 +36,15 @@ from poissonkit.structure._casimir_basis import reduced_generators, relations
 from poissonkit.structure._graded_casimirs import graded_casimir_rows
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.checks import CheckResult
-from poissonkit.structure.zerotest import _as_exprs, _Atomizer, _expr, _vanishing
-from poissonkit.structure.sampling import PointStream, Sampler
 from poissonkit.structure.decomposition import _bivector, _blocks, _sub
 from poissonkit.structure.rank import RankResult, rank
-from poissonkit.structure.singular import SingularSet, SingularSetTooExpensive, singular_set
+from poissonkit.structure.sampling import PointStream, Sampler
+from poissonkit.structure.singular import (
+    SingularSet,
+    SingularSetTooExpensive,
+    singular_set,
+)
+from poissonkit.structure.zerotest import _as_exprs, _Atomizer, _expr, _vanishing
 
 __all__ = [
     "Casimirs", "RankResult", "SingularSet", "SingularSetTooExpensive", "find_casimirs",
@@ -298,6 +303,11 @@ def _normalise(p: PolyElement) -> PolyElement:
     """:func:`_primitive_form` of a generator, as a ring element."""
     R = p.ring
     lead = max(p, key=lambda m: (sum(m), m))
+    if R.domain.is_QQ:  # rational coefficients: the same scaling with integers, no expressions
+        den = lcm(*(int(c.denominator) for c in p.values()))
+        num = gcd(*(int(c.numerator) * (den // int(c.denominator)) for c in p.values()))
+        scale = R.domain(den, num)
+        return p.mul_ground(-scale if p[lead] < 0 else scale)
     form = sp.Poly(_primitive_form(p.as_expr(), R.symbols), *R.symbols)
     lc = form.coeff_monomial(lead)
     return p.mul_ground(R.domain.from_sympy(lc) / p[lead])

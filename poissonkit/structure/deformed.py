@@ -210,9 +210,15 @@ def veselova(a=None, b=None, names: tuple[str, str] = ("gamma", "K")) -> Bivecto
     """
     gamma, K = gamma_symbols(names)
     a_ = _vector(a, "a", "a", positive=True)
-    g = sp.sqrt(sum((ai * gi**2 for ai, gi in zip(a_, gamma)), sp.Integer(0)))
+    Ag = [ai * gi for ai, gi in zip(a_, gamma)]
+    g = sp.sqrt(_dot(gamma, Ag))
     if b is None:
-        return p_gf(g, g**-2, 0, names)
+        # P_{g, g^-2} written out: (K, grad g) - g f (gamma, K) = ((K, A gamma) - (gamma, K))/g.
+        # The plugin's Veselova system uses this matrix as it is, so its expression tree (and
+        # hence every number computed from it) stays as the survey's (65) reads.
+        G = eps_matrix(gamma)
+        lower = g * eps_matrix(K) + (_dot(K, Ag) - _dot(gamma, K)) / g * G
+        return _assemble(gamma, K, g * G, lower)
     b_ = _scalar(b, "b", positive=False)
     if b_.free_symbols & set(gamma + K):
         raise InputError("b must be a constant (use b=None for the function (gamma, K))")
@@ -242,7 +248,7 @@ def veselova_gyrostat(a=None, k=None, names: tuple[str, str] = ("gamma", "K")) -
     S = _dot(AKKk, gamma) / _dot(Ag, gamma)
     G = eps_matrix(gamma)
     Kk = [Ki + ki for Ki, ki in zip(K, k_)]
-    return _assemble(gamma, K, g * G, g * (eps_matrix(Kk) + S * G))
+    return _assemble(gamma, K, g * G, g * eps_matrix(Kk) + g * S * G)
 
 
 def canonical_deformation(g: FunctionSpec = None, names: tuple[str, str] = ("q", "p")) -> Bivector:

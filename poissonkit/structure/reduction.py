@@ -138,10 +138,15 @@ class _Context:
         self.R = PolyRing(self.coords, self.K, grlex)
         self.P = [[self.poly(P.matrix[i, j]) for j in range(n)] for i in range(n)]
         self.fields = [[self.poly(e) for e in X] for X in fields]
+        self._column_cache: dict[tuple, tuple] = {}
         for X in self.fields:
-            if any(m and sum(m) != 1 for e in X for m in e.monoms()):
-                raise InputError("the action must be linear: each generating vector field "
-                                 "needs components linear in the coordinates")
+            # linear fields (rotations, ...) or constant ones (translations) keep the invariants
+            # of each degree a kernel inside that degree; affine mixtures do not
+            degs = {sum(m) for e in X for m in e.monoms()}
+            if degs - {0, 1} or degs == {0, 1}:
+                raise InputError("the action must be linear or a translation: each generating "
+                                 "vector field needs components all linear or all constant "
+                                 "in the coordinates")
 
     def poly(self, e: sp.Expr) -> PolyElement:
         e = sp.expand(e)
@@ -182,34 +187,43 @@ class _Context:
             e[j] += 1
         return tuple(e)
 
+    def _columns(self, gens: list[PolyElement], degs: list[int], top: int
+                 ) -> tuple[list[tuple[int, ...]], dict[tuple, int], list[dict[int, object]]]:
+        """The monomials in ``gens`` of weight ``<= top`` and their coefficient rows, cached
+        per ``top`` for one list of generators (every bracket of a reduction reuses them)."""
+        cache = self._column_cache
+        key = (id(gens), tuple(degs), top)
+        if key in cache and cache[key][0] is gens:
+            return cache[key][1]
+        exps = [(0,) * len(gens), *gen_monomials(degs, top)]
+        index: dict[tuple, int] = {}
+        rows: list[dict[int, object]] = []
+        for c, e in enumerate(exps):
+            p = self.R.one
+            for g, k in zip(gens, e):
+                if k:
+                    p = p * g ** k
+            for mono, v in p.terms():
+                r = index.setdefault(mono, len(rows))
+                if r == len(rows):
+                    rows.append({})
+                rows[r][c] = v
+        cache[key] = (gens, (exps, index, rows))
+        return exps, index, rows
+
     def express(self, f: PolyElement, gens: list[PolyElement], degs: list[int],
                 syms: Sequence[sp.Symbol]) -> sp.Expr | None:
         """``f`` as a polynomial in ``gens`` (``None`` if it is not one up to its degree)."""
         if not f:
             return sp.Integer(0)
         top = max(sum(m) for m in f.monoms())
-        exps = [(0,) * len(gens), *gen_monomials(degs, top)]
-        cols = []
-        for e in exps:
-            p = self.R.one
-            for g, k in zip(gens, e):
-                if k:
-                    p = p * g ** k
-            cols.append(p)
-        index: dict[tuple, int] = {}
-        rows: list[dict[int, object]] = []
-        for c, p in enumerate(cols):
-            for mono, v in p.terms():
-                r = index.setdefault(mono, len(rows))
-                if r == len(rows):
-                    rows.append({})
-                rows[r][c] = v
+        exps, index, rows = self._columns(gens, degs, top)
         rhs = [self.K.zero] * len(rows)
         for mono, v in f.terms():
             if mono not in index:
                 return None
             rhs[index[mono]] = v
-        sol = solve_sparse(rows, rhs, len(cols), self.K)
+        sol = solve_sparse(rows, rhs, len(exps), self.K)
         if not sol.consistent:
             return None
         return sp.expand(sp.Add(*[self.K.to_sympy(v) * _monomial(syms, exps[c])
@@ -339,8 +353,14 @@ def _casimirs(cx: _Context, gens: list[PolyElement], degs: list[int],
     from poissonkit.structure.casimirs import _normalise
 
     found: list[PolyElement] = []
-    for d in range(1, degree + 1):
-        basis = cx.invariants(d)
+    # A bracket homogeneous of one degree maps degree pieces to degree pieces, so Casimirs can be
+    # sought one degree at a time; otherwise (canonical + Lie–Poisson, as for the two tops'
+    # T*R^3 x e(3) x e(3), whose rotation generator r x p + m' + m'' mixes degrees 2 and 1)
+    # all degrees together.
+    degs_P = {sum(m) for row in cx.P for e in row if e for m in e.monoms()}
+    pieces = [[f for d in range(1, degree + 1) for f in cx.invariants(d)]] if len(degs_P) > 1 \
+        else [cx.invariants(d) for d in range(1, degree + 1)]
+    for basis in pieces:
         if not basis:
             continue
         rows: dict[tuple, dict[int, object]] = {}
