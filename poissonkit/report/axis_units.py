@@ -76,6 +76,6 @@ def run_axis_units(t_s: np.ndarray, positions_m: np.ndarray | None) -> tuple[Axi
     t_end = float(np.nanmax(np.abs(t))) if t.size else 0.0
     span = 0.0
     if positions_m is not None and np.size(positions_m):
-        p = np.asarray(positions_m, dtype=float).reshape(-1, 3)
+        p = np.asarray(positions_m, dtype=float)
         span = float(np.nanmax(np.abs(p))) if np.isfinite(p).any() else 0.0
     return length_unit_for(span), time_unit_for(t_end)

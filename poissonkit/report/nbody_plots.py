@@ -230,7 +230,7 @@ def closest_pair_axes(system: NBodySystem, t_s: np.ndarray, y: np.ndarray, *,
     t_s, yy = thin(np.asarray(t_s), np.atleast_2d(y), limit=_row_limit(4000, len(system.bodies)))
     pos = positions_si(system, yy)
     d, pair = closest_pair(pos)
-    unit, tunit = run_axis_units(t_s, d)
+    unit, tunit = run_axis_units(t_s, pos)  # the scene's scale: as in the other figures
     t = tunit.of(t_s)
     names = [b.name for b in system.bodies]
     label = [f"{names[i]}–{names[j]}" for i, j in pair]

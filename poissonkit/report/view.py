@@ -1,9 +1,13 @@
-"""The interactive 3D view of a run: one self-contained HTML file (``trajectory.html``).
+"""The interactive 3D view of a run: a small HTML page (``trajectory.html``).
 
-Built with plotly's offline HTML writer (the plotly.js library is embedded, so the file opens
-without a network): bodies drawn to scale as spheres or cylinders along their symmetry axes,
-axes of tops as line segments, the paths of the bodies, an animation with a time slider, and
-body names on hover. Input is the run's trajectory dataset (:mod:`poissonkit.report.trajectory`,
+Built with plotly's offline HTML writer: bodies drawn to scale as spheres or cylinders along
+their symmetry axes, axes of tops as line segments, the paths of the bodies, field sources with
+a shape (magnets, rings, loops: :mod:`poissonkit.report.source_shapes`) as translucent meshes,
+an animation with a time slider, and body names on hover. The page loads plotly.js from one
+file beside it (``plotly.min.js``, written once per folder and shared by every page there), so
+it opens without a network and the page itself stays small. Coordinates are in the unit
+:mod:`poissonkit.report.axis_units` chooses (mm for magnets, AU for planets), with ticks in
+exponent notation, never SI prefixes ("4T" would read as tesla). Input is the run's trajectory dataset (:mod:`poissonkit.report.trajectory`,
 SI units), so ``poissonkit view`` can also rebuild the page from a ``trajectory.nc``.
 
 The two-body centre-of-mass form of the seed scene has only the relative position: the view
@@ -15,7 +19,7 @@ beyond), at most :data:`MAX_POINTS` body positions over all frames.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from types import ModuleType
 from typing import TYPE_CHECKING
@@ -23,6 +27,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from poissonkit.errors import InputError, MissingDependencyError
+from poissonkit.report.axis_units import length_unit_for, time_unit_for
+from poissonkit.report.source_shapes import SourceShape, mesh
 
 if TYPE_CHECKING:
     import plotly.graph_objects as go
@@ -39,7 +45,10 @@ MAX_POINTS = 400_000
 RING = 16
 SPHERE = (8, 14)
 
-__all__ = ["view_figure", "write_view"]
+#: The plotly.js bundle every page of a folder loads (written beside them once).
+PLOTLY_JS = "plotly.min.js"
+
+__all__ = ["PLOTLY_JS", "view_figure", "write_view"]
 
 
 def _plotly() -> ModuleType:
@@ -130,7 +139,8 @@ def _frames_index(n_t: int, n_bodies: int, max_frames: int) -> np.ndarray:
 
 
 def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] | None = None,
-                *, title: str = "", max_frames: int = MAX_FRAMES) -> go.Figure:
+                *, title: str = "", max_frames: int = MAX_FRAMES,
+                sources: Sequence[SourceShape] = ()) -> go.Figure:
     """The animated 3D figure of a trajectory dataset.
 
     Parameters
@@ -146,6 +156,9 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
         Title of the page (the scene name).
     max_frames
         Most animation frames (evenly spaced saved states, first and last included).
+    sources
+        Field sources to draw (:func:`poissonkit.report.source_shapes.source_shapes` of the
+        run's system), translucent and fixed.
 
     Returns
     -------
@@ -160,13 +173,21 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     """
     go = _plotly()
     pos, axis, names, frame_note = _positions(dataset)
+    unit = length_unit_for(float(np.nanmax(np.abs(pos))) if pos.size else 0.0)
+    pos = pos / unit.size
     times = np.asarray(dataset["time"].values, dtype=float)
+    tunit = time_unit_for(float(times[-1]) if times.size else 0.0)
+    source_meshes = [(src.label, *mesh(src)) for src in sources]
+    source_meshes = [(label, v / unit.size, tris) for label, v, tris in source_meshes]
     pick = _frames_index(len(times), len(names), max_frames)
     pos, axis, times = pos[pick], axis[pick], times[pick]
     # what is drawn needs no more than single precision; it halves the file
     shown = pos.astype(np.float32)
     lo, hi = np.nanmin(pos, axis=(0, 1)), np.nanmax(pos, axis=(0, 1))
+    for _, v, _ in source_meshes:  # the sources are in the box too
+        lo, hi = np.minimum(lo, v.min(axis=0)), np.maximum(hi, v.max(axis=0))
     shapes = dict(shapes) if shapes is not None else _dataset_shapes(dataset, names)
+    shapes = {n: (r / unit.size, h / unit.size) for n, (r, h) in shapes.items()}
     extent = float(np.max(hi - lo)) or max((max(s) for s in shapes.values()), default=1.0)
     default_radius = 0.01 * extent
     size = {n: shapes.get(n, (default_radius, 0.0)) for n in names}
@@ -235,8 +256,9 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
             return traces
         traces.append(go.Scatter3d(
             x=shown[f, :, 0], y=shown[f, :, 1], z=shown[f, :, 2], mode="markers", name="bodies",
-            text=notes, hovertemplate="%{text}<br>x=%{x:.4g} m<br>y=%{y:.4g} m"
-                                      "<br>z=%{z:.4g} m<extra></extra>",
+            text=notes, hovertemplate=f"%{{text}}<br>x=%{{x:.4g}} {unit.name}<br>"
+                                      f"y=%{{y:.4g}} {unit.name}<br>"
+                                      f"z=%{{z:.4g}} {unit.name}<extra></extra>",
             marker={"size": 3 if meshes else 2, "color": "black" if meshes else "steelblue"},
             showlegend=not meshes))
         return traces
@@ -252,7 +274,7 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     moving = list(range(len(paths), len(paths) + len(first)))
     frames = [go.Frame(data=frame_traces(f, full=False), traces=moving, name=str(f))
               for f in range(len(times))]
-    label = [f"{t:.4g} s" for t in times]
+    label = [f"{t / tunit.size:.4g} {tunit.name}" for t in times]
     slider = {"active": 0, "currentvalue": {"prefix": "t = "}, "pad": {"t": 30},
               "steps": [{"label": label[f], "method": "animate",
                          "args": [[str(f)], {"mode": "immediate", "frame": {"duration": 0,
@@ -265,9 +287,16 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
                         {"label": "pause", "method": "animate",
                          "args": [[None], {"mode": "immediate",
                                            "frame": {"duration": 0, "redraw": False}}]}]}
-    axis_titles = {f"{c}axis": {"title": f"{c} [m]", "range": ranges[i]}
+    # exponent ticks ("1e+12"), never SI prefixes: "4T" would read as tesla
+    axis_titles = {f"{c}axis": {"title": f"{c} [{unit.name}]", "range": ranges[i],
+                                "exponentformat": "e"}
                    for i, c in enumerate("xyz")}
-    fig = go.Figure(data=[*paths, *first], frames=frames)
+    static = [go.Mesh3d(x=v[:, 0], y=v[:, 1], z=v[:, 2], i=tris[:, 0], j=tris[:, 1],
+                        k=tris[:, 2], name=f"source: {label}", showlegend=True, opacity=0.35,
+                        color="sienna", flatshading=True, hoverinfo="name")
+              for label, v, tris in source_meshes]
+    # after the moving traces: the frames address those by index
+    fig = go.Figure(data=[*paths, *first, *static], frames=frames)
     fig.update_layout(title=f"{title or 'poissonkit run'}: {len(names)} bodies{frame_note}",
                       scene={**axis_titles, "aspectmode": "manual", "aspectratio": ratio},
                       sliders=[slider], updatemenus=[play], margin={"l": 0, "r": 0, "b": 0})
@@ -281,26 +310,42 @@ _COLORS = ("#636efa", "#ef553b", "#00cc96", "#ab63fa", "#ffa15a", "#19d3f3", "#f
 
 def write_view(path: str | Path, dataset: xr.Dataset,
                shapes: Mapping[str, tuple[float, float]] | None = None, *,
-               title: str = "") -> Path:
-    """Write the 3D view of ``dataset`` as one self-contained HTML file, atomically.
+               title: str = "", sources: Sequence[SourceShape] = ()) -> Path:
+    """Write the 3D view of ``dataset`` as an HTML page, atomically, with plotly.js beside it.
 
     Parameters
     ----------
     path
         Output file (``trajectory.html``).
-    dataset, shapes, title
+    dataset, shapes, title, sources
         As in :func:`view_figure`.
 
     Returns
     -------
     pathlib.Path
-        ``path``.
+        ``path``; :data:`PLOTLY_JS` is in the same folder (written if missing or different).
     """
     from poissonkit.files.atomic import atomic_path
 
-    fig = view_figure(dataset, shapes, title=title)
+    fig = view_figure(dataset, shapes, title=title, sources=sources)
     path = Path(path)
+    _write_plotly_js(path.parent)
     with atomic_path(path) as tmp:
-        # plotly.js embedded: the page needs no network (and no CDN) to open
-        fig.write_html(str(tmp), include_plotlyjs=True, full_html=True, auto_play=False)
+        # plotly.js from the file beside the page: no network (no CDN), one copy per folder
+        fig.write_html(str(tmp), include_plotlyjs=PLOTLY_JS, full_html=True, auto_play=False)
     return path
+
+
+def _write_plotly_js(folder: Path) -> Path:
+    """:data:`PLOTLY_JS` in ``folder``: kept when it is this plotly's bundle, else written."""
+    from plotly.offline import get_plotlyjs
+
+    from poissonkit.files.atomic import atomic_path
+
+    target = folder / PLOTLY_JS
+    code = get_plotlyjs().encode("utf-8")
+    if target.is_file() and target.stat().st_size == len(code) and target.read_bytes() == code:
+        return target
+    with atomic_path(target) as tmp:
+        Path(tmp).write_bytes(code)
+    return target
