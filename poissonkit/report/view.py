@@ -178,7 +178,8 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     times = np.asarray(dataset["time"].values, dtype=float)
     tunit = time_unit_for(float(times[-1]) if times.size else 0.0)
     source_meshes = [(src.label, *mesh(src)) for src in sources]
-    source_meshes = [(label, v / unit.size, tris) for label, v, tris in source_meshes]
+    source_meshes = [(label, (v / unit.size).astype(np.float32), tris.astype(np.int32))
+                     for label, v, tris in source_meshes]
     pick = _frames_index(len(times), len(names), max_frames)
     pos, axis, times = pos[pick], axis[pick], times[pick]
     # what is drawn needs no more than single precision; it halves the file
@@ -205,6 +206,8 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     fixed = {n for n, f in zip(names, dataset["fixed"].values) if f} if "fixed" in dataset \
         else set()
     sphere, cylinder = _sphere_template(), _cylinder_template()
+    sphere = (sphere[0], sphere[1].astype(np.int32))
+    cylinder = (cylinder[0], cylinder[1].astype(np.int32))
 
     def body_mesh(k: int, f: int) -> np.ndarray:
         radius, half = size[names[k]]
@@ -214,7 +217,7 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
             verts = verts @ _frame_of(a).T
         else:
             verts = sphere[0] * radius
-        return verts + pos[f, k]
+        return (verts + pos[f, k]).astype(np.float32)  # single precision: half the page
 
     def axes_segments(f: int) -> np.ndarray:
         seg = []
@@ -226,7 +229,7 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
                 length = 1.8 * max(size[n])
                 seg += [pos[f, k], pos[f, k] + length * a / np.linalg.norm(a),
                         [np.nan] * 3]
-        return np.array(seg, dtype=float).reshape(-1, 3)
+        return np.array(seg, dtype=np.float32).reshape(-1, 3)
 
     notes = [n + (" (fixed)" if n in fixed else "")
              + ("" if n in shapes else " (size not to scale)") for n in names]
@@ -266,7 +269,7 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     paths = []
     if meshes:
         for k, n in enumerate(names):
-            paths.append(go.Scatter3d(x=pos[:, k, 0], y=pos[:, k, 1], z=pos[:, k, 2],
+            paths.append(go.Scatter3d(x=shown[:, k, 0], y=shown[:, k, 1], z=shown[:, k, 2],
                                       mode="lines", name=f"path of {n}", showlegend=False,
                                       line={"color": _COLORS[k % len(_COLORS)], "width": 2},
                                       hoverinfo="skip", opacity=0.5))
@@ -337,15 +340,25 @@ def write_view(path: str | Path, dataset: xr.Dataset,
 
 
 def _write_plotly_js(folder: Path) -> Path:
-    """:data:`PLOTLY_JS` in ``folder``: kept when it is this plotly's bundle, else written."""
-    from plotly.offline import get_plotlyjs
+    """:data:`PLOTLY_JS` in ``folder``: kept when it is this plotly's bundle, else a hard link
+    to the bundle plotly installs (no second copy on disk; a copy across file systems)."""
+    import os
+    import shutil
+
+    import plotly
 
     from poissonkit.files.atomic import atomic_path
 
+    bundle = Path(plotly.__file__).parent / "package_data" / PLOTLY_JS
     target = folder / PLOTLY_JS
-    code = get_plotlyjs().encode("utf-8")
-    if target.is_file() and target.stat().st_size == len(code) and target.read_bytes() == code:
+    if target.is_file() and (target.samefile(bundle) or (
+            target.stat().st_size == bundle.stat().st_size
+            and target.read_bytes() == bundle.read_bytes())):
         return target
     with atomic_path(target) as tmp:
-        Path(tmp).write_bytes(code)
+        try:
+            os.unlink(tmp)
+            os.link(bundle, tmp)
+        except OSError:  # another file system, or links not allowed: a copy
+            shutil.copyfile(bundle, tmp)
     return target
