@@ -244,7 +244,7 @@ def closest_pair_axes(system: NBodySystem, t_s: np.ndarray, y: np.ndarray, *,
         for k, p in enumerate(order[:MAX_PAIRS]):
             on = np.array([q == p for q in label])
             ax.plot(t[on], unit.of(d[on]), ".", color=f"C{k % 10}", markersize=2.5,
-                    label=f"{p} ({100 * on.mean():.0f} % of the time)")
+                    label=f"{p} ({_percent(on.mean())} of the time)")
     if shapes:
         rad = np.array([shapes.get(n, (0.0, 0.0))[0] for n in names]) * length_unit
         bound = np.array([np.hypot(*shapes.get(n, (0.0, 0.0))) for n in names]) * length_unit
@@ -258,6 +258,10 @@ def closest_pair_axes(system: NBodySystem, t_s: np.ndarray, y: np.ndarray, *,
     ax.set_ylim(0, 1.15 * float(np.nanmax(unit.of(d))))  # room above for the legend
     ax.legend(loc="lower right", fontsize=7)
     return ax
+
+
+def _percent(fraction: float) -> str:
+    return "< 1 %" if 0 < fraction < 0.005 else f"{100 * fraction:.0f} %"
 
 
 #: Most pairs coloured separately in the closest-pair figure.

@@ -91,7 +91,7 @@ def plot_quantity(ax, t: np.ndarray, values: np.ndarray, *, coarse: bool = False
         size = max(abs(value), abs(magnitude))
         half = 0.05 * size if size else 1.0
         ax.set_ylim(value - half, value + half)
-        ax.ticklabel_format(axis="y", useOffset=False, style="plain")
+        ax.ticklabel_format(axis="y", useOffset=False, style="sci", scilimits=(-3, 4))
         title = ax.get_title()
         if "constant to round-off" not in title:
             ax.set_title(f"{title} — constant to round-off" if title

@@ -22,6 +22,7 @@ from poissonkit.report.figures import RunData, register_plot
 from poissonkit.report.plotkit import (
     COARSE,
     caption,
+    constant_to_roundoff,
     figure,
     plot_quantity,
     samples_per_turn,
@@ -63,7 +64,10 @@ def radius_and_x_axes(t: np.ndarray, r: np.ndarray, *, ax=None, unit: str = "mm"
     t, rr = thin(np.asarray(t), np.asarray(r))
     ax = _axes(ax, "Orbital radius on the background of the x-coordinate")
     ax.plot(t, rr[:, 0], color="0.6", linewidth=0.7, label="x")
-    ax.plot(t, np.linalg.norm(rr, axis=1), color="tab:blue", linewidth=1.0, label="|r|")
+    radius = np.linalg.norm(rr, axis=1)
+    ax.plot(t, radius, color="tab:blue", linewidth=1.0, label="|r|")
+    if constant_to_roundoff(radius):  # x sets the scale; say that |r| is flat, not just small
+        ax.set_title(f"{ax.get_title()} — |r| constant to round-off", fontsize=10)
     ax.set_xlabel(f"t [{time_unit}]")
     ax.set_ylabel(f"[{unit}]")
     ax.legend(loc="lower right", fontsize=8)

@@ -168,7 +168,7 @@ _BREAK = np.full((1, 3), np.nan)
 
 
 def outline(shape: SourceShape, n: int = 48, *,
-            seen_along: Sequence[float] | None = None) -> np.ndarray:
+            seen_along: Sequence[float] | np.ndarray | None = None) -> np.ndarray:
     """Edges of ``shape`` as one polyline ``(m, 3)`` [m], pieces separated by NaN rows: the
     end circles and four generators of a cylinder (and its bore), the circle of a loop, the
     twelve edges of a box, three great circles of a sphere. ``seen_along``: the direction a
@@ -201,7 +201,8 @@ def outline(shape: SourceShape, n: int = 48, *,
     return local @ _frame(shape.axis).T + np.asarray(shape.centre)
 
 
-def _generators(axis: Sequence[float], seen_along: Sequence[float] | None) -> list[float]:
+def _generators(axis: Sequence[float], seen_along: Sequence[float] | np.ndarray | None
+                ) -> list[float]:
     """Angles (in the cylinder's frame) of the generators to draw."""
     if seen_along is None:
         return [0.0, np.pi / 2, np.pi, 3 * np.pi / 2]

@@ -177,9 +177,8 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     pos = pos / unit.size
     times = np.asarray(dataset["time"].values, dtype=float)
     tunit = time_unit_for(float(times[-1]) if times.size else 0.0)
-    source_meshes = [(src.label, *mesh(src)) for src in sources]
-    source_meshes = [(label, (v / unit.size).astype(np.float32), tris.astype(np.int32))
-                     for label, v, tris in source_meshes]
+    source_meshes = [(src.label, (mesh(src)[0] / unit.size).astype(np.float32),
+                      mesh(src)[1].astype(np.int32)) for src in sources]
     pick = _frames_index(len(times), len(names), max_frames)
     pos, axis, times = pos[pick], axis[pick], times[pick]
     # what is drawn needs no more than single precision; it halves the file
@@ -277,12 +276,35 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     moving = list(range(len(paths), len(paths) + len(first)))
     frames = [go.Frame(data=frame_traces(f, full=False), traces=moving, name=str(f))
               for f in range(len(times))]
-    label = [f"{t / tunit.size:.4g} {tunit.name}" for t in times]
+    slider, play = _controls([f"{t / tunit.size:.4g} {tunit.name}" for t in times])
+    # exponent ticks ("1e+12"), never SI prefixes: "4T" would read as tesla
+    axis_titles = {f"{c}axis": {"title": f"{c} [{unit.name}]", "range": ranges[i],
+                                "exponentformat": "e"}
+                   for i, c in enumerate("xyz")}
+    # sources after the moving traces: the frames address those by index
+    fig = go.Figure(data=[*paths, *first, *_source_traces(go, source_meshes)], frames=frames)
+    fig.update_layout(title=f"{title or 'poissonkit run'}: {len(names)} bodies{frame_note}",
+                      scene={**axis_titles, "aspectmode": "manual", "aspectratio": ratio},
+                      sliders=[slider], updatemenus=[play], margin={"l": 0, "r": 0, "b": 0})
+    return fig
+
+
+def _source_traces(go: ModuleType, meshes: list[tuple[str, np.ndarray, np.ndarray]]
+                   ) -> list[BaseTraceType]:
+    """Translucent, fixed meshes of the field sources."""
+    return [go.Mesh3d(x=v[:, 0], y=v[:, 1], z=v[:, 2], i=tris[:, 0], j=tris[:, 1], k=tris[:, 2],
+                      name=f"source: {what}", showlegend=True, opacity=0.35, color="sienna",
+                      flatshading=True, hoverinfo="name")
+            for what, v, tris in meshes]
+
+
+def _controls(labels: list[str]) -> tuple[dict, dict]:
+    """The time slider (one step per frame, labelled) and the play/pause buttons."""
     slider = {"active": 0, "currentvalue": {"prefix": "t = "}, "pad": {"t": 30},
-              "steps": [{"label": label[f], "method": "animate",
+              "steps": [{"label": label, "method": "animate",
                          "args": [[str(f)], {"mode": "immediate", "frame": {"duration": 0,
                                   "redraw": True}, "transition": {"duration": 0}}]}
-                        for f in range(len(times))]}
+                        for f, label in enumerate(labels)]}
     play = {"type": "buttons", "showactive": False, "x": 0.05, "y": 0.05,
             "buttons": [{"label": "play", "method": "animate",
                          "args": [None, {"frame": {"duration": 60, "redraw": True},
@@ -290,20 +312,7 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
                         {"label": "pause", "method": "animate",
                          "args": [[None], {"mode": "immediate",
                                            "frame": {"duration": 0, "redraw": False}}]}]}
-    # exponent ticks ("1e+12"), never SI prefixes: "4T" would read as tesla
-    axis_titles = {f"{c}axis": {"title": f"{c} [{unit.name}]", "range": ranges[i],
-                                "exponentformat": "e"}
-                   for i, c in enumerate("xyz")}
-    static = [go.Mesh3d(x=v[:, 0], y=v[:, 1], z=v[:, 2], i=tris[:, 0], j=tris[:, 1],
-                        k=tris[:, 2], name=f"source: {label}", showlegend=True, opacity=0.35,
-                        color="sienna", flatshading=True, hoverinfo="name")
-              for label, v, tris in source_meshes]
-    # after the moving traces: the frames address those by index
-    fig = go.Figure(data=[*paths, *first, *static], frames=frames)
-    fig.update_layout(title=f"{title or 'poissonkit run'}: {len(names)} bodies{frame_note}",
-                      scene={**axis_titles, "aspectmode": "manual", "aspectratio": ratio},
-                      sliders=[slider], updatemenus=[play], margin={"l": 0, "r": 0, "b": 0})
-    return fig
+    return slider, play
 
 
 #: Body colours (plotly's default qualitative palette).
