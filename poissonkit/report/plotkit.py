@@ -14,10 +14,15 @@ import numpy as np
 
 
 def pyplot():
-    """``matplotlib.pyplot`` on the Agg backend unless a backend is already chosen."""
+    """``matplotlib.pyplot`` on the Agg backend unless a backend is already chosen (pyplot
+    already imported, or ``MPLBACKEND`` set: a notebook's inline backend stays)."""
+    import os
+    import sys
+
     import matplotlib
 
-    matplotlib.use("Agg", force=False)
+    if "matplotlib.pyplot" not in sys.modules and not os.environ.get("MPLBACKEND"):
+        matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     return plt

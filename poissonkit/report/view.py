@@ -283,7 +283,8 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
                    for i, c in enumerate("xyz")}
     # sources after the moving traces: the frames address those by index
     fig = go.Figure(data=[*paths, *first, *_source_traces(go, source_meshes)], frames=frames)
-    fig.update_layout(title=f"{title or 'poissonkit run'}: {len(names)} bodies{frame_note}",
+    count = f"{len(names)} bod{'y' if len(names) == 1 else 'ies'}"
+    fig.update_layout(title=f"{title or 'poissonkit run'}: {count}{frame_note}",
                       scene={**axis_titles, "aspectmode": "manual", "aspectratio": ratio},
                       sliders=[slider], updatemenus=[play], margin={"l": 0, "r": 0, "b": 0})
     return fig
