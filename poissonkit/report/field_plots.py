@@ -53,6 +53,7 @@ def height_tilt_axes(system: NBodySystem, t_s: np.ndarray, y: np.ndarray, *, axe
     """
     from poissonkit.report.nbody_plots import axes_of_tops, positions_si
 
+    new = axes is None
     if axes is None:
         fig, axs = figure("Height and axis tilt", nrows=2, size=(6.4, 5.6))
         axes = axs[:, 0]
@@ -91,6 +92,8 @@ def height_tilt_axes(system: NBodySystem, t_s: np.ndarray, y: np.ndarray, *, axe
         ax.set_xlabel(f"t [{tunit.name}]")
         if len(moving) > 1 and ax.get_legend_handles_labels()[0]:
             ax.legend(loc="best", fontsize=7)
+    if new:  # titles and labels of the two panels apart (saving lays it out again)
+        fig.tight_layout()
     if coarse:
         caption(fig, f"Sampled too coarsely for the precession (about {turns:.0f} samples per "
                      "turn of the axis): drawn as points, not joined; save more often "
