@@ -18,6 +18,7 @@ from poissonkit.report.plotkit import (
     COARSE,
     caption,
     figure,
+    layout,
     plot_quantity,
     samples_per_turn,
     thin,
@@ -92,12 +93,12 @@ def height_tilt_axes(system: NBodySystem, t_s: np.ndarray, y: np.ndarray, *, axe
         ax.set_xlabel(f"t [{tunit.name}]")
         if len(moving) > 1 and ax.get_legend_handles_labels()[0]:
             ax.legend(loc="best", fontsize=7)
-    if new:  # titles and labels of the two panels apart (saving lays it out again)
-        fig.tight_layout()
     if coarse:
         caption(fig, f"Sampled too coarsely for the precession (about {turns:.0f} samples per "
                      "turn of the axis): drawn as points, not joined; save more often "
                      "(save_dt) to see the motion between them.")
+    if new:  # titles and labels of the two panels apart (saving lays it out again)
+        layout(fig)
     return axes
 
 

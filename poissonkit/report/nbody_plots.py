@@ -21,6 +21,7 @@ from poissonkit.report.plotkit import (
     caption,
     constant_to_roundoff,
     figure,
+    layout,
     samples_per_turn,
     thin,
 )
@@ -105,6 +106,7 @@ def configuration_axes(system: NBodySystem, y: np.ndarray, *, axes: Sequence | N
     -------
     numpy.ndarray of two matplotlib Axes (xy, xz)
     """
+    new = axes is None
     if axes is None:
         _, axs = figure("Configuration at start (○) and end (●)", ncols=2, size=(10, 4.6))
         axes = axs[0]
@@ -164,6 +166,8 @@ def configuration_axes(system: NBodySystem, y: np.ndarray, *, axes: Sequence | N
     if coarse:
         caption(axes[0].figure, f"Saved states too far apart for the motion (about {turns:.0f} "
                                 "per turn): paths drawn as points, not joined by chords.")
+    if new:
+        layout(axes[0].figure)
     return axes
 
 

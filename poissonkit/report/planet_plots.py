@@ -17,7 +17,7 @@ import numpy as np
 from poissonkit.numerics.nbody import NBodySystem
 from poissonkit.report.axis_units import run_axis_units
 from poissonkit.report.figures import RunData, register_plot
-from poissonkit.report.plotkit import COARSE, caption, figure, samples_per_turn, thin
+from poissonkit.report.plotkit import COARSE, caption, figure, layout, samples_per_turn, thin
 from poissonkit.report.scene_kind import PLANETARY
 
 __all__ = ["elements_axes", "orbits_axes"]
@@ -38,6 +38,7 @@ def orbits_axes(system: NBodySystem, y: np.ndarray, *, ax=None):
 
     p = _primary(system)
     title = f"Orbits about {system.bodies[p].name} (xy plane)"
+    new = ax is None
     ax = ax if ax is not None else figure(title, size=(6.4, 5.6))[1]
     (rows,) = thin(np.atleast_2d(y), limit=4000)
     pos = positions_si(system, rows)
@@ -50,7 +51,7 @@ def orbits_axes(system: NBodySystem, y: np.ndarray, *, ax=None):
         xy = unit.of(rel[:, i, :2])
         turns = samples_per_turn(rel[:, i])
         if turns < COARSE:
-            coarse.append(f"{b.name} ({turns:.0f})")
+            coarse.append((b.name, turns))
             ax.plot(xy[:, 0], xy[:, 1], ".", color=f"C{i % 10}", markersize=2.5, label=b.name)
         else:
             ax.plot(xy[:, 0], xy[:, 1], color=f"C{i % 10}", linewidth=0.7, label=b.name)
@@ -61,9 +62,13 @@ def orbits_axes(system: NBodySystem, y: np.ndarray, *, ax=None):
     ax.set_ylabel(f"y − y_{system.bodies[p].name} [{unit.name}]")
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7, borderaxespad=0)
     if coarse:
-        caption(ax.figure, "Saved too coarsely for the orbit of " + ", ".join(coarse)
-                + " samples per revolution): drawn as points, not joined; save more often "
-                  "(save_dt) to draw the orbit as a line.")
+        names = ", ".join(n for n, _ in coarse)
+        counts = ", ".join(f"{k:.0f}" for _, k in coarse)
+        caption(ax.figure, f"Saved too coarsely for the orbits of {names} ({counts} samples per "
+                           "revolution): drawn as points, not joined; save more often (save_dt) "
+                           "to draw them as lines.")
+    if new:
+        layout(ax.figure)
     return ax
 
 

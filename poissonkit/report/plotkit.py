@@ -45,14 +45,18 @@ def save(fig, path: Path) -> Path:
     """Write ``fig`` atomically (a killed run never leaves half a PNG) and close it."""
     from poissonkit.files.atomic import atomic_path
 
-    # a caption (figure text at the bottom) gets its own strip below the axes
-    low = [t for t in fig.texts if t.get_gid() == _CAPTION]
-    fig.tight_layout(rect=(0, 0.04 + 0.035 * sum(t.get_text().count("\n") for t in low), 1, 1)
-                     if low else None)
+    layout(fig)
     with atomic_path(path) as tmp:
         fig.savefig(tmp, format=path.suffix.lstrip(".") or "png")
     pyplot().close(fig)
     return path
+
+
+def layout(fig) -> None:
+    """Lay ``fig`` out tightly, leaving a strip at the bottom for its caption if it has one."""
+    low = [t for t in fig.texts if t.get_gid() == _CAPTION]
+    lines = sum(t.get_text().count("\n") + 1 for t in low)
+    fig.tight_layout(rect=(0, 0.01 + 0.035 * lines, 1, 1) if low else None)
 
 
 def thin(*arrays: np.ndarray, limit: int = 20000) -> list[np.ndarray]:

@@ -218,3 +218,25 @@ def test_the_view_labels_planets_in_au_without_si_prefixes():
         assert ax.title.text.endswith("[AU]") and ax.exponentformat == "e"
     assert max(abs(v) for v in scene.xaxis.range) < 10  # drawn in AU, not metres
     assert fig.layout.sliders[0].steps[-1].label.endswith(" yr")
+
+
+def test_planetary_runs_get_orbits_and_elements_only_when_the_run_has_them():
+    au = 149_597_870_700.0
+    system = _gravity([2e30, 1.9e27, 5.7e26], names=["sun", "jupiter", "saturn"])
+    t = np.linspace(0, 3.15e8, 30)  # ten years
+    y = np.array([system.pack([[0, 0, 0], [5.2 * au, 0, 0], [0, 9.5 * au, 0]],
+                              np.zeros((3, 3)), si=True)] * len(t))
+    plain = RunData(system, t, y, _diag(len(t)))
+    names = [e.name for e in figures_for(plain)]
+    assert plain.kind == "planetary"
+    assert "orbits" in names and "elements" not in names and "closest_pair" not in names
+    elements = {"a": np.tile([5.2 * au, 9.5 * au], (len(t), 1)),
+                "e": np.tile([0.048, 0.054], (len(t), 1)),
+                "inc": np.tile([0.0228, 0.0434], (len(t), 1))}
+    with_elements = RunData(system, t, y, _diag(len(t)), elements=elements)
+    entry = next(e for e in figures_for(with_elements) if e.name == "elements")
+    axes = entry.draw(with_elements).axes
+    assert [ax.get_ylabel() for ax in axes] == ["a [AU]", "e", "inc [deg]"]
+    assert axes[0].get_xlabel() == "t [yr]"
+    np.testing.assert_allclose(axes[0].lines[1].get_ydata(), 9.5, rtol=1e-12)
+    np.testing.assert_allclose(axes[2].lines[0].get_ydata(), np.degrees(0.0228), rtol=1e-12)
