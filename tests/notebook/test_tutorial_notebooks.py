@@ -10,6 +10,7 @@ conservative systems: the error is bounded, not drifting).
 
 from __future__ import annotations
 
+import os
 import re
 from pathlib import Path
 
@@ -65,8 +66,10 @@ def _execute(name: str):
     from nbclient import NotebookClient
 
     book = nbformat.read(BOOKS / f"{name}.ipynb", as_version=4)
+    # the kernel as a reader's: its own inline figures, not the test session's Agg backend
+    env = {k: v for k, v in os.environ.items() if k != "MPLBACKEND"}
     NotebookClient(book, timeout=1200, kernel_name="python3",
-                   resources={"metadata": {"path": str(BOOKS)}}).execute()
+                   resources={"metadata": {"path": str(BOOKS)}}).execute(env=env)
     return book
 
 

@@ -11,6 +11,7 @@ No integration is run: the states are written by hand (the figures only read the
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 import matplotlib
 
@@ -240,3 +241,16 @@ def test_planetary_runs_get_orbits_and_elements_only_when_the_run_has_them():
     assert axes[0].get_xlabel() == "t [yr]"
     np.testing.assert_allclose(axes[0].lines[1].get_ydata(), 9.5, rtol=1e-12)
     np.testing.assert_allclose(axes[2].lines[0].get_ydata(), np.degrees(0.0228), rtol=1e-12)
+
+
+@pytest.mark.slow  # compiles the field kernels of the scene: minutes on a cold cache
+def test_poissonkit_run_of_a_top_over_a_magnet_writes_height_and_tilt(tmp_path):
+    from poissonkit import cli
+
+    scene = Path(__file__).resolve().parents[2] / "examples" / "magnet_over_cylinder.toml"
+    out = tmp_path / "out"
+    assert cli.main(["run", str(scene), "--duration", "0.01", "--out", str(out),
+                     "--no-progress"]) == 0
+    written = {p.name for p in out.glob("*.png")}
+    assert {"height_tilt.png", "configuration.png"} <= written
+    assert not {"orbit.png", "radius_and_x.png", "angular_momentum_z.png"} & written
