@@ -17,6 +17,7 @@ from typing import cast
 import numpy as np
 
 from poissonkit.contracts import HasEnergy
+from poissonkit.report.axis_units import AxisUnit, run_axis_units
 from poissonkit.report.drift_plot import drift_axes
 from poissonkit.report.figures import RunData, register_plot
 from poissonkit.report.plotkit import (
@@ -67,7 +68,7 @@ def radius_and_x_axes(t: np.ndarray, r: np.ndarray, *, ax=None, unit: str = "mm"
     radius = np.linalg.norm(rr, axis=1)
     ax.plot(t, radius, color="tab:blue", linewidth=1.0, label="|r|")
     if constant_to_roundoff(radius):  # x sets the scale; say that |r| is flat, not just small
-        ax.set_title(f"{ax.get_title()} — |r| constant to round-off", fontsize=10)
+        ax.set_title(f"{ax.get_title()}\n(|r| constant to round-off)", fontsize=10)
     ax.set_xlabel(f"t [{time_unit}]")
     ax.set_ylabel(f"[{unit}]")
     ax.legend(loc="lower right", fontsize=8)
@@ -136,27 +137,43 @@ def _two_body(run: RunData) -> bool:
     return run.relative is not None
 
 
-def _rel_mm(run: RunData) -> np.ndarray:
+def _units(run: RunData) -> tuple[AxisUnit, AxisUnit]:
+    """Length and time units of the run's figures (mm and s for the seed's magnets)."""
+    return run_axis_units(run.t_s, run.relative)
+
+
+def _rel(run: RunData) -> np.ndarray:
     assert run.relative is not None  # guarded by _two_body
-    return np.asarray(run.relative) * 1e3
+    return _units(run)[0].of(run.relative)
 
 
 def _jz(run: RunData) -> np.ndarray:
     return run.jz if run.jz is not None else np.zeros(len(run.t))
 
 
-register_plot("angular_momentum_z", _two_body,
-              lambda run: angular_momentum_z_axes(run.t_s, _jz(run)).figure, replace=True,
+def _jz_figure(run: RunData):
+    tunit = _units(run)[1]
+    return angular_momentum_z_axes(tunit.of(run.t_s), _jz(run), time_unit=tunit.name).figure
+
+
+def _radius_figure(run: RunData):
+    lunit, tunit = _units(run)
+    return radius_and_x_axes(tunit.of(run.t_s), _rel(run), unit=lunit.name,
+                             time_unit=tunit.name).figure
+
+
+register_plot("angular_momentum_z", _two_body, _jz_figure, replace=True, kinds=(TWO_BODY,))
+register_plot("radius_and_x", _two_body, _radius_figure, replace=True, kinds=(TWO_BODY,))
+register_plot("orbit", _two_body,
+              lambda run: orbit_axes(_rel(run), unit=_units(run)[0].name).figure, replace=True,
               kinds=(TWO_BODY,))
-register_plot("radius_and_x", _two_body,
-              lambda run: radius_and_x_axes(run.t_s, _rel_mm(run)).figure, replace=True,
-              kinds=(TWO_BODY,))
-register_plot("orbit", _two_body, lambda run: orbit_axes(_rel_mm(run)).figure, replace=True,
-              kinds=(TWO_BODY,))
+
+
 def _drift_figure(run: RunData):
     from poissonkit.report.summary import conserved_quantities
 
-    return drift_axes(run.diag, time_scale=run.time_unit,
+    tunit = run_axis_units(run.t_s, None)[1]
+    return drift_axes(run.diag, time_scale=run.time_unit / tunit.size, time_unit=tunit.name,
                       not_conserved=conserved_quantities(cast(HasEnergy, run.system))).figure
 
 

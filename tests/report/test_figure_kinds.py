@@ -254,3 +254,22 @@ def test_poissonkit_run_of_a_top_over_a_magnet_writes_height_and_tilt(tmp_path):
     written = {p.name for p in out.glob("*.png")}
     assert {"height_tilt.png", "configuration.png"} <= written
     assert not {"orbit.png", "radius_and_x.png", "angular_momentum_z.png"} & written
+
+
+def test_two_body_figures_of_the_sun_and_earth_read_au_and_years():
+    au, year = 149_597_870_700.0, 365.25 * 86_400.0
+    system = _gravity([2e30, 6e24], names=["sun", "earth"])
+    t = np.linspace(0, 3 * year, 300)
+    rel = au * np.column_stack([np.cos(2 * np.pi * t / year), np.sin(2 * np.pi * t / year),
+                                np.zeros_like(t)])
+    y = np.array([system.pack([[0, 0, 0], r], np.zeros((2, 3)), si=True) for r in rel])
+    run = RunData(system, t, y, _diag(len(t)), relative=rel, jz=np.full(len(t), 2.7e40))
+    figs = {e.name: e for e in figures_for(run)}
+    orbit = figs["orbit"].draw(run).axes[0]
+    assert orbit.get_xlabel() == "x [AU]" and orbit.get_title() == "Relative orbit r = r2 - r1"
+    np.testing.assert_allclose(np.hypot(*orbit.lines[0].get_data()), 1.0, rtol=1e-12)
+    radius = figs["radius_and_x"].draw(run).axes[0]
+    assert radius.get_xlabel() == "t [yr]" and radius.get_ylabel() == "[AU]"
+    assert "constant to round-off" in radius.get_title()  # a circle: |r| = 1 AU throughout
+    jz = figs["angular_momentum_z"].draw(run).axes[0]
+    assert "constant to round-off" in jz.get_title() and jz.get_xlabel() == "t [yr]"
