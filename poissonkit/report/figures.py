@@ -1,9 +1,12 @@
 """The plot registry of ``poissonkit run``: which figures a run gets is decided by what it has.
 
-A :class:`PlotEntry` names a figure, says when it applies to a run (:attr:`PlotEntry.applies`,
-a predicate on :class:`RunData`) and draws it (:attr:`PlotEntry.draw`, returning a matplotlib
-``Figure``). The core registers its entries in :data:`PLOTS` on import; a plugin adds its own
-with :func:`register_plot` (no hook is needed: importing the plugin registers them).
+A :class:`PlotEntry` names a figure, the kinds of scene it is drawn for
+(:attr:`PlotEntry.kinds`, names of :mod:`poissonkit.report.scene_kind`: two bodies, N bodies,
+bodies in fields, planetary), says when it applies to a run of those kinds
+(:attr:`PlotEntry.applies`, a predicate on :class:`RunData`) and draws it
+(:attr:`PlotEntry.draw`, returning a matplotlib ``Figure``). The core registers its entries in
+:data:`PLOTS` on import; a plugin adds its own with :func:`register_plot` (no hook is needed:
+importing the plugin registers them).
 
 >>> from poissonkit.report.figures import PLOTS
 >>> "drifts" in PLOTS
@@ -12,7 +15,7 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -52,6 +55,9 @@ class RunData:
         Relative position ``r2 − r1`` [m] of a two-body run (``None`` otherwise).
     jz
         z-component of the total angular momentum [J s] (two-body figures).
+    elements
+        Orbital elements against time (``{"a": (n, bodies), "e": ..., "inc": ...}``, SI and
+        radians) of a planetary run whose dataset has them, else ``None`` (no element figure).
     """
 
     system: object
@@ -64,6 +70,14 @@ class RunData:
     shapes: Mapping[str, tuple[float, float]] = field(default_factory=dict)
     relative: np.ndarray | None = None
     jz: np.ndarray | None = None
+    elements: Mapping[str, np.ndarray] | None = None
+
+    @property
+    def kind(self) -> str:
+        """The kind of scene (:func:`poissonkit.report.scene_kind.scene_kind`)."""
+        from poissonkit.report.scene_kind import scene_kind
+
+        return scene_kind(self.system, relative=self.relative is not None)
 
     @property
     def t_s(self) -> np.ndarray:
@@ -99,11 +113,14 @@ class PlotEntry:
         ``applies(run)`` is true when the figure makes sense for the run.
     draw
         ``draw(run)`` returns a matplotlib ``Figure``.
+    kinds
+        The kinds of scene it is drawn for (``None``: every kind).
     """
 
     name: str
     applies: Callable[[RunData], bool]
     draw: Draw
+    kinds: frozenset[str] | None = None
 
 
 #: Registered figures, in drawing order.
@@ -111,7 +128,7 @@ PLOTS: dict[str, PlotEntry] = {}
 
 
 def register_plot(name: str, applies: Callable[[RunData], bool], draw: Draw, *,
-                  replace: bool = False) -> PlotEntry:
+                  replace: bool = False, kinds: Iterable[str] | None = None) -> PlotEntry:
     """Add a figure to :data:`PLOTS`.
 
     Parameters
@@ -122,15 +139,24 @@ def register_plot(name: str, applies: Callable[[RunData], bool], draw: Draw, *,
         See :class:`PlotEntry`.
     replace
         Allow replacing an entry of the same name.
+    kinds
+        Kinds of scene (:data:`poissonkit.report.scene_kind.KINDS`) the figure is drawn for;
+        default every kind.
 
     Raises
     ------
     InputError
-        If ``name`` is taken and ``replace`` is false.
+        If ``name`` is taken and ``replace`` is false, or a kind is unknown.
     """
+    from poissonkit.report.scene_kind import KINDS
+
     if name in PLOTS and not replace:
         raise InputError(f"a plot named {name!r} is already registered")
-    entry = PlotEntry(name, applies, draw)
+    wanted = None if kinds is None else frozenset(kinds)
+    if wanted is not None and not wanted <= set(KINDS):
+        raise InputError(f"plot {name!r}: unknown scene kind(s) {sorted(wanted - set(KINDS))} "
+                         f"(kinds: {', '.join(KINDS)})")
+    entry = PlotEntry(name, applies, draw, wanted)
     PLOTS[name] = entry
     return entry
 
@@ -138,7 +164,9 @@ def register_plot(name: str, applies: Callable[[RunData], bool], draw: Draw, *,
 def figures_for(run: RunData) -> list[PlotEntry]:
     """The registered figures that apply to ``run``, in registration order."""
     _load_builtin()
-    return [e for e in PLOTS.values() if e.applies(run)]
+    kind = run.kind
+    return [e for e in PLOTS.values()
+            if (e.kinds is None or kind in e.kinds) and e.applies(run)]
 
 
 def write_figures(outdir: str | Path, run: RunData) -> Sequence[Path]:
@@ -151,5 +179,7 @@ def write_figures(outdir: str | Path, run: RunData) -> Sequence[Path]:
 
 def _load_builtin() -> None:
     # the built-in entries register themselves on import
-    import poissonkit.report.nbody_plots  # noqa: F401
+    import poissonkit.report.field_plots
+    import poissonkit.report.nbody_plots
+    import poissonkit.report.planet_plots
     import poissonkit.report.plots  # noqa: F401

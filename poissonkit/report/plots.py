@@ -17,9 +17,20 @@ from typing import cast
 import numpy as np
 
 from poissonkit.contracts import HasEnergy
+from poissonkit.report.axis_units import AxisUnit, run_axis_units
 from poissonkit.report.drift_plot import drift_axes
 from poissonkit.report.figures import RunData, register_plot
-from poissonkit.report.plotkit import figure, save, thin
+from poissonkit.report.plotkit import (
+    COARSE,
+    caption,
+    constant_to_roundoff,
+    figure,
+    plot_quantity,
+    samples_per_turn,
+    save,
+    thin,
+)
+from poissonkit.report.scene_kind import TWO_BODY
 from poissonkit.report.summary import Diagnostics
 
 __all__ = ["angular_momentum_z", "angular_momentum_z_axes", "drifts", "orbit", "orbit_axes",
@@ -35,10 +46,14 @@ def _axes(ax, title: str):
 
 def angular_momentum_z_axes(t: np.ndarray, jz: np.ndarray, *, ax=None, unit: str = "J s",
                             time_unit: str = "s"):
-    """``j_z(t) − j_z(0)`` (seed: total moment of momentum, z-component); returns the Axes."""
+    """``j_z(t) − j_z(0)`` (seed: total moment of momentum, z-component); returns the Axes.
+
+    Conserved to round-off (a splitting keeps it to the last bits), it is drawn as a flat line
+    on a fixed axis and the title says so, instead of autoscaled round-off noise."""
     t, jz = thin(np.asarray(t), np.asarray(jz))
     ax = _axes(ax, "Total angular momentum, z-component")
-    ax.plot(t, jz - jz[0], color="tab:blue", linewidth=0.8)
+    plot_quantity(ax, t, jz - jz[0], magnitude=float(np.max(np.abs(jz))), color="tab:blue",
+                  linewidth=0.8)
     ax.set_xlabel(f"t [{time_unit}]")
     ax.set_ylabel(f"j_z(t) - j_z(0) [{unit}]   (j_z(0) = {jz[0]:.10g})")
     return ax
@@ -50,7 +65,10 @@ def radius_and_x_axes(t: np.ndarray, r: np.ndarray, *, ax=None, unit: str = "mm"
     t, rr = thin(np.asarray(t), np.asarray(r))
     ax = _axes(ax, "Orbital radius on the background of the x-coordinate")
     ax.plot(t, rr[:, 0], color="0.6", linewidth=0.7, label="x")
-    ax.plot(t, np.linalg.norm(rr, axis=1), color="tab:blue", linewidth=1.0, label="|r|")
+    radius = np.linalg.norm(rr, axis=1)
+    ax.plot(t, radius, color="tab:blue", linewidth=1.0, label="|r|")
+    if constant_to_roundoff(radius):  # x sets the scale; say that |r| is flat, not just small
+        ax.set_title(f"{ax.get_title()}\n(|r| constant to round-off)", fontsize=10)
     ax.set_xlabel(f"t [{time_unit}]")
     ax.set_ylabel(f"[{unit}]")
     ax.legend(loc="lower right", fontsize=8)
@@ -58,10 +76,17 @@ def radius_and_x_axes(t: np.ndarray, r: np.ndarray, *, ax=None, unit: str = "mm"
 
 
 def orbit_axes(r: np.ndarray, *, ax=None, unit: str = "mm"):
-    """The relative orbit in the xy-plane; returns the Axes."""
+    """The relative orbit in the xy-plane; returns the Axes (points, with a caption, when the
+    samples are too far apart for the orbit)."""
     (rr,) = thin(np.asarray(r))
     ax = _axes(ax, "Relative orbit r = r2 - r1")
-    ax.plot(rr[:, 0], rr[:, 1], color="tab:blue", linewidth=0.7)
+    turns = samples_per_turn(rr)
+    if turns < COARSE:
+        ax.plot(rr[:, 0], rr[:, 1], ".", color="tab:blue", markersize=3)
+        caption(ax.figure, f"Saved too coarsely for the orbit (about {turns:.0f} samples per "
+                           "turn): drawn as points, not joined by chords.")
+    else:
+        ax.plot(rr[:, 0], rr[:, 1], color="tab:blue", linewidth=0.7)
     ax.plot(rr[0, 0], rr[0, 1], "o", color="tab:red", markersize=4, label="start")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel(f"x [{unit}]")
@@ -109,27 +134,46 @@ def seed_figures(outdir: str | Path, t_si: np.ndarray, r_si: np.ndarray, jz_si: 
 
 # ------------------------------------------------------------------ registry entries
 def _two_body(run: RunData) -> bool:
-    return run.relative is not None and run.n_bodies <= 2
+    return run.relative is not None
 
 
-def _rel_mm(run: RunData) -> np.ndarray:
+def _units(run: RunData) -> tuple[AxisUnit, AxisUnit]:
+    """Length and time units of the run's figures (mm and s for the seed's magnets)."""
+    return run_axis_units(run.t_s, run.relative)
+
+
+def _rel(run: RunData) -> np.ndarray:
     assert run.relative is not None  # guarded by _two_body
-    return np.asarray(run.relative) * 1e3
+    return _units(run)[0].of(run.relative)
 
 
 def _jz(run: RunData) -> np.ndarray:
     return run.jz if run.jz is not None else np.zeros(len(run.t))
 
 
-register_plot("angular_momentum_z", _two_body,
-              lambda run: angular_momentum_z_axes(run.t_s, _jz(run)).figure, replace=True)
-register_plot("radius_and_x", _two_body,
-              lambda run: radius_and_x_axes(run.t_s, _rel_mm(run)).figure, replace=True)
-register_plot("orbit", _two_body, lambda run: orbit_axes(_rel_mm(run)).figure, replace=True)
+def _jz_figure(run: RunData):
+    tunit = _units(run)[1]
+    return angular_momentum_z_axes(tunit.of(run.t_s), _jz(run), time_unit=tunit.name).figure
+
+
+def _radius_figure(run: RunData):
+    lunit, tunit = _units(run)
+    return radius_and_x_axes(tunit.of(run.t_s), _rel(run), unit=lunit.name,
+                             time_unit=tunit.name).figure
+
+
+register_plot("angular_momentum_z", _two_body, _jz_figure, replace=True, kinds=(TWO_BODY,))
+register_plot("radius_and_x", _two_body, _radius_figure, replace=True, kinds=(TWO_BODY,))
+register_plot("orbit", _two_body,
+              lambda run: orbit_axes(_rel(run), unit=_units(run)[0].name).figure, replace=True,
+              kinds=(TWO_BODY,))
+
+
 def _drift_figure(run: RunData):
     from poissonkit.report.summary import conserved_quantities
 
-    return drift_axes(run.diag, time_scale=run.time_unit,
+    tunit = run_axis_units(run.t_s, None)[1]
+    return drift_axes(run.diag, time_scale=run.time_unit / tunit.size, time_unit=tunit.name,
                       not_conserved=conserved_quantities(cast(HasEnergy, run.system))).figure
 
 

@@ -1,9 +1,13 @@
-"""The interactive 3D view of a run: one self-contained HTML file (``trajectory.html``).
+"""The interactive 3D view of a run: a small HTML page (``trajectory.html``).
 
-Built with plotly's offline HTML writer (the plotly.js library is embedded, so the file opens
-without a network): bodies drawn to scale as spheres or cylinders along their symmetry axes,
-axes of tops as line segments, the paths of the bodies, an animation with a time slider, and
-body names on hover. Input is the run's trajectory dataset (:mod:`poissonkit.report.trajectory`,
+Built with plotly's offline HTML writer: bodies drawn to scale as spheres or cylinders along
+their symmetry axes, axes of tops as line segments, the paths of the bodies, field sources with
+a shape (magnets, rings, loops: :mod:`poissonkit.report.source_shapes`) as translucent meshes,
+an animation with a time slider, and body names on hover. The page loads plotly.js from one
+file beside it (``plotly.min.js``, written once per folder and shared by every page there), so
+it opens without a network and the page itself stays small. Coordinates are in the unit
+:mod:`poissonkit.report.axis_units` chooses (mm for magnets, AU for planets), with ticks in
+exponent notation, never SI prefixes ("4T" would read as tesla). Input is the run's trajectory dataset (:mod:`poissonkit.report.trajectory`,
 SI units), so ``poissonkit view`` can also rebuild the page from a ``trajectory.nc``.
 
 The two-body centre-of-mass form of the seed scene has only the relative position: the view
@@ -15,7 +19,7 @@ beyond), at most :data:`MAX_POINTS` body positions over all frames.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from types import ModuleType
 from typing import TYPE_CHECKING
@@ -23,6 +27,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from poissonkit.errors import InputError, MissingDependencyError
+from poissonkit.report.axis_units import length_unit_for, time_unit_for
+from poissonkit.report.source_shapes import SourceShape, mesh
 
 if TYPE_CHECKING:
     import plotly.graph_objects as go
@@ -39,7 +45,10 @@ MAX_POINTS = 400_000
 RING = 16
 SPHERE = (8, 14)
 
-__all__ = ["view_figure", "write_view"]
+#: The plotly.js bundle every page of a folder loads (written beside them once).
+PLOTLY_JS = "plotly.min.js"
+
+__all__ = ["PLOTLY_JS", "view_figure", "write_view"]
 
 
 def _plotly() -> ModuleType:
@@ -130,7 +139,8 @@ def _frames_index(n_t: int, n_bodies: int, max_frames: int) -> np.ndarray:
 
 
 def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] | None = None,
-                *, title: str = "", max_frames: int = MAX_FRAMES) -> go.Figure:
+                *, title: str = "", max_frames: int = MAX_FRAMES,
+                sources: Sequence[SourceShape] = ()) -> go.Figure:
     """The animated 3D figure of a trajectory dataset.
 
     Parameters
@@ -146,6 +156,9 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
         Title of the page (the scene name).
     max_frames
         Most animation frames (evenly spaced saved states, first and last included).
+    sources
+        Field sources to draw (:func:`poissonkit.report.source_shapes.source_shapes` of the
+        run's system), translucent and fixed.
 
     Returns
     -------
@@ -160,13 +173,21 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     """
     go = _plotly()
     pos, axis, names, frame_note = _positions(dataset)
+    unit = length_unit_for(float(np.nanmax(np.abs(pos))) if pos.size else 0.0)
+    pos = pos / unit.size
     times = np.asarray(dataset["time"].values, dtype=float)
+    tunit = time_unit_for(float(times[-1]) if times.size else 0.0)
+    source_meshes = [(src.label, (mesh(src)[0] / unit.size).astype(np.float32),
+                      mesh(src)[1].astype(np.int32)) for src in sources]
     pick = _frames_index(len(times), len(names), max_frames)
     pos, axis, times = pos[pick], axis[pick], times[pick]
     # what is drawn needs no more than single precision; it halves the file
     shown = pos.astype(np.float32)
     lo, hi = np.nanmin(pos, axis=(0, 1)), np.nanmax(pos, axis=(0, 1))
+    for _, v, _ in source_meshes:  # the sources are in the box too
+        lo, hi = np.minimum(lo, v.min(axis=0)), np.maximum(hi, v.max(axis=0))
     shapes = dict(shapes) if shapes is not None else _dataset_shapes(dataset, names)
+    shapes = {n: (r / unit.size, h / unit.size) for n, (r, h) in shapes.items()}
     extent = float(np.max(hi - lo)) or max((max(s) for s in shapes.values()), default=1.0)
     default_radius = 0.01 * extent
     size = {n: shapes.get(n, (default_radius, 0.0)) for n in names}
@@ -184,6 +205,8 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     fixed = {n for n, f in zip(names, dataset["fixed"].values) if f} if "fixed" in dataset \
         else set()
     sphere, cylinder = _sphere_template(), _cylinder_template()
+    sphere = (sphere[0], sphere[1].astype(np.int32))
+    cylinder = (cylinder[0], cylinder[1].astype(np.int32))
 
     def body_mesh(k: int, f: int) -> np.ndarray:
         radius, half = size[names[k]]
@@ -193,7 +216,7 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
             verts = verts @ _frame_of(a).T
         else:
             verts = sphere[0] * radius
-        return verts + pos[f, k]
+        return (verts + pos[f, k]).astype(np.float32)  # single precision: half the page
 
     def axes_segments(f: int) -> np.ndarray:
         seg = []
@@ -205,7 +228,7 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
                 length = 1.8 * max(size[n])
                 seg += [pos[f, k], pos[f, k] + length * a / np.linalg.norm(a),
                         [np.nan] * 3]
-        return np.array(seg, dtype=float).reshape(-1, 3)
+        return np.array(seg, dtype=np.float32).reshape(-1, 3)
 
     notes = [n + (" (fixed)" if n in fixed else "")
              + ("" if n in shapes else " (size not to scale)") for n in names]
@@ -235,8 +258,9 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
             return traces
         traces.append(go.Scatter3d(
             x=shown[f, :, 0], y=shown[f, :, 1], z=shown[f, :, 2], mode="markers", name="bodies",
-            text=notes, hovertemplate="%{text}<br>x=%{x:.4g} m<br>y=%{y:.4g} m"
-                                      "<br>z=%{z:.4g} m<extra></extra>",
+            text=notes, hovertemplate=f"%{{text}}<br>x=%{{x:.4g}} {unit.name}<br>"
+                                      f"y=%{{y:.4g}} {unit.name}<br>"
+                                      f"z=%{{z:.4g}} {unit.name}<extra></extra>",
             marker={"size": 3 if meshes else 2, "color": "black" if meshes else "steelblue"},
             showlegend=not meshes))
         return traces
@@ -244,7 +268,7 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     paths = []
     if meshes:
         for k, n in enumerate(names):
-            paths.append(go.Scatter3d(x=pos[:, k, 0], y=pos[:, k, 1], z=pos[:, k, 2],
+            paths.append(go.Scatter3d(x=shown[:, k, 0], y=shown[:, k, 1], z=shown[:, k, 2],
                                       mode="lines", name=f"path of {n}", showlegend=False,
                                       line={"color": _COLORS[k % len(_COLORS)], "width": 2},
                                       hoverinfo="skip", opacity=0.5))
@@ -252,12 +276,36 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     moving = list(range(len(paths), len(paths) + len(first)))
     frames = [go.Frame(data=frame_traces(f, full=False), traces=moving, name=str(f))
               for f in range(len(times))]
-    label = [f"{t:.4g} s" for t in times]
+    slider, play = _controls([f"{t / tunit.size:.4g} {tunit.name}" for t in times])
+    # exponent ticks ("1e+12"), never SI prefixes: "4T" would read as tesla
+    axis_titles = {f"{c}axis": {"title": f"{c} [{unit.name}]", "range": ranges[i],
+                                "exponentformat": "e"}
+                   for i, c in enumerate("xyz")}
+    # sources after the moving traces: the frames address those by index
+    fig = go.Figure(data=[*paths, *first, *_source_traces(go, source_meshes)], frames=frames)
+    count = f"{len(names)} bod{'y' if len(names) == 1 else 'ies'}"
+    fig.update_layout(title=f"{title or 'poissonkit run'}: {count}{frame_note}",
+                      scene={**axis_titles, "aspectmode": "manual", "aspectratio": ratio},
+                      sliders=[slider], updatemenus=[play], margin={"l": 0, "r": 0, "b": 0})
+    return fig
+
+
+def _source_traces(go: ModuleType, meshes: list[tuple[str, np.ndarray, np.ndarray]]
+                   ) -> list[BaseTraceType]:
+    """Translucent, fixed meshes of the field sources."""
+    return [go.Mesh3d(x=v[:, 0], y=v[:, 1], z=v[:, 2], i=tris[:, 0], j=tris[:, 1], k=tris[:, 2],
+                      name=f"source: {what}", showlegend=True, opacity=0.35, color="sienna",
+                      flatshading=True, hoverinfo="name")
+            for what, v, tris in meshes]
+
+
+def _controls(labels: list[str]) -> tuple[dict, dict]:
+    """The time slider (one step per frame, labelled) and the play/pause buttons."""
     slider = {"active": 0, "currentvalue": {"prefix": "t = "}, "pad": {"t": 30},
-              "steps": [{"label": label[f], "method": "animate",
+              "steps": [{"label": label, "method": "animate",
                          "args": [[str(f)], {"mode": "immediate", "frame": {"duration": 0,
                                   "redraw": True}, "transition": {"duration": 0}}]}
-                        for f in range(len(times))]}
+                        for f, label in enumerate(labels)]}
     play = {"type": "buttons", "showactive": False, "x": 0.05, "y": 0.05,
             "buttons": [{"label": "play", "method": "animate",
                          "args": [None, {"frame": {"duration": 60, "redraw": True},
@@ -265,13 +313,7 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
                         {"label": "pause", "method": "animate",
                          "args": [[None], {"mode": "immediate",
                                            "frame": {"duration": 0, "redraw": False}}]}]}
-    axis_titles = {f"{c}axis": {"title": f"{c} [m]", "range": ranges[i]}
-                   for i, c in enumerate("xyz")}
-    fig = go.Figure(data=[*paths, *first], frames=frames)
-    fig.update_layout(title=f"{title or 'poissonkit run'}: {len(names)} bodies{frame_note}",
-                      scene={**axis_titles, "aspectmode": "manual", "aspectratio": ratio},
-                      sliders=[slider], updatemenus=[play], margin={"l": 0, "r": 0, "b": 0})
-    return fig
+    return slider, play
 
 
 #: Body colours (plotly's default qualitative palette).
@@ -281,26 +323,52 @@ _COLORS = ("#636efa", "#ef553b", "#00cc96", "#ab63fa", "#ffa15a", "#19d3f3", "#f
 
 def write_view(path: str | Path, dataset: xr.Dataset,
                shapes: Mapping[str, tuple[float, float]] | None = None, *,
-               title: str = "") -> Path:
-    """Write the 3D view of ``dataset`` as one self-contained HTML file, atomically.
+               title: str = "", sources: Sequence[SourceShape] = ()) -> Path:
+    """Write the 3D view of ``dataset`` as an HTML page, atomically, with plotly.js beside it.
 
     Parameters
     ----------
     path
         Output file (``trajectory.html``).
-    dataset, shapes, title
+    dataset, shapes, title, sources
         As in :func:`view_figure`.
 
     Returns
     -------
     pathlib.Path
-        ``path``.
+        ``path``; :data:`PLOTLY_JS` is in the same folder (written if missing or different).
     """
     from poissonkit.files.atomic import atomic_path
 
-    fig = view_figure(dataset, shapes, title=title)
+    fig = view_figure(dataset, shapes, title=title, sources=sources)
     path = Path(path)
+    _write_plotly_js(path.parent)
     with atomic_path(path) as tmp:
-        # plotly.js embedded: the page needs no network (and no CDN) to open
-        fig.write_html(str(tmp), include_plotlyjs=True, full_html=True, auto_play=False)
+        # plotly.js from the file beside the page: no network (no CDN), one copy per folder
+        fig.write_html(str(tmp), include_plotlyjs=PLOTLY_JS, full_html=True, auto_play=False)
     return path
+
+
+def _write_plotly_js(folder: Path) -> Path:
+    """:data:`PLOTLY_JS` in ``folder``: kept when it is this plotly's bundle, else a hard link
+    to the bundle plotly installs (no second copy on disk; a copy across file systems)."""
+    import os
+    import shutil
+
+    import plotly
+
+    from poissonkit.files.atomic import atomic_path
+
+    bundle = Path(plotly.__file__).parent / "package_data" / PLOTLY_JS
+    target = folder / PLOTLY_JS
+    if target.is_file() and (target.samefile(bundle) or (
+            target.stat().st_size == bundle.stat().st_size
+            and target.read_bytes() == bundle.read_bytes())):
+        return target
+    with atomic_path(target) as tmp:
+        try:
+            os.unlink(tmp)
+            os.link(bundle, tmp)
+        except OSError:  # another file system, or links not allowed: a copy
+            shutil.copyfile(bundle, tmp)
+    return target
