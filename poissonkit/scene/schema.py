@@ -13,10 +13,12 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from poissonkit.errors import PoissonkitError, SceneError
+from poissonkit.numerics.unitsystem import SI, UnitSystem
 from poissonkit.scene.limits import held_pairs
+from poissonkit.scene.units import scene_in_si, scene_units, si_params, with_orbits
 
 TOP_KEYS = ("name", "description", "defaults", "bodies", "assembly", "interactions", "run",
-            "planner", "fields")
+            "planner", "fields", "units")
 BODY_KEYS = ("name", "mass", "alpha", "inertia", "r", "p", "nu", "m", "fixed", "moment",
              "magnetization", "radius", "length", "half_length")
 INTERACTION_KEYS = ("potential", "params", "pairs", "cutoff", "pair")
@@ -133,6 +135,9 @@ class Scene:
     source: str = ""
     #: External fields (``[[fields]]``), see ``docs/fields.md``.
     fields: tuple[FieldDecl, ...] = ()
+    #: The units the scene was written in (``[units]``, ``docs/units.md``); the numbers above
+    #: are SI (converted by :func:`poissonkit.scene.units.scene_in_si`).
+    units: UnitSystem = SI
 
 
 # ---------------------------------------------------------------- small validators
@@ -322,7 +327,7 @@ def _planner(raw: Any) -> PlannerSpec:
     return PlannerSpec(tol, None if models is None else tuple(models), replan, hyst, cutoff)
 
 
-def _fields(raw: Any) -> tuple[FieldDecl, ...]:
+def _fields(raw: Any, units: UnitSystem = SI) -> tuple[FieldDecl, ...]:
     """The ``[[fields]]`` tables, each checked against its registered field's parameters."""
     if not isinstance(raw, list):
         raise SceneError("fields: must be an array of tables ([[fields]])")
@@ -334,6 +339,7 @@ def _fields(raw: Any) -> tuple[FieldDecl, ...]:
         entry = _lookup("field", name, f"{where}.source")
         params = {key: tuple(v) if isinstance(v, list) and key not in entry.tables else v
                   for key, v in table.items()}
+        params = si_params(entry, params, units)  # before the SI defaults are filled in
         try:
             resolved = entry.resolve_params(params)
         except PoissonkitError as exc:
@@ -371,6 +377,7 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
         raise SceneError(f"description: must be a string, got {description!r}")
     defaults = _table(data.get("defaults", {}), "defaults")
     _body_keys(defaults, "defaults")
+    units = scene_units(data.get("units"))
     if "bodies" in data and "assembly" in data:
         raise SceneError("bodies, assembly: give one of them, not both")
     if "bodies" not in data and "assembly" not in data:
@@ -380,7 +387,7 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
     assembly = None
     overrides: dict[str, Any] = {}
     if "bodies" in data:
-        bodies = _bodies(data, defaults)
+        bodies = _bodies(data, defaults, units)
     else:
         assembly, overrides = _assembly(data)
     potential, pot_params, mode, cutoff, pairs = _interactions(data, bodies, assembly)
@@ -393,7 +400,8 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
     scene = Scene(name=name, description=description, bodies=bodies, assembly=assembly,
                   assembly_overrides=overrides, potential=potential, potential_params=pot_params,
                   pairs_mode=mode, pairs=pairs, cutoff=cutoff, run=run, planner=planner,
-                  source=source, fields=_fields(data["fields"]) if "fields" in data else ())
+                  source=source, units=units,
+                  fields=_fields(data["fields"], units) if "fields" in data else ())
     if bodies:
         check_overlaps(bodies, "bodies")
     else:
@@ -405,14 +413,17 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
             # volume overflows or underflows to zero
             raise SceneError("assembly.params: a size or moment is out of range") from None
         check_overlaps([graph.nodes[n] for n in graph.nodes], "assembly")
-    return scene
+    return scene_in_si(scene)
 
 
-def _bodies(data: Mapping[str, Any], defaults: Mapping[str, Any]) -> tuple[dict[str, Any], ...]:
-    """The ``[[bodies]]`` tables, completed by ``defaults``, each with a unique name."""
+def _bodies(data: Mapping[str, Any], defaults: Mapping[str, Any], units: UnitSystem = SI
+            ) -> tuple[dict[str, Any], ...]:
+    """The ``[[bodies]]`` tables, completed by ``defaults``, each with a unique name (bodies
+    given by orbital elements placed, in the scene's units)."""
     raw = data["bodies"]
     if not isinstance(raw, list) or not raw:
         raise SceneError("bodies: must be a non-empty array of tables ([[bodies]])")
+    raw = with_orbits(raw, defaults, units)
     check_size(len(raw), _pair_count(raw, data), "bodies")
     bodies = tuple(_body(b, defaults, f"bodies[{k}]") for k, b in enumerate(raw))
     seen: dict[str, int] = {}
