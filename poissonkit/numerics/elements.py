@@ -36,7 +36,8 @@ _MAX_ITER = 100
 #: ``sin(inc)`` and ``e`` below this count as zero (the node / pericentre is undefined).
 _TINY = 1e-15
 
-__all__ = ["OrbitalElements", "cartesian", "elements", "elements_of", "eccentric_anomaly",
+__all__ = ["OrbitalElements", "cartesian", "dominant_body", "elements", "elements_of",
+           "eccentric_anomaly", "gravity_si", "system_elements",
            "mean_to_true", "states_from_elements", "true_to_mean"]
 
 
@@ -276,8 +277,8 @@ def _primaries(masses: np.ndarray, primary: int | None, i: int, r: np.ndarray, v
 
 def elements_of(masses: np.ndarray, r: np.ndarray, v: np.ndarray, G: float,
                 primary: int | None = None) -> OrbitalElements:
-    """Elements of bodies ``1 … N-1`` (arrays ``(..., N-1)``) from their positions and
-    velocities ``(..., N, 3)`` (REBOUND's ``sim.orbits(primary=...)``).
+    """Elements of every body (arrays ``(..., N)``) from positions and velocities
+    ``(..., N, 3)`` (REBOUND's ``sim.orbits(primary=...)``, whose list starts at body 1).
 
     Parameters
     ----------
@@ -288,8 +289,9 @@ def elements_of(masses: np.ndarray, r: np.ndarray, v: np.ndarray, G: float,
     G
         Newton's constant in the units of the inputs.
     primary
-        Index of the body all elements are about (the primary itself gets ``nan``); ``None``:
-        Jacobi elements (each body about the centre of mass of the bodies before it).
+        Index of the body all elements are about; ``None``: Jacobi elements (each body about
+        the centre of mass of the bodies before it). The primary, or body 0 of Jacobi
+        elements, has no orbit: ``nan``.
     """
     masses = np.asarray(masses, dtype=float)
     r = np.asarray(r, dtype=float)
@@ -300,18 +302,18 @@ def elements_of(masses: np.ndarray, r: np.ndarray, v: np.ndarray, G: float,
                          f"{r.shape} and {v.shape}")
     if primary is not None and not 0 <= primary < N:
         raise InputError(f"primary index {primary} is not one of the {N} bodies")
-    rows = []
-    for i in range(1, N):
-        if i == primary:  # the primary about itself: no orbit
+    centre = 0 if primary is None else primary
+    rows: list[OrbitalElements | None] = []
+    for i in range(N):
+        if i == centre:  # the primary about itself: no orbit
             rows.append(None)
             continue
         mp, rp, vp = _primaries(masses, primary, i, r, v)
         rows.append(elements(G * (mp + masses[i]), r[..., i, :] - rp, v[..., i, :] - vp))
     shape = r.shape[:-2]
-    out = {}
-    for name in ("a", "e", "inc", "Omega", "omega", "f", "M", "P", "n"):
-        out[name] = np.stack([np.full(shape, np.nan) if row is None else getattr(row, name)
-                              for row in rows], -1) if rows else np.zeros(shape + (0,))
+    out = {name: np.stack([np.full(shape, np.nan) if row is None else getattr(row, name)
+                           for row in rows], -1)
+           for name in ("a", "e", "inc", "Omega", "omega", "f", "M", "P", "n")}
     return OrbitalElements(**out)
 
 
@@ -359,3 +361,74 @@ def states_from_elements(masses: np.ndarray, G: float,
         dr, dv = cartesian(G * (mp + masses[i]), **orbits[i])
         r[i], v[i] = rp + dr, vp + dv
     return r, v
+
+
+def gravity_si(system: object) -> float | None:
+    """Newton's constant [SI] of ``system``'s all-pairs gravity, or ``None`` if it has none
+    or is not a system of moving point masses (whose elements would mean nothing)."""
+    from poissonkit.contracts import HasBodies, HasGravity, HasScales
+    from poissonkit.traits import offers
+
+    if not (offers(system, HasGravity) and offers(system, HasBodies)):
+        return None
+    if system.n_tops or system.n_moving != len(system.bodies) or system.n_moving < 2:
+        return None
+    try:
+        G = float(system.gravity_constant())
+    except InputError:
+        return None
+    scales = system.scales if offers(system, HasScales) else None
+    if scales is not None:  # G [L³ / (M T²)] of the internal units
+        G *= scales.unit("length") ** 3 / (scales.unit("mass") * scales.unit("time") ** 2)
+    return G
+
+
+def dominant_body(masses: np.ndarray, ratio: float = 10.0) -> int | None:
+    """Index of a body heavier than ``ratio`` times all the others together, or ``None``."""
+    masses = np.asarray(masses, dtype=float)
+    k = int(np.argmax(masses))
+    return k if masses[k] >= ratio * (masses.sum() - masses[k]) else None
+
+
+def system_elements(system: object, y: np.ndarray, primary: int | str | None = "dominant"
+                    ) -> OrbitalElements:
+    """Elements (SI lengths) of every body of a point-mass system with gravity at the states
+    ``y`` (rows): arrays ``(time, N)``, ``nan`` for the primary (body 0 for Jacobi elements).
+
+    Parameters
+    ----------
+    system
+        An :class:`~poissonkit.numerics.nbody.NBodySystem` of moving point masses with one
+        all-pairs gravity interaction.
+    y
+        States (rows, internal units).
+    primary
+        A body (name or index) all elements are about; ``None``: Jacobi elements in the order
+        of the bodies; ``"dominant"``: about the body heavier than ten times all the others,
+        Jacobi elements if there is none.
+
+    Raises
+    ------
+    InputError
+        If the system has no gravity or holds tops or fixed bodies, or ``primary`` names no
+        body.
+    """
+    from poissonkit.contracts import HasBodies, HasUnpack
+    from poissonkit.traits import offers
+
+    G = gravity_si(system)
+    if G is None or not offers(system, HasUnpack) or not offers(system, HasBodies):
+        raise InputError("orbital elements need a system of moving point masses with one "
+                         "all-pairs gravity interaction")
+    bodies = system.bodies
+    masses = np.array([float(b.mass) for b in bodies])
+    names = [b.name for b in bodies]
+    if primary == "dominant":
+        primary = dominant_body(masses)
+    if isinstance(primary, str):
+        if primary not in names:
+            raise InputError(f"primary {primary!r} is not a body; bodies: {', '.join(names)}")
+        primary = names.index(primary)
+    parts = system.unpack(np.atleast_2d(np.asarray(y, dtype=float)), si=True)
+    r, p = parts["r"], parts["p"]
+    return elements_of(masses, r, p / masses[:, None], G, primary)

@@ -179,6 +179,8 @@ class UnitSystem:
         """The unit of ``kind`` as a string: ``"AU/day"``, ``"M☉ AU²/day²"`` (``text``) or
         CF style ``"Msun AU day-1"`` (``text=False``, ASCII, for datasets). SI systems give
         the SI names (``"kg m/s"``); N-body units give ``L``, ``M``, ``T`` (``"L/T"``)."""
+        if self.is_si and text and isinstance(kind, str) and kind in _SI_NAMED:
+            return _SI_NAMED[kind]
         a, b, c = dimension(kind)
         if self.is_nbody:
             names = ("L", "M", "T")
@@ -216,6 +218,10 @@ class UnitSystem:
         if d.get("nbody"):
             return cls(G=float(d["G"]))  # type: ignore[arg-type]
         return cls(str(d["length"]), str(d["time"]), str(d["mass"]))
+
+
+#: Named SI units of derived kinds, for labels.
+_SI_NAMED: Mapping[str, str] = {"energy": "J", "force": "N", "torque": "N m", "frequency": "Hz"}
 
 
 def _power(name: str, e: int) -> str:

@@ -269,6 +269,10 @@ def build_run(scene: Scene) -> RunSpec:
     metadata: dict[str, object] = {"scene": scene.name, "source": scene.source,
                                    "description": scene.description,
                                    "duration_s": scene.run.duration, "step_s": scene.run.step}
+    if not scene.units.is_si:  # the scene's own units: what its outputs speak
+        from poissonkit.scene.units import run_metadata
+
+        metadata.update(run_metadata(scene))
     built = build_scene(scene)
     if built.plan is not None:
         metadata["plan"] = built.plan

@@ -221,3 +221,13 @@ def scene_in_si(scene: Scene) -> Scene:
         potential_params=pot_params(scene.potential, scene.potential_params), pairs=pairs,
         cutoff=None if scene.cutoff is None else units.to_si(scene.cutoff, "length"),
         run=run, planner=planner)
+
+
+def run_metadata(scene: Scene) -> dict[str, object]:
+    """What a run's metadata records of a scene's units: the unit system
+    (:meth:`~poissonkit.numerics.unitsystem.UnitSystem.as_dict`) and the duration and step in
+    those units (``duration``, ``step``)."""
+    units = scene.units
+    step = scene.run.step
+    return {"units": units.as_dict(), "duration": units.from_si(scene.run.duration, "time"),
+            "step": None if step is None else units.from_si(step, "time")}
