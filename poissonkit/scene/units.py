@@ -79,15 +79,35 @@ def _elements(table: Mapping[str, Any], where: str) -> dict[str, float]:
     return {k: _float(table[k], f"{where}.{k}") for k in ELEMENT_KEYS[1:] if k in table}
 
 
+def _velocity(body: Any, defaults: Mapping[str, Any], where: str) -> Any:
+    """A body table given a velocity ``v`` (as REBOUND's ``vx, vy, vz``) with ``p = mass v``
+    instead."""
+    if not isinstance(body, Mapping) or "v" not in body:
+        return body
+    if "p" in body:
+        raise SceneError(f"{where}.v: give the velocity v or the momentum p, not both")
+    mass = {**defaults, **body}.get("mass")
+    mass = _float(mass, f"{where}.mass") if mass is not None else None
+    if mass is None or mass <= 0:
+        raise SceneError(f"{where}.mass: a positive mass is needed with a velocity v")
+    v = body["v"]
+    if not isinstance(v, (list, tuple)) or len(v) != 3:
+        raise SceneError(f"{where}.v: must be a list of 3 numbers, got {v!r}")
+    p = [mass * _float(x, f"{where}.v[{k}]") for k, x in enumerate(v)]
+    return {**{k: x for k, x in body.items() if k != "v"}, "p": p}
+
+
 def with_orbits(raw: list[Any], defaults: Mapping[str, Any], units: UnitSystem
                 ) -> list[Any]:
-    """The body tables with orbital elements replaced by ``r`` and ``p`` (scene units).
+    """The body tables with orbital elements (and velocities ``v``) replaced by ``r`` and
+    ``p`` (scene units).
 
     Bodies given by a state keep it (their ``p`` defaults to 0); each body given by elements is
     placed about its primary (an earlier body named by ``primary``) or about the centre of mass
     of the bodies before it, as REBOUND's ``sim.add`` does. The other keys of each table are
     validated later by the schema.
     """
+    raw = [_velocity(b, defaults, f"bodies[{k}]") for k, b in enumerate(raw)]
     if not any(isinstance(b, Mapping) and any(k in b for k in ELEMENT_KEYS) for b in raw):
         return raw
     from poissonkit.numerics.elements import cartesian
