@@ -50,8 +50,11 @@ def scene_graph(scene: Scene, *, edges: bool = True) -> nx.Graph:
             G = entry.build(**resolved)
         except PoissonkitError as exc:
             raise SceneError(f"assembly: {exc}") from None
-        for node in G.nodes:
-            G.nodes[node].update(scene.assembly_overrides)
+        if scene.assembly_overrides or scene.assembly_bodies:
+            from poissonkit.scene.overrides import apply_overrides
+
+            apply_overrides([G.nodes[n] for n in G.nodes], scene.assembly_overrides,
+                            scene.assembly_bodies)
     else:
         G = nx.Graph()
         for k, body in enumerate(scene.bodies):

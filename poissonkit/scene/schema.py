@@ -15,6 +15,7 @@ from typing import Any
 from poissonkit.errors import PoissonkitError, SceneError
 from poissonkit.numerics.unitsystem import SI, UnitSystem
 from poissonkit.scene.limits import held_pairs
+from poissonkit.scene.overrides import BodyOverride
 from poissonkit.scene.units import scene_in_si, scene_units, si_params, with_orbits
 
 TOP_KEYS = ("name", "description", "defaults", "bodies", "assembly", "interactions", "run",
@@ -23,7 +24,7 @@ BODY_KEYS = ("name", "mass", "alpha", "inertia", "r", "p", "nu", "m", "fixed", "
              "magnetization", "radius", "length", "half_length")
 INTERACTION_KEYS = ("potential", "params", "pairs", "cutoff", "pair")
 PAIR_KEYS = ("bodies", "potential", "params")
-ASSEMBLY_KEYS = ("name", "params", "overrides")
+ASSEMBLY_KEYS = ("name", "params", "overrides", "body")
 RUN_KEYS = ("method", "step", "tol", "duration", "save_every", "energy_tol", "contact",
             "max_steps", "save_dt")
 PLANNER_KEYS = ("tol", "models", "replan_every", "hysteresis", "cutoff")
@@ -101,7 +102,8 @@ class Scene:
     assembly
         ``(name, params)`` of a registered assembly, or ``None``.
     assembly_overrides
-        Extra node attributes applied to every body the assembly builds (e.g. ``fixed``).
+        Extra node attributes applied to every body the assembly builds (e.g. ``fixed``;
+        ``spin`` sets each top's angular momentum about its axis).
     potential, potential_params
         Default pair potential (used for every pair when ``pairs = "all"``).
     pairs_mode
@@ -135,6 +137,8 @@ class Scene:
     source: str = ""
     #: External fields (``[[fields]]``), see ``docs/fields.md``.
     fields: tuple[FieldDecl, ...] = ()
+    #: Per-body overrides of an assembly (``[[assembly.body]]``, by index or name pattern).
+    assembly_bodies: tuple[BodyOverride, ...] = ()
     #: The units the scene was written in (``[units]``, ``docs/units.md``); the numbers above
     #: are SI (converted by :func:`poissonkit.scene.units.scene_in_si`).
     units: UnitSystem = SI
@@ -386,10 +390,11 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
     bodies: tuple[dict[str, Any], ...] = ()
     assembly = None
     overrides: dict[str, Any] = {}
+    per_body: tuple[BodyOverride, ...] = ()
     if "bodies" in data:
         bodies = _bodies(data, defaults, units)
     else:
-        assembly, overrides = _assembly(data)
+        assembly, overrides, per_body = _assembly(data)
     potential, pot_params, mode, cutoff, pairs = _interactions(data, bodies, assembly)
     if "run" not in data:
         raise SceneError("run: missing ([run] with at least duration)")
@@ -398,7 +403,8 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
     if planner is not None and "fields" in data:  # re-planned runs rebuild the pair system
         raise SceneError("fields: [[fields]] with a [planner] is not supported yet; drop one")
     scene = Scene(name=name, description=description, bodies=bodies, assembly=assembly,
-                  assembly_overrides=overrides, potential=potential, potential_params=pot_params,
+                  assembly_overrides=overrides, assembly_bodies=per_body,
+                  potential=potential, potential_params=pot_params,
                   pairs_mode=mode, pairs=pairs, cutoff=cutoff, run=run, planner=planner,
                   source=source, units=units,
                   fields=_fields(data["fields"], units) if "fields" in data else ())
@@ -436,8 +442,10 @@ def _bodies(data: Mapping[str, Any], defaults: Mapping[str, Any], units: UnitSys
     return bodies
 
 
-def _assembly(data: Mapping[str, Any]) -> tuple[tuple[str, dict[str, Any]], dict[str, Any]]:
-    """``((name, params), overrides)`` of the ``[assembly]`` table, its size checked."""
+def _assembly(data: Mapping[str, Any]
+              ) -> tuple[tuple[str, dict[str, Any]], dict[str, Any], tuple[BodyOverride, ...]]:
+    """``((name, params), overrides, per-body overrides)`` of the ``[assembly]`` table, its
+    size checked (:mod:`poissonkit.scene.overrides`)."""
     table = _table(data["assembly"], "assembly")
     _keys(table, ASSEMBLY_KEYS, "assembly")
     aname = _string(table.get("name"), "assembly.name")
@@ -459,12 +467,10 @@ def _assembly(data: Mapping[str, Any]) -> tuple[tuple[str, dict[str, Any]], dict
                          f"{MAX_COUNT:.0e} bodies")
     check_size(size, held_pairs(size, data, assembly=resolved), "assembly.params")
     assembly = (aname, aparams)
-    overrides = dict(_table(table.get("overrides", {}), "assembly.overrides"))
-    _body_keys(overrides, "assembly.overrides")
-    for key in list(overrides):
-        if key not in BODY_KEYS:
-            overrides[key] = _attribute(overrides[key], f"assembly.overrides.{key}")
-    return assembly, overrides
+    from poissonkit.scene.overrides import body_fields, per_body
+
+    overrides = body_fields(table.get("overrides", {}), "assembly.overrides")
+    return assembly, overrides, per_body(table.get("body"))
 
 
 def _interactions(data: Mapping[str, Any], bodies: tuple[dict[str, Any], ...],

@@ -38,6 +38,7 @@ BODY_KINDS: Mapping[str, str] = {
     "mass": "mass", "r": "length", "p": "momentum", "m": "angular_momentum",
     "alpha": "alpha", "inertia": "inertia", "radius": "length", "length": "length",
     "half_length": "length", "moment": "magnetic_moment", "magnetization": "magnetization",
+    "spin": "angular_momentum",
 }
 
 
@@ -238,6 +239,8 @@ def scene_in_si(scene: Scene) -> Scene:
     return dataclasses.replace(
         scene, bodies=tuple(_convert_body(b, units) for b in scene.bodies),
         assembly=assembly, assembly_overrides=_convert_body(scene.assembly_overrides, units),
+        assembly_bodies=tuple(dataclasses.replace(b, values=_convert_body(b.values, units))
+                              for b in scene.assembly_bodies),
         potential_params=pot_params(scene.potential, scene.potential_params), pairs=pairs,
         cutoff=None if scene.cutoff is None else units.to_si(scene.cutoff, "length"),
         run=run, planner=planner)
