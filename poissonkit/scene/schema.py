@@ -286,18 +286,19 @@ def _optional_positive(table: Mapping[str, Any], key: str, where: str) -> float 
     return _number(table[key], f"{where}.{key}", positive=True) if key in table else None
 
 
-def _run(raw: Any) -> RunSettings:
+def _run(raw: Any, units: UnitSystem = SI) -> RunSettings:
     table = _table(raw, "run")
     _keys(table, RUN_KEYS, "run")
+    tu = units.label("time")  # the scene's time unit: values here are not converted yet
     if "duration" not in table:
-        raise SceneError("run.duration: missing (s)")
+        raise SceneError(f"run.duration: missing ({tu})")
     duration = _number(table["duration"], "run.duration", positive=True)
     method = _string(table.get("method", "splitting4"), "run.method")
     _lookup("integrator", method, "run.method")
     step = _optional_positive(table, "step", "run")
     tol = _optional_positive(table, "tol", "run")
     if step is not None and step > duration:
-        raise SceneError(f"run.step: {step:g} s is longer than run.duration {duration:g} s")
+        raise SceneError(f"run.step: {step:g} {tu} is longer than run.duration {duration:g} {tu}")
     save_every = _integer(table.get("save_every", 1), "run.save_every")
     energy_tol = _number(table.get("energy_tol", 1e-6), "run.energy_tol", positive=True)
     contact = _string(table.get("contact", "stop"), "run.contact")
@@ -398,7 +399,7 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
     potential, pot_params, mode, cutoff, pairs = _interactions(data, bodies, assembly)
     if "run" not in data:
         raise SceneError("run: missing ([run] with at least duration)")
-    run = _run(data["run"])
+    run = _run(data["run"], units)
     planner = _planner(data["planner"]) if "planner" in data else None
     if planner is not None and "fields" in data:  # re-planned runs rebuild the pair system
         raise SceneError("fields: [[fields]] with a [planner] is not supported yet; drop one")

@@ -172,6 +172,8 @@ def test_velocity_v_is_momentum_over_mass():
     (lambda d: d["bodies"][1].update(e=1.0), "parabola"),
     (lambda d: d["bodies"][0].update(a=1.0), "first body has nothing to orbit"),
     (lambda d: d["bodies"][1].update(v=[0.0, 0.0, 0.0], p=[0.0, 0.0, 0.0]), "not both"),
+    (lambda d: d["run"].update(step=2000.0),
+     "run.step: 2000 day is longer than run.duration 1000 day"),
 ])
 def test_typed_errors_name_the_field(change, message):
     data = _planets()
