@@ -348,7 +348,8 @@ def states_from_elements(masses: np.ndarray, G: float,
     v = np.zeros((N, 3))
     for i in range(N):
         given = states[i] if states is not None else None
-        if orbits[i] is None:
+        orbit = orbits[i]
+        if orbit is None:
             if given is not None:
                 r[i], v[i] = given
             continue
@@ -358,7 +359,7 @@ def states_from_elements(masses: np.ndarray, G: float,
         if primary is not None and not 0 <= primary < i:
             raise InputError(f"body {i}: its primary must be an earlier body, got {primary}")
         mp, rp, vp = _primaries(masses, primary, i, r, v)
-        dr, dv = cartesian(G * (mp + masses[i]), **orbits[i])
+        dr, dv = cartesian(G * (mp + masses[i]), **orbit)
         r[i], v[i] = rp + dr, vp + dv
     return r, v
 
@@ -366,10 +367,9 @@ def states_from_elements(masses: np.ndarray, G: float,
 def gravity_si(system: object) -> float | None:
     """Newton's constant [SI] of ``system``'s all-pairs gravity, or ``None`` if it has none
     or is not a system of moving point masses (whose elements would mean nothing)."""
-    from poissonkit.contracts import HasBodies, HasGravity, HasScales
-    from poissonkit.traits import offers
+    from poissonkit.numerics.nbody.system import NBodySystem
 
-    if not (offers(system, HasGravity) and offers(system, HasBodies)):
+    if not isinstance(system, NBodySystem):
         return None
     if system.n_tops or system.n_moving != len(system.bodies) or system.n_moving < 2:
         return None
@@ -377,7 +377,7 @@ def gravity_si(system: object) -> float | None:
         G = float(system.gravity_constant())
     except InputError:
         return None
-    scales = system.scales if offers(system, HasScales) else None
+    scales = system.scales
     if scales is not None:  # G [L³ / (M T²)] of the internal units
         G *= scales.unit("length") ** 3 / (scales.unit("mass") * scales.unit("time") ** 2)
     return G
@@ -413,11 +413,10 @@ def system_elements(system: object, y: np.ndarray, primary: int | str | None = "
         If the system has no gravity or holds tops or fixed bodies, or ``primary`` names no
         body.
     """
-    from poissonkit.contracts import HasBodies, HasUnpack
-    from poissonkit.traits import offers
+    from poissonkit.numerics.nbody.system import NBodySystem
 
     G = gravity_si(system)
-    if G is None or not offers(system, HasUnpack) or not offers(system, HasBodies):
+    if G is None or not isinstance(system, NBodySystem):
         raise InputError("orbital elements need a system of moving point masses with one "
                          "all-pairs gravity interaction")
     bodies = system.bodies
@@ -425,7 +424,7 @@ def system_elements(system: object, y: np.ndarray, primary: int | str | None = "
     names = [b.name for b in bodies]
     if primary == "dominant":
         primary = dominant_body(masses)
-    if isinstance(primary, str):
+    if isinstance(primary, str):  # a name
         if primary not in names:
             raise InputError(f"primary {primary!r} is not a body; bodies: {', '.join(names)}")
         primary = names.index(primary)

@@ -145,7 +145,7 @@ def display_unit(kind: str, si_values: npt.ArrayLike = (), units: UnitSystem = S
     v = v[np.isfinite(v)]
     size = float(v.max()) if v.size else 0.0
     if units.is_si and kind in ("length", "time"):
-        table = _SI_LENGTHS if kind == "length" else _SI_TIMES
+        table: tuple[tuple[str, float], ...] = _SI_LENGTHS if kind == "length" else _SI_TIMES
         if kind == "length" and size >= 1e9:
             table = (("AU", 149_597_870_700.0),)
         name, unit = table[0]

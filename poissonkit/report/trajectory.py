@@ -283,7 +283,7 @@ _KINDS = {"position": "length", "momentum": "momentum", "angular_momentum": "ang
 def in_units(variables: dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]],
              units: UnitSystem) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]]:
     """The SI variables of :func:`_body_variables` in the scene's units."""
-    out = {}
+    out: dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]] = {}
     for name, (dims, values, attrs) in variables.items():
         kind = _KINDS.get(name)
         if kind is not None:
@@ -318,7 +318,7 @@ def mass_and_elements(system: object, y: np.ndarray, bodies: list[str], units: U
     if set(bodies) - set(by_name):
         return {}
     masses = np.array([float(by_name[n].mass) for n in bodies])  # type: ignore[attr-defined]
-    out = {"mass": (("body",), units.from_si(masses, "mass"),
+    out: dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]] = {"mass": (("body",), units.from_si(masses, "mass"),
                     {"units": units.label("mass", text=False), "long_name": "mass"})}
     if (len(bodies) > MAX_ELEMENT_BODIES or gravity_si(system) is None
             or list(bodies) != [b.name for b in system.bodies]):
