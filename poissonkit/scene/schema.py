@@ -1,7 +1,9 @@
 """The scene schema: a frozen :class:`Scene` validated from a plain mapping (parsed TOML).
 
 Every error is a :class:`~poissonkit.errors.SceneError` whose message starts with the path of
-the offending field, e.g. ``bodies[1].mass: must be > 0, got -1.0``. Units are SI throughout.
+the offending field, e.g. ``bodies[1].mass: must be > 0, got -1.0``. A scene is validated in
+the units it is written in (``[units]``, SI by default) and held in SI
+(:mod:`poissonkit.scene.units`).
 The file format is documented field by field in ``docs/scenes.md``.
 """
 
