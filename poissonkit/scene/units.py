@@ -222,6 +222,11 @@ def scene_in_si(scene: Scene) -> Scene:
         out = _convert_params(params, _units_of("potential", name), units)
         return {**gravity_G, **out} if name == "gravity" else out
 
+    # the pairs' default potential: the scene's, else the one its assembly names
+    default_potential = scene.potential
+    if default_potential is None and scene.assembly is not None:
+        named = scene.assembly[1].get("potential")
+        default_potential = named if isinstance(named, str) else None
     run = scene.run
     run = dataclasses.replace(
         run, duration=units.to_si(run.duration, "time"),
@@ -241,7 +246,7 @@ def scene_in_si(scene: Scene) -> Scene:
         assembly=assembly, assembly_overrides=_convert_body(scene.assembly_overrides, units),
         assembly_bodies=tuple(dataclasses.replace(b, values=_convert_body(b.values, units))
                               for b in scene.assembly_bodies),
-        potential_params=pot_params(scene.potential, scene.potential_params), pairs=pairs,
+        potential_params=pot_params(default_potential, scene.potential_params), pairs=pairs,
         cutoff=None if scene.cutoff is None else units.to_si(scene.cutoff, "length"),
         run=run, planner=planner)
 

@@ -228,3 +228,16 @@ def test_run_metadata_and_trajectory_speak_the_scenes_units():
     assert ds.M.values[0, 1] == pytest.approx(0.6, abs=1e-12)
     assert math.isnan(ds.a.values[0, 0])
     assert ds.attrs["units_length_in_si"] == AU
+
+
+def test_nbody_units_reach_the_gravity_an_assembly_names():
+    from poissonkit.scene.build import build_run
+
+    data = {"units": {"G": 1.0},
+            "assembly": {"name": "ring", "params": {"n": 5, "ring_radius": 1.0, "mass": 1.0,
+                                                    "potential": "gravity"}},
+            "run": {"duration": 1.0, "step": 0.01}}
+    spec = build_run(scene_from_mapping(data))
+    s = spec.system.scales
+    G = spec.system.gravity_constant() * s.length ** 3 / (s.mass * s.time ** 2)
+    assert G == pytest.approx(1.0, rel=1e-14)
