@@ -79,10 +79,12 @@ def relative_position(spec: RunSpec, y: np.ndarray) -> np.ndarray | None:
 
 # ---------------------------------------------------------------- the scene's units for display
 
-def unit_system(spec: RunSpec) -> UnitSystem:
+def unit_system(spec: RunSpec | Mapping[str, object] | None) -> UnitSystem:
     """The units the run's scene was written in (``metadata["units"]``, set by
-    :func:`poissonkit.scene.build.build_run`); SI for a run without them."""
-    d = spec.metadata.get("units") if spec.metadata else None
+    :func:`poissonkit.scene.build.build_run`), from the run or its metadata mapping (e.g. a
+    figure's ``RunData.metadata``, or ``summary.json``'s ``parameters``); SI without them."""
+    meta = spec if isinstance(spec, Mapping) or spec is None else spec.metadata
+    d = meta.get("units") if meta else None
     return UnitSystem.from_dict(d) if isinstance(d, Mapping) else SI
 
 

@@ -241,3 +241,10 @@ def test_nbody_units_reach_the_gravity_an_assembly_names():
     s = spec.system.scales
     G = spec.system.gravity_constant() * s.length ** 3 / (s.mass * s.time ** 2)
     assert G == pytest.approx(1.0, rel=1e-14)
+
+
+def test_the_unit_system_is_read_from_a_run_or_its_metadata():
+    u = UnitSystem("AU", "yr", "Msun")
+    meta = {"units": u.as_dict()}
+    assert unit_system(meta) == u and unit_system({}) == SI and unit_system(None) == SI
+    assert unit_system({"units": UnitSystem(G=1.0).as_dict()}).is_nbody
