@@ -103,6 +103,23 @@ Units
 * Public numbers are SI (m, kg, s, A, T). ``mu0 = 4 pi 1e-7`` (the seed's value, not CODATA).
 * Numerics nondimensionalise internally (length, mass and time scales chosen per scene) and
   convert back; reports state both where it matters.
+
+Unit systems of scenes (``[units]``, :mod:`poissonkit.numerics.unitsystem`)
+--------------------------------------------------------------------------
+* A scene may declare ``length``, ``time`` and ``mass`` units by REBOUND's names (any case):
+  ``m cm mm km AU pc``, ``s min hr day yr kyr Myr Gyr``, ``kg g Msun Mearth Mjupiter``; or
+  ``G = <number>`` alone for N-body units (no SI meaning; gravity uses that ``G``). Absent:
+  SI. Inputs are read in the scene's units, converted once to SI for the numerics, and every
+  output (messages, progress, summary, trajectory, figures) is converted back.
+* Constants: ``G`` CODATA 2018 (:data:`NEWTON_G`); astronomical unit IAU 2012 B2, exactly
+  149 597 870 700 m; parsec IAU 2015 B2, ``648000/pi`` au; day 86 400 s; Julian year
+  365.25 days; solar mass ``M_sun = GM_sun / G`` with the nominal solar mass parameter of
+  IAU 2015 B3, ``GM_sun = 1.3271244e20 m^3 s^-2`` (Earth ``3.986004e14``, Jupiter
+  ``1.2668653e17``, same resolution). So ``G`` in AU, day, Msun is
+  ``GM_sun day^2 / au^3 = 2.959122082e-4`` (as the nominal value makes it: what is
+  known to 10 digits is ``GM``, not ``G`` or ``M``.
+* Displayed prefixes never collide with unit symbols: lengths beyond km switch to AU or to
+  scientific notation, never "Tm" (read as tesla) or "Gm".
 """
 
 from __future__ import annotations
@@ -127,3 +144,20 @@ EUCLID_INVARIANTS: tuple[str, str, str] = ("|nu|^2", "D_{k}", "Pf(Y)")
 
 #: Names of the four pair invariants of seed 000, as used in symbolic potentials.
 PAIR_INVARIANTS: tuple[str, str, str, str] = ("r", "c1", "c2", "c3")
+
+# ---- unit systems of scenes (see "Unit systems of scenes" above)
+#: Astronomical unit (IAU 2012 Resolution B2, exact) [m].
+ASTRONOMICAL_UNIT: float = 149_597_870_700.0
+#: Parsec (IAU 2015 Resolution B2, exact: 648000/pi au) [m].
+PARSEC: float = 648_000.0 / math.pi * ASTRONOMICAL_UNIT
+#: Day [s].
+DAY: float = 86_400.0
+#: Julian year, 365.25 days [s].
+JULIAN_YEAR: float = 365.25 * DAY
+#: Nominal solar mass parameter (IAU 2015 Resolution B3) [m³/s²].
+GM_SUN: float = 1.3271244e20
+#: Nominal terrestrial and jovian mass parameters (IAU 2015 Resolution B3) [m³/s²].
+GM_EARTH: float = 3.986004e14
+GM_JUPITER: float = 1.2668653e17
+#: Solar mass GM_SUN / NEWTON_G [kg].
+SOLAR_MASS: float = GM_SUN / NEWTON_G

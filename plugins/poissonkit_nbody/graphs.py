@@ -120,7 +120,7 @@ def chain(n: int, spacing: float, body: Mapping[str, Any], *, direction: Sequenc
 def ring(n: int, radius: float, body: Mapping[str, Any], *, axes: str = "tangent",
          potential: str | None = None, params: Mapping[str, Any] | None = None,
          interactions: str = "complete", center: Sequence[float] = (0, 0, 0)) -> nx.Graph:
-    """Bodies evenly spaced on a circle of ``radius`` [m] in the xy-plane.
+    """Bodies evenly spaced on a circle (radius ``ring_radius`` in scenes) in the xy-plane.
 
     ``axes``: ``"tangent"`` (head to tail around the ring), ``"radial"`` or ``"normal"`` (all
     along +z).

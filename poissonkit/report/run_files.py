@@ -14,7 +14,7 @@ import numpy as np
 
 from poissonkit.errors import InputError, MissingDependencyError
 from poissonkit.numerics.units import Scales
-from poissonkit.report.run_units import layout_of, relative_position
+from poissonkit.report.run_units import layout_of, relative_position, unit_system
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -72,7 +72,8 @@ def run_dataset(spec: RunSpec, sol: Solution, t: np.ndarray, y: np.ndarray,
     shapes = {s.name: (s.radius * length, s.half_length * length)
               for e in spec.events if isinstance(e, Contact) for s in e.shapes}
     return trajectory_dataset(spec.system, t, y, scales=scales, time_unit=time_unit,
-                              attrs={"scene": spec.name, "method": sol.method}, shapes=shapes)
+                              attrs={"scene": spec.name, "method": sol.method}, shapes=shapes,
+                              units=unit_system(spec))
 
 
 def write_view_file(path: Path, spec: RunSpec, dataset: xr.Dataset) -> bool:

@@ -9,8 +9,16 @@ two-body centre-of-mass form has ``relative_position``/``relative_momentum`` (``
 component``) instead of per-body positions. Every dataset also holds the raw state ``y`` (``time
 × state``, internal units, component names from the system's layout), so nothing is lost.
 
-Units are in each variable's ``units`` attribute; the internal scales (SI value of one internal
-unit of length, mass, time, ...) are dataset attributes ``internal_unit_<kind>`` with
+Units are in each variable's ``units`` attribute: SI, or the scene's own units when it declares
+them (``[units]``: e.g. ``AU``, ``Msun AU day-1``; the dataset attributes ``units_length``,
+``units_time``, ``units_mass``, ``units_G`` and ``units_<kind>_in_si`` say which). Bodies also
+get their ``mass`` (so velocities are ``momentum / mass``) and, for moving point masses with
+Newtonian gravity, the osculating orbital elements ``a``, ``e``, ``inc``, ``Omega``, ``omega``,
+``M``, ``f`` (``time × body``; radians) about the dominant body (ten times heavier than all
+the others together) or Jacobi elements when there is none, as each variable's ``long_name``
+says (:func:`poissonkit.numerics.elements.system_elements`; up to :data:`MAX_ELEMENT_BODIES`
+bodies). The internal scales (SI value of one
+internal unit of length, mass, time, ...) are dataset attributes ``internal_unit_<kind>`` with
 ``internal_unit_<kind>_units``. The file is NetCDF 3 written by scipy's engine (scipy is a
 dependency of poissonkit, and so is xarray): no extra package is needed.
 """
@@ -26,6 +34,7 @@ import numpy as np
 
 from poissonkit.contracts import HasBodies, HasLayout, HasUnpack
 from poissonkit.errors import DimensionError, MissingDependencyError
+from poissonkit.numerics.unitsystem import SI, UnitSystem
 from poissonkit.report.provenance import SI_UNITS
 from poissonkit.traits import offers
 
@@ -127,7 +136,8 @@ def _body_variables(system: object, y: np.ndarray, layout: tuple[str, ...]
 def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
                        scales: Scales | None, time_unit: float = 1.0,
                        attrs: Mapping[str, str | int | float] | None = None,
-                       shapes: Mapping[str, tuple[float, float]] | None = None) -> xr.Dataset:
+                       shapes: Mapping[str, tuple[float, float]] | None = None,
+                       units: UnitSystem | None = None) -> xr.Dataset:
     """The trajectory ``(t, y)`` of ``system`` as an :class:`xarray.Dataset`.
 
     Parameters
@@ -148,10 +158,13 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
         ``{body name: (radius, half_length)}`` [m] of finite-size bodies: stored as the
         variables ``radius`` and ``half_length`` (``body``; NaN for a body without a size).
 
+    units
+        The scene's units (:func:`poissonkit.report.run_units.unit_system`); ``None``: SI.
+
     Returns
     -------
     xarray.Dataset
-        Coordinates ``time`` [s], ``time_internal``, ``body`` (names), ``component`` (x, y, z),
+        Coordinates ``time`` [s or the scene's time unit], ``time_internal``, ``body`` (names), ``component`` (x, y, z),
         ``state`` (layout names); variables as the module describes.
 
     Raises
@@ -169,15 +182,20 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
     layout = tuple(system.layout) if offers(system, HasLayout) else ()
     if len(layout) != y.shape[1]:
         layout = tuple(f"y{k}" for k in range(y.shape[1]))
+    units = SI if units is None else units
     variables, bodies = _body_variables(system, y, layout)
+    if not units.is_si:
+        variables = in_units(variables, units)
+    variables.update(mass_and_elements(system, y, bodies, units))
     data = {name: xr.Variable(dims, values, attrs=a) for name, (dims, values, a)
             in variables.items()}
     data["y"] = xr.Variable(("time", "state"), y, attrs={
         "units": "internal (see internal_unit_* attributes)",
         "long_name": "state vector as integrated"})
     coords: dict[str, xarray.Variable] = {
-        "time": xr.Variable(("time",), t * float(time_unit),
-                            attrs={"units": SI_UNITS["time"], "long_name": "time"}),
+        "time": xr.Variable(("time",), units.from_si(t * float(time_unit), "time"),
+                            attrs={"units": units.label("time", text=False),
+                                   "long_name": "time"}),
         "time_internal": xr.Variable(("time",), t, attrs={
             "units": f"{float(time_unit)!r} s", "long_name": "time in the internal unit"}),
         "state": xr.Variable(("state",), np.array(layout, dtype=str)),
@@ -190,8 +208,8 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
                                                     "symmetry axis (0: a sphere)"))):
                 values = np.array([shapes[b][k] if b in shapes else np.nan for b in bodies],
                                   dtype=float)
-                data[name] = xr.Variable(("body",), values, attrs={
-                    "units": SI_UNITS["length"], "long_name": long_name})
+                data[name] = xr.Variable(("body",), units.from_si(values, "length"), attrs={
+                    "units": units.label("length", text=False), "long_name": long_name})
         coords["component"] = xr.Variable(("component",), np.array(COMPONENTS, dtype=str))
     from poissonkit._version import __version__
 
@@ -204,6 +222,11 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
         for kind, unit in SI_UNITS.items():
             ds_attrs[f"internal_unit_{kind}"] = float(scales.unit(kind))
             ds_attrs[f"internal_unit_{kind}_units"] = unit
+    if not units.is_si:
+        ds_attrs["conventions"] = ("values in the scene's units (variable attribute 'units'; "
+                                   "units_<kind>_in_si: SI value of one unit); 'y' in the "
+                                   "internal units: si = internal * internal_unit_<kind>")
+        ds_attrs.update(unit_attributes(units))
     ds_attrs.update(dict(attrs or {}))
     return xr.Dataset(data, coords=coords, attrs=ds_attrs)
 
@@ -248,3 +271,70 @@ def scale_arrays(scales: Scales | None, time_unit: float) -> dict[str, np.ndarra
         values[kinds.index("time")] = float(time_unit)
     return {"scale_kinds": np.array(kinds, dtype=str), "scale_si": np.array(values),
             "scale_units": np.array([SI_UNITS[k] for k in kinds], dtype=str)}
+
+
+#: Most bodies whose orbital elements the dataset holds (Jacobi elements cost O(N²) a state).
+MAX_ELEMENT_BODIES = 64
+#: The quantity kind of each per-body variable (for the scene's units).
+_KINDS = {"position": "length", "momentum": "momentum", "angular_momentum": "angular_momentum",
+          "relative_position": "length", "relative_momentum": "momentum"}
+
+
+def in_units(variables: dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]],
+             units: UnitSystem) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]]:
+    """The SI variables of :func:`_body_variables` in the scene's units."""
+    out: dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]] = {}
+    for name, (dims, values, attrs) in variables.items():
+        kind = _KINDS.get(name)
+        if kind is not None:
+            values = units.from_si(values, kind)
+            attrs = {**attrs, "units": units.label(kind, text=False)}
+        out[name] = (dims, values, attrs)
+    return out
+
+
+def unit_attributes(units: UnitSystem) -> dict[str, str | float]:
+    """Dataset attributes naming the scene's units and their SI values."""
+    d = units.as_dict()
+    out: dict[str, str | float] = {
+        "units_length": units.label("length", text=False),
+        "units_time": units.label("time", text=False),
+        "units_mass": units.label("mass", text=False), "units_G": float(units.G)}
+    if not units.is_nbody:
+        for kind in ("length", "time", "mass"):
+            out[f"units_{kind}_in_si"] = float(d[f"{kind}_si"])  # type: ignore[arg-type]
+    return out
+
+
+def mass_and_elements(system: object, y: np.ndarray, bodies: list[str], units: UnitSystem
+                      ) -> dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]]:
+    """``mass`` (``body``) of an N-body system's bodies, and their orbital elements
+    (``time × body``) when they are moving point masses with Newtonian gravity."""
+    from poissonkit.numerics.elements import dominant_body, gravity_si, system_elements
+
+    if not (bodies and offers(system, HasBodies)):
+        return {}
+    by_name = {b.name: b for b in system.bodies}
+    if set(bodies) - set(by_name):
+        return {}
+    masses = np.array([float(by_name[n].mass) for n in bodies])  # type: ignore[attr-defined]
+    out: dict[str, tuple[tuple[str, ...], np.ndarray, dict[str, str]]] = {"mass": (("body",), units.from_si(masses, "mass"),
+                    {"units": units.label("mass", text=False), "long_name": "mass"})}
+    if (len(bodies) > MAX_ELEMENT_BODIES or gravity_si(system) is None
+            or list(bodies) != [b.name for b in system.bodies]):
+        return out
+    primary = dominant_body(masses)
+    el = system_elements(system, y, primary)
+    frame = (f"about {bodies[primary]}" if primary is not None
+             else "Jacobi (about the centre of mass of the bodies before it)")
+    for name, long_name in (("a", "semi-major axis"), ("e", "eccentricity"),
+                            ("inc", "inclination"), ("Omega", "longitude of ascending node"),
+                            ("omega", "argument of pericentre"), ("M", "mean anomaly"),
+                            ("f", "true anomaly")):
+        values = getattr(el, name)
+        unit = "1" if name == "e" else "rad"
+        if name == "a":
+            values, unit = units.from_si(values, "length"), units.label("length", text=False)
+        out[name] = (("time", "body"), np.asarray(values, dtype=float),
+                     {"units": unit, "long_name": f"osculating {long_name}, {frame}"})
+    return out

@@ -50,8 +50,11 @@ def scene_graph(scene: Scene, *, edges: bool = True) -> nx.Graph:
             G = entry.build(**resolved)
         except PoissonkitError as exc:
             raise SceneError(f"assembly: {exc}") from None
-        for node in G.nodes:
-            G.nodes[node].update(scene.assembly_overrides)
+        if scene.assembly_overrides or scene.assembly_bodies:
+            from poissonkit.scene.overrides import apply_overrides
+
+            apply_overrides([G.nodes[n] for n in G.nodes], scene.assembly_overrides,
+                            scene.assembly_bodies)
     else:
         G = nx.Graph()
         for k, body in enumerate(scene.bodies):
@@ -269,6 +272,10 @@ def build_run(scene: Scene) -> RunSpec:
     metadata: dict[str, object] = {"scene": scene.name, "source": scene.source,
                                    "description": scene.description,
                                    "duration_s": scene.run.duration, "step_s": scene.run.step}
+    if not scene.units.is_si:  # the scene's own units: what its outputs speak
+        from poissonkit.scene.units import run_metadata
+
+        metadata.update(run_metadata(scene))
     built = build_scene(scene)
     if built.plan is not None:
         metadata["plan"] = built.plan

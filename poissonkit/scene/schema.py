@@ -1,7 +1,9 @@
 """The scene schema: a frozen :class:`Scene` validated from a plain mapping (parsed TOML).
 
 Every error is a :class:`~poissonkit.errors.SceneError` whose message starts with the path of
-the offending field, e.g. ``bodies[1].mass: must be > 0, got -1.0``. Units are SI throughout.
+the offending field, e.g. ``bodies[1].mass: must be > 0, got -1.0``. A scene is validated in
+the units it is written in (``[units]``, SI by default) and held in SI
+(:mod:`poissonkit.scene.units`).
 The file format is documented field by field in ``docs/scenes.md``.
 """
 
@@ -13,15 +15,18 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from poissonkit.errors import PoissonkitError, SceneError
+from poissonkit.numerics.unitsystem import SI, UnitSystem
 from poissonkit.scene.limits import held_pairs
+from poissonkit.scene.overrides import BodyOverride
+from poissonkit.scene.units import scene_in_si, scene_units, si_params, with_orbits
 
 TOP_KEYS = ("name", "description", "defaults", "bodies", "assembly", "interactions", "run",
-            "planner", "fields")
+            "planner", "fields", "units")
 BODY_KEYS = ("name", "mass", "alpha", "inertia", "r", "p", "nu", "m", "fixed", "moment",
              "magnetization", "radius", "length", "half_length")
 INTERACTION_KEYS = ("potential", "params", "pairs", "cutoff", "pair")
 PAIR_KEYS = ("bodies", "potential", "params")
-ASSEMBLY_KEYS = ("name", "params", "overrides")
+ASSEMBLY_KEYS = ("name", "params", "overrides", "body")
 RUN_KEYS = ("method", "step", "tol", "duration", "save_every", "energy_tol", "contact",
             "max_steps", "save_dt")
 PLANNER_KEYS = ("tol", "models", "replan_every", "hysteresis", "cutoff")
@@ -99,7 +104,8 @@ class Scene:
     assembly
         ``(name, params)`` of a registered assembly, or ``None``.
     assembly_overrides
-        Extra node attributes applied to every body the assembly builds (e.g. ``fixed``).
+        Extra node attributes applied to every body the assembly builds (e.g. ``fixed``;
+        ``spin`` sets each top's angular momentum about its axis).
     potential, potential_params
         Default pair potential (used for every pair when ``pairs = "all"``).
     pairs_mode
@@ -133,6 +139,11 @@ class Scene:
     source: str = ""
     #: External fields (``[[fields]]``), see ``docs/fields.md``.
     fields: tuple[FieldDecl, ...] = ()
+    #: Per-body overrides of an assembly (``[[assembly.body]]``, by index or name pattern).
+    assembly_bodies: tuple[BodyOverride, ...] = ()
+    #: The units the scene was written in (``[units]``, ``docs/units.md``); the numbers above
+    #: are SI (converted by :func:`poissonkit.scene.units.scene_in_si`).
+    units: UnitSystem = SI
 
 
 # ---------------------------------------------------------------- small validators
@@ -277,18 +288,19 @@ def _optional_positive(table: Mapping[str, Any], key: str, where: str) -> float 
     return _number(table[key], f"{where}.{key}", positive=True) if key in table else None
 
 
-def _run(raw: Any) -> RunSettings:
+def _run(raw: Any, units: UnitSystem = SI) -> RunSettings:
     table = _table(raw, "run")
     _keys(table, RUN_KEYS, "run")
+    tu = units.label("time")  # the scene's time unit: values here are not converted yet
     if "duration" not in table:
-        raise SceneError("run.duration: missing (s)")
+        raise SceneError(f"run.duration: missing ({tu})")
     duration = _number(table["duration"], "run.duration", positive=True)
     method = _string(table.get("method", "splitting4"), "run.method")
     _lookup("integrator", method, "run.method")
     step = _optional_positive(table, "step", "run")
     tol = _optional_positive(table, "tol", "run")
     if step is not None and step > duration:
-        raise SceneError(f"run.step: {step:g} s is longer than run.duration {duration:g} s")
+        raise SceneError(f"run.step: {step:g} {tu} is longer than run.duration {duration:g} {tu}")
     save_every = _integer(table.get("save_every", 1), "run.save_every")
     energy_tol = _number(table.get("energy_tol", 1e-6), "run.energy_tol", positive=True)
     contact = _string(table.get("contact", "stop"), "run.contact")
@@ -322,7 +334,7 @@ def _planner(raw: Any) -> PlannerSpec:
     return PlannerSpec(tol, None if models is None else tuple(models), replan, hyst, cutoff)
 
 
-def _fields(raw: Any) -> tuple[FieldDecl, ...]:
+def _fields(raw: Any, units: UnitSystem = SI) -> tuple[FieldDecl, ...]:
     """The ``[[fields]]`` tables, each checked against its registered field's parameters."""
     if not isinstance(raw, list):
         raise SceneError("fields: must be an array of tables ([[fields]])")
@@ -334,6 +346,7 @@ def _fields(raw: Any) -> tuple[FieldDecl, ...]:
         entry = _lookup("field", name, f"{where}.source")
         params = {key: tuple(v) if isinstance(v, list) and key not in entry.tables else v
                   for key, v in table.items()}
+        params = si_params(entry, params, units)  # before the SI defaults are filled in
         try:
             resolved = entry.resolve_params(params)
         except PoissonkitError as exc:
@@ -371,6 +384,7 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
         raise SceneError(f"description: must be a string, got {description!r}")
     defaults = _table(data.get("defaults", {}), "defaults")
     _body_keys(defaults, "defaults")
+    units = scene_units(data.get("units"))
     if "bodies" in data and "assembly" in data:
         raise SceneError("bodies, assembly: give one of them, not both")
     if "bodies" not in data and "assembly" not in data:
@@ -379,21 +393,24 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
     bodies: tuple[dict[str, Any], ...] = ()
     assembly = None
     overrides: dict[str, Any] = {}
+    per_body: tuple[BodyOverride, ...] = ()
     if "bodies" in data:
-        bodies = _bodies(data, defaults)
+        bodies = _bodies(data, defaults, units)
     else:
-        assembly, overrides = _assembly(data)
+        assembly, overrides, per_body = _assembly(data)
     potential, pot_params, mode, cutoff, pairs = _interactions(data, bodies, assembly)
     if "run" not in data:
         raise SceneError("run: missing ([run] with at least duration)")
-    run = _run(data["run"])
+    run = _run(data["run"], units)
     planner = _planner(data["planner"]) if "planner" in data else None
     if planner is not None and "fields" in data:  # re-planned runs rebuild the pair system
         raise SceneError("fields: [[fields]] with a [planner] is not supported yet; drop one")
     scene = Scene(name=name, description=description, bodies=bodies, assembly=assembly,
-                  assembly_overrides=overrides, potential=potential, potential_params=pot_params,
+                  assembly_overrides=overrides, assembly_bodies=per_body,
+                  potential=potential, potential_params=pot_params,
                   pairs_mode=mode, pairs=pairs, cutoff=cutoff, run=run, planner=planner,
-                  source=source, fields=_fields(data["fields"]) if "fields" in data else ())
+                  source=source, units=units,
+                  fields=_fields(data["fields"], units) if "fields" in data else ())
     if bodies:
         check_overlaps(bodies, "bodies")
     else:
@@ -405,14 +422,17 @@ def _scene_from_mapping(data: Mapping[str, Any], source: str) -> Scene:
             # volume overflows or underflows to zero
             raise SceneError("assembly.params: a size or moment is out of range") from None
         check_overlaps([graph.nodes[n] for n in graph.nodes], "assembly")
-    return scene
+    return scene_in_si(scene)
 
 
-def _bodies(data: Mapping[str, Any], defaults: Mapping[str, Any]) -> tuple[dict[str, Any], ...]:
-    """The ``[[bodies]]`` tables, completed by ``defaults``, each with a unique name."""
+def _bodies(data: Mapping[str, Any], defaults: Mapping[str, Any], units: UnitSystem = SI
+            ) -> tuple[dict[str, Any], ...]:
+    """The ``[[bodies]]`` tables, completed by ``defaults``, each with a unique name (bodies
+    given by orbital elements placed, in the scene's units)."""
     raw = data["bodies"]
     if not isinstance(raw, list) or not raw:
         raise SceneError("bodies: must be a non-empty array of tables ([[bodies]])")
+    raw = with_orbits(raw, defaults, units)
     check_size(len(raw), _pair_count(raw, data), "bodies")
     bodies = tuple(_body(b, defaults, f"bodies[{k}]") for k, b in enumerate(raw))
     seen: dict[str, int] = {}
@@ -425,8 +445,10 @@ def _bodies(data: Mapping[str, Any], defaults: Mapping[str, Any]) -> tuple[dict[
     return bodies
 
 
-def _assembly(data: Mapping[str, Any]) -> tuple[tuple[str, dict[str, Any]], dict[str, Any]]:
-    """``((name, params), overrides)`` of the ``[assembly]`` table, its size checked."""
+def _assembly(data: Mapping[str, Any]
+              ) -> tuple[tuple[str, dict[str, Any]], dict[str, Any], tuple[BodyOverride, ...]]:
+    """``((name, params), overrides, per-body overrides)`` of the ``[assembly]`` table, its
+    size checked (:mod:`poissonkit.scene.overrides`)."""
     table = _table(data["assembly"], "assembly")
     _keys(table, ASSEMBLY_KEYS, "assembly")
     aname = _string(table.get("name"), "assembly.name")
@@ -448,12 +470,10 @@ def _assembly(data: Mapping[str, Any]) -> tuple[tuple[str, dict[str, Any]], dict
                          f"{MAX_COUNT:.0e} bodies")
     check_size(size, held_pairs(size, data, assembly=resolved), "assembly.params")
     assembly = (aname, aparams)
-    overrides = dict(_table(table.get("overrides", {}), "assembly.overrides"))
-    _body_keys(overrides, "assembly.overrides")
-    for key in list(overrides):
-        if key not in BODY_KEYS:
-            overrides[key] = _attribute(overrides[key], f"assembly.overrides.{key}")
-    return assembly, overrides
+    from poissonkit.scene.overrides import body_fields, per_body
+
+    overrides = body_fields(table.get("overrides", {}), "assembly.overrides")
+    return assembly, overrides, per_body(table.get("body"))
 
 
 def _interactions(data: Mapping[str, Any], bodies: tuple[dict[str, Any], ...],
