@@ -198,3 +198,16 @@ def test_run_help_lists_the_options(capsys):
         main(["run", "--help"])
     out = capsys.readouterr().out
     assert "--option NAME=VALUE" in out and "wisdom_holman:" in out and "'10_6_4'" in out
+
+
+def test_the_docs_table_is_the_registry_s():
+    """docs/numerics.md lists the options of poissonkit's own integrators as the registry
+    declares them (regenerate with ``python -m poissonkit.numerics.solve_options``)."""
+    from poissonkit.numerics.hooks import poissonkit_integrators
+    from poissonkit.numerics.solve_options import DOCS_MARKERS, options_markdown
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "numerics.md").read_text("utf-8")
+    start, end = (text.index(m) for m in DOCS_MARKERS)
+    shown = text[start + len(DOCS_MARKERS[0]):end].strip()
+    assert shown == options_markdown(poissonkit_integrators()), \
+        "docs/numerics.md: regenerate the table with python -m poissonkit.numerics.solve_options"
