@@ -59,7 +59,8 @@ class _VersionAction(argparse.Action):
                  values: str | Sequence[Any] | None, option_string: str | None = None) -> None:
         from poissonkit._version import __version__
 
-        parser.exit(message=f"poissonkit {__version__}\n")
+        print(f"poissonkit {__version__}")  # on stdout, as argparse's own version action
+        parser.exit()
 
 
 def command_of(argv: Sequence[str]) -> str | None:

@@ -164,12 +164,9 @@ def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator 
     save_every
         Save every n-th step (start and end are always saved).
     options
-        Options of the integrator's registry entry (e.g. ``{"adaptive": True}``,
-        ``{"table": "10_6_4"}`` for ``wisdom_holman``), checked against what the entry
-        declares (type, allowed values; :func:`poissonkit.numerics.solve_options.check_options`):
-        an unknown name raises an :class:`~poissonkit.errors.InputError` (also an
-        :class:`~poissonkit.errors.UnknownNameError`) listing the valid options.
-        ``poissonkit plugins`` and ``docs/numerics.md`` list them.
+        The registry entry's options (``{"table": "10_6_4"}`` for ``wisdom_holman``), checked
+        against its declaration (:func:`~poissonkit.numerics.solve_options.check_options`): an
+        unknown name is an :class:`~poissonkit.errors.InputError` listing the valid ones.
     t0
         Start time.
     checkpoint
