@@ -384,11 +384,12 @@ def _main(args: argparse.Namespace) -> int:
     # compile the kernels on a one-step run first, so that the progress bar and the reported
     # wall time show the integration itself (compilation is reported separately)
     tc = time.perf_counter()
-    if not args.no_progress:
-        print("compiling kernels (first run in a process: numba) ...", file=sys.stderr, flush=True)
+    from poissonkit.numerics.solve_compile import compile_notice
+
     warm = replace(spec, t_end=min(float(spec.t_end), float(spec.step or spec.t_end * 1e-3)),
                    events=())
-    _solve(warm, progress=False, save_every=1)
+    with compile_notice(spec, enabled=not args.no_progress):  # said only if it takes a while
+        _solve(warm, progress=False, save_every=1)
     compile_time = time.perf_counter() - tc
     plan_run(spec, args.save_every, getattr(args, "max_steps", None),
              step_seconds_bound=compile_time,
