@@ -58,7 +58,7 @@ from poissonkit.structure._exact_linear import (
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.hamiltonize_ansatz import ansatz_columns, checked_ansatz
-from poissonkit.structure.hamiltonize_input import build_problem
+from poissonkit.structure.hamiltonize_input import build_problem, read_text
 from poissonkit.structure.hamiltonize_problem import (
     Ansatz,
     HamiltonizationProblem,
@@ -192,7 +192,8 @@ def hamiltonize(system=None, *, field=None, coords=None, params=None, hamiltonia
     system
         A :class:`~poissonkit.structure.system.HamiltonianSystem` (its equations of motion,
         Hamiltonian, Casimir claims and measure are read; see :func:`problem_from`), a
-        :class:`HamiltonizationProblem`, or a registered system name. Or, instead:
+        :class:`HamiltonizationProblem`, or a registered system name; or the field itself
+        (a sequence or mapping: ``hamiltonize(["x2*x3", ...], coords=...)``). Or, instead:
     field
         The vector field ``X`` (``xdot = X``): a sequence of components in the order of
         ``coords``, or a mapping coordinate -> component; each a sympy expression or text
@@ -225,7 +226,7 @@ def hamiltonize(system=None, *, field=None, coords=None, params=None, hamiltonia
         with ``mu`` an unknown polynomial of degree ``<= k`` in all coordinates (``base`` an
         expression or ``"measure"``; default 1).
     prefactor
-        ``s`` in ``P = s Q``. Default: ``N`` (or the base of a multiplier ansatz) when it comes
+        ``s`` in ``P = s Q`` (an expression, or text in the coordinates and parameters). Default: ``N`` (or the base of a multiplier ansatz) when it comes
         from the measure and a Hamiltonian is given (``P = rho Q``, Theorem 2), else 1.
     hamiltonian
         Override of ``H``; ``None`` drops the condition ``X = N P dH``.
@@ -274,9 +275,13 @@ def hamiltonize(system=None, *, field=None, coords=None, params=None, hamiltonia
     (True, ())
     """
     t0 = time.perf_counter()
+    if field is None and isinstance(system, (list, tuple, Mapping)):
+        system, field = None, system  # hamiltonize(field, coords=...): the field given first
     problem, ints = build_problem(system, field=field, coords=coords, params=params,
                                   hamiltonian=hamiltonian, integrals=integrals,
                                   casimirs=casimirs, measure=measure, name=name)
+    if isinstance(prefactor, str):  # text, read like every other argument
+        prefactor = read_text(problem, prefactor, "prefactor")
     return _search(problem, ints, t0, ansatz, multiplier, prefactor, degree, positions, momenta,
                    momentum_terms, zero, max_jacobi_parameters)
 
