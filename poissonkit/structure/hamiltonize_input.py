@@ -117,6 +117,8 @@ def build_problem(system=None, *, field=None, coords=None, params=None, hamilton
     among their combinations; with both, ``H`` is fixed and the integrals are only reported
     (which combinations are Casimirs of the brackets found).
     """
+    if field is None and isinstance(system, (list, tuple, Mapping)):
+        system, field = None, system  # hamiltonize(field, coords=...): the field given first
     if (system is None) == (field is None):
         raise InputError("hamiltonize: give either a system or field= (with coords=), not "
                          "both or neither")
