@@ -211,3 +211,27 @@ def test_the_docs_table_is_the_registry_s():
     shown = text[start + len(DOCS_MARKERS[0]):end].strip()
     assert shown == options_markdown(poissonkit_integrators()), \
         "docs/numerics.md: regenerate the table with python -m poissonkit.numerics.solve_options"
+
+
+def test_a_sweep_of_the_scene_passes_its_options_to_solve(monkeypatch):
+    """``poissonkit sweep FILE`` integrates every point with the scene's ``[run.options]``
+    (the compile-ahead run of ``prepare`` too): the options reach ``solve``."""
+    from poissonkit.numerics import solver
+    from poissonkit.sweeps.targets import TomlScene
+
+    seen: list[dict] = []
+
+    class Stop(Exception):
+        pass
+
+    def fake_solve(*args, **kwargs):
+        seen.append(dict(kwargs.get("options") or {}))
+        if len(seen) > 1:
+            raise Stop
+
+    monkeypatch.setattr(solver, "solve", fake_solve)
+    target = TomlScene(_scene('[run.options]\ntable = "10_6_4"\n'))
+    prep = target.prepare()
+    with pytest.raises(Stop):
+        target.run(prep, {})
+    assert seen == [{"table": "10_6_4"}, {"table": "10_6_4"}]
