@@ -11,37 +11,29 @@ subpackage each name lives in), so a new public name is added in one place: ``_L
 (or the eager imports plus ``__all__``).
 """
 
-from __future__ import annotations
-
-import importlib
-from importlib.metadata import PackageNotFoundError, version
-
+# No ``from __future__ import annotations`` and no helper imports at module level: tab completion
+# on ``pk.`` must offer only the public API (``__dir__`` below lists ``__all__``), and a helper
+# left in the namespace is still reachable as ``pk.helper`` by mistake.
 from poissonkit.errors import PoissonkitError
-from poissonkit.structure import (
-    Bivector,
-    HamiltonianSystem,
-    canonical,
-    direct_sum,
-    e3,
-    find_casimirs,
-    in_involution,
-    is_casimir,
-    is_first_integral,
-    lie_poisson,
-    rank,
-    so3,
-    symmetric_top,
-)
 
-try:
-    __version__ = version("poissonkit")
-except PackageNotFoundError:  # running from a source tree without installation
-    __version__ = "0.0.0"
-
-# Heavier parts are imported on first use so `import poissonkit` stays fast.
+# Everything else is imported on first use so that `import poissonkit` loads neither sympy nor
+# numpy (the command line starts in a fraction of a second).
 # name -> module that defines it (the API reference documents it from there).
 _LAZY: dict[str, str] = {
-    # symbolic structures
+    # symbolic structures (the everyday ones first)
+    "Bivector": "poissonkit.structure.bivector",
+    "direct_sum": "poissonkit.structure.bivector",
+    "HamiltonianSystem": "poissonkit.structure.system",
+    "canonical": "poissonkit.structure.blocks",
+    "e3": "poissonkit.structure.blocks",
+    "so3": "poissonkit.structure.blocks",
+    "lie_poisson": "poissonkit.structure.blocks",
+    "symmetric_top": "poissonkit.structure.blocks",
+    "find_casimirs": "poissonkit.structure.casimirs",
+    "is_casimir": "poissonkit.structure.casimirs",
+    "in_involution": "poissonkit.structure.checks",
+    "is_first_integral": "poissonkit.structure.checks",
+    "rank": "poissonkit.structure.rank",
     "se3": "poissonkit.structure.blocks",
     "lie_algebra": "poissonkit.structure.lie_algebras",
     "LieAlgebra": "poissonkit.structure.lie_algebras",
@@ -108,20 +100,24 @@ _LAZY: dict[str, str] = {
 }
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> object:
+    if name == "__version__":  # importlib.metadata is slow to import: only when asked
+        from poissonkit._version import __version__
+
+        return __version__
     if name in _LAZY:
-        module = importlib.import_module(_LAZY[name])
-        return getattr(module, name)
+        from importlib import import_module
+
+        value = getattr(import_module(_LAZY[name]), name)
+        globals()[name] = value  # later look-ups skip this function
+        return value
     raise AttributeError(f"module 'poissonkit' has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(_LAZY))
+    """The public API only (``__all__``): what tab completion on ``pk.`` offers."""
+    return sorted({*__all__, "__version__"})
 
 
 #: The public names of ``import poissonkit as pk`` (the API reference lists exactly these).
-__all__ = [
-    "Bivector", "HamiltonianSystem", "PoissonkitError", "canonical", "direct_sum", "e3",
-    "find_casimirs", "in_involution", "is_casimir", "is_first_integral", "lie_poisson", "rank",
-    "so3", "symmetric_top", *_LAZY,
-]
+__all__ = ["PoissonkitError", *_LAZY]

@@ -12,7 +12,7 @@ import importlib
 import sys
 from collections.abc import Sequence
 
-from poissonkit.commands.parser import COMMANDS, CommandParser, build_parser
+from poissonkit.commands.parser import COMMANDS, CommandParser, build_parser, command_of
 from poissonkit.errors import PoissonkitError
 
 __all__ = ["COMMANDS", "CommandParser", "build_parser", "main"]
@@ -20,7 +20,9 @@ __all__ = ["COMMANDS", "CommandParser", "build_parser", "main"]
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``poissonkit`` command; returns the process exit code."""
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    # only the named command's module is imported (none for `poissonkit --help`): startup time
+    parser = build_parser(only=command_of(argv) or "")
     args = parser.parse_args(argv)
     if args.command is None:
         parser.print_help()

@@ -82,6 +82,18 @@ Casimir normal form (``find_casimirs``)
   coefficient, and is reduced against the products of lower-degree generators and the other
   generators of its degree; ``relations`` are polynomials in ``C_1, C_2, ...`` in the same form.
 
+Text expressions (``parse_expression``; every argument that accepts text)
+-------------------------------------------------------------------------
+* Names: a name the caller declares — a coordinate, a parameter (``params=``) — always means
+  that symbol, even ``I``, ``E``, ``S``, ``N`` or ``pi``; any identifier may be declared,
+  Unicode (``α``) and Python keywords (``lambda``) included (in Python's normal form, NFKC).
+  Undeclared, ``pi`` is π (:data:`TEXT_CONSTANTS`) and the names of :data:`UNDECLARED_NAMES`
+  are refused with a hint: an undeclared ``I`` never silently becomes √−1, ``E`` never Euler's
+  number (write ``exp(1)``). Other undeclared names are refused, listing the allowed ones.
+* Numbers: in exact contexts (the default of the symbolic layer) a decimal is the rational it
+  denotes — ``0.1`` is 1/10, ``2.5e-3`` is 1/400 — so brackets and Jacobi checks stay exact;
+  ``parse_expression(..., exact=False)`` keeps sympy floats (:data:`EXACT_DECIMALS`).
+
 Rigid bodies and N-body states
 ------------------------------
 * A symmetric top carries ``(nu, m)``: unit symmetry axis and angular momentum, both in the
@@ -161,3 +173,13 @@ GM_EARTH: float = 3.986004e14
 GM_JUPITER: float = 1.2668653e17
 #: Solar mass GM_SUN / NEWTON_G [kg].
 SOLAR_MASS: float = GM_SUN / NEWTON_G
+
+#: Names refused in text unless declared (sympy's parser would read them as I = √−1, E = e,
+#: S = the singleton registry, N = numeric evaluation).
+UNDECLARED_NAMES: tuple[str, ...] = ("I", "E", "S", "N")
+
+#: Constants text may name without declaring them (a declared name takes precedence).
+TEXT_CONSTANTS: tuple[str, ...] = ("pi",)
+
+#: Decimals in text are exact rationals (``0.1`` = 1/10) unless ``exact=False``.
+EXACT_DECIMALS: bool = True

@@ -148,3 +148,50 @@ def test_euclid_invariant_names_and_values():
             assert sp.expand(minors - inv[name]) == 0, name
         if n % 2:
             assert sp.expand(inv["Pf(Y)"] ** 2 - Y.det(method="berkowitz")) == 0
+
+
+def test_text_names_mean_only_what_is_declared():
+    """conventions, "Text expressions": I, E, S, N, pi are symbols when declared; undeclared,
+    pi is the constant and the others are refused (I never silently becomes sqrt(-1))."""
+    import pytest
+
+    from poissonkit.errors import ParseError
+    from poissonkit.structure.parsing import parse_expression
+
+    x = sp.Symbol("x", real=True)
+    assert conventions.UNDECLARED_NAMES == ("I", "E", "S", "N")
+    assert conventions.TEXT_CONSTANTS == ("pi",)
+    for name in conventions.UNDECLARED_NAMES:
+        with pytest.raises(ParseError, match=f"{name!r} is not declared"):
+            parse_expression(f"{name}*x", [x])
+        e = parse_expression(f"{name}*x", [x], params=[name])
+        assert e.free_symbols == {x, sp.Symbol(name, real=True)}  # a real symbol, not sympy's
+    assert parse_expression("I**2", [x], params=["I"]) != -1
+    assert parse_expression("pi*x", [x]) == sp.pi * x
+    assert parse_expression("pi*x", [x], params=["pi"]).free_symbols == {
+        x, sp.Symbol("pi", real=True)}
+
+
+def test_text_accepts_unicode_and_keyword_parameter_names():
+    from poissonkit.structure.parsing import parse_expression
+
+    x = sp.Symbol("x", real=True)
+    alpha, lam = sp.Symbol("α", real=True), sp.Symbol("lambda", real=True)
+    assert parse_expression("α*x**2 + lambda*x", [x], params=["α", "lambda"]) == \
+        alpha * x ** 2 + lam * x
+    # the same names in a bracket written as text
+    P = Bivector.from_components({(1, 2): "lambda*x3", (2, 3): "α*x1", (1, 3): "-x2"},
+                                 ["x1", "x2", "x3"], params=["α", "lambda"])
+    assert lam in P.matrix.free_symbols and alpha in P.matrix.free_symbols
+
+
+def test_decimals_in_text_are_exact_rationals():
+    from poissonkit.structure.parsing import parse_expression
+
+    x = sp.Symbol("x", real=True)
+    assert conventions.EXACT_DECIMALS is True
+    assert parse_expression("0.1*x", [x]) == R(1, 10) * x
+    assert parse_expression("2.5e-3 + 1.25", [x]) == R(1, 400) + R(5, 4)
+    assert parse_expression("0.1 + 0.2", [x]) == R(3, 10)  # not 0.30000000000000004
+    assert parse_expression("0.1*x", [x], exact=False) == sp.Float(0.1) * x
+    assert parse_expression("3*x", [x]) == 3 * x

@@ -86,7 +86,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         "scene file (listed below and by `poissonkit scenes`); default: the "
                         "seed 000 orbit")
     if isinstance(parser, CommandParser):  # the list needs the plugins: built only for --help
-        parser.epilog_factory = scenes_epilog
+        parser.epilog_factory = _help_epilog
     parser.add_argument("--method", default=None,
                         help="integrator registry name "
                         "(default: the scene's, splitting6 for seed 000)")
@@ -104,6 +104,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--spin-ratio", type=float, default=20.0,
                         help="seed scene: alpha|m|/omega_orb of each top (default 20; below ~6 "
                         "the tilted orbit is unstable)")
+    parser.add_argument("--option", action="append", default=[], metavar="NAME=VALUE",
+                        help="an option of the integrator (repeatable; listed below), e.g. "
+                        "--option table=10_6_4 for wisdom_holman; wins over [run.options]")
     parser.add_argument("--param", action="append", default=[], metavar="NAME=VALUE",
                         help="a registered scene's own parameter (repeatable), e.g. "
                         "--param spin_rpm=1500 for the levitron (`poissonkit scenes`)")
@@ -206,7 +209,15 @@ def build_spec(args: argparse.Namespace) -> RunSpec:
             raise SceneError("--periods needs a scene with an orbital period (T_orb); "
                              "use --duration")
         changes["t_end"] = args.periods * float(period) / tunit
-    return replace(spec, **changes) if changes else spec
+    from poissonkit.scene.run_options import with_cli_options
+
+    return with_cli_options(replace(spec, **changes), getattr(args, "option", None), spec.method)
+
+
+def _help_epilog() -> str:
+    from poissonkit.numerics.solve_options import options_text
+
+    return scenes_epilog() + "\n\n" + options_text()
 
 
 def scenes_epilog() -> str:
@@ -238,6 +249,7 @@ def _solve(spec: RunSpec, progress: bool, save_every: int, *,
         with progress_in_seconds(time_unit(spec)):  # the bar counts seconds, as the options do
             return solve(spec.system, spec.y0, spec.t_end, method=spec.method, step=spec.step,
                          tol=spec.tol, progress=progress, save_every=save_every,
+                         options=spec.options,
                          events=spec.events, checkpoint=checkpoint, resume=resume,
                          stream=stream, stop=stop, t_eval=_sample_times(spec, save_dt))
     except MissingStepError as exc:  # the API's message speaks of step=... in internal units
@@ -372,11 +384,12 @@ def _main(args: argparse.Namespace) -> int:
     # compile the kernels on a one-step run first, so that the progress bar and the reported
     # wall time show the integration itself (compilation is reported separately)
     tc = time.perf_counter()
-    if not args.no_progress:
-        print("compiling kernels (first run in a process: numba) ...", file=sys.stderr, flush=True)
+    from poissonkit.numerics.solve_compile import compile_notice
+
     warm = replace(spec, t_end=min(float(spec.t_end), float(spec.step or spec.t_end * 1e-3)),
                    events=())
-    _solve(warm, progress=False, save_every=1)
+    with compile_notice(spec, enabled=not args.no_progress):  # said only if it takes a while
+        _solve(warm, progress=False, save_every=1)
     compile_time = time.perf_counter() - tc
     plan_run(spec, args.save_every, getattr(args, "max_steps", None),
              step_seconds_bound=compile_time,

@@ -50,6 +50,9 @@ class RunSpec:
     save_dt
         Save the state at multiples of this interval (internal time unit) instead of every
         ``save_every``-th step (a scene's ``run.save_dt``; ``solve(t_eval=...)``).
+    options
+        The integrator's own options (a scene's ``[run.options]``, ``--option NAME=VALUE``;
+        ``solve(options=...)``), checked against its registry entry.
     """
 
     name: str
@@ -65,3 +68,4 @@ class RunSpec:
     save_every: int | None = None
     max_steps: int | None = None
     save_dt: float | None = None
+    options: Mapping[str, Any] = field(default_factory=dict)

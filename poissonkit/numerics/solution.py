@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -94,9 +95,11 @@ class Solution:
         (:func:`poissonkit.numerics.diagnostics.drifts`)."""
         return diagnostics.drifts(self.system, self.y)
 
-    def energy_error(self) -> np.ndarray:
-        """Relative energy error ``|H(t) − H(0)| / |H(0)|`` over time (absolute if ``H(0) = 0``)."""
-        return diagnostics.energy_error(self.system, self.y).relative
+    def energy_error(self, relative: bool = True) -> np.ndarray:
+        """Energy error over time: relative, ``|H(t) − H(0)| / |H(0)|`` (absolute if
+        ``H(0) = 0``; the default), or absolute, ``|H(t) − H(0)|`` (``relative=False``)."""
+        found = diagnostics.energy_error(self.system, self.y)
+        return found.relative if relative else found.absolute
 
     def casimir_drift(self) -> np.ndarray:
         """Relative Casimir drift ``max_k |ΔC_k| / s_k`` over time
@@ -214,15 +217,17 @@ class Solution:
         Returns
         -------
         xarray.Dataset
-            ``y`` with dimensions ``(t, component)`` (component names from the system's
-            layout), the relative drifts ``energy_error``, ``casimir_drift``,
-            ``linear_momentum_drift``, ``angular_momentum_drift`` along ``t`` when the system
-            is known, and the run's
+            ``y`` with dimensions ``(time, component)`` (component names from the system's
+            layout; ``time`` as in ``poissonkit run``'s ``trajectory.nc``: seconds for a system
+            in internal units, else the solver's time, with ``time_internal`` and the older
+            name ``t`` the solver's time along it), the relative drifts ``energy_error``,
+            ``casimir_drift``, ``linear_momentum_drift``, ``angular_momentum_drift`` along
+            ``time`` when the system is known, and the run's
             method, steps, wall time, step and tolerance as attributes (``None`` left out, so
             the dataset writes to netCDF/zarr as is). For a system in internal units
             (:class:`~poissonkit.contracts.HasScales`) the SI value of one internal unit of
             each kind is an attribute ``internal_unit_<kind>`` (with ``..._units``), and
-            ``t_si`` [s] a coordinate along ``t``. (``poissonkit run`` writes the richer
+            ``t_si`` [s] a coordinate along ``time`` (the same values as ``time``). (``poissonkit run`` writes the richer
             ``time × body × component`` form: :mod:`poissonkit.report.trajectory`.)
 
         Raises
@@ -235,26 +240,31 @@ class Solution:
         except ImportError:
             raise MissingDependencyError(
                 "Solution.to_xarray needs xarray: pip install xarray") from None
-        data = {"y": (("t", "component"), np.asarray(self.y, dtype=float))}
+        data = {"y": (("time", "component"), np.asarray(self.y, dtype=float))}
         if self.system is not None:
             for name in diagnostics.QUANTITIES:
-                data[name] = (("t",), np.asarray(self._relative_drift(name), dtype=float))
+                data[name] = (("time",), np.asarray(self._relative_drift(name), dtype=float))
         attrs = {"method": self.method, "steps": int(self.steps), "nfev": int(self.nfev),
                  "wall_time": float(self.wall_time), "step": self.step, "tol": self.tol,
                  "message": self.message, "system": self._system_name() if self.system else None}
         t = np.asarray(self.t, dtype=float)
-        coords: dict[str, object] = {"t": t, "component": list(self.layout())}
+        # the dimension is "time", as in trajectory.nc; "t" stays readable as a coordinate
+        coords: dict[str, object] = {"time": t, "time_internal": ("time", t), "t": ("time", t),
+                                     "component": list(self.layout())}
         scales = self.system.scales if offers(self.system, HasScales) else None
         if isinstance(scales, Scales):
             for kind, unit in _SI_UNITS.items():
                 attrs[f"internal_unit_{kind}"] = float(scales.unit(kind))
                 attrs[f"internal_unit_{kind}_units"] = unit
-            coords["t_si"] = ("t", t * float(scales.time), {"units": "s"})
+            t_si = t * float(scales.time)
+            coords["time"] = ("time", t_si, {"units": "s"})
+            coords["t_si"] = ("time", t_si, {"units": "s"})
         return xr.Dataset(data, coords=coords,
                           attrs={k: v for k, v in attrs.items() if v is not None})
 
-    def plot(self, ax=None, invariants=("energy", "casimirs", "angular_momentum")):
-        """Plot the drift of the invariants against time, log scale.
+    def plot(self, ax=None, invariants=("energy", "casimirs", "angular_momentum"),
+             kind: str = "drifts", components: Sequence[str] | None = None):
+        """Plot the drift of the invariants against time, log scale, or the state itself.
 
         Parameters
         ----------
@@ -263,6 +273,11 @@ class Solution:
         invariants
             One or more of ``"energy"``, ``"casimirs"``, ``"momentum"``, ``"angular_momentum"``.
             Drifts that are zero throughout (e.g. a system without Casimirs) are skipped.
+        kind
+            ``"drifts"`` (the default: the invariants above) or ``"state"``: the state
+            components against time (named by the system's layout).
+        components
+            With ``kind="state"``: the names of the components to draw (default: all).
 
         Returns
         -------
@@ -272,8 +287,13 @@ class Solution:
         Raises
         ------
         InputError
-            For an unknown invariant name, or a solution without its system.
+            For an unknown invariant, kind or component name, or drifts of a solution without
+            its system.
         """
+        if kind == "state":
+            return self._plot_state(ax, components)
+        if kind != "drifts":
+            raise InputError(f"Solution.plot: kind must be 'drifts' or 'state', got {kind!r}")
         if self.system is None:
             raise InputError("Solution.plot needs the solution's system (solution.system)")
         if isinstance(invariants, str):  # one name, not its letters
@@ -299,4 +319,28 @@ class Solution:
         ax.set_title(f"{self._system_name()}: {self.method}, {int(self.steps)} steps")
         if ax.get_legend_handles_labels()[0]:
             ax.legend(loc="best")
+        return ax
+
+    def _plot_state(self, ax, components: Sequence[str] | None):
+        """:meth:`plot` with ``kind="state"``: each chosen state component against time."""
+        names = self.layout()
+        chosen = list(names) if components is None else (
+            [components] if isinstance(components, str) else list(components))
+        unknown = [c for c in chosen if c not in names]
+        if unknown:
+            raise InputError(f"Solution.plot: unknown component {unknown[0]!r}; available: "
+                             f"{', '.join(names)}")
+        if ax is None:
+            import matplotlib.pyplot as plt
+
+            _fig, ax = plt.subplots(figsize=(6.4, 3.6))
+        t = np.asarray(self.t, dtype=float)
+        y = np.asarray(self.y, dtype=float)
+        for name in chosen:
+            ax.plot(t, y[:, names.index(name)], label=name)
+        ax.set_xlabel("t (internal units)")
+        ax.set_ylabel("state (internal units)")
+        ax.set_title(f"{self._system_name()}: {self.method}, {int(self.steps)} steps")
+        if 0 < len(chosen) <= 12:  # a legend of a whole N-body state would hide the plot
+            ax.legend(loc="best", fontsize="small")
         return ax

@@ -61,8 +61,10 @@ def _integrator_and_capabilities(method: str | Integrator,
     if isinstance(method, str):
         from poissonkit.plugin import integrator
 
+        from poissonkit.numerics.solve_options import check_options
+
         entry = integrator(method)
-        return entry.factory(**entry.resolve_params(dict(options or {}))), entry.capabilities
+        return entry.factory(**check_options(entry, options or {})), entry.capabilities
     if isinstance(method, Integrator):
         if options:
             raise InputError("options are only accepted with a registry name")
@@ -162,7 +164,9 @@ def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator 
     save_every
         Save every n-th step (start and end are always saved).
     options
-        Parameters of the integrator's registry entry (e.g. ``{"adaptive": True}``).
+        The registry entry's options (``{"table": "10_6_4"}`` for ``wisdom_holman``), checked
+        against its declaration (:func:`~poissonkit.numerics.solve_options.check_options`): an
+        unknown name is an :class:`~poissonkit.errors.InputError` listing the valid ones.
     t0
         Start time.
     checkpoint

@@ -119,7 +119,7 @@ def _measure(spec: RunSpec, steps: int) -> float:
     def run(n: int) -> float:
         t0 = time.perf_counter()
         solve(spec.system, spec.y0, float(spec.step) * n, method=spec.method, step=spec.step,
-              save_every=n)
+              save_every=n, options=spec.options)
         return time.perf_counter() - t0
 
     run(1)  # compiles the kernels if nobody has yet (the command line's warm-up did)

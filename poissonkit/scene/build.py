@@ -292,6 +292,7 @@ def build_run(scene: Scene) -> RunSpec:
         method=scene.run.method, step=built.step,
         tol=scene.run.tol, metadata=metadata, events=events, energy_tol=scene.run.energy_tol,
         save_every=scene.run.save_every, max_steps=scene.run.max_steps,
+        options=dict(scene.run.options),
         save_dt=None if scene.run.save_dt is None else scene.run.save_dt / built.time_unit)
 
 

@@ -28,7 +28,7 @@ INTERACTION_KEYS = ("potential", "params", "pairs", "cutoff", "pair")
 PAIR_KEYS = ("bodies", "potential", "params")
 ASSEMBLY_KEYS = ("name", "params", "overrides", "body")
 RUN_KEYS = ("method", "step", "tol", "duration", "save_every", "energy_tol", "contact",
-            "max_steps", "save_dt")
+            "max_steps", "save_dt", "options")
 PLANNER_KEYS = ("tol", "models", "replan_every", "hysteresis", "cutoff")
 #: More bodies than any memory holds: refused before the memory estimate (which counts in
 #: floats and would overflow for ``n = 1e300``).
@@ -77,7 +77,8 @@ class RunSettings:
     ``"stop"``, the default, or ``"ignore"`` for scenes that declare overlapping bodies
     meaningful), the most fixed steps the run may take (``max_steps``; ``None``: no
     limit), and the interval [s] at which states are saved instead of every ``save_every``-th
-    step (``save_dt``; reached exactly by every method)."""
+    step (``save_dt``; reached exactly by every method); ``options``: the integrator's own
+    options (``[run.options]``, :mod:`poissonkit.scene.run_options`)."""
 
     duration: float
     method: str = "splitting4"
@@ -88,6 +89,7 @@ class RunSettings:
     contact: str = "stop"
     max_steps: int | None = None
     save_dt: float | None = None
+    options: Mapping[str, Any] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -311,8 +313,10 @@ def _run(raw: Any, units: UnitSystem = SI) -> RunSettings:
     save_dt = _optional_positive(table, "save_dt", "run")
     if save_dt is not None and "save_every" in table:
         raise SceneError("run.save_dt and run.save_every both choose the saved states: give one")
+    from poissonkit.scene.run_options import run_options
+
     return RunSettings(duration, method, step, tol, save_every, energy_tol, contact, max_steps,
-                       save_dt)
+                       save_dt, run_options(table.get("options"), method))
 
 
 def _planner(raw: Any) -> PlannerSpec:

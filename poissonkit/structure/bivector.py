@@ -80,6 +80,9 @@ class Bivector:
     blocks: tuple[tuple[str, int, int], ...] = field(default=())
 
     def __post_init__(self) -> None:
+        if _is_matrix_like(self.coords):  # Bivector(matrix, coords): the order of sympy users
+            raise InputError("Bivector takes (coords, matrix): the coordinates first, then the "
+                             "matrix; the first argument given is a matrix (swap the two)")
         coords = _as_symbols(self.coords)
         object.__setattr__(self, "coords", coords)
         _reject_strings(self.matrix)
@@ -340,3 +343,12 @@ def direct_sum(*parts: tuple[str, Bivector] | Bivector) -> Bivector:
     if len(set(coords)) != len(coords):
         raise InputError("direct_sum: coordinate names collide; give the blocks names")
     return Bivector(tuple(coords), sp.ImmutableMatrix(sp.diag(*mats)), tuple(blocks))
+
+
+def _is_matrix_like(value: object) -> bool:
+    """A sympy matrix, or a sequence of rows (what a matrix argument looks like)."""
+    if isinstance(value, sp.MatrixBase) or getattr(value, "ndim", 1) == 2:
+        return True
+    if isinstance(value, (list, tuple)) and value:
+        return all(isinstance(row, (list, tuple, sp.MatrixBase)) for row in value)
+    return False

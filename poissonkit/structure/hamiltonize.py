@@ -58,7 +58,7 @@ from poissonkit.structure._exact_linear import (
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.hamiltonize_ansatz import ansatz_columns, checked_ansatz
-from poissonkit.structure.hamiltonize_input import build_problem
+from poissonkit.structure.hamiltonize_input import build_problem, read_text
 from poissonkit.structure.hamiltonize_problem import (
     Ansatz,
     HamiltonizationProblem,
@@ -192,7 +192,7 @@ def hamiltonize(system=None, *, field=None, coords=None, params=None, hamiltonia
     system
         A :class:`~poissonkit.structure.system.HamiltonianSystem` (its equations of motion,
         Hamiltonian, Casimir claims and measure are read; see :func:`problem_from`), a
-        :class:`HamiltonizationProblem`, or a registered system name. Or, instead:
+        :class:`HamiltonizationProblem`, a registered system name, or the field. Or:
     field
         The vector field ``X`` (``xdot = X``): a sequence of components in the order of
         ``coords``, or a mapping coordinate -> component; each a sympy expression or text
@@ -225,8 +225,8 @@ def hamiltonize(system=None, *, field=None, coords=None, params=None, hamiltonia
         with ``mu`` an unknown polynomial of degree ``<= k`` in all coordinates (``base`` an
         expression or ``"measure"``; default 1).
     prefactor
-        ``s`` in ``P = s Q``. Default: ``N`` (or the base of a multiplier ansatz) when it comes
-        from the measure and a Hamiltonian is given (``P = rho Q``, Theorem 2), else 1.
+        ``s`` in ``P = s Q`` (an expression or text). Default: ``N`` (or the base of a
+        multiplier ansatz) if from the measure with a Hamiltonian (``P = rho Q``), else 1.
     hamiltonian
         Override of ``H``; ``None`` drops the condition ``X = N P dH``.
     casimirs
@@ -287,6 +287,8 @@ def _search(problem: HamiltonizationProblem, ints, t0: float, ansatz: Ansatz | N
             max_jacobi_parameters: int) -> HamiltonizeResult:
     """:func:`hamiltonize` on a built problem (``t0``: the start time of the call): the
     multiplier and the ansatz, then steps 2 and 3 (linear conditions, then Jacobi)."""
+    if isinstance(prefactor, str):  # text, read like every other argument
+        prefactor = read_text(problem, prefactor, "prefactor")
     N, s, how = _prefactor_and_multiplier(problem, multiplier, prefactor)
     ansatz = checked_ansatz(problem, ansatz, multiplier, prefactor, degree, positions, momenta,
                             momentum_terms, s, zero)

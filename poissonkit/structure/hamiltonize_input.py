@@ -14,7 +14,7 @@ from poissonkit.structure.hamiltonize_problem import HamiltonizationProblem, pro
 from poissonkit.structure.parsing import declare_parameters, parse_expression
 from poissonkit.structure.system import HamiltonianSystem
 
-__all__ = ["build_problem"]
+__all__ = ["build_problem", "read_text"]
 
 
 class _Reader:
@@ -117,6 +117,8 @@ def build_problem(system=None, *, field=None, coords=None, params=None, hamilton
     among their combinations; with both, ``H`` is fixed and the integrals are only reported
     (which combinations are Casimirs of the brackets found).
     """
+    if field is None and isinstance(system, (list, tuple, Mapping)):
+        system, field = None, system  # hamiltonize(field, coords=...): the field given first
     if (system is None) == (field is None):
         raise InputError("hamiltonize: give either a system or field= (with coords=), not "
                          "both or neither")
@@ -157,3 +159,13 @@ def build_problem(system=None, *, field=None, coords=None, params=None, hamilton
     prob = HamiltonizationProblem(base.coords, base.field, H, funcs, base.measure,
                                   name or base.name, span, forms)
     return prob, ints
+
+
+def read_text(problem: HamiltonizationProblem, text: str, what: str) -> sp.Expr:
+    """``text`` read by the allow-list parser in the names of ``problem``: its coordinates and
+    the parameters its field, Hamiltonian and measure use (e.g. a ``prefactor``)."""
+    read = _Reader(problem.coords, None)
+    exprs = [*problem.field, problem.hamiltonian, problem.measure,
+             *problem.casimirs.values(), *problem.hamiltonian_span.values()]
+    read.names.update({str(s): s for e in exprs if e is not None for s in e.free_symbols})
+    return read(text, what)

@@ -113,6 +113,26 @@ class HamiltonizeResult:
         """Whether non-existence within the ansatz is proved (``certificate`` says how)."""
         return self.status in ("no_linear_solution", "no_multiplier", "no_jacobi_solution")
 
+    def __repr__(self) -> str:
+        """Several lines: :meth:`summary`, what the free parameters are, and the brackets."""
+        lines = [self.summary()]
+        if self.parameters:
+            names = ", ".join(map(str, self.parameters))
+            lines.append(f"  free parameters {names}: arbitrary constants of the family\n"
+                         "    that solves the linear conditions (each value gives a bracket of "
+                         "the ansatz);\n    one left in a solution below stays free in it")
+        for k, P in enumerate(self.solutions[:4]):
+            rows = "; ".join("[" + ", ".join(map(str, P.matrix.row(i))) + "]"
+                             for i in range(P.matrix.rows))
+            lines.append(f"  solution [{k}]: P = [{rows}] in ({', '.join(map(str, P.coords))})")
+        if len(self.solutions) > 4:
+            lines.append(f"  ... {len(self.solutions) - 4} more in .solutions")
+        lines.append("  (.status, .solutions, .multipliers, .hamiltonians, .parameters, "
+                     ".certificate)")
+        return "\n".join(lines)
+
+    __str__ = __repr__
+
     def summary(self) -> str:
         """A short human-readable report: what was searched, found or ruled out."""
         coords = self.problem.coords

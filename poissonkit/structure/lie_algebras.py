@@ -443,6 +443,11 @@ def _heisenberg(n: int) -> _Spec:
     return _Spec(f"heisenberg({n})", n + 2, names, tuple(Q + P + [Z]), None, None, inv)
 
 
+class UnknownAlgebraError(UnknownNameError, InputError):
+    """A Lie algebra name that is not one of the accepted ones: an unknown name, and bad
+    input (``except InputError`` catches it, as it does every other malformed argument)."""
+
+
 _NAME = re.compile(r"^\s*([a-z]+)\s*\(\s*(\d+)\s*(?:,\s*(\d+)\s*)?\)\s*$")
 _MIN = {"gl": 1, "sl": 2, "so": 2, "sp": 2, "u": 1, "su": 2, "e": 2, "se": 2, "heisenberg": 1}
 
@@ -453,7 +458,7 @@ def _spec(name: str) -> _Spec:
                          f"{type(name).__name__}")
     m = _NAME.match(name.lower())
     if m is None or m.group(1) not in _MIN or (m.group(3) is not None and m.group(1) != "so"):
-        raise UnknownNameError("Lie algebra", name, LIE_ALGEBRA_NAMES)
+        raise UnknownAlgebraError("Lie algebra", name, LIE_ALGEBRA_NAMES)
     fam, k = m.group(1), int(m.group(2))
     size = k + int(m.group(3)) if m.group(3) is not None else k
     if size < _MIN[fam] or (fam == "sp" and k % 2):
@@ -507,7 +512,8 @@ def lie_algebra(name: str, coords: Sequence[sp.Symbol | str] | None = None) -> L
     Raises
     ------
     UnknownNameError
-        If the name is not one of the accepted ones (they are listed in the message).
+        If the name is not one of the accepted ones (they are listed in the message); also an
+        :class:`~poissonkit.errors.InputError`.
     InputError
         If the size is out of range (``sl(1)``, ``sp(3)``, ...) or too large.
 

@@ -3,19 +3,33 @@
 Strings are tokenised by sympy's parser with ``global_dict`` restricted to a fixed table of
 functions and constants, and ``local_dict`` restricted to the caller's symbols. Any other name,
 attribute access, subscript, lambda or dunder is rejected before parsing.
+
+Names (the rule of :mod:`poissonkit.conventions`, "Text expressions"): a name the caller
+declares — a coordinate, a parameter, an ``extra`` name — always means that symbol, even
+``I``, ``E``, ``S``, ``N``, ``pi``, a Unicode identifier (``α``) or a Python keyword
+(``lambda``). Undeclared, ``pi`` is π and nothing else is a constant: ``I`` and ``E`` are
+refused (an undeclared moment of inertia ``I`` must not silently become √−1), as are ``S``
+and ``N``. Numbers: in exact mode (the default) a decimal such as ``0.1`` is the rational
+1/10, so that symbolic checks stay exact; ``exact=False`` keeps sympy floats.
 """
 
 from __future__ import annotations
 
 import ast
+import io
+import keyword
 import math
 import re
+import tokenize
+import unicodedata
+from fractions import Fraction
 from collections.abc import Iterable, Mapping
 from typing import Union
 
 import sympy as sp
 from sympy.parsing.sympy_parser import parse_expr, standard_transformations
 
+from poissonkit.conventions import EXACT_DECIMALS, UNDECLARED_NAMES
 from poissonkit.errors import InputError, ParseError
 # the public home of the non-string conversion: parse text here, convert values with as_expr
 from poissonkit.structure._expr import as_expr
@@ -27,9 +41,19 @@ ALLOWED_FUNCTIONS: dict[str, object] = {
     "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "asin": sp.asin, "acos": sp.acos,
     "atan": sp.atan, "atan2": sp.atan2, "sinh": sp.sinh, "cosh": sp.cosh, "tanh": sp.tanh,
     "exp": sp.exp, "log": sp.log, "sqrt": sp.sqrt, "Abs": sp.Abs, "abs": sp.Abs,
-    "pi": sp.pi, "E": sp.E, "I": sp.I, "Rational": sp.Rational, "Integer": sp.Integer,
+    "pi": sp.pi, "Rational": sp.Rational, "Integer": sp.Integer,
     "Float": sp.Float, "Symbol": sp.Symbol,
 }
+#: Names sympy's own parser reads as constants or functions: here they mean only what the
+#: caller declares (undeclared: refused, with this hint).
+UNDECLARED_HINTS: dict[str, str] = {
+    "I": "the imaginary unit is not read from text (an undeclared I would be sqrt(-1))",
+    "E": "Euler's number is exp(1) (an undeclared E would be it)",
+    "S": "sympy's S is not available", "N": "sympy's N is not available",
+}
+assert set(UNDECLARED_HINTS) == set(UNDECLARED_NAMES)  # one rule (poissonkit.conventions)
+#: Names a parameter may not take: the parser's functions (``pi`` may be declared).
+_FUNCTIONS = frozenset(ALLOWED_FUNCTIONS) - {"pi"}
 _ALLOWED_NODES = (
     ast.Expression, ast.BinOp, ast.UnaryOp, ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow,
     ast.USub, ast.UAdd, ast.Constant, ast.Name, ast.Load, ast.Call, ast.Mod,
@@ -136,7 +160,6 @@ def _check_powers(tree: ast.AST, text: str) -> None:
 #: Assumptions a declared parameter may carry (``{"m": {"positive": True}}``).
 ASSUMPTIONS = ("real", "positive", "negative", "nonnegative", "nonpositive", "nonzero",
                "integer", "rational")
-_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 
 #: How parameters are declared: names, symbols, or ``{name: assumptions | symbol}``.
 ParameterSpec = Union[Iterable[Union[str, sp.Symbol]],
@@ -147,9 +170,13 @@ def _parameter_symbol(name: object, how: object) -> sp.Symbol:
     """One declared parameter: ``how`` is ``None``, an assumptions mapping or a symbol."""
     if isinstance(name, sp.Symbol) and how is None:
         return name
-    if not isinstance(name, str) or not _NAME.fullmatch(name):
-        raise InputError(f"parameter name {name!r} is not an identifier (letters, digits, _)")
-    if name in ALLOWED_FUNCTIONS:
+    if not isinstance(name, str) or not name.isidentifier() or name.startswith("_"):
+        raise InputError(f"parameter name {name!r} is not an identifier (letters, digits, _, "
+                         "not starting with _ or a digit)")
+    if unicodedata.normalize("NFKC", name) != name:  # Python reads the text NFKC-normalised
+        raise InputError(f"parameter name {name!r}: write it as "
+                         f"{unicodedata.normalize('NFKC', name)!r} (its normal form)")
+    if name in _FUNCTIONS:
         raise InputError(f"parameter name {name!r} is a function or constant of the parser")
     if isinstance(how, sp.Symbol):
         if how.name != name:
@@ -189,7 +216,7 @@ def declare_parameters(params: ParameterSpec,
     Raises
     ------
     InputError
-        A name that is not an identifier, a parser function name (``sin``, ``E``, ``I``), a
+        A name that is not an identifier, a parser function name (``sin``, ``exp``), a
         coordinate's name, repeated, or an unknown assumption.
 
     Examples
@@ -217,7 +244,7 @@ def declare_parameters(params: ParameterSpec,
 
 def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
                      extra: Mapping[str, object] | None = None, *,
-                     params: ParameterSpec = None) -> sp.Expr:
+                     params: ParameterSpec = None, exact: bool = EXACT_DECIMALS) -> sp.Expr:
     """Parse ``text`` into a sympy expression using only allowed names.
 
     Parameters
@@ -231,6 +258,9 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
     params
         Parameters the text may name, declared as in :func:`declare_parameters`
         (``["a", "b"]`` or ``{"m": {"positive": True}}``).
+    exact
+        Read decimals as the rationals they denote (``0.1`` is 1/10; default), or as sympy
+        floats (``False``).
 
     Raises
     ------
@@ -256,16 +286,23 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
         local.update(extra)
     if params is not None:
         local.update(declare_parameters(params, reserved=[str(s) for s in symbols]))
+    src, local = _rename_keywords(src, local)
     try:
         tree = ast.parse(src, mode="eval")
     except SyntaxError as exc:
-        raise ParseError(f"cannot parse {text!r}: {exc.msg}") from None
+        words = [w for w in re.findall(r"\w+", src) if keyword.iskeyword(w)]
+        hint = (f" ({words[0]!r} is a Python keyword: declare it as a parameter to use it as a "
+                "name)") if words else ""
+        raise ParseError(f"cannot parse {text!r}: {exc.msg}{hint}") from None
     except (RecursionError, MemoryError):
         raise ParseError("expression is nested too deeply") from None
     for node in ast.walk(tree):
         if not isinstance(node, _ALLOWED_NODES):
             raise ParseError(f"construct {type(node).__name__} is not allowed in {text!r}")
         if isinstance(node, ast.Name):
+            if node.id in UNDECLARED_HINTS and node.id not in local:
+                raise ParseError(f"name {node.id!r} is not declared in {text!r}: declare it as "
+                                 f"a parameter to use it as a symbol; {UNDECLARED_HINTS[node.id]}")
             if node.id.startswith("_") or (node.id not in local and node.id not in ALLOWED_FUNCTIONS):
                 raise ParseError(f"name {node.id!r} is not allowed in {text!r}; allowed: "
                                  f"{', '.join(local) or '(none)'} (coordinates and declared "
@@ -279,6 +316,8 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
         _check_powers(tree, text)
     except RecursionError:
         raise ParseError("expression is nested too deeply") from None
+    if exact:
+        src = _exact_decimals(src, text)
     try:
         expr = parse_expr(src, local_dict=dict(local), global_dict=dict(ALLOWED_FUNCTIONS),
                           transformations=standard_transformations, evaluate=True)
@@ -291,3 +330,44 @@ def parse_expression(text: str, symbols: Iterable[sp.Symbol] = (),
     if expr.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
         raise ParseError(f"{text!r} is not finite (evaluates to {expr})")
     return expr
+
+
+def _rename_keywords(src: str, local: dict[str, object]) -> tuple[str, dict[str, object]]:
+    """Declared names that are Python keywords (``lambda``) renamed in ``src`` to identifiers
+    the grammar accepts (``lambda_``, made unique), mapped to the same symbols."""
+    words = [w for w in local if keyword.iskeyword(w) and re.search(rf"(?<!\w){w}(?!\w)", src)]
+    if not words:
+        return src, local
+    local = dict(local)
+    for word in words:
+        alias = word + "_"
+        while alias in local or alias in src:
+            alias += "_"
+        src = re.sub(rf"(?<![\w.]){word}(?!\w)", alias, src)
+        local[alias] = local[word]
+    return src, local
+
+
+_DECIMAL = re.compile(r"(?:\d[\d_]*)?\.?\d*(?:[eE][+-]?\d+)?")
+
+
+def _exact_decimals(src: str, text: str) -> str:
+    """``src`` with every decimal literal (``0.1``, ``2.5e-3``) replaced by the exact
+    ``Rational(p, q)`` it denotes; integers are exact already."""
+    out = []
+    try:
+        tokens = list(tokenize.generate_tokens(io.StringIO(src).readline))
+    except (tokenize.TokenError, SyntaxError):  # already parsed by ast: cannot happen
+        return src
+    for tok in tokens:
+        value = tok.string
+        if tok.type == tokenize.NUMBER and any(c in value for c in ".eE") \
+                and not value.lower().startswith(("0x", "0o", "0b")) and _DECIMAL.fullmatch(value):
+            exponent = re.search(r"[eE]([+-]?\d+)", value)
+            if exponent and abs(int(exponent.group(1))) > MAX_DIGITS:
+                raise ParseError(f"the number {value} in {text[:80]!r} has more than "
+                                 f"{MAX_DIGITS} digits")
+            q = Fraction(value.replace("_", ""))
+            value = f"Rational({q.numerator}, {q.denominator})"
+        out.append((tok.type, value))
+    return tokenize.untokenize(out)

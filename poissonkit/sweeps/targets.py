@@ -317,7 +317,7 @@ class TomlScene:
         spec = build_run(self.scene_with({}))
         h = spec.step if spec.step is not None else spec.t_end / 1000
         solve(spec.system, spec.y0, 2 * h, method=spec.method, step=spec.step,
-              tol=spec.tol)  # compile now
+              tol=spec.tol, options=spec.options)  # compile now
         return {"scene": spec.name, "scales": spec.system.scales}
 
     def run(self, prep: Mapping[str, object], values: Mapping[str, float]) -> RunRecord:
@@ -342,7 +342,7 @@ class TomlScene:
         # an integration that breaks down raises: the point is recorded as failed, with the
         # message (typically a singular force at an unresolved encounter)
         sol = solve(system, y0, t_end, method=scene.run.method, step=step, tol=scene.run.tol,
-                    events=events)
+                    events=events, options=scene.run.options)  # [run.options] of the scene
         if sol.events:
             fate, fate_t = sol.events[0].kind, float(sol.events[0].time)
         pos = _all_positions(system, models, np.asarray(sol.y))
