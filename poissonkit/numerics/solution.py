@@ -4,26 +4,22 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from poissonkit._display import PrettyPrinter, html_table, latex_table, text_block
-from poissonkit.contracts import (
-    CompiledFrom,
-    HasBodyMomenta,
-    HasCasimirs,
-    HasEnergy,
-    HasLayout,
-    HasName,
-    HasScales,
-)
+from poissonkit.contracts import (CompiledFrom, HasBodyMomenta, HasCasimirs, HasEnergy, HasLayout,
+                                  HasName, HasScales)
 from poissonkit.errors import InputError, MissingDependencyError
 from poissonkit.numerics import diagnostics
 from poissonkit.numerics.diagnostics import Drift
 from poissonkit.numerics.events import EventRecord
 from poissonkit.numerics.units import Scales
 from poissonkit.traits import offers
+
+if TYPE_CHECKING:
+    from poissonkit.numerics.elements import OrbitalElements
 
 #: Invariants :meth:`Solution.plot` can draw: name -> (method, legend label).
 DRIFTS: dict[str, tuple[str, str]] = {
@@ -125,6 +121,32 @@ class Solution:
         if not offers(self.system, HasBodyMomenta):
             return np.zeros(len(self.t))
         return diagnostics.angular_momentum_drift(self.system, self.y).relative
+
+    def orbital_elements(self, primary: int | str | None = "dominant") -> OrbitalElements:
+        """Osculating orbital elements of every body at every saved state (REBOUND's names:
+        ``a, e, inc, Omega, omega, M, f``; SI lengths, radians), for a system of point masses
+        under all-pairs gravity.
+
+        Parameters
+        ----------
+        primary
+            The body (name or index) the elements are about; ``None``: Jacobi elements in the
+            order of the bodies (as REBOUND's ``orbits()``); ``"dominant"`` (default): about the
+            body heavier than ten times all the others, Jacobi elements when there is none.
+
+        Returns
+        -------
+        OrbitalElements
+            Arrays of shape ``(time, bodies)``; ``nan`` for the primary.
+
+        Raises
+        ------
+        InputError
+            If the system is not point masses under gravity, or ``primary`` names no body.
+        """
+        from poissonkit.numerics.elements import system_elements
+
+        return system_elements(self.system, self.y, primary)
 
     def _relative_drift(self, quantity: str) -> np.ndarray:
         """The relative drift named ``quantity`` (one of

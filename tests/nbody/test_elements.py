@@ -115,3 +115,26 @@ def test_typed_errors_for_impossible_orbits():
         cartesian(1.0, -1.0, 2.0, f=2.5)
     with pytest.raises(InputError, match="primary"):
         elements(1.0, np.zeros(3), np.ones(3))
+
+
+def test_solution_orbital_elements_stay_those_of_the_kepler_orbit():
+    """Two point masses: the relative orbit is a fixed Kepler ellipse (truth: the elements the
+    state was built from), whatever the step; ``sol.orbital_elements()`` returns them at every
+    saved state, about the heavy body (``"dominant"``) and by name."""
+    from poissonkit.numerics import AllPairs, Body, NBodySystem, solve
+
+    G, masses = 6.674e-11, np.array([2.0e30, 1.0e24])
+    orbit = dict(a=1.5e11, e=0.3, inc=0.4, Omega=1.1, omega=0.7, M=0.2)
+    r, v = states_from_elements(masses, G, [None, orbit], primaries=[None, 0])
+    system = NBodySystem([Body("sun", masses[0]), Body("planet", masses[1])],
+                         [AllPairs("gravity", {"G": G})])
+    y0 = system.pack(r, masses[:, None] * v)  # a system built without scales runs in SI
+    sol = solve(system, y0, 3.0e7, method="wisdom_holman", step=2.0e5)
+    for primary in ("dominant", "sun", 0):
+        el = sol.orbital_elements(primary)
+        assert np.all(np.isnan(el.a[:, 0]))
+        for name in ("a", "e", "inc", "Omega", "omega"):
+            got = getattr(el, name)[:, 1]
+            assert np.allclose(got, orbit[name], rtol=1e-9, atol=1e-9), (name, got[:3])
+    with pytest.raises(InputError):
+        sol.orbital_elements("pluto")

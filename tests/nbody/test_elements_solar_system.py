@@ -15,7 +15,6 @@ import math
 import numpy as np
 import pytest
 
-from poissonkit.errors import SceneError
 
 rebound = pytest.importorskip("rebound", reason="REBOUND is the reference (pip install rebound)")
 xr = pytest.importorskip("xarray")
@@ -58,7 +57,7 @@ def _scene_text(options: bool) -> str:
 
 def _run(tmp_path) -> tuple[xr.Dataset, float, float, str]:
     """``(dataset, energy at t = 0, max relative energy error, method)`` of the run, through
-    the command line when scenes take ``[run.options]``, else through ``solve(options=...)``."""
+    through the command line, with ``[run.options] table = "10_6_4"``."""
     import json
 
     from poissonkit import cli
@@ -66,13 +65,7 @@ def _run(tmp_path) -> tuple[xr.Dataset, float, float, str]:
 
     path = tmp_path / "outer.toml"
     path.write_text(_scene_text(options=True))
-    try:
-        load_scene(path)
-    except SceneError as exc:  # [run.options] not in the schema yet: the Python API
-        if "options" not in str(exc):
-            raise
-        path.write_text(_scene_text(options=False))
-        return _run_python(load_scene(path))
+    assert load_scene(path).run.options == {"table": "10_6_4"}
     out = tmp_path / "out"
     assert cli.main(["run", str(path), "--out", str(out), "--no-progress", "--no-plots"]) == 0
     summary = json.loads((out / "summary.json").read_text())
@@ -86,22 +79,6 @@ def _units():
     from poissonkit.numerics.unitsystem import UnitSystem
 
     return UnitSystem("AU", "yr", "Msun")
-
-
-def _run_python(scene) -> tuple[xr.Dataset, float, float, str]:
-    from poissonkit.numerics.solver import solve
-    from poissonkit.report.run_units import unit_system
-    from poissonkit.report.trajectory import trajectory_dataset
-    from poissonkit.scene.build import build_run
-
-    spec = build_run(scene)
-    sol = solve(spec.system, spec.y0, spec.t_end, method="wisdom_holman", step=spec.step,
-                options={"table": "10_6_4"})
-    u = unit_system(spec)
-    ds = trajectory_dataset(spec.system, sol.t, sol.y, scales=spec.system.scales,
-                            time_unit=spec.metadata["time_unit_s"], units=u)
-    energy = float(sol.energy()[0]) * spec.system.scales.energy / u.si_per_unit("energy")
-    return ds, energy, float(np.max(sol.energy_error())), sol.method
 
 
 def _reference() -> rebound.Simulation:
