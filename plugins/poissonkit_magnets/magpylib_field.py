@@ -39,6 +39,7 @@ from poissonkit.numerics.fields.tabulated import (
     tabulated_field,
 )
 from poissonkit.plugin.contributions import ExternalField, Param
+from poissonkit.validation import vector3
 from poissonkit_magnets.exact_sources import EXACT_MAGNET, split_sources
 
 #: magpylib source classes a scene may name: class name -> (subpackage, attribute).
@@ -96,7 +97,8 @@ def make_source(name: str, params: Mapping[str, Any], position: Any = (0.0, 0.0,
     UnknownNameError
         For a class outside the allow-list or a keyword the class does not take.
     InputError
-        When magpylib refuses the values (its message is kept).
+        When ``params`` is empty, ``position`` or ``orientation`` is not three numbers, or
+        magpylib refuses the values (its message is kept).
     """
     from scipy.spatial.transform import Rotation
 
@@ -109,12 +111,16 @@ def make_source(name: str, params: Mapping[str, Any], position: Any = (0.0, 0.0,
         arr = np.asarray(value, dtype=float)
         kwargs[key] = arr.astype(int) if key in _INTEGER_KEYS else (
             float(arr) if arr.ndim == 0 else arr)
+    if not kwargs:
+        raise InputError(f"magpylib {name}: params is missing or empty; give its keywords "
+                         f"({', '.join(allowed)}), e.g. params = {{ {allowed[0]} = ... }}")
+    where = vector3(position, f"magpylib {name}: position [m]")
     rot = None
     if orientation is not None:
-        rot = Rotation.from_rotvec(np.asarray(orientation, dtype=float).reshape(3))
+        rot = Rotation.from_rotvec(vector3(orientation, f"magpylib {name}: orientation "
+                                           "(a rotation vector [rad])"))
     try:
-        return cls(position=np.asarray(position, dtype=float).reshape(3), orientation=rot,
-                   **kwargs)
+        return cls(position=where, orientation=rot, **kwargs)
     except Exception as exc:  # magpylib's own input errors: keep the message, type it
         raise InputError(f"magpylib {name}: {type(exc).__name__}: {exc}") from None
 
