@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import inspect
 from collections.abc import Mapping
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -41,6 +42,7 @@ from poissonkit.numerics.fields.tabulated import (
 from poissonkit.plugin.contributions import ExternalField, Param
 from poissonkit.validation import vector3
 from poissonkit_magnets.exact_sources import EXACT_MAGNET, split_sources
+from poissonkit_magnets.source_solids import magpylib_solids
 
 #: magpylib source classes a scene may name: class name -> (subpackage, attribute).
 SOURCE_CLASSES: dict[str, tuple[str, str]] = {
@@ -172,8 +174,14 @@ def _build(params: Mapping[str, Any], request: FieldRequest, source: Any = None
     mode = params.get("mode", "auto")
     if mode not in MODES:
         raise UnknownNameError("magpylib field mode", mode, MODES)
-    declared = source is None
     source, described = _declared(params, source)
+    built = _evaluated(params, request, source, described, mode, declared="class" in params)
+    return replace(built, solids=magpylib_solids(source))
+
+
+def _evaluated(params: Mapping[str, Any], request: FieldRequest, source: Any,
+               described: dict[str, Any], mode: str, declared: bool) -> CompiledField:
+    """The field of ``source``: exact kernels, a table, or both (module docstring)."""
     centre = np.asarray(source.position, dtype=float).reshape(-1, 3)[-1]
     described["source_position_m"] = centre.tolist()
     if mode == "table":

@@ -11,7 +11,7 @@ command-line ``SCENE`` into a file or a registered name.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
@@ -81,6 +81,10 @@ class SceneListing:
         The plugin that registered it, or the file's path.
     default
         The scene ``poissonkit run`` uses without an argument.
+    parameters
+        What ``--param NAME=VALUE`` sets (registered scenes): one mapping per parameter with
+        ``name``, ``type``, ``unit``, ``default`` (``None``: optional, the scene chooses) and
+        ``doc``.
     """
 
     name: str
@@ -88,6 +92,18 @@ class SceneListing:
     description: str
     source: str
     default: bool = False
+    parameters: tuple[Mapping[str, object], ...] = field(default=())
+
+
+def scene_parameters(entry: object) -> tuple[dict[str, object], ...]:
+    """The parameters a registered scene entry declares, as :attr:`SceneListing.parameters`."""
+    from poissonkit.plugin.contributions import Entry
+
+    if not isinstance(entry, Entry):
+        return ()
+    return tuple({"name": p.name, "type": p.type, "unit": p.unit,
+                  "default": list(p.default) if isinstance(p.default, tuple) else p.default,
+                  "doc": p.doc} for p in entry.params)
 
 
 def _first_line(text: str) -> str:
@@ -109,7 +125,7 @@ def scene_catalog() -> list[SceneListing]:
 
     owner = {n: r.name for r in plugin_reports() for n in r.contributions.get("scene", [])}
     out = [SceneListing(name, "registered", _first_line(e.doc), owner.get(name, ""),
-                        isinstance(e, SceneEntry) and e.default)
+                        isinstance(e, SceneEntry) and e.default, scene_parameters(e))
            for name, e in sorted(entries("scene").items())]
     out += [SceneListing(name, "file", scene_description(path), str(path))
             for name, path in shipped_scenes().items()]
