@@ -90,12 +90,14 @@ class BodyShape:
     """Shape of one body of a system for :class:`Contact` (internal length unit).
 
     ``radius`` and ``half_length`` > 0 make a solid cylinder about the body's axis ``ν`` (the
-    fixed axis for a fixed body); only ``radius``: a ball.
+    fixed axis for a fixed body, or ``axis`` for a fixed body that is no top, such as a field
+    source's solid); only ``radius``: a ball.
     """
 
     name: str
     radius: float
     half_length: float = 0.0
+    axis: tuple[float, float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -149,6 +151,8 @@ class Contact:
             k = index.get(s.name)
             if k is None:
                 raise InputError(f"Contact: no body named {s.name!r} in the system")
+            if fixed[k] and s.axis is not None and not np.any(axes[k]):
+                axes[k] = np.asarray(s.axis, dtype=float)
             if s.half_length > 0 and np.any(axes[k]):
                 shape = shape_of(pos[k], axes[k], s.radius, s.half_length)
             else:  # no orientation in the state (point mass): its bounding ball, conservatively
