@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, replace
 from typing import TYPE_CHECKING, Any
 
@@ -31,7 +31,7 @@ from poissonkit.errors import InputError
 
 if TYPE_CHECKING:
     from poissonkit.numerics.equilibria import LinearStability
-    from poissonkit.numerics.events import Contact
+    from poissonkit.numerics.events import Contact, EventRecord
     from poissonkit.numerics.fields.base import FieldSpec
     from poissonkit.numerics.nbody import NBodySystem
     from poissonkit.numerics.runspec import RunSpec
@@ -240,6 +240,17 @@ def run_outcome(system: NBodySystem, t: np.ndarray, ys: np.ndarray, z0: float,
                               f"{tilt:.3g}°",
                       "escape": f"the top left the trap at t = {when:.6g} s"}[kind]
     return out
+
+
+def spec_outcome(spec: RunSpec, t: np.ndarray, ys: np.ndarray, events: Sequence[EventRecord]
+                 ) -> dict[str, Any]:
+    """:func:`run_outcome` of a finished run of the ``levitron`` scene (its
+    :class:`~poissonkit.plugin.SceneEntry` ``outcome``)."""
+    system = spec.system
+    z0 = float(spec.metadata["hover_height_m"])
+    touched = any(e.kind == "contact" for e in events)
+    return run_outcome(system, np.asarray(t), np.asarray(ys), z0, touched,  # type: ignore[arg-type]
+                       float(system.scales.time))  # type: ignore[union-attr]
 
 
 #: Parameters of the top and the base a scene run may set (``--param NAME=VALUE``), SI.

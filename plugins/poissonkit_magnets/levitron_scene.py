@@ -11,6 +11,12 @@ def _load(**params):
     return scene_run(**params)
 
 
+def _outcome(spec, t, y, events):
+    from poissonkit_magnets.levitron import spec_outcome
+
+    return spec_outcome(spec, t, y, events)
+
+
 def _sweep(**options):
     from poissonkit_magnets.levitron_sweep import LevitronScene
 
@@ -58,4 +64,5 @@ LEVITRON_SCENE = SceneEntry(
     ),
     load=_load,
     sweep=_sweep,
+    outcome=_outcome,
 )

@@ -173,3 +173,24 @@ def resolve_scene(arg: str) -> Path | str:
     raise SceneError(f"no scene file or scene named {arg!r}; registered scenes: "
                      f"{', '.join(registered) or '(none)'}; shipped scene files: "
                      f"{', '.join(shipped) or '(none)'}{failed} (see `poissonkit scenes`)")
+
+
+def scene_outcome(spec: RunSpec, t: object, y: object, events: object
+                  ) -> Mapping[str, object] | None:
+    """What a finished run of a registered scene came to (its entry's ``outcome``, e.g. the
+    Levitron's fate and its contact with the base), or ``None`` for scenes without one.
+
+    Parameters
+    ----------
+    spec
+        The run (its ``name`` is the registered scene's).
+    t, y, events
+        Saved times and states (internal units) and the event records of the run.
+    """
+    from poissonkit.plugin.contributions import SceneEntry
+    from poissonkit.plugin.registry import entries
+
+    entry = entries("scene").get(spec.name)
+    if not isinstance(entry, SceneEntry) or entry.outcome is None:
+        return None
+    return dict(entry.outcome(spec, t, y, events))
