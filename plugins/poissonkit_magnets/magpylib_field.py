@@ -214,6 +214,7 @@ class _Sum:
     def __init__(self, sources: list[Any]) -> None:
         self.sources = sources
         self.position = sources[0].position
+        self.sources_all = sources  # its solids are those of its sources
 
     def getB(self, points: np.ndarray) -> np.ndarray:
         return sum(np.asarray(s.getB(points), dtype=float).reshape(-1, 3)
@@ -226,15 +227,17 @@ def _cached(params: Mapping[str, Any], request: FieldRequest, source: Any,
     tol = float(params.get("tol", request.tol or DEFAULT_TOL))
     centre = np.asarray(source.position, dtype=float).reshape(-1, 3)[-1]
     lo, hi = field_region(request, params.get("region"), centre, "magpylib")
+    where = {"adaptive": True, "solids": magpylib_solids(source)}
     if not declared:
-        return tabulated_field("magpylib", field_of(source), lo, hi, tol, info=described)
+        return tabulated_field("magpylib", field_of(source), lo, hi, tol, info=described,
+                               **where)
     key = repr((sorted((k, repr(v)) for k, v in params.items()), tol, lo.tolist(),
                 hi.tolist(), described.get("class")))
     if key not in _TABLES:
         if len(_TABLES) >= _MAX_TABLES:
             _TABLES.pop(next(iter(_TABLES)))
         _TABLES[key] = tabulated_field("magpylib", field_of(source), lo, hi, tol,
-                                       info=described)
+                                       info=described, **where)
     return _TABLES[key]
 
 

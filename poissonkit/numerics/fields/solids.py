@@ -83,32 +83,38 @@ class Solid:
         """The local ``z`` axis in the global frame."""
         return self.rotation()[:, 2]
 
-    def inside(self, points: npt.ArrayLike) -> np.ndarray:
-        """True for the points (n, 3) [m] strictly inside the piece, or on a wire (within
+    def inside(self, points: npt.ArrayLike, margin: float = 0.0) -> np.ndarray:
+        """True for the points (n, 3) [m] strictly inside the piece grown by ``margin`` [m]
+        (a box-like growth, conservative), or on a wire (within ``margin`` or
         :data:`WIRE_CLEARANCE`); a mesh is tested by its bounding box (conservative)."""
         q = self.local(points)
         d = self.dimensions
+        m = float(margin)
         rho = np.hypot(q[:, 0], q[:, 1])
         if self.kind == "cylinder":
-            return (rho < d["radius"]) & (np.abs(q[:, 2]) < d["height"] / 2)
+            return (rho < d["radius"] + m) & (np.abs(q[:, 2]) < d["height"] / 2 + m)
         if self.kind == "cylinder_segment":
             phi = np.degrees(np.arctan2(q[:, 1], q[:, 0]))
             lo, hi = float(d["phi1"]), float(d["phi2"])
             within = ((phi - lo) % 360.0 < (hi - lo)) if hi - lo < 360.0 else np.ones(len(q),
                                                                                    bool)
-            return ((rho > d["inner_radius"]) & (rho < d["outer_radius"])
-                    & (np.abs(q[:, 2]) < d["height"] / 2) & within)
+            if m > 0 and hi - lo < 360.0:  # grown ends: within m of the two end planes too
+                within |= np.min([np.abs(_plane_distance(q, a)) for a in (lo, hi)],
+                                 axis=0) < m
+            return ((rho > d["inner_radius"] - m) & (rho < d["outer_radius"] + m)
+                    & (np.abs(q[:, 2]) < d["height"] / 2 + m) & within)
         if self.kind == "cuboid":
-            half = np.array([d["a"], d["b"], d["c"]], dtype=float) / 2
+            half = np.array([d["a"], d["b"], d["c"]], dtype=float) / 2 + m
             return np.all(np.abs(q) < half, axis=1)
         if self.kind == "sphere":
-            return np.linalg.norm(q, axis=1) < d["radius"]
+            return np.linalg.norm(q, axis=1) < d["radius"] + m
+        wire = max(m, WIRE_CLEARANCE)
         if self.kind == "loop":
-            return np.hypot(rho - d["radius"], q[:, 2]) < WIRE_CLEARANCE
+            return np.hypot(rho - d["radius"], q[:, 2]) < wire
         if self.kind == "polyline":
-            return _polyline_distance(q, np.asarray(d["vertices"], float)) < WIRE_CLEARANCE
+            return _polyline_distance(q, np.asarray(d["vertices"], float)) < wire
         v = np.asarray(d["vertices"], dtype=float)
-        return np.all((q > v.min(axis=0)) & (q < v.max(axis=0)), axis=1)
+        return np.all((q > v.min(axis=0) - m) & (q < v.max(axis=0) + m), axis=1)
 
     def contact_shape(self) -> tuple[float, float] | None:
         """``(radius, half_length)`` of the convex solid a contact event can use (a cylinder,
@@ -128,6 +134,15 @@ class Solid:
                     else float(v)) for k, v in self.dimensions.items()}
         return {"kind": self.kind, "field": self.field, "position_m": list(self.position),
                 "orientation_rotvec": list(self.orientation), "dimensions": dims}
+
+
+def _plane_distance(q: np.ndarray, phi_deg: float) -> np.ndarray:
+    """Distance of the local points ``q`` from the half-plane at azimuth ``phi_deg``
+    (through the local z axis); points behind the axis count by their distance to it."""
+    t = math.radians(phi_deg)
+    along = q[:, 0] * math.cos(t) + q[:, 1] * math.sin(t)
+    across = -q[:, 0] * math.sin(t) + q[:, 1] * math.cos(t)
+    return np.where(along >= 0, np.abs(across), np.hypot(along, across))
 
 
 def _polyline_distance(q: np.ndarray, verts: np.ndarray) -> np.ndarray:
