@@ -142,3 +142,34 @@ def test_a_top_over_a_cylinder_segment_runs_from_an_adaptive_table(tmp_path):
     ref = src.getB(pts)
     B, _ = evaluate(built.data, pts)
     assert np.max(np.linalg.norm(B - ref, axis=1)) <= 1e-5 * built.info["max_B_T"]
+
+
+def test_a_body_leaving_a_table_is_named_with_its_field_position_and_time():
+    """The run stops with NaN forces once the body is outside the table; the explanation names
+    the field, the body, where it is [m] and when [s]."""
+    import poissonkit as pk
+    from poissonkit.errors import NonFiniteStateError
+    from poissonkit.numerics.fields.regions import FieldRegionError, explain_nonfinite
+    from poissonkit.numerics.nbody import Body, NBodySystem
+    from poissonkit.numerics.units import Scales
+
+    field = tabulated_field("dipole", dipole_b, np.array([-0.01, -0.01, 0.02]),
+                            np.array([0.01, 0.01, 0.03]), 1e-3)
+    s = NBodySystem([Body("top", 0.02, alpha=1 / 2e-6, attributes={"moment": 0.1})],
+                    scales=Scales(length=0.01, mass=0.02, time=0.01), fields=[field])
+    y0 = s.pack([[0.0, 0.0, 0.025]], [[0.0, 0.0, 0.02 * 0.5]], [[0.0, 0.0, -1.0]],
+                [[0.0, 0.0, -2e-5]], si=True)
+    with pytest.raises(NonFiniteStateError) as info:
+        pk.solve(s, y0, 5.0, method="splitting4", step=0.01)
+    err = info.value
+    # the state at the failure: the drift carried the body out with finite momenta, the kick
+    # there gave NaN momenta
+    y_fail = s.pack([[0.0, 0.0, 0.0305]], [[0.0, 0.0, 0.01]], [[0.0, 0.0, -1.0]],
+                    [[0.0, 0.0, -2e-5]], si=True)
+    y_fail[3:6] = np.nan
+    explained = explain_nonfinite(s, y_fail, err)
+    assert isinstance(explained, FieldRegionError)
+    assert explained.field == "dipole" and explained.body == "top"
+    assert explained.position[2] > 0.03
+    assert explained.time_s == pytest.approx(err.time * 0.01)
+    assert "left the region of field 'dipole'" in str(explained) and " s:" in str(explained)
