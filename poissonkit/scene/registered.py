@@ -92,18 +92,18 @@ class SceneListing:
     description: str
     source: str
     default: bool = False
-    parameters: tuple[Mapping[str, object], ...] = field(default=())
+    parameters: list[dict[str, object]] = field(default_factory=list)
 
 
-def scene_parameters(entry: object) -> tuple[dict[str, object], ...]:
+def scene_parameters(entry: object) -> list[dict[str, object]]:
     """The parameters a registered scene entry declares, as :attr:`SceneListing.parameters`."""
     from poissonkit.plugin.contributions import Entry
 
     if not isinstance(entry, Entry):
-        return ()
-    return tuple({"name": p.name, "type": p.type, "unit": p.unit,
-                  "default": list(p.default) if isinstance(p.default, tuple) else p.default,
-                  "doc": p.doc} for p in entry.params)
+        return []
+    return [{"name": p.name, "type": p.type, "unit": p.unit,
+             "default": list(p.default) if isinstance(p.default, tuple) else p.default,
+             "doc": p.doc} for p in entry.params]
 
 
 def _first_line(text: str) -> str:
