@@ -165,7 +165,7 @@ def _fine_fate(rec: RunRecord) -> int:
         return {"bounded": 0, "escape": 3}.get(rec.fate, -1)
     system = rec.solution.system
     ys = np.asarray(rec.solution.y)
-    nu = system.unpack(ys, si=True)["nu"][:, 0, :]  # type: ignore[attr-defined]
+    nu = system.unpack(ys, si=True)["nu"][:, 0, :]  # type: ignore[union-attr]
     return 1 if np.any(nu[:, 2] > 0.0) else 2
 
 

@@ -188,7 +188,7 @@ def scene_outcome(spec: RunSpec, t: object, y: object, events: object
         Saved times and states (internal units) and the event records of the run.
     """
     from poissonkit.plugin.contributions import SceneEntry
-    from poissonkit.plugin.registry import entries
+    from poissonkit.plugin import entries
 
     entry = entries("scene").get(spec.name)
     if not isinstance(entry, SceneEntry) or entry.outcome is None:

@@ -33,7 +33,7 @@ class FieldRegionError(NonFiniteStateError):
     """
 
     def __init__(self, step: int, time: float, field: str, body: str,
-                 position: Sequence[float], region: Sequence[Sequence[float]],
+                 position: Sequence[float], region: tuple[np.ndarray, np.ndarray],
                  time_s: float) -> None:
         self.field, self.body, self.time_s = field, body, time_s
         self.position = [float(x) for x in position]
