@@ -33,6 +33,7 @@ from poissonkit.conventions import MU0
 from poissonkit.errors import InputError
 from poissonkit.numerics.fields.base import CompiledField, FieldRequest
 from poissonkit.numerics.fields.magnetic import magnetic_kernel
+from poissonkit.numerics.fields.solids import Solid, rotvec_of_axis
 from poissonkit.plugin.contributions import ExternalField, Param
 from poissonkit_magnets._special import ellipk_d1, ellipke, gauss_legendre_unit
 from poissonkit_magnets.fields import (
@@ -180,7 +181,8 @@ def _loop(params: Mapping[str, Any], request: FieldRequest, source: object = Non
                         [params["current"], params["radius"], MU0]])
     return CompiledField("current_loop", LOOP_MAGNET, P, reads="moment", orientation=True,
                          info={"current_A": params["current"], "radius_m": params["radius"],
-                               "position_m": P[:3].tolist(), "axis": P[3:6].tolist()})
+                               "position_m": P[:3].tolist(), "axis": P[3:6].tolist()},
+                         solids=(_solid("loop", "current_loop", P, radius=params["radius"]),))
 
 
 def _cylinder(params: Mapping[str, Any], request: FieldRequest, source: object = None
@@ -196,7 +198,15 @@ def _cylinder(params: Mapping[str, Any], request: FieldRequest, source: object =
                          orientation=True,
                          info={"polarization_T": params["polarization"], "radius_m": a,
                                "length_m": params["length"], "position_m": P[:3].tolist(),
-                               "axis": P[3:6].tolist()})
+                               "axis": P[3:6].tolist()},
+                         solids=(_solid("cylinder", "cylinder", P, radius=a,
+                                        height=params["length"]),))
+
+
+def _solid(kind: str, name: str, P: np.ndarray, **dimensions: float) -> Solid:
+    """The solid of a source centred at ``P[0:3]`` with its axis ``P[3:6]`` along local z."""
+    return Solid(kind, tuple(float(x) for x in P[:3]), rotvec_of_axis(P[3:6]),  # type: ignore[arg-type]
+                 {k: float(v) for k, v in dimensions.items()}, field=name)
 
 
 _PLACE = (

@@ -14,6 +14,7 @@ from functools import partial
 from poissonkit.plugin.contributions import (
     ExternalField,
     ModelFamily,
+    OutcomeEntry,
     PairPotential,
     Param,
     SceneEntry,
@@ -114,3 +115,11 @@ def poissonkit_fields() -> list[ExternalField]:
     from poissonkit_magnets.magpylib_field import MAGPYLIB
 
     return [MAGPYLIB, CURRENT_LOOP, CYLINDER]
+
+
+@hookimpl
+def poissonkit_outcomes() -> list[OutcomeEntry]:
+    """The Levitron's fine fate (flip told from fall by the axis) as a sweep outcome."""
+    from poissonkit_magnets.levitron_sweep import levitron_fate_outcome
+
+    return [levitron_fate_outcome()]

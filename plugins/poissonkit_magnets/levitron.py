@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass, replace
 from typing import TYPE_CHECKING, Any
 
@@ -31,6 +31,7 @@ from poissonkit.errors import InputError
 
 if TYPE_CHECKING:
     from poissonkit.numerics.equilibria import LinearStability
+    from poissonkit.numerics.events import Contact, EventRecord
     from poissonkit.numerics.fields.base import FieldSpec
     from poissonkit.numerics.nbody import NBodySystem
     from poissonkit.numerics.runspec import RunSpec
@@ -57,6 +58,9 @@ class LevitronParameters:
         The base ring [m]; its top face is the plane ``z = 0``.
     g
         Gravitational acceleration [m/s²].
+    top_radius
+        Radius [m] of the ball that stands for the top in contact with the base (its lowest
+        point when hovering upright).
     field
         ``"exact"`` (two exact cylinder fields) or ``"magpylib"`` (a tabulated magpylib
         ``CylinderSegment``, tricubic Hermite).
@@ -71,11 +75,12 @@ class LevitronParameters:
     outer_radius: float = 0.040
     thickness: float = 0.010
     g: float = 9.81
+    top_radius: float = 0.003
     field: str = "exact"
 
     def __post_init__(self) -> None:
         for name in ("mass", "moment", "I1", "I3", "polarization", "inner_radius",
-                     "outer_radius", "thickness", "g"):
+                     "outer_radius", "thickness", "g", "top_radius"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not (
                     math.isfinite(v) and v > 0):
@@ -124,8 +129,24 @@ def levitron_system(p: LevitronParameters) -> NBodySystem:
     from poissonkit.numerics.units import Scales
 
     top = Body("top", mass=p.mass, alpha=1.0 / p.I1, attributes={"moment": p.moment})
-    return NBodySystem([top], scales=Scales(length=0.01, mass=0.02, time=0.01),
+    # the base as a fixed body: no force on it or from it (fixed bodies read no field), only
+    # a place for contact events; the top's state and kernels are those of the top alone
+    base = Body("base", mass=1.0, fixed=True, position=(0.0, 0.0, -p.thickness / 2),
+                axis=(0.0, 0.0, 1.0))
+    return NBodySystem([top, base], scales=Scales(length=0.01, mass=0.02, time=0.01),
                        fields=base_fields(p))
+
+
+def base_contact(p: LevitronParameters, system: NBodySystem) -> Contact:
+    """The contact event of the top (a ball of ``top_radius``) with the base (a solid
+    cylinder of the ring's outer radius and thickness: the ring with its lid), in the
+    system's internal length unit."""
+    from poissonkit.numerics.events import BodyShape, Contact
+
+    L = system.scales.length
+    return Contact((BodyShape("top", p.top_radius / L),
+                    BodyShape("base", p.outer_radius / L, p.thickness / 2 / L,
+                              axis=(0.0, 0.0, 1.0))))
 
 
 def _axis_height_guess(system: NBodySystem, p: LevitronParameters) -> float:
@@ -168,14 +189,16 @@ def perturbed(system: NBodySystem, y: np.ndarray, offset: float, tilt: float) ->
     return system.pack([r], parts["p"], [nu], [m], si=True)
 
 
-def classify(system: NBodySystem, ys: np.ndarray, z0: float, escape: float = 0.03
-             ) -> tuple[str, int]:
+def classify(system: NBodySystem, ys: np.ndarray, z0: float, escape: float = 0.03,
+             touched: bool = False) -> tuple[str, int]:
     """Fate of a trajectory (rows of internal states) and the first failing row (-1: none).
 
-    ``"bounded"``: it stayed hovering; ``"flip"``: the axis turned up (the moment along the
-    base's field: the top is then attracted); ``"fall"``: it came down onto the base
-    (``z < 3 mm``); ``"escape"``: it left the trap (farther than ``escape`` [m] from the
-    hovering point).
+    ``"bounded"``: it stayed hovering; ``"flip"``: the axis turned up (``ν_z > 0``: the
+    moment along the base's field, the top is then attracted) — told from a fall by the axis
+    alone, whatever happens next; ``"fall"``: it came down onto the base with its axis still
+    pointing down (``touched``: the run stopped at the contact event with the base, its last
+    row; otherwise ``z < top_radius``-like 3 mm, or a non-finite state); ``"escape"``: it left
+    the trap (farther than ``escape`` [m] from the hovering point).
     """
     parts = system.unpack(ys, si=True)
     r, nu = parts["r"][:, 0, :], parts["nu"][:, 0, :]
@@ -184,6 +207,8 @@ def classify(system: NBodySystem, ys: np.ndarray, z0: float, escape: float = 0.0
         flip = nu[:, 2] > 0.0
         fall = (r[:, 2] < 0.003) | bad
         away = np.linalg.norm(r - np.array([0.0, 0.0, z0]), axis=1) > escape
+    if touched:
+        fall[-1] = True
     first = {k: (int(np.argmax(m)) if m.any() else len(ys)) for k, m in
              (("flip", flip), ("fall", fall), ("escape", away))}
     kind = min(first, key=lambda k: first[k])
@@ -192,19 +217,57 @@ def classify(system: NBodySystem, ys: np.ndarray, z0: float, escape: float = 0.0
     return kind, first[kind]
 
 
-def scene_run(*, spin_rpm: float = 1200.0, mass: float = 0.022, polarization: float = 0.265,
-              moment: float = 0.60, offset: float = 5e-4, axis_tilt: float = 0.005,
+def run_outcome(system: NBodySystem, t: np.ndarray, ys: np.ndarray, z0: float,
+                touched: bool, time_unit: float, escape: float = 0.03) -> dict[str, Any]:
+    """The reported outcome of a Levitron run: its fate (:func:`classify`), when [s], the
+    tilt of the axis from the downward vertical there [°], and one line saying so
+    (``"top touched the base at t = … s, tilt …°"`` when it ended on the base)."""
+    kind, k = classify(system, ys, z0, escape, touched)
+    row = len(ys) - 1 if k < 0 else k
+    nu = system.unpack(ys[row:row + 1], si=True)["nu"][0, 0]
+    tilt = float(np.degrees(np.arccos(np.clip(-nu[2], -1.0, 1.0))))
+    when = float(t[row]) * time_unit
+    out: dict[str, Any] = {"fate": kind, "fate_time_s": None if k < 0 else when,
+                           "tilt_deg": tilt}
+    if touched:
+        nu_end = system.unpack(ys[-1:], si=True)["nu"][0, 0]
+        tilt_end = float(np.degrees(np.arccos(np.clip(-nu_end[2], -1.0, 1.0))))
+        out["contact"] = (f"top touched the base at t = {float(t[-1]) * time_unit:.6g} s, "
+                          f"tilt {tilt_end:.3g}°")
+    out["message"] = {"bounded": "the top kept hovering",
+                      "flip": f"the top flipped (axis past horizontal) at t = {when:.6g} s",
+                      "fall": f"the top fell onto the base at t = {when:.6g} s, tilt "
+                              f"{tilt:.3g}°",
+                      "escape": f"the top left the trap at t = {when:.6g} s"}[kind]
+    return out
+
+
+def spec_outcome(spec: RunSpec, t: np.ndarray, ys: np.ndarray, events: Sequence[EventRecord]
+                 ) -> dict[str, Any]:
+    """:func:`run_outcome` of a finished run of the ``levitron`` scene (its
+    :class:`~poissonkit.plugin.SceneEntry` ``outcome``)."""
+    system = spec.system
+    z0 = float(spec.metadata["hover_height_m"])
+    touched = any(e.kind == "contact" for e in events)
+    return run_outcome(system, np.asarray(t), np.asarray(ys), z0, touched,  # type: ignore[arg-type]
+                       float(system.scales.time))  # type: ignore[union-attr]
+
+
+#: Parameters of the top and the base a scene run may set (``--param NAME=VALUE``), SI.
+PHYSICAL = ("mass", "moment", "I1", "I3", "polarization", "inner_radius", "outer_radius",
+            "thickness", "g", "top_radius")
+
+
+def scene_run(*, spin_rpm: float = 1200.0, offset: float = 5e-4, axis_tilt: float = 0.005,
               duration: float = 2.0, step: float = 2e-4, method: str = "splitting4",
-              tol: float | None = None, field: str = "exact") -> RunSpec:
+              tol: float | None = None, field: str = "exact", contact: str = "stop",
+              **physical: float) -> RunSpec:
     """The registered ``levitron`` scene as a :class:`~poissonkit.numerics.runspec.RunSpec`.
 
     Parameters
     ----------
     spin_rpm
         Spin of the top about its axis [rpm].
-    mass, polarization, moment
-        The top's mass [kg], the base's polarisation [T], the top's moment [A m²] (the rest
-        of :class:`LevitronParameters` at its defaults).
     offset, axis_tilt
         Initial horizontal displacement [m] and tilt [rad] from the hovering equilibrium.
     duration, step
@@ -213,11 +276,25 @@ def scene_run(*, spin_rpm: float = 1200.0, mass: float = 0.022, polarization: fl
         Integrator and tolerance of adaptive methods.
     field
         ``"exact"`` or ``"magpylib"`` (see :class:`LevitronParameters`).
+    contact
+        ``"stop"``: the run stops when the top touches the base (:func:`base_contact`);
+        ``"ignore"``: no contact event (the top may pass through the base).
+    **physical
+        Any of :data:`PHYSICAL` (:class:`LevitronParameters`; the others at their defaults).
+
+    Raises
+    ------
+    InputError
+        For an unknown parameter, a value out of range, or a top the base cannot hold up.
     """
     from poissonkit.numerics.runspec import RunSpec
 
-    p = LevitronParameters().with_values(mass=mass, polarization=polarization, moment=moment,
-                                         field=field)
+    unknown = sorted(set(physical) - set(PHYSICAL))
+    if unknown:
+        raise InputError(f"levitron: unknown parameters {unknown}; known: {list(PHYSICAL)}")
+    if contact not in ("stop", "ignore"):
+        raise InputError(f"levitron: contact must be 'stop' or 'ignore', got {contact!r}")
+    p = LevitronParameters().with_values(field=field, **physical)
     system = levitron_system(p)
     eq = hovering_state(system, p, spin_rpm)
     y0 = perturbed(system, eq, offset, axis_tilt)
@@ -225,9 +302,13 @@ def scene_run(*, spin_rpm: float = 1200.0, mass: float = 0.022, polarization: fl
     z0 = float(system.unpack(eq, si=True)["r"][0, 2])
     meta: Mapping[str, Any] = {**asdict(p), "spin_rpm": spin_rpm, "hover_height_m": z0,
                                "offset_m": offset, "axis_tilt_rad": axis_tilt,
-                               "system": "NBodySystem: one top, ring base field + gravity"}
+                               "system": "NBodySystem: one top, ring base field + gravity",
+                               "solids": [s.describe() for f in system.fields
+                                          for s in f.solids]}
+    events = () if contact == "ignore" else (base_contact(p, system),)
     return RunSpec(name="levitron", system=system, y0=y0, t_end=duration / T, method=method,
-                   step=None if tol is not None else step / T, tol=tol, metadata=meta)
+                   step=None if tol is not None else step / T, tol=tol, metadata=meta,
+                   events=events)
 
 
 def hover_stability(p: LevitronParameters, spin_rpm: float, base: np.ndarray | None = None

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import inspect
 from collections.abc import Mapping
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -39,7 +40,9 @@ from poissonkit.numerics.fields.tabulated import (
     tabulated_field,
 )
 from poissonkit.plugin.contributions import ExternalField, Param
+from poissonkit.validation import vector3
 from poissonkit_magnets.exact_sources import EXACT_MAGNET, split_sources
+from poissonkit_magnets.source_solids import magpylib_solids
 
 #: magpylib source classes a scene may name: class name -> (subpackage, attribute).
 SOURCE_CLASSES: dict[str, tuple[str, str]] = {
@@ -96,7 +99,8 @@ def make_source(name: str, params: Mapping[str, Any], position: Any = (0.0, 0.0,
     UnknownNameError
         For a class outside the allow-list or a keyword the class does not take.
     InputError
-        When magpylib refuses the values (its message is kept).
+        When ``params`` is empty, ``position`` or ``orientation`` is not three numbers, or
+        magpylib refuses the values (its message is kept).
     """
     from scipy.spatial.transform import Rotation
 
@@ -109,12 +113,16 @@ def make_source(name: str, params: Mapping[str, Any], position: Any = (0.0, 0.0,
         arr = np.asarray(value, dtype=float)
         kwargs[key] = arr.astype(int) if key in _INTEGER_KEYS else (
             float(arr) if arr.ndim == 0 else arr)
+    if not kwargs:
+        raise InputError(f"magpylib {name}: params is missing or empty; give its keywords "
+                         f"({', '.join(allowed)}), e.g. params = {{ {allowed[0]} = ... }}")
+    where = vector3(position, f"magpylib {name}: position [m]")
     rot = None
     if orientation is not None:
-        rot = Rotation.from_rotvec(np.asarray(orientation, dtype=float).reshape(3))
+        rot = Rotation.from_rotvec(vector3(orientation, f"magpylib {name}: orientation "
+                                           "(a rotation vector [rad])"))
     try:
-        return cls(position=np.asarray(position, dtype=float).reshape(3), orientation=rot,
-                   **kwargs)
+        return cls(position=where, orientation=rot, **kwargs)
     except Exception as exc:  # magpylib's own input errors: keep the message, type it
         raise InputError(f"magpylib {name}: {type(exc).__name__}: {exc}") from None
 
@@ -166,8 +174,14 @@ def _build(params: Mapping[str, Any], request: FieldRequest, source: Any = None
     mode = params.get("mode", "auto")
     if mode not in MODES:
         raise UnknownNameError("magpylib field mode", mode, MODES)
-    declared = source is None
     source, described = _declared(params, source)
+    built = _evaluated(params, request, source, described, mode, declared="class" in params)
+    return replace(built, solids=magpylib_solids(source))
+
+
+def _evaluated(params: Mapping[str, Any], request: FieldRequest, source: Any,
+               described: dict[str, Any], mode: str, declared: bool) -> CompiledField:
+    """The field of ``source``: exact kernels, a table, or both (module docstring)."""
     centre = np.asarray(source.position, dtype=float).reshape(-1, 3)[-1]
     described["source_position_m"] = centre.tolist()
     if mode == "table":
@@ -200,6 +214,7 @@ class _Sum:
     def __init__(self, sources: list[Any]) -> None:
         self.sources = sources
         self.position = sources[0].position
+        self.sources_all = sources  # its solids are those of its sources
 
     def getB(self, points: np.ndarray) -> np.ndarray:
         return sum(np.asarray(s.getB(points), dtype=float).reshape(-1, 3)
@@ -212,15 +227,17 @@ def _cached(params: Mapping[str, Any], request: FieldRequest, source: Any,
     tol = float(params.get("tol", request.tol or DEFAULT_TOL))
     centre = np.asarray(source.position, dtype=float).reshape(-1, 3)[-1]
     lo, hi = field_region(request, params.get("region"), centre, "magpylib")
+    where = {"adaptive": True, "solids": magpylib_solids(source)}
     if not declared:
-        return tabulated_field("magpylib", field_of(source), lo, hi, tol, info=described)
+        return tabulated_field("magpylib", field_of(source), lo, hi, tol, info=described,
+                               **where)
     key = repr((sorted((k, repr(v)) for k, v in params.items()), tol, lo.tolist(),
                 hi.tolist(), described.get("class")))
     if key not in _TABLES:
         if len(_TABLES) >= _MAX_TABLES:
             _TABLES.pop(next(iter(_TABLES)))
         _TABLES[key] = tabulated_field("magpylib", field_of(source), lo, hi, tol,
-                                       info=described)
+                                       info=described, **where)
     return _TABLES[key]
 
 

@@ -90,12 +90,14 @@ class BodyShape:
     """Shape of one body of a system for :class:`Contact` (internal length unit).
 
     ``radius`` and ``half_length`` > 0 make a solid cylinder about the body's axis ``ν`` (the
-    fixed axis for a fixed body); only ``radius``: a ball.
+    fixed axis for a fixed body, or ``axis`` for a fixed body that is no top, such as a field
+    source's solid); only ``radius``: a ball.
     """
 
     name: str
     radius: float
     half_length: float = 0.0
+    axis: tuple[float, float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -149,6 +151,8 @@ class Contact:
             k = index.get(s.name)
             if k is None:
                 raise InputError(f"Contact: no body named {s.name!r} in the system")
+            if fixed[k] and s.axis is not None and not np.any(axes[k]):
+                axes[k] = np.asarray(s.axis, dtype=float)
             if s.half_length > 0 and np.any(axes[k]):
                 shape = shape_of(pos[k], axes[k], s.radius, s.half_length)
             else:  # no orientation in the state (point mass): its bounding ball, conservatively
@@ -168,6 +172,10 @@ class Contact:
             if centre > reach:
                 best = min(best, centre - reach)  # a lower bound is enough far away
                 continue
+            if (a.kind == "cylinder") != (b.kind == "cylinder"):  # a ball and a cylinder:
+                best = min(best, ball_cylinder_gap(b if a.kind == "cylinder" else a,
+                                                   a if a.kind == "cylinder" else b))
+                continue  # the closed form (a fixed solid under a moving body, mostly)
             bound = _capsule_gap(a, b)
             if bound > 0:  # the capsules around the cylinders are apart: so are they
                 best = min(best, bound)
@@ -175,6 +183,28 @@ class Contact:
             d = distance(a, b)
             best = min(best, d if d > 0 else centre - reach)
         return best
+
+
+    def touching(self, system: HasCompiledKernels, y: np.ndarray) -> dict[str, Any]:
+        """The pair of shapes with the smallest gap at ``y``: their names (``bodies``), the
+        gap, and each one's position and axis (internal length; zero axis: none)."""
+        pos, axes, fixed = body_frames(system, y)
+        index = {name: k for k, name in enumerate(body_names(system))}
+        best: tuple[float, str, str] | None = None
+        for i, si in enumerate(self.shapes):
+            for sj in self.shapes[i + 1:]:
+                ki, kj = index[si.name], index[sj.name]
+                if fixed[ki] and fixed[kj]:
+                    continue
+                gap = Contact((si, sj)).value(system, y)
+                if best is None or gap < best[0]:
+                    best = (gap, si.name, sj.name)
+        if best is None:
+            return {}
+        gap, a, b = best
+        return {"bodies": [a, b], "gap": gap,
+                "positions": {n: pos[index[n]].tolist() for n in (a, b)},
+                "axes": {n: axes[index[n]].tolist() for n in (a, b)}}
 
 
 #: Shapes beyond which :meth:`Contact.value` finds candidate pairs with a k-d tree (O(N log N))
@@ -305,8 +335,16 @@ def event_thresholds(events: Sequence[object]) -> tuple[float, float, float]:
     return contact, escape, watch
 
 
-def raise_or_record(ev: Event, record: EventRecord, records: list[EventRecord]) -> None:
-    """Raise the typed error of a terminal event asked as error, or append its record."""
+def raise_or_record(ev: Event, record: EventRecord, records: list[EventRecord],
+                    system: HasCompiledKernels | None = None, state: np.ndarray | None = None
+                    ) -> None:
+    """Raise the typed error of a terminal event asked as error, or append its record.
+
+    Given the ``system`` and the ``state`` at the event, a contact's record names the two
+    bodies that touched and their positions and axes there (:meth:`Contact.touching`).
+    """
+    if isinstance(ev, Contact) and system is not None and state is not None:
+        record.detail.update(ev.touching(system, state))
     if ev.error:
         where = (f"at step {record.step} (t = {record.time:.10g} "
                  f"- [0, {record.time_error:.2g}])")
@@ -382,6 +420,20 @@ def _segment_distance(p1: np.ndarray, q1: np.ndarray, p2: np.ndarray, q2: np.nda
     elif t > 1.0:
         t, s = 1.0, min(max((b - c) / a, 0.0), 1.0) if a > 0 else 0.0
     return float(np.linalg.norm((p1 + s * d1) - (p2 + t * d2)))
+
+
+def ball_cylinder_gap(ball: Shape, cyl: Shape) -> float:
+    """Signed gap between a ball and a solid cylinder in closed form: the distance from the
+    ball's centre to the cylinder minus the ball's radius (negative once they overlap: then
+    minus the centre's depth inside the cylinder minus the radius)."""
+    d = ball.center - cyl.center
+    z = float(d @ cyl.axis)
+    rho = float(np.linalg.norm(d - z * cyl.axis))
+    dz = abs(z) - cyl.half_length
+    dr = rho - cyl.radius
+    if dz <= 0.0 and dr <= 0.0:
+        return max(dz, dr) - ball.radius
+    return math.hypot(max(dz, 0.0), max(dr, 0.0)) - ball.radius
 
 
 def _capsule_gap(a: Shape, b: Shape) -> float:

@@ -43,6 +43,9 @@ if TYPE_CHECKING:  # annotations only: these layers sit above the plugin host
 SystemBuilder = Callable[..., "Bivector | HamiltonianSystem"]
 #: ``load(**params)`` of a :class:`SceneEntry`: a scene or a ready run spec.
 SceneLoader = Callable[..., "Scene | RunSpec"]
+#: ``outcome(spec, t, y, events)`` of a :class:`SceneEntry`: what a finished run of the scene
+#: came to (saved times and states in internal units, the event records), JSON-ready.
+SceneOutcome = Callable[["RunSpec", Any, Any, Any], Mapping[str, Any]]
 
 
 def _missing(*_: Any, **__: Any) -> Any:
@@ -367,11 +370,15 @@ class SceneEntry(Entry):
     (the first one flagged, built-in plugins first). ``sweep(**options)``, if given, returns the
     scene's sweep adapter for ``poissonkit sweep NAME`` (an object with ``key``, ``settings``,
     ``check``, ``units``, ``prepare`` and ``run``; see :mod:`poissonkit.sweeps.targets`).
+    ``outcome(spec, t, y, events)``, if given, says what a finished run came to (e.g. the
+    Levitron's fate): a JSON-ready mapping with at least ``"message"`` (one line), for the run's
+    summary (``outcome``) and its printed report.
     """
 
     load: SceneLoader = field(default=_missing)
     default: bool = False
     sweep: SweepFactory | None = None
+    outcome: SceneOutcome | None = None
 
 
 @dataclass(frozen=True)
@@ -526,4 +533,4 @@ def _number_table(value: Any, where: str) -> dict[str, Any]:
 
 __all__ = ["Assembly", "Capabilities", "Entry", "ExternalField", "FieldBuilder", "IntegratorEntry",
            "ModelFamily", "OutcomeEntry", "PairFunction", "PairPotential", "Param", "SceneEntry",
-           "SceneLoader", "SystemBuilder", "SystemEntry"]
+           "SceneLoader", "SceneOutcome", "SystemBuilder", "SystemEntry"]

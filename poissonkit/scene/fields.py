@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from poissonkit.numerics.fields.base import FieldSpec
+from poissonkit.numerics.fields.solids import check_outside, field_solids
 from poissonkit.scene.bodies import BodyModel
 from poissonkit.scene.schema import FieldDecl
 
@@ -19,7 +20,13 @@ def with_scene_fields(system: NBodySystem, y0: np.ndarray, bodies: Sequence[Body
                       fields: Sequence[FieldDecl]) -> NBodySystem:
     """``system`` with the scene's fields; every body's ``moment`` (and any other attribute a
     field reads) is passed to the numerics, and tabulated fields cover the bodies' initial
-    positions unless given a region."""
+    positions unless given a region.
+
+    Raises
+    ------
+    InputError
+        If a moving body starts inside a field source's solid or on its wire.
+    """
     from poissonkit.plugin.registry import external_field
 
     reads = {external_field(f.source).reads for f in fields} - {"mass"}
@@ -28,4 +35,12 @@ def with_scene_fields(system: NBodySystem, y0: np.ndarray, bodies: Sequence[Body
         values = {a: b.attr(a) for a in reads}
         attributes[b.name] = {a: float(v) for a, v in values.items() if isinstance(v, float)}
     specs = [FieldSpec(f.source, dict(f.params)) for f in fields]
-    return system.with_fields(specs, y=y0, attributes=attributes)
+    built = system.with_fields(specs, y=y0, attributes=attributes)
+    solids = field_solids(built.fields)
+    if solids:  # a field is valid only outside its magnets, and singular on its wires
+        r = np.asarray(built.unpack(y0, si=True)["r"], dtype=float).reshape(-1, 3)
+        names = [b.name for b in built.bodies]
+        moving = [k for k, b in enumerate(built.bodies) if not b.fixed]
+        if len(r) == len(names):
+            check_outside(solids, [names[k] for k in moving], r[moving])
+    return built

@@ -11,7 +11,7 @@ command-line ``SCENE`` into a file or a registered name.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Literal
 
@@ -81,6 +81,10 @@ class SceneListing:
         The plugin that registered it, or the file's path.
     default
         The scene ``poissonkit run`` uses without an argument.
+    parameters
+        What ``--param NAME=VALUE`` sets (registered scenes): one mapping per parameter with
+        ``name``, ``type``, ``unit``, ``default`` (``None``: optional, the scene chooses) and
+        ``doc``.
     """
 
     name: str
@@ -88,6 +92,18 @@ class SceneListing:
     description: str
     source: str
     default: bool = False
+    parameters: list[dict[str, object]] = field(default_factory=list)
+
+
+def scene_parameters(entry: object) -> list[dict[str, object]]:
+    """The parameters a registered scene entry declares, as :attr:`SceneListing.parameters`."""
+    from poissonkit.plugin.contributions import Entry
+
+    if not isinstance(entry, Entry):
+        return []
+    return [{"name": p.name, "type": p.type, "unit": p.unit,
+             "default": list(p.default) if isinstance(p.default, tuple) else p.default,
+             "doc": p.doc} for p in entry.params]
 
 
 def _first_line(text: str) -> str:
@@ -109,7 +125,7 @@ def scene_catalog() -> list[SceneListing]:
 
     owner = {n: r.name for r in plugin_reports() for n in r.contributions.get("scene", [])}
     out = [SceneListing(name, "registered", _first_line(e.doc), owner.get(name, ""),
-                        isinstance(e, SceneEntry) and e.default)
+                        isinstance(e, SceneEntry) and e.default, scene_parameters(e))
            for name, e in sorted(entries("scene").items())]
     out += [SceneListing(name, "file", scene_description(path), str(path))
             for name, path in shipped_scenes().items()]
@@ -157,3 +173,24 @@ def resolve_scene(arg: str) -> Path | str:
     raise SceneError(f"no scene file or scene named {arg!r}; registered scenes: "
                      f"{', '.join(registered) or '(none)'}; shipped scene files: "
                      f"{', '.join(shipped) or '(none)'}{failed} (see `poissonkit scenes`)")
+
+
+def scene_outcome(spec: RunSpec, t: object, y: object, events: object
+                  ) -> Mapping[str, object] | None:
+    """What a finished run of a registered scene came to (its entry's ``outcome``, e.g. the
+    Levitron's fate and its contact with the base), or ``None`` for scenes without one.
+
+    Parameters
+    ----------
+    spec
+        The run (its ``name`` is the registered scene's).
+    t, y, events
+        Saved times and states (internal units) and the event records of the run.
+    """
+    from poissonkit.plugin.contributions import SceneEntry
+    from poissonkit.plugin import entries
+
+    entry = entries("scene").get(spec.name)
+    if not isinstance(entry, SceneEntry) or entry.outcome is None:
+        return None
+    return dict(entry.outcome(spec, t, y, events))

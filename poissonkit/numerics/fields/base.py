@@ -18,6 +18,7 @@ import numpy.typing as npt
 
 from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import InputError
+from poissonkit.numerics.fields.solids import Solid
 
 if TYPE_CHECKING:
     from poissonkit.plugin.contributions import ExternalField
@@ -58,6 +59,10 @@ class CompiledField:
         True if ``U`` depends on the axis (bodies that read it must be tops).
     info
         What a report shows: parameters, the tabulation grid and its measured error, ...
+    solids
+        The space the source occupies (:class:`~poissonkit.numerics.fields.solids.Solid`
+        pieces: magnets, wires), for drawing, contact and the start check; empty for fields
+        without a shape (gravity, a uniform field).
     """
 
     name: str
@@ -66,6 +71,7 @@ class CompiledField:
     reads: str
     orientation: bool = False
     info: Mapping[str, Any] = dc_field(default_factory=dict)
+    solids: tuple[Solid, ...] = ()
 
     def energy(self, r: npt.ArrayLike, nu: npt.ArrayLike, coupling: float
                ) -> tuple[float, np.ndarray, np.ndarray]:

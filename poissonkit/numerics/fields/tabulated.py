@@ -18,6 +18,7 @@ import numpy as np
 from poissonkit.errors import InputError
 from poissonkit.numerics.fields.base import CompiledField, FieldRequest
 from poissonkit.numerics.fields.magnetic import magnetic_kernel
+from poissonkit.numerics.fields.solids import Solid
 from poissonkit.numerics.fields.tricubic import evaluate, tabulate, tricubic_field
 
 #: Largest number of grid nodes a tolerance may ask for (24 floats each: 58 MB).
@@ -87,9 +88,16 @@ def interpolation_error(P: np.ndarray, bfun: BField, lo: np.ndarray, hi: np.ndar
 
 
 def tabulated_field(name: str, bfun: BField, lo: np.ndarray, hi: np.ndarray, tol: float,
-                    info: Mapping[str, Any] | None = None) -> CompiledField:
+                    info: Mapping[str, Any] | None = None, adaptive: bool = False,
+                    solids: Sequence[Solid] = ()) -> CompiledField:
     """The field ``bfun`` tabulated on the box ``[lo, hi]`` within relative tolerance ``tol``
-    (value and gradient), as a magnet's energy field (reads ``moment``)."""
+    (value and gradient), as a magnet's energy field (reads ``moment``).
+
+    One uniform grid when it fits in :data:`MAX_NODES`; otherwise, if ``adaptive``, an octree
+    of the same cells refined where the field varies
+    (:func:`~poissonkit.numerics.fields.octree.octree_table`; no accuracy is asked near the
+    source's ``solids``).
+    """
     if not (math.isfinite(tol) and tol > 0):
         raise InputError(f"{name}: tol must be positive, got {tol!r}")
     extent = hi - lo
@@ -97,6 +105,10 @@ def tabulated_field(name: str, bfun: BField, lo: np.ndarray, hi: np.ndarray, tol
     while True:
         shape = tuple(int(max(2, math.ceil(e / h - 1e-9) + 1)) for e in extent)
         nodes = int(np.prod(shape))
+        if nodes > MAX_NODES and adaptive:
+            from poissonkit.numerics.fields.octree import octree_table
+
+            return octree_table(name, bfun, lo, hi, tol, solids, info)
         if nodes > MAX_NODES:
             raise InputError(f"{name}: tolerance {tol:g} needs more than {MAX_NODES} grid nodes "
                              f"over the region {lo.tolist()}..{hi.tolist()} m; loosen tol or "

@@ -42,6 +42,16 @@ def tabulate(bfun: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.nd
     h = (hi - lo) / (n - 1)
     axes = [lo[d] + h[d] * np.arange(n[d]) for d in range(3)]
     nodes = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
+    table = node_table(bfun, nodes, h)
+    head = np.concatenate([lo, h, n.astype(float)])
+    return np.ascontiguousarray(np.concatenate([head, table.ravel()]))
+
+
+def node_table(bfun: Callable[[np.ndarray], np.ndarray], nodes: np.ndarray, h: np.ndarray
+               ) -> np.ndarray:
+    """The nodal data ``(n, 8, 3)`` of ``bfun`` at ``nodes`` (n, 3) for cells of size ``h``
+    (3,): the value and the derivatives ``∂^(i,j,k)`` pre-multiplied by ``h^(i,j,k)``, by
+    central differences of half-width ``STENCIL h`` (module docstring)."""
     delta = STENCIL * h
     offs = np.array([(a, b, c) for a in (-1, 0, 1) for b in (-1, 0, 1) for c in (-1, 0, 1)],
                     dtype=float)
@@ -58,8 +68,7 @@ def tabulate(bfun: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.nd
                 for i in range(2):
                     table[start:start + len(part), i + 2 * j + 4 * k, :] = np.einsum(
                         "a,b,c,nabcq->nq", w[0][i], w[1][j], w[2][k], vals)
-    head = np.concatenate([lo, h, n.astype(float)])
-    return np.ascontiguousarray(np.concatenate([head, table.ravel()]))
+    return table
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
@@ -83,22 +92,12 @@ def _cell(t, n):
     return i, t - i
 
 
-@numba.njit(cache=True, error_model="numpy")
-def tricubic_field(x, y, z, P):
-    """``(B, ∂B/∂x)`` of the tabulated field at ``(x, y, z)``: 3 values, then the Jacobian
-    ``J_ij = ∂B_i/∂x_j`` row by row (12 numbers); NaN outside the grid."""
-    hx = P[3]
-    hy = P[4]
-    hz = P[5]
-    nx = int(P[6])
-    ny = int(P[7])
-    nz = int(P[8])
-    ix, u = _cell((x - P[0]) / hx, nx)
-    iy, v = _cell((y - P[1]) / hy, ny)
-    iz, w = _cell((z - P[2]) / hz, nz)
-    if ix < 0 or iy < 0 or iz < 0:
-        nan = math.nan
-        return (nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan)
+@numba.njit(cache=True, error_model="numpy", inline="always")
+def hermite_patch(P, origin, sa, sb, sc, u, v, w, hx, hy, hz):
+    """``(B, ∂B/∂x)`` (12 numbers) of one cell at local coordinates ``(u, v, w)`` in
+    ``[0, 1]³``: the corner ``(a, b, c)``'s nodal data start at ``origin + a sa + b sb + c sc``
+    in ``P`` (8 derivatives × 3 components, module docstring), the cell's size is
+    ``(hx, hy, hz)``."""
     bu = _basis(u)
     bv = _basis(v)
     bw = _basis(w)
@@ -113,7 +112,7 @@ def tricubic_field(x, y, z, P):
                     fy = bv[2 * j + b]
                     dy = bv[4 + 2 * j + b] / hy
                     for a in range(2):
-                        base = HEADER + ((((ix + a) * ny + (iy + b)) * nz + (iz + c)) * 8) * 3
+                        base = origin + a * sa + b * sb + c * sc
                         for i in range(2):
                             fx = bu[2 * i + a]
                             dx = bu[4 + 2 * i + a] / hx
@@ -130,6 +129,26 @@ def tricubic_field(x, y, z, P):
                                 out[5 + 3 * comp] += wz * val
     return (out[0], out[1], out[2], out[3], out[4], out[5], out[6], out[7], out[8], out[9],
             out[10], out[11])
+
+
+@numba.njit(cache=True, error_model="numpy")
+def tricubic_field(x, y, z, P):
+    """``(B, ∂B/∂x)`` of the tabulated field at ``(x, y, z)``: 3 values, then the Jacobian
+    ``J_ij = ∂B_i/∂x_j`` row by row (12 numbers); NaN outside the grid."""
+    hx = P[3]
+    hy = P[4]
+    hz = P[5]
+    nx = int(P[6])
+    ny = int(P[7])
+    nz = int(P[8])
+    ix, u = _cell((x - P[0]) / hx, nx)
+    iy, v = _cell((y - P[1]) / hy, ny)
+    iz, w = _cell((z - P[2]) / hz, nz)
+    if ix < 0 or iy < 0 or iz < 0:
+        nan = math.nan
+        return (nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan)
+    origin = HEADER + (((ix * ny + iy) * nz + iz) * 8) * 3
+    return hermite_patch(P, origin, ny * nz * 24, nz * 24, 24, u, v, w, hx, hy, hz)
 
 
 def evaluate(P: np.ndarray, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
