@@ -88,6 +88,11 @@ def _finite_number(value: object, name: str) -> float:
     return v
 
 
+#: A step longer than ``t_end - t0`` by at most this relative amount is the whole span: such
+#: spans are differences of sample times, short of the step by round-off.
+STEP_SPAN_RTOL = 1e-9
+
+
 def _check_arguments(system: System, y0: ArrayLike, t0: float, t_end: float,
                      save_every: int, step: float | None, tol: float | None
                      ) -> tuple[np.ndarray, float, float, float | None, float | None]:
@@ -115,8 +120,11 @@ def _check_arguments(system: System, y0: ArrayLike, t0: float, t_end: float,
         step = _finite_number(step, "step")
         if not step > 0:
             raise InputError(f"step must be positive, got {step!r}")
-        if step > t_end - t0:  # scipy refuses a first step beyond the interval
-            raise InputError(f"step {step!r} is longer than t_end - t0 = {t_end - t0!r}")
+        span = t_end - t0
+        if step > span:  # scipy refuses a first step beyond the interval
+            if step > span * (1.0 + STEP_SPAN_RTOL):
+                raise InputError(f"step {step!r} is longer than t_end - t0 = {span!r}")
+            step = span  # longer by round-off only (a span computed as a difference of times)
         if (t_end - t0) / step > MAX_STEPS:  # 1e-300: an overflow deep inside, or a hang
             raise InputError(f"step {step!r} would take more than {MAX_STEPS:.0e} steps to "
                              f"reach t_end = {t_end!r}")

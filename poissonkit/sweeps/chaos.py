@@ -15,9 +15,9 @@ variational equations, so it works for every system and integrator with a fixed 
 A run with a single saved state (cut at its first sample, e.g. a collision at ``t = 0``) has no
 separation history: ``<Y>`` is undefined there and :func:`megno` returns NaN (documented in
 ``docs/sweeps.md``). Each chunk starts where the previous one ended (its last saved time), so
-the chunk's span ``n h`` can fall short of ``n`` steps by round-off; a span within a relative
-:data:`SPAN_RTOL` of the step is integrated as one step of that span (what the fixed-step
-grid does anyway, :func:`~poissonkit.numerics.integrators.glue.fixed_grid`).
+the chunk's span ``n h`` can fall short of ``n`` steps by round-off; the solver takes a step
+longer than the span by round-off as the whole span
+(:data:`~poissonkit.numerics.solver.STEP_SPAN_RTOL`).
 """
 
 from __future__ import annotations
@@ -29,9 +29,6 @@ import numpy as np
 from poissonkit.contracts import HasLayout, System
 from poissonkit.errors import InputError
 from poissonkit.traits import offers
-
-#: Relative round-off allowed between a chunk's span and the step (see the module docstring).
-SPAN_RTOL = 1e-9
 
 
 def _axis_slices(system: System, dim: int) -> list[slice]:
@@ -49,16 +46,6 @@ def _on_leaf(y: np.ndarray, axes: list[slice]) -> np.ndarray:
     for s in axes:
         y[s] /= np.linalg.norm(y[s])
     return y
-
-
-def _chunk_step(step: float, span: float) -> float:
-    """The step to give :func:`~poissonkit.numerics.solve` for a chunk of length ``span``:
-    ``step``, or ``span`` when it is shorter than ``step`` by round-off only (the solver refuses
-    a step longer than the interval; with one step the grid takes ``h = span`` either way, so
-    the numbers are those of the exact comparison)."""
-    if span < step and span >= step * (1.0 - SPAN_RTOL):
-        return span
-    return step
 
 
 def megno(system: System, y0: np.ndarray, t_end: float, method: str = "splitting6",
@@ -114,7 +101,7 @@ def megno(system: System, y0: np.ndarray, t_end: float, method: str = "splitting
     while done < n_steps:
         n = min(per, n_steps - done)
         t1 = t + n * step
-        h = _chunk_step(step, t1 - t)
+        h = step
         a = solve(system, y, t1, method=method, step=h, t0=t)
         b = solve(system, shadow, t1, method=method, step=h, t0=t)
         m = min(len(a.t), len(b.t))

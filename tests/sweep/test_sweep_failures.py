@@ -54,20 +54,18 @@ def test_megno_of_a_run_cut_by_a_collision_is_computed(seed):
 def test_megno_chunk_short_of_a_step_by_round_off_is_one_step_of_the_span(seed):
     from poissonkit.errors import InputError
     from poissonkit.numerics.solver import solve
-    from poissonkit.sweeps.chaos import _chunk_step
 
     scene, prep = seed
     system, y0, _t, method, step = scene.run(prep, COLLIDING).megno_inputs
     t = next(k * step for k in range(1, 100) if (k * step + step) - k * step < step)
     span = (t + step) - t
-    with pytest.raises(InputError, match="longer than"):  # what MEGNO's chunk met
-        solve(system, y0, t + step, method=method, step=step, t0=t)
-    h = _chunk_step(step, span)
-    assert h == span
-    one = solve(system, y0, t + step, method=method, step=h, t0=t)
+    assert span < step  # what MEGNO's chunk met: refused as "longer than" before
+    one = solve(system, y0, t + step, method=method, step=step, t0=t)
+    exact = solve(system, y0, t + step, method=method, step=span, t0=t)
     assert one.steps == 1 and one.t[-1] == t + step
-    assert _chunk_step(step, 2 * step) == step
-    assert _chunk_step(step, 0.5 * step) == step  # a real shortfall is left to the solver
+    assert np.array_equal(one.y, exact.y)  # one step of the span, as the grid takes anyway
+    with pytest.raises(InputError, match="longer than"):  # a real excess is still refused
+        solve(system, y0, t + step, method=method, step=1.5 * span, t0=t)
 
 
 def test_megno_of_a_run_cut_at_its_first_sample_is_nan(seed):

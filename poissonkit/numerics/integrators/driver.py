@@ -333,7 +333,7 @@ class _Run:
             st.y[:] = y_hit
             st.comp[:] = 0.0
             st.t, st.steps = rec.time, rec.step
-            raise_or_record(ev, rec, st.records)
+            raise_or_record(ev, rec, st.records, p.system, y_hit)
             self.status_msg = "event"
             return True
         if status not in (RUNNING, BUFFER_FULL, DONE):
