@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 from poissonkit.contracts import Event, Integrator, System
 from poissonkit.errors import InputError
 from poissonkit.numerics.events import EventRecord
-from poissonkit.numerics.integrators.base import RawResult, progress_bar
+from poissonkit.numerics.integrators.base import RawResult, note_left_regime, progress_bar
 
 #: Samples closer than this fraction of the span to the end time are the end time itself (a
 #: grid ``t0 + k dt`` rarely hits ``t_end`` to the last bit).
@@ -129,6 +129,7 @@ def integrate_at_times(integ: Integrator, system: System, y0: np.ndarray, t0: fl
     records: list[EventRecord] = []
     steps = nfev = 0
     message, interrupted = "done", False
+    regime: list[str] = []  # the pieces' reasons for leaving the method's regime, in order
     bar = progress_bar(progress, t_end - t0, integ.name)
     try:
         for a, b in zip(bounds[:-1], bounds[1:]):
@@ -139,6 +140,7 @@ def integrate_at_times(integ: Integrator, system: System, y0: np.ndarray, t0: fl
             records.extend(replace(r, step=r.step + steps) for r in raw.events)
             steps += int(raw.steps)
             nfev += int(raw.nfev)
+            regime += [r for r in raw.extra.get("regime", []) if r not in regime]
             t_last = float(raw.t[-1])
             ts.append(t_last)
             ys.append(np.array(raw.y[-1], dtype=float))
@@ -154,6 +156,8 @@ def integrate_at_times(integ: Integrator, system: System, y0: np.ndarray, t0: fl
     finally:
         if bar is not None:
             bar.close()
-    return RawResult(np.array(ts), np.vstack(ys), steps, nfev=nfev, events=records,
-                     message=message, extra={"interrupted": interrupted,
-                                             "sample_times": len(times)})
+    out = RawResult(np.array(ts), np.vstack(ys), steps, nfev=nfev, events=records,
+                    message=message, extra={"interrupted": interrupted,
+                                            "sample_times": len(times)})
+    note_left_regime(out, integ.name, regime)
+    return out

@@ -127,3 +127,16 @@ def test_sweep_outcome_left_regime_reads_the_status():
         rec = RunRecord(sol, "bounded", math.nan, np.ones(1), 1.0, 1.0, 1.0)
         found.append(reduce_run(rec, ["left_regime"])["left_regime"])
     assert found == [1, 0]
+
+
+def test_sample_times_carry_the_pieces_regime_status():
+    """With ``t_eval`` the run is made of pieces; a piece that leaves the regime marks the
+    whole run (truth: the same coarse run without ``t_eval`` is flagged)."""
+    system, y0, m, x, v = sun_jupiter_saturn(q_jup=1e9)
+    t_end = 0.6 * _jupiter_period(1e9)
+    sampled = solve(system, y0, t_end, method="wisdom_holman", step=10 * DAY,
+                    t_eval=np.linspace(0.0, t_end, 7)[1:-1])
+    assert sampled.extra["status"] == LEFT_REGIME
+    assert any(r.startswith("step above the pericentre time scale: jupiter")
+               for r in sampled.extra["regime"])
+    assert "left the wisdom_holman regime" in sampled.message
