@@ -29,7 +29,13 @@ bodies, configurations and brackets. See ``docs/plugins.md``, "Testing a plugin"
 
 from __future__ import annotations
 
+from poissonkit.testing.checks_family import check_model_family
+from poissonkit.testing.checks_field import check_field
+from poissonkit.testing.checks_integrator import check_integrator
+from poissonkit.testing.checks_outcome import check_outcome
 from poissonkit.testing.checks_potential import check_potential
+from poissonkit.testing.checks_scene import check_assembly, check_scene
+from poissonkit.testing.parametrize import parametrize_with_checks, plugin_checks
 from poissonkit.testing.report import CheckFailed, Defect, KitWarning
 
 __all__ = ["CheckFailed", "Defect", "KitWarning", "check_assembly", "check_field",

@@ -187,6 +187,9 @@ POTENTIAL_CHECKS: dict[str, PotentialCheck] = {
 }
 #: The checks that compile an N-body system.
 EXPENSIVE = frozenset({"kick"})
+#: The checks that compile the potential's own kernels.
+COMPILING = frozenset({"gradient", "orientation", "pair_symmetry", "body_params",
+                       "runtime_params"})
 
 
 def check_potential(potential: PairPotential | str, *, params: Mapping[str, Any] | None = None,
