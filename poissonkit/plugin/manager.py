@@ -79,6 +79,9 @@ class PluginReport:
     error: str = ""
     contributions: dict[str, list[str]] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
+    #: The plugin API version it was written for (``POISSONKIT_API`` of its hooks module;
+    #: built-ins: the host's own), or ``"unversioned"``.
+    api: str = hookspecs.UNVERSIONED
 
 
 @dataclass
@@ -157,6 +160,14 @@ def unknown_hooks(pm: pluggy.PluginManager, plugin: object) -> list[str]:
     return out
 
 
+def _api_version(plugin: object, source: str) -> str:
+    """The API version a plugin declares; built-ins ship with the host and have its own."""
+    if source == "builtin":
+        return hookspecs.PLUGIN_API_VERSION
+    declared = getattr(plugin, hookspecs.API_ATTRIBUTE, None)
+    return hookspecs.UNVERSIONED if declared is None else str(declared)
+
+
 def _register(pm: pluggy.PluginManager, name: str, loader, source: str, version: str,
               reports: list[PluginReport], entries: dict[str, dict[str, Entry]]) -> None:
     report = PluginReport(name=name, source=source, version=version)
@@ -173,6 +184,10 @@ def _register(pm: pluggy.PluginManager, name: str, loader, source: str, version:
         report.error = f"{type(exc).__name__}: {exc}"
         return
     report.warnings = unknown_hooks(pm, plugin)
+    report.api = _api_version(plugin, source)
+    mismatch = hookspecs.api_mismatch(report.api)
+    if mismatch is not None:
+        report.warnings.append(mismatch)
     # only a plugin that registered cleanly contributes entries
     for kind, items in found.items():
         for item in items:
