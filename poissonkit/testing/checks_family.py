@@ -31,8 +31,8 @@ def _forces(model: str, cfgs: list[Any], b1: Mapping[str, Any], b2: Mapping[str,
     from poissonkit.pairs import pair_interaction
 
     per_body = {f"{k}1": v for k, v in b1.items()} | {f"{k}2": v for k, v in b2.items()}
-    return np.array([pair_interaction(model, c.r, c.nu1, c.nu2, **per_body).force
-                     for c in cfgs])
+    return np.array([pair_interaction(model, c.r.tolist(), c.nu1.tolist(), c.nu2.tolist(),
+                                      **per_body).force for c in cfgs])
 
 
 def _declaration(f: ModelFamily, out: Findings) -> None:
@@ -59,7 +59,7 @@ def _distances(f: ModelFamily, b1: Mapping[str, Any], b2: Mapping[str, Any], len
                out: Findings) -> list[float]:
     """Distances where the cheapest model's estimate is between 1e-5 and 0.5 (it is in use),
     checking on the way that every estimate does not increase with ``r``."""
-    grid = [length * 2 ** (k / 4) for k in range(0, 80)]
+    grid = [length * 2 ** (k / 4) for k in range(80)]
     used = []
     for m in f.models:
         est = [float(f.estimate(m, r, b1, b2)) for r in grid]
@@ -131,8 +131,8 @@ def check_model_family(family: ModelFamily | str, *,
                 bound = float(f.energy_bound(r, b1, b2))
                 per_body = {f"{k}1": v for k, v in b1.items()} | {
                     f"{k}2": v for k, v in b2.items()}
-                worst = max(abs(pair_interaction(exact, c.r, c.nu1, c.nu2, **per_body).energy)
-                            for c in cfgs)
+                worst = max(abs(pair_interaction(exact, c.r.tolist(), c.nu1.tolist(), c.nu2.tolist(),
+                                                 **per_body).energy) for c in cfgs)
                 if worst > bound * SLACK:
                     out.add("energy_bound", f"|U| = {worst:.3g} J at r = {r:.4g} m exceeds the "
                                             f"declared bound {bound:.3g} J")

@@ -15,6 +15,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 import tempfile
 from collections.abc import Mapping, Sequence
@@ -47,11 +48,12 @@ def check_order(e: IntegratorEntry, out: Findings, options: Mapping[str, Any]) -
     if e.family == "scipy" or e.order == 0:
         tols = (1e-4, 1e-6, 1e-8, 1e-10)
         errs = [_error(p, e.name, options, tol=t) for t in tols]
-        if not all(b < a for a, b in zip(errs, errs[1:])) or errs[-1] > 1e-3 * errs[0]:
+        if not all(b < a for a, b in itertools.pairwise(errs)) or errs[-1] > 1e-3 * errs[0]:
             out.add("order", f"does not converge as tol falls on {p.name}: errors "
                              f"{', '.join(f'{x:.2g}' for x in errs)} at tol {tols}")
         return
-    measured, usable = [], []
+    measured: list[tuple[int, float]] = []
+    usable: list[tuple[int, float]] = []
     for n in LADDER:
         try:
             err = _error(p, e.name, options, step=p.t_end / n)
@@ -98,7 +100,7 @@ def check_checkpoint(e: IntegratorEntry, out: Findings, options: Mapping[str, An
     from poissonkit.numerics.checkpoint import Checkpoint
 
     p = problem_for(e.capabilities)
-    kw: dict[str, Any] = dict(step=p.t_end / 200, save_every=7, options=dict(options))
+    kw: dict[str, Any] = {"step": p.t_end / 200, "save_every": 7, "options": dict(options)}
     ref = solve(p.system, p.y0, p.t_end, e.name, **kw)
     with tempfile.TemporaryDirectory() as tmp:
         ck = Checkpoint(Path(tmp) / "ck", 37, keep=100)

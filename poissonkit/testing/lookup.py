@@ -21,8 +21,8 @@ def entry_of(contribution: E | str, kind: str, etype: type[E]) -> E:
         An object that is not a ``etype``.
     """
     if isinstance(contribution, str):
-        from poissonkit.plugin import entries
         from poissonkit.errors import UnknownNameError
+        from poissonkit.plugin import entries
 
         found = entries(kind)
         if contribution not in found:

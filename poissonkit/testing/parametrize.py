@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from poissonkit.errors import InputError
+from poissonkit.plugin.contributions import PairPotential
 
 #: Kinds of contribution the kit checks, and the check of each (potentials: per check).
 KINDS = ("potential", "model_family", "field", "integrator", "assembly", "scene", "outcome")
@@ -98,7 +99,11 @@ def plugin_checks(plugin: str, *, examples: Mapping[str, Mapping[str, Any]] | No
     list of KitCase
     """
     from poissonkit.plugin import entries
-    from poissonkit.testing.checks_potential import COMPILING, EXPENSIVE, POTENTIAL_CHECKS
+    from poissonkit.testing.checks_potential import (
+        COMPILING,
+        EXPENSIVE,
+        POTENTIAL_CHECKS,
+    )
 
     examples = examples or {}
     skipped = set(skip)
@@ -111,7 +116,8 @@ def plugin_checks(plugin: str, *, examples: Mapping[str, Mapping[str, Any]] | No
             if kind == "potential":
                 # a potential without an expr has its own compiled kernel (quadratures, loops
                 # of nodes): compiling it takes tens of seconds on a cold cache
-                heavy = entries("potential")[name].expr is None
+                entry = entries("potential")[name]
+                heavy = isinstance(entry, PairPotential) and entry.expr is None
                 cases += [KitCase(kind, name, c, c in EXPENSIVE or (heavy and c in COMPILING),
                                   opts) for c in POTENTIAL_CHECKS]
             else:

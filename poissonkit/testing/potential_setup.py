@@ -11,6 +11,7 @@ from poissonkit.errors import InputError
 from poissonkit.plugin.contributions import PairPotential
 from poissonkit.testing.geometry import Partials
 
+
 @dataclass(frozen=True)
 class Options:
     """Settings shared by the potential checks.
