@@ -90,7 +90,8 @@ def plugin_checks(plugin: str, *, examples: Mapping[str, Mapping[str, Any]] | No
         The plugin's name (its entry-point name; ``poissonkit plugins`` lists them).
     examples
         Keyword arguments per contribution name for its check (``params``, ``bodies``,
-        ``source``, ``distances``, ...), e.g. ``{"my_potential": {"params": {...}}}``.
+        ``source``, ``distances``, ...), e.g. ``{"my_potential": {"params": {...}}}``; a key
+        ``"kind:name"`` (``"field:cylinder"``) wins over the bare name when two kinds share it.
     skip
         Case ids (``"potential-x-kick"``) or contribution names to leave out (say why).
 
@@ -112,7 +113,7 @@ def plugin_checks(plugin: str, *, examples: Mapping[str, Mapping[str, Any]] | No
         if kind not in KINDS:
             continue  # systems: ``poissonkit verify`` checks them
         for name in names:
-            opts = dict(examples.get(name, {}))
+            opts = dict(examples.get(f"{kind}:{name}", examples.get(name, {})))
             if kind == "potential":
                 # a potential without an expr has its own compiled kernel (quadratures, loops
                 # of nodes): compiling it takes tens of seconds on a cold cache

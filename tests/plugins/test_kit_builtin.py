@@ -38,7 +38,7 @@ MAGNETS = {
     "magpylib": {"params": {"class": "Cylinder", "params": {"polarization": [0.0, 0.0, 1.0],
                                                             "dimension": [0.05, 0.01]}}},
     "current_loop": {"params": {"current": 10.0, "radius": 0.5}},
-    "cylinder_field": {},
+    "field:cylinder": {},  # not the potential's example: unit sizes, points 2-4 m away
 }
 NBODY = {"random_cluster": {"params": {"min_distance": 0.1}}}
 
