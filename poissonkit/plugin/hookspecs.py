@@ -15,7 +15,7 @@ The hooks and the entry types they return form the plugin API, versioned as
 :data:`PLUGIN_API_VERSION` (``"major.minor"``). A plugin states the version it was written for
 with a module attribute of its hooks module, ``POISSONKIT_API = "1.0"`` (without one it is
 ``"unversioned"``); ``poissonkit plugins`` shows it and warns when it does not match
-(:func:`api_mismatch`). The deprecation policy is in ``docs/plugins.md`` ("Plugin API
+(:func:`poissonkit.plugin.manager.api_mismatch`). The deprecation policy is in ``docs/plugins.md`` ("Plugin API
 versions"): a minor version only adds; a hook or field to be removed first warns for at least
 two minor releases and goes only with the next major version.
 """
@@ -43,34 +43,6 @@ PLUGIN_API_VERSION = "1.0"
 API_ATTRIBUTE = "POISSONKIT_API"
 #: What a plugin that declares no version is shown as.
 UNVERSIONED = "unversioned"
-
-
-def api_mismatch(declared: str, host: str = PLUGIN_API_VERSION) -> str | None:
-    """Why a plugin written for API ``declared`` may not work with this host's ``host``
-    version, or ``None`` when it will (same major version, minor not newer; or unversioned).
-
-    Examples
-    --------
-    >>> api_mismatch("1.0", "1.2") is None
-    True
-    >>> api_mismatch("2.0", "1.2")
-    'written for plugin API 2.0, this poissonkit has 1.2 (another major version: hooks or entry fields it uses may differ)'
-    """
-    if declared == UNVERSIONED:
-        return None
-    try:
-        major, minor = (int(x) for x in declared.split("."))
-        h_major, h_minor = (int(x) for x in host.split("."))
-    except ValueError:
-        return f"{API_ATTRIBUTE} = {declared!r} is not a version 'major.minor' (this poissonkit " \
-               f"has {host})"
-    if major != h_major:
-        return (f"written for plugin API {declared}, this poissonkit has {host} (another major "
-                "version: hooks or entry fields it uses may differ)")
-    if minor > h_minor:
-        return (f"written for plugin API {declared}, newer than this poissonkit's {host}: "
-                "upgrade poissonkit")
-    return None
 
 hookspec = pluggy.HookspecMarker(PROJECT)
 hookimpl = pluggy.HookimplMarker(PROJECT)

@@ -160,6 +160,35 @@ def unknown_hooks(pm: pluggy.PluginManager, plugin: object) -> list[str]:
     return out
 
 
+def api_mismatch(declared: str, host: str = hookspecs.PLUGIN_API_VERSION) -> str | None:
+    """Why a plugin written for API ``declared`` may not work with this host's ``host``
+    version, or ``None`` when it will (same major version, minor not newer; or unversioned).
+
+    Examples
+    --------
+    >>> api_mismatch("1.0", "1.2") is None
+    True
+    >>> print(api_mismatch("2.0", "1.2"))  # doctest: +NORMALIZE_WHITESPACE
+    written for plugin API 2.0, this poissonkit has 1.2 (another major version: hooks or
+    entry fields it uses may differ)
+    """
+    if declared == hookspecs.UNVERSIONED:
+        return None
+    try:
+        major, minor = (int(x) for x in declared.split("."))
+        h_major, h_minor = (int(x) for x in host.split("."))
+    except ValueError:
+        return (f"{hookspecs.API_ATTRIBUTE} = {declared!r} is not a version 'major.minor' "
+                f"(this poissonkit has {host})")
+    if major != h_major:
+        return (f"written for plugin API {declared}, this poissonkit has {host} (another major "
+                "version: hooks or entry fields it uses may differ)")
+    if minor > h_minor:
+        return (f"written for plugin API {declared}, newer than this poissonkit's {host}: "
+                "upgrade poissonkit")
+    return None
+
+
 def _api_version(plugin: object, source: str) -> str:
     """The API version a plugin declares; built-ins ship with the host and have its own."""
     if source == "builtin":
@@ -185,7 +214,7 @@ def _register(pm: pluggy.PluginManager, name: str, loader, source: str, version:
         return
     report.warnings = unknown_hooks(pm, plugin)
     report.api = _api_version(plugin, source)
-    mismatch = hookspecs.api_mismatch(report.api)
+    mismatch = api_mismatch(report.api)
     if mismatch is not None:
         report.warnings.append(mismatch)
     # only a plugin that registered cleanly contributes entries

@@ -11,7 +11,8 @@ from test_plugins_host import install_fake
 
 from poissonkit.cli import main as cli_main
 from poissonkit.plugin import plugin_reports, reset
-from poissonkit.plugin.hookspecs import PLUGIN_API_VERSION, api_mismatch
+from poissonkit.plugin.hookspecs import PLUGIN_API_VERSION
+from poissonkit.plugin.manager import api_mismatch
 
 SOURCE = '''
 from poissonkit.plugin import PairPotential, Param, hookimpl
