@@ -69,7 +69,7 @@ def check_outcome(outcome: OutcomeEntry | str, *, record: Any = None) -> None:
         return
     if not entry.unit:
         out.add("unit", "declares no unit ('1' for a dimensionless value)")
-    with out.guard("fill"):
+    with out.guard("fill"), np.errstate(invalid="ignore"):
         if np.asarray(entry.fill).astype(dtype).tolist() != np.asarray(entry.fill).tolist() \
                 and not (isinstance(entry.fill, float) and math.isnan(entry.fill)
                          and dtype.kind == "f"):

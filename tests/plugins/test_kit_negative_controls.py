@@ -98,7 +98,8 @@ def test_an_assembly_that_is_not_deterministic_or_lets_an_error_through_is_named
 def test_a_wrong_declared_order_is_named():
     wrong = replace(integrator_entry("splitting4"), order=2)
     text = _failed(check_integrator, wrong, checks=("order",))
-    assert "observed order 4." in text and "declared 2" in text
+    observed = float(text.split("observed order ")[1].split()[0])
+    assert abs(observed - 4) < 0.3 and "declared 2" in text
 
 
 @pytest.mark.slow
