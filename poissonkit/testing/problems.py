@@ -75,12 +75,46 @@ def free_fall(r0: float = 1.0) -> tuple[Any, np.ndarray, float]:
     return system, y0, 2.0
 
 
+def oscillator() -> Problem:
+    """The harmonic oscillator ``H = (q² + p²)/2`` on the canonical plane, compiled from its
+    symbolic form (for methods that need one); exact: a rotation, over ``t = 5``."""
+    from poissonkit.numerics.system import compile_system
+    from poissonkit.structure import HamiltonianSystem, canonical
+
+    P = canonical(1)
+    q, p = P.coords
+    system = compile_system(HamiltonianSystem(P, (q ** 2 + p ** 2) / 2))
+    # the sense of rotation follows the bracket's sign: q' = {q, H} = s p
+    s = float(P.bracket(q, p))
+    t_end = 5.0
+    truth = np.array([math.cos(t_end), -s * math.sin(t_end)])
+    return Problem("oscillator", system, np.array([1.0, 0.0]), t_end, truth)
+
+
+_BUILDERS = {"planets": star_and_two_planets, "kepler": kepler_with_free_tops,
+             "oscillator": oscillator}
 _CACHE: dict[str, Problem] = {}
 
 
-def problem_for(capabilities: Any) -> Problem:
-    """The problem an integrator with these capabilities can take (cached per process)."""
-    key = "planets" if capabilities.point_masses_only else "kepler"
+def _cached(key: str) -> Problem:
     if key not in _CACHE:
-        _CACHE[key] = star_and_two_planets() if key == "planets" else kepler_with_free_tops()
+        _CACHE[key] = _BUILDERS[key]()
     return _CACHE[key]
+
+
+def problem_for(entry: Any) -> Problem:
+    """The first problem the integrator of ``entry`` takes (``solve`` refuses the others from
+    the declared capabilities, before any work): point masses for ``point_masses_only``, else
+    the Kepler orbit of two tops, else the oscillator compiled from its symbolic form."""
+    from poissonkit.errors import CapabilityError
+    from poissonkit.numerics import solve
+
+    keys = ("planets",) if entry.capabilities.point_masses_only else ("kepler", "oscillator")
+    for key in keys:
+        p = _cached(key)
+        try:
+            solve(p.system, p.y0, p.t_end / 1000, entry.name, step=p.t_end / 1000)
+        except CapabilityError:
+            continue
+        return p
+    return _cached(keys[-1])
