@@ -48,6 +48,9 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     ("report", ("report",)),
     # sweeps on Dask over scenes
     ("sweeps", ("sweeps",)),
+    # the kit for plugin authors: checks of every kind of contribution (they build systems,
+    # scenes and sweep records), hypothesis strategies, the plugin template
+    ("testing", ("testing",)),
     # one module per CLI subcommand and the parser that lists them
     ("commands", ("commands",)),
     # the entry points and the package facade

@@ -27,6 +27,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "bench": ("poissonkit.commands.bench", "speed against error of every integrator on a scene"),
     "plugins": ("poissonkit.commands.plugins", "list plugins and what they contribute"),
     "sweep": ("poissonkit.commands.sweep", "run a scene over a grid or sample of parameters on Dask"),
+    "new-plugin": ("poissonkit.commands.new_plugin", "write a plugin package from the template"),
 }
 
 

@@ -1,4 +1,5 @@
-"""``poissonkit plugins``: every plugin, its version and what it contributes.
+"""``poissonkit plugins``: every plugin, its version, the plugin API version it was written for
+and what it contributes (after a first line naming this poissonkit's plugin API version).
 
 Under each kind the contributed names are listed on one line; integrators and model families
 then get one line each with what their registry entry declares: an integrator's order, family
@@ -52,8 +53,10 @@ def _line(name: str, entry: Entry) -> str | None:
 
 def main(args: argparse.Namespace) -> int:
     """List plugins; failed and blocked ones are shown with the reason, warnings (unknown hook
-    implementations) under their plugin; never fatal."""
+    implementations, a plugin API version that does not match) under their plugin; never
+    fatal. The first line names this poissonkit's plugin API version."""
     from poissonkit.plugin import entries, plugin_reports
+    from poissonkit.plugin.hookspecs import PLUGIN_API_VERSION
 
     reports = plugin_reports()
 
@@ -74,8 +77,9 @@ def main(args: argparse.Namespace) -> int:
             listed.append(item)
         print(json.dumps(listed, indent=2))
         return 0
+    print(f"plugin API {PLUGIN_API_VERSION}")
     for r in reports:
-        head = f"{r.name} {r.version} ({r.source})"
+        head = f"{r.name} {r.version} ({r.source}) [plugin API {r.api}]"
         if r.status != "ok":
             print(f"{head}  [{r.status.upper()}] {r.error}")
             continue

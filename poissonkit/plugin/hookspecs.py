@@ -8,6 +8,16 @@ third-party package does so by declaring an entry point in the group ``poissonki
     myplugin = "my_package.plugin"
 
 Every hook here must be documented in ``docs/plugins.md`` (a test checks it).
+
+Versions
+--------
+The hooks and the entry types they return form the plugin API, versioned as
+:data:`PLUGIN_API_VERSION` (``"major.minor"``). A plugin states the version it was written for
+with a module attribute of its hooks module, ``POISSONKIT_API = "1.0"`` (without one it is
+``"unversioned"``); ``poissonkit plugins`` shows it and warns when it does not match
+(:func:`poissonkit.plugin.manager.api_mismatch`). The deprecation policy is in ``docs/plugins.md`` ("Plugin API
+versions"): a minor version only adds; a hook or field to be removed first warns for at least
+two minor releases and goes only with the next major version.
 """
 
 from __future__ import annotations
@@ -26,6 +36,13 @@ from poissonkit.plugin.contributions import (
 )
 
 PROJECT = "poissonkit"
+
+#: The version of the plugin API (hooks and entry types): ``"major.minor"``.
+PLUGIN_API_VERSION = "1.0"
+#: The module attribute of a plugin's hooks module naming the API version it was written for.
+API_ATTRIBUTE = "POISSONKIT_API"
+#: What a plugin that declares no version is shown as.
+UNVERSIONED = "unversioned"
 
 hookspec = pluggy.HookspecMarker(PROJECT)
 hookimpl = pluggy.HookimplMarker(PROJECT)

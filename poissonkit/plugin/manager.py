@@ -79,6 +79,9 @@ class PluginReport:
     error: str = ""
     contributions: dict[str, list[str]] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
+    #: The plugin API version it was written for (``POISSONKIT_API`` of its hooks module;
+    #: built-ins: the host's own), or ``"unversioned"``.
+    api: str = hookspecs.UNVERSIONED
 
 
 @dataclass
@@ -157,6 +160,43 @@ def unknown_hooks(pm: pluggy.PluginManager, plugin: object) -> list[str]:
     return out
 
 
+def api_mismatch(declared: str, host: str = hookspecs.PLUGIN_API_VERSION) -> str | None:
+    """Why a plugin written for API ``declared`` may not work with this host's ``host``
+    version, or ``None`` when it will (same major version, minor not newer; or unversioned).
+
+    Examples
+    --------
+    >>> api_mismatch("1.0", "1.2") is None
+    True
+    >>> print(api_mismatch("2.0", "1.2"))  # doctest: +NORMALIZE_WHITESPACE
+    written for plugin API 2.0, this poissonkit has 1.2 (another major version: hooks or
+    entry fields it uses may differ)
+    """
+    if declared == hookspecs.UNVERSIONED:
+        return None
+    try:
+        major, minor = (int(x) for x in declared.split("."))
+        h_major, h_minor = (int(x) for x in host.split("."))
+    except ValueError:
+        return (f"{hookspecs.API_ATTRIBUTE} = {declared!r} is not a version 'major.minor' "
+                f"(this poissonkit has {host})")
+    if major != h_major:
+        return (f"written for plugin API {declared}, this poissonkit has {host} (another major "
+                "version: hooks or entry fields it uses may differ)")
+    if minor > h_minor:
+        return (f"written for plugin API {declared}, newer than this poissonkit's {host}: "
+                "upgrade poissonkit")
+    return None
+
+
+def _api_version(plugin: object, source: str) -> str:
+    """The API version a plugin declares; built-ins ship with the host and have its own."""
+    if source == "builtin":
+        return hookspecs.PLUGIN_API_VERSION
+    declared = getattr(plugin, hookspecs.API_ATTRIBUTE, None)
+    return hookspecs.UNVERSIONED if declared is None else str(declared)
+
+
 def _register(pm: pluggy.PluginManager, name: str, loader, source: str, version: str,
               reports: list[PluginReport], entries: dict[str, dict[str, Entry]]) -> None:
     report = PluginReport(name=name, source=source, version=version)
@@ -173,6 +213,10 @@ def _register(pm: pluggy.PluginManager, name: str, loader, source: str, version:
         report.error = f"{type(exc).__name__}: {exc}"
         return
     report.warnings = unknown_hooks(pm, plugin)
+    report.api = _api_version(plugin, source)
+    mismatch = api_mismatch(report.api)
+    if mismatch is not None:
+        report.warnings.append(mismatch)
     # only a plugin that registered cleanly contributes entries
     for kind, items in found.items():
         for item in items:

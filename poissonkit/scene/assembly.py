@@ -357,6 +357,14 @@ def system_of(bodies: list[BodyModel], pairs: Sequence[PairSpec], cutoff: float 
             groups[key] = []
             order.append(key)
         groups[key].append((p.i, p.j))
+    # the numerics read an attribute column for every body: give it to each body that has it,
+    # not only to those whose pairs took it (a planned or listed pair of another potential)
+    read = {a for values in attrs.values() for a in values}
+    for k, b in enumerate(bodies):
+        for attr in read - attrs[k].keys():
+            value = b.attr(attr)
+            if isinstance(value, float):
+                attrs[k][attr] = value
     inter: list[AllPairs | Interaction] = []
     for key in order:
         name, items = key

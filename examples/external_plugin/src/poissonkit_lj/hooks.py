@@ -44,6 +44,10 @@ from poissonkit_lj.dipoles import (
     point_dipole_expr,
 )
 
+#: The plugin API version this plugin was written for (``poissonkit plugins`` shows it and
+#: warns when the installed poissonkit has another major version).
+POISSONKIT_API = "1.0"
+
 
 def _lennard_jones(params: dict[str, Any]) -> sp.Expr:
     """U(r) = 4 epsilon [(sigma/r)^12 - (sigma/r)^6] in the symbol r (real)."""
