@@ -39,7 +39,7 @@ def _args(*argv: str) -> argparse.Namespace:
 
 
 def test_the_shipped_scenes_are_the_package_folders_toml_files():
-    assert SHIPPED == ["magnet_chain", "planned_cluster", "two_magnets"]
+    assert SHIPPED == ["dipolar_spheres", "magnet_chain", "planned_cluster", "two_magnets"]
     assert list(shipped_scenes()) == SHIPPED
     for name in SHIPPED:
         assert shipped_scene(name).read_bytes() == (FOLDER / f"{name}.toml").read_bytes()
