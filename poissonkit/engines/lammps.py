@@ -49,8 +49,11 @@ def can_express(built: BuiltScene | RunSpec) -> tuple[bool, str]:
     (bool, str)
         ``(True, "")``, or ``(False, reason)``.
     """
+    system = built.system
+    if not isinstance(system, NBodySystem):
+        return False, f"{type(system).__name__} is not an N-body system of bodies"
     try:
-        lammps_bodies(built.system)
+        lammps_bodies(system)
     except InputError as exc:
         return False, str(exc)
     return True, ""

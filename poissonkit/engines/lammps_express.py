@@ -55,6 +55,13 @@ def _potential_name(term: AllPairs | Interaction) -> str | None:
     return pot.name if isinstance(pot, PairPotential) else None
 
 
+def _number(value: object, what: str) -> float:
+    """A pair parameter as a float (``NotExpressible`` if it is not a number)."""
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return float(value)
+    raise NotExpressible(f"pair parameter {what} = {value!r} is not a number")
+
+
 def _moments(system: NBodySystem) -> np.ndarray:
     """Each body's dipole moment [A m²] from the pair terms (``NotExpressible`` otherwise)."""
     n = len(system.bodies)
@@ -62,9 +69,11 @@ def _moments(system: NBodySystem) -> np.ndarray:
     moment = np.full(n, np.nan)
     covered: set[tuple[int, int]] = set()
     every = False
+    groups: list[list[int]] = []  # members of all-pairs terms over some of the bodies
 
     def put(k: int, value: object) -> None:
-        v = float(value) if value is not None else system.bodies[k].attribute("moment")
+        v = _number(value, "moment") if value is not None else \
+            system.bodies[k].attribute("moment")
         if not math.isnan(moment[k]) and moment[k] != v:
             raise NotExpressible(f"body {system.bodies[k].name!r} has dipole moments {moment[k]}"
                                  f" and {v} A m² in different pairs: LAMMPS holds one per atom")
@@ -75,7 +84,7 @@ def _moments(system: NBodySystem) -> np.ndarray:
         if name not in PAIR_STYLES:
             raise NotExpressible(f"pair potential {name!r} has no LAMMPS pair style mapped "
                                  f"here (mapped: {', '.join(PAIR_STYLES)})")
-        mu0 = float(term.params.get("mu0", MU0))
+        mu0 = _number(term.params.get("mu0", MU0), "mu0")
         if mu0 != MU0:
             raise NotExpressible(f"dipole pairs with mu0 = {mu0} (only μ0 = 4π·1e-7 T m/A)")
         if isinstance(term, AllPairs):
@@ -89,12 +98,14 @@ def _moments(system: NBodySystem) -> np.ndarray:
                 if term.params.get("moment2", term.params.get("moment1")) != \
                         term.params.get("moment1"):
                     raise NotExpressible("an all-pairs dipole term with moment1 != moment2")
-            covered |= {(a, b) for a in members for b in members if a < b}
+            groups.append(members)
         else:
             i, j = (x if isinstance(x, int) else index[x] for x in (term.i, term.j))
             put(i, term.params.get("moment1"))
             put(j, term.params.get("moment2"))
             covered.add((min(i, j), max(i, j)))
+    if not every:  # the pairs are listed only when no term joins every body
+        covered |= {(a, b) for g in groups for a in g for b in g if a < b}
     if not every and len(covered) != n * (n - 1) // 2:
         raise NotExpressible("some pairs of bodies do not interact: LAMMPS applies the pair "
                              "style to every pair of atoms")
@@ -124,7 +135,7 @@ def lammps_bodies(system: NBodySystem) -> LammpsBodies:
         raise NotExpressible("no pair interaction")
     moment = _moments(system)
     mass = np.array([float(b.mass) for b in system.bodies])
-    inertia = np.array([1.0 / float(b.alpha) for b in system.bodies])
+    inertia = np.array([1.0 / b.alpha for b in system.bodies if b.alpha is not None])
     cutoff = None if system.cutoff is None else float(system.cutoff)  # SI, as given
     return LammpsBodies(mass, inertia, moment, cutoff)
 
