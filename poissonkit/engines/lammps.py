@@ -21,7 +21,8 @@ import numpy as np
 
 from poissonkit.conventions import MU0
 from poissonkit.engines.lammps_express import NotExpressible, lammps_bodies
-from poissonkit.engines.lammps_input import DUMP_COLUMNS, read_dump, write_data, write_input
+from poissonkit.engines.lammps_input import (DUMP_COLUMNS, field_fixes, read_dump, write_data,
+                                              write_input)
 from poissonkit.engines.lammps_runtime import load_lammps, mpirun, worker_env
 from poissonkit.errors import InputError, IntegrationError
 from poissonkit.numerics.nbody import NBodySystem
@@ -111,7 +112,7 @@ def _simulate(system: NBodySystem, y0: np.ndarray, step_si: float, steps: int, e
     bodies = lammps_bodies(system)
     cutoff = write_data(data, bodies, r, v, mu, omega)
     write_input(script, data, dump, step=step_si, steps=steps, every=every, cutoff=cutoff,
-                full_sum=bodies.cutoff is None)
+                full_sum=bodies.cutoff is None, fixes=field_fixes(bodies))
     _launch(script, ranks, folder / "log.lammps")
     ts, frames = read_dump(dump)
     last = Path(f"{dump}.last")

@@ -5,7 +5,8 @@ dipole rotating with the angular velocity. poissonkit's tops have kinetic energy
 ``α |m|²/2`` (``α = 1/I₁``), the same dynamics for every pair potential that depends on the
 axis alone, so a top maps onto a sphere of inertia ``I = 1/α``. The pair potentials mapped
 so far: the point ``dipole`` (``pair_style lj/cut/dipole/cut`` with ``epsilon = 0``), with the
-prefactor ``μ0/4π`` reached through LAMMPS's ``dielectric`` setting.
+prefactor ``μ0/4π`` reached through LAMMPS's ``dielectric`` setting; and the external fields
+``gravity`` and ``uniform`` (a uniform magnetic field).
 """
 
 from __future__ import annotations
@@ -34,12 +35,16 @@ class LammpsBodies:
         ``(n,)``: kg, kg m² (``1/α``), A m².
     cutoff
         The system's hard cutoff [m], or ``None`` for the full pair sum.
+    gravity, field
+        The uniform gravity [m/s²] and magnetic field [T] acting on every body, or ``None``.
     """
 
     mass: np.ndarray
     inertia: np.ndarray
     moment: np.ndarray
     cutoff: float | None
+    gravity: tuple[float, float, float] | None = None
+    field: tuple[float, float, float] | None = None
 
 
 class NotExpressible(InputError):
@@ -122,8 +127,6 @@ def lammps_bodies(system: NBodySystem) -> LammpsBodies:
     """
     if not isinstance(system, NBodySystem):
         raise NotExpressible(f"{type(system).__name__} is not an N-body system of bodies")
-    if system.external_fields:
-        raise NotExpressible("external fields are not mapped to LAMMPS fixes yet")
     if system.smooth_cutoff is not None:
         raise NotExpressible("a smoothed cutoff (LAMMPS's dipole styles cut hard)")
     for b in system.bodies:
@@ -137,5 +140,26 @@ def lammps_bodies(system: NBodySystem) -> LammpsBodies:
     mass = np.array([float(b.mass) for b in system.bodies])
     inertia = np.array([1.0 / b.alpha for b in system.bodies if b.alpha is not None])
     cutoff = None if system.cutoff is None else float(system.cutoff)  # SI, as given
-    return LammpsBodies(mass, inertia, moment, cutoff)
+    gravity, field = _uniform_fields(system, moment)
+    return LammpsBodies(mass, inertia, moment, cutoff, gravity, field)
+
+
+def _uniform_fields(system: NBodySystem, moment: np.ndarray
+                    ) -> tuple[tuple[float, float, float] | None, ...]:
+    """The uniform gravity and magnetic field of ``system`` (``fix gravity``, ``fix efield``:
+    the torque ``μ × B`` on each dipole), ``None`` where absent."""
+    found: dict[str, tuple[float, float, float]] = {}
+    for f in system.external_fields:
+        if f.name not in ("gravity", "uniform") or f.name in found:
+            raise NotExpressible(f"external field {f.name!r} is not mapped to a LAMMPS fix "
+                                 "(mapped: one uniform gravity, one uniform magnetic field)")
+        v = np.asarray(f.data, dtype=float)
+        found[f.name] = (float(v[0]), float(v[1]), float(v[2]))
+    if "uniform" in found:  # the field's moments must be the pairs' (one μ per LAMMPS atom)
+        for k, b in enumerate(system.bodies):
+            own = dict(b.attributes).get("moment", moment[k])
+            if own != moment[k]:
+                raise NotExpressible(f"body {b.name!r}: moment {own} A m² in the field but "
+                                     f"{moment[k]} in its pairs")
+    return found.get("gravity"), found.get("uniform")
 

@@ -51,8 +51,22 @@ def write_data(path: Path, bodies: LammpsBodies, r: np.ndarray, v: np.ndarray,
     return cutoff
 
 
+def field_fixes(bodies: LammpsBodies) -> list[str]:
+    """``fix gravity`` (force ``M g``) and ``fix efield`` (torque ``μ × B`` on each dipole:
+    ``units si`` has ``qe2f = 1`` and the atoms carry no charge) of the uniform fields."""
+    out = []
+    if bodies.gravity is not None:
+        g = math.sqrt(sum(x * x for x in bodies.gravity))
+        if g > 0:
+            out.append(f"fix grav all gravity {_f(g)} vector "
+                       + " ".join(_f(x / g) for x in bodies.gravity))
+    if bodies.field is not None:
+        out.append("fix field all efield " + " ".join(_f(x) for x in bodies.field))
+    return out
+
+
 def write_input(path: Path, data: Path, dump: Path, *, step: float, steps: int, every: int,
-                cutoff: float, full_sum: bool) -> None:
+                cutoff: float, full_sum: bool, fixes: list[str] | None = None) -> None:
     """The input script: read the data, the dipole pair style, NVE of spheres rotating their
     dipoles (``update dipole/dlm``: the symplectic rotation of Dullweber, Leimkuhler and
     McLachlan), a dump every ``every`` steps and at the end. ``full_sum``: the cutoff lies
@@ -65,7 +79,7 @@ def write_input(path: Path, data: Path, dump: Path, *, step: float, steps: int, 
             f"pair_coeff * * 0.0 1.0",  # epsilon 0: the dipole part alone
             # the full pair sum: one cell would hold everything, so all pairs (nsq)
             f"neighbor {_f(0.05 * cutoff)} {'nsq' if full_sum else 'bin'}", "neigh_modify every 1 delay 0 check yes",
-            "fix nve all nve/sphere update dipole/dlm",
+            "fix nve all nve/sphere update dipole/dlm", *(fixes or []),
             f"timestep {_f(step)}",
             "thermo_style custom step pe", f"thermo {max(steps, 1)}",
             f"dump traj all custom {every} {dump} id {cols}",
