@@ -21,8 +21,13 @@ import numpy as np
 
 from poissonkit.conventions import MU0
 from poissonkit.engines.lammps_express import NotExpressible, lammps_bodies
-from poissonkit.engines.lammps_input import (DUMP_COLUMNS, field_fixes, read_dump, write_data,
-                                              write_input)
+from poissonkit.engines.lammps_input import (
+    DUMP_COLUMNS,
+    field_fixes,
+    read_dump,
+    write_data,
+    write_input,
+)
 from poissonkit.engines.lammps_runtime import load_lammps, mpirun, worker_env
 from poissonkit.errors import InputError, IntegrationError
 from poissonkit.numerics.nbody import NBodySystem
@@ -75,7 +80,10 @@ def _state_rows(system: NBodySystem, frames: np.ndarray) -> np.ndarray:
     length = sc.unit("length") if sc is not None else 1.0
     mom = sc.unit("momentum") if sc is not None else 1.0
     ang = sc.unit("angular_momentum") if sc is not None else 1.0
-    col = lambda *names: frames[..., [_COL[c] for c in names]]  # noqa: E731
+
+    def col(*names: str) -> np.ndarray:
+        return frames[..., [_COL[c] for c in names]]
+
     mass = col("mass")
     inertia = 0.4 * mass * col("radius") ** 2  # LAMMPS's own sphere inertia
     mu = col("mux", "muy", "muz")
@@ -157,7 +165,7 @@ def run_lammps(built: BuiltScene | RunSpec, duration: float, step: float, ranks:
     if not (step > 0 and duration >= 0):
         raise InputError(f"LAMMPS needs a fixed step > 0, got step {step}")
     tunit = system.scales.time if system.scales is not None else 1.0
-    steps = int(round(duration / step))
+    steps = round(duration / step)
     every = max(1, int(save_every))
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="poissonkit-lammps-") as tmp:

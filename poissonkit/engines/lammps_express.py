@@ -137,6 +137,9 @@ def lammps_bodies(system: NBodySystem) -> LammpsBodies:
     if not system.interactions:
         raise NotExpressible("no pair interaction")
     moment = _moments(system)
+    for k in np.flatnonzero(~(moment != 0)):  # zero or NaN
+        raise NotExpressible(f"body {system.bodies[k].name!r} has no dipole moment: LAMMPS "
+                             "carries a sphere's axis only as its dipole")
     mass = np.array([float(b.mass) for b in system.bodies])
     inertia = np.array([1.0 / b.alpha for b in system.bodies if b.alpha is not None])
     cutoff = None if system.cutoff is None else float(system.cutoff)  # SI, as given

@@ -76,9 +76,10 @@ def write_input(path: Path, data: Path, dump: Path, *, step: float, steps: int, 
     cmds = ["atom_style hybrid sphere dipole", "atom_modify map array", "boundary s s s",
             f"read_data {data}",
             f"pair_style lj/cut/dipole/cut {_f(cutoff)}",
-            f"pair_coeff * * 0.0 1.0",  # epsilon 0: the dipole part alone
+            "pair_coeff * * 0.0 1.0",  # epsilon 0: the dipole part alone
             # the full pair sum: one cell would hold everything, so all pairs (nsq)
-            f"neighbor {_f(0.05 * cutoff)} {'nsq' if full_sum else 'bin'}", "neigh_modify every 1 delay 0 check yes",
+            f"neighbor {_f(0.05 * cutoff)} {'nsq' if full_sum else 'bin'}",
+            "neigh_modify every 1 delay 0 check yes",
             "fix nve all nve/sphere update dipole/dlm", *(fixes or []),
             f"timestep {_f(step)}",
             "thermo_style custom step pe", f"thermo {max(steps, 1)}",
