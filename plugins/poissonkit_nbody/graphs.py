@@ -22,6 +22,7 @@ import networkx as nx
 import numpy as np
 
 from poissonkit.errors import InputError
+from poissonkit.validation import count
 from poissonkit.scene.bodies import BodyModel
 
 _INTERACTIONS = ("complete", "neighbours")
@@ -211,7 +212,7 @@ def random_cluster(n: int, radius: float, body: Mapping[str, Any], *, seed: int 
             raise InputError("random_cluster: give min_distance (the body has no size)")
         min_distance = 2.0 * template.bounding_radius
     min_distance = _length(min_distance, "min_distance")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(count(seed, "random_cluster: seed"))
     pos: list[np.ndarray] = []
     # accepted centres hashed by cells of side min_distance: a trial is compared with the
     # centres of its 27 neighbouring cells only (the same test, O(n) instead of O(n^2))

@@ -17,7 +17,7 @@ from typing import Any
 
 #: The CLI's one-line description (``poissonkit --help``).
 DESCRIPTION = ("Command-line interface: "
-               "``poissonkit run | scenes | view | verify | bench | plugins | sweep``.")
+               "``poissonkit run | scenes | view | verify | bench | plugins | sweep | new-plugin``.")
 
 COMMANDS: dict[str, tuple[str, str]] = {
     "run": ("poissonkit.commands.run", "integrate a scene (default: the seed 000 orbit)"),

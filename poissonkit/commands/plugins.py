@@ -23,7 +23,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def _integrator_details(entry: IntegratorEntry) -> dict[str, object]:
     return {"order": entry.order, "family": entry.family,
-            "capabilities": list(entry.capabilities.names())}
+            "capabilities": list(entry.capabilities.names()),
+            "options": [{"name": o.name, "type": o.type, "default": o.default,
+                         "choices": list(o.choices) if o.choices else None, "doc": o.doc}
+                        for o in entry.options()]}
 
 
 def _family_details(entry: ModelFamily) -> dict[str, object]:
@@ -93,4 +96,7 @@ def main(args: argparse.Namespace) -> int:
                 line = _line(name, entry) if details(kind, entry) is not None else None
                 if line is not None:
                     print(line)
+    from poissonkit.numerics.solve_options import options_text
+
+    print(options_text())
     return 0

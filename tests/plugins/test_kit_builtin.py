@@ -48,11 +48,7 @@ def test_magnets_pass_the_kit(case):
     case()
 
 
-#: Defects the kit found in the built-ins, to be fixed in the plugin (then removed here).
-KNOWN = {"assembly-random_cluster": "a negative seed raises numpy's ValueError, not InputError"}
-
-
-@parametrize_with_checks("nbody", examples=NBODY, known=KNOWN)
+@parametrize_with_checks("nbody", examples=NBODY)
 def test_nbody_passes_the_kit(case):
     case()
 

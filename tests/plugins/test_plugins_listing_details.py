@@ -48,3 +48,19 @@ def test_json_carries_the_same_details(capsys):
     family = listed["magnets"]["details"]["model_family"]["magnets"]
     assert family["models"][0] == "dipole" and family["reads"] == ["radius", "length"]
     assert listed["nbody"]["details"] == {}  # nothing beyond names to show
+
+
+def test_integrator_options_are_listed_with_types_defaults_and_choices(capsys):
+    """Truth: the Blanes et al. (2013) tables wisdom_holman offers, as named in docs/numerics.md."""
+    assert cli_main(["plugins"]) == 0
+    text = capsys.readouterr().out
+    assert "integrator options (--option NAME=VALUE" in text
+    assert re.search(r"table \(str; default ''; one of .*'10_6_4'", text)
+    assert cli_main(["plugins", "--json"]) == 0
+    listed = json.loads(capsys.readouterr().out)
+    core = next(p for p in listed if p["name"] == "core-integrators")
+    options = {o["name"]: o for o in core["details"]["integrator"]["wisdom_holman"]["options"]}
+    assert set(options) == {"stages", "table", "correctors"}
+    assert {"10_4", "8_6_4", "10_6_4", "h8_4_4", "h8_6_4", "h10_6_4"} <= set(
+        options["table"]["choices"])
+    assert options["stages"]["default"] == 1 and options["stages"]["type"] == "int"
