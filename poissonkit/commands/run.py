@@ -24,6 +24,8 @@ Every file is written atomically; a folder holding another run's files is refuse
 ``--overwrite``. ``--checkpoint-every N`` / ``--resume`` checkpoint and continue a run; SIGINT
 stops it cleanly with a partial result. Scenes stop at a located contact of their finite-size
 bodies. Exit codes: :data:`EXIT_OK`, 1 (bad input), :data:`EXIT_ENERGY`, :data:`EXIT_CONTACT`,
+:data:`EXIT_FAILED` (the integration failed: summary, trajectory up to the last good state
+and figures are written), :data:`EXIT_BUSY` (another run holds ``--out``'s lock),
 :data:`EXIT_INTERRUPTED` (``docs/reliability.md``).
 
 This module parses the options, builds the run and integrates it; the files are written by
@@ -46,7 +48,13 @@ import numpy as np
 
 from poissonkit.commands.parser import CommandParser
 from poissonkit.contracts import HasBodies
-from poissonkit.errors import InputError, MissingDependencyError, MissingStepError, SceneError
+from poissonkit.errors import (
+    InputError,
+    IntegrationError,
+    MissingDependencyError,
+    MissingStepError,
+    SceneError,
+)
 from poissonkit.report.run_units import (  # noqa: F401  (also importable from here, as before)
     relative_position,
     scales_of,
@@ -66,6 +74,8 @@ DEFAULT_OUT = "poissonkit-output"
 EXIT_OK = 0
 EXIT_ENERGY = 3  #: energy error above the scene's tolerance
 EXIT_CONTACT = 4  #: stopped by a contact / collision event (bodies touched)
+EXIT_FAILED = 5  #: the integration failed (non-finite state, ...); partial results written
+EXIT_BUSY = 6  #: --out is being written by another live run (its lock is held)
 EXIT_INTERRUPTED = 130  #: stopped by SIGINT (128 + 2, the shell's convention)
 
 #: Default relative energy tolerance when neither the scene nor --energy-tol gives one.
@@ -296,9 +306,19 @@ class _StopOnSigint:
 def main(args: argparse.Namespace) -> int:
     """Run, write ``summary.json``, ``trajectory.npz`` and the figures; print a short summary.
 
-    Returns :data:`EXIT_OK`, :data:`EXIT_ENERGY`, :data:`EXIT_CONTACT` or
-    :data:`EXIT_INTERRUPTED` (see ``docs/reliability.md``).
+    Returns :data:`EXIT_OK`, :data:`EXIT_ENERGY`, :data:`EXIT_CONTACT`, :data:`EXIT_FAILED`,
+    :data:`EXIT_BUSY` or :data:`EXIT_INTERRUPTED` (see ``docs/reliability.md``).
     """
+    from poissonkit.files.lock import FolderLockedError
+
+    try:
+        return _main_from(args)
+    except FolderLockedError as exc:  # not bad input: the folder is busy
+        print(f"poissonkit run: error: {exc}", file=sys.stderr)
+        return EXIT_BUSY
+
+
+def _main_from(args: argparse.Namespace) -> int:
     source = getattr(args, "from_summary", None)
     if source is None:
         return _main(args)
@@ -324,10 +344,6 @@ def _apply_summary(args: argparse.Namespace, source: Path, scene_dir: Path) -> N
 
 
 def _main(args: argparse.Namespace) -> int:
-    from dataclasses import replace
-
-    from poissonkit.files import atomic
-    from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
     from poissonkit.numerics.workload import plan_run
 
     if args.save_every is not None and args.save_every < 1:
@@ -361,6 +377,21 @@ def _main(args: argparse.Namespace) -> int:
     if save_dt is not None:  # the sample times replace the scene's run.save_every
         args.save_every = 1
     out = Path(args.out)
+    from poissonkit.files.lock import lock_folder
+
+    with lock_folder(out):  # one writer per folder, before anything in it is checked
+        return _run_locked(args, spec, out, every, resume, save_dt, energy_tol)
+
+
+def _run_locked(args: argparse.Namespace, spec: RunSpec, out: Path, every: int | None,
+                resume: bool, save_dt: float | None, energy_tol: float | None) -> int:
+    """Prepare ``out`` (held locked), compile, integrate and report (see :func:`main`)."""
+    from dataclasses import replace
+
+    from poissonkit.files import atomic
+    from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
+    from poissonkit.numerics.workload import plan_run
+
     if resume:  # refuses a finished run; clears the interrupted attempt's files
         from poissonkit.report.resume import prepare_resume
 
@@ -376,18 +407,28 @@ def _main(args: argparse.Namespace) -> int:
         print("compiling kernels (first run in a process: numba) ...", file=sys.stderr, flush=True)
     warm = replace(spec, t_end=min(float(spec.t_end), float(spec.step or spec.t_end * 1e-3)),
                    events=())
-    _solve(warm, progress=False, save_every=1)
+    try:
+        _solve(warm, progress=False, save_every=1)
+    except IntegrationError:
+        pass  # the run itself fails the same way, and keeps its partial result
     compile_time = time.perf_counter() - tc
     plan_run(spec, args.save_every, getattr(args, "max_steps", None),
              step_seconds_bound=compile_time,
              report=lambda m: print(f"warning: {m}", file=sys.stderr))
     parts = out / "trajectory.parts"
     checkpoint = Checkpoint(out / "checkpoints", every) if every is not None else None
+    stream = TrajectoryStream(parts)
     t0 = time.perf_counter()
     with _StopOnSigint() as stop:
-        sol = _solve(spec, progress=not args.no_progress, save_every=args.save_every,
-                     stop=stop, stream=TrajectoryStream(parts), checkpoint=checkpoint,
-                     resume=resume and checkpoint is not None, save_dt=save_dt)
+        try:
+            sol = _solve(spec, progress=not args.no_progress, save_every=args.save_every,
+                         stop=stop, stream=stream, checkpoint=checkpoint,
+                         resume=resume and checkpoint is not None, save_dt=save_dt)
+        except (IntegrationError, KeyboardInterrupt) as exc:  # keep what the run did
+            from poissonkit.report.run_abort import partial_solution
+
+            sol = partial_solution(spec, exc, stream, spec.method or "", time_unit(spec),
+                                   time.perf_counter() - t0)
     wall = sol.wall_time or (time.perf_counter() - t0)
     return _report(args, spec, sol, out, parts, wall, compile_time, energy_tol)
 
@@ -441,6 +482,8 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
           + (f", {', '.join(done.figures)}" if done.figures else ""), file=sys.stdout)
     for p in done.problems:
         print(f"warning: {p}", file=sys.stderr)
+    if done.failure is not None:
+        return EXIT_INTERRUPTED if done.failure["kind"] == "KeyboardInterrupt" else EXIT_FAILED
     if done.interrupted:
         return EXIT_INTERRUPTED
     if done.touching:

@@ -30,15 +30,26 @@ JSONValue = None | bool | int | float | str | list["JSONValue"] | dict[str, "JSO
 
 
 def versions() -> dict[str, JSONValue]:
-    """``{"poissonkit": version, "plugins": [{name, source, version, status, error}, ...]}``
-    for every plugin poissonkit loaded (:func:`poissonkit.plugin.plugin_reports`)."""
+    """``{"poissonkit": version, "python": ..., "numpy": ..., "numba": ..., "plugins": [{name,
+    source, version, status, error}, ...]}`` for every plugin poissonkit loaded
+    (:func:`poissonkit.plugin.plugin_reports`); ``numba`` is ``None`` when it is missing."""
+    import platform
+    from importlib.metadata import PackageNotFoundError, version
+
+    import numpy as np
+
     from poissonkit._version import __version__
     from poissonkit.plugin import plugin_reports
 
+    try:
+        numba: str | None = version("numba")
+    except PackageNotFoundError:
+        numba = None
     plugins: list[JSONValue] = [
         {"name": r.name, "source": r.source, "version": r.version, "status": r.status,
          "error": r.error} for r in plugin_reports()]
-    return {"poissonkit": __version__, "plugins": plugins}
+    return {"poissonkit": __version__, "python": platform.python_version(),
+            "numpy": np.__version__, "numba": numba, "plugins": plugins}
 
 
 def options_of(args: argparse.Namespace) -> dict[str, JSONValue]:
