@@ -67,6 +67,7 @@ if TYPE_CHECKING:
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
     from poissonkit.numerics.runspec import RunSpec
     from poissonkit.numerics.solution import Solution
+    from poissonkit.report.rerun_schema import OptionType
 
 DEFAULT_OUT = "poissonkit-output"
 
@@ -178,10 +179,15 @@ def build_spec(args: argparse.Namespace) -> RunSpec:
     if not isinstance(target, Path):
         options = {k: getattr(args, k, None) for k in
                    ("method", "step", "tol", "periods", "duration", "tilt", "spin_ratio")}
+        given: dict[str, str] = {}
         for item in getattr(args, "param", None) or ():
             name, sep, value = item.partition("=")
             if not sep or not name.strip():
                 raise InputError(f"--param takes NAME=VALUE, got {item!r}")
+            if name.strip() in given and given[name.strip()] != value.strip():
+                raise InputError(f"--param {name.strip()} is given twice with different "
+                                 f"values ({given[name.strip()]!r}, {value.strip()!r})")
+            given[name.strip()] = value.strip()
             options[name.strip()] = value.strip()
         spec, consumed = registered_run(target, options)
         unused = {item.partition("=")[0].strip() for item in getattr(args, "param", None) or ()}
@@ -339,8 +345,20 @@ def _apply_summary(args: argparse.Namespace, source: Path, scene_dir: Path) -> N
     summary = loads_json(read_text(source, "--from-summary:"), f"--from-summary {str(source)!r}")
     if not isinstance(summary, dict):
         raise InputError(f"--from-summary: {str(source)!r} is not a run summary")
-    for key, value in rerun_options(summary, scene_dir).items():
+    for key, value in rerun_options(summary, scene_dir, _option_schema()).items():
         setattr(args, key, value)
+
+
+def _option_schema() -> dict[str, OptionType]:
+    """The type of every option of ``run`` (what ``--from-summary`` accepts), from its parser."""
+    from poissonkit.report.rerun_schema import OptionType, schema_of
+
+    parser = argparse.ArgumentParser(add_help=False)
+    add_arguments(parser)
+    # keys every summary holds beside the command's own options
+    return schema_of(parser, {"command": OptionType("str", True),
+                              "verbose": OptionType("int", True),
+                              "quiet": OptionType("bool", True)})
 
 
 def _main(args: argparse.Namespace) -> int:
@@ -365,6 +383,9 @@ def _main(args: argparse.Namespace) -> int:
             raise InputError("the scene saves states at run.save_dt: checkpoints need saving "
                              "by steps (pass --save-every N to use them)")
         save_dt = float(spec.save_dt) * time_unit(spec)
+    from poissonkit.report.run_checks import check_times, save_dt_cost
+
+    check_times(spec.step, float(spec.t_end), save_dt, time_unit(spec))  # in seconds
     if getattr(args, "no_contact", False):
         from dataclasses import replace as _replace
 
@@ -375,6 +396,9 @@ def _main(args: argparse.Namespace) -> int:
     args.save_every = plan_run(spec, args.save_every, getattr(args, "max_steps", None),
                                measure=False).save_every
     if save_dt is not None:  # the sample times replace the scene's run.save_every
+        cost = save_dt_cost(save_dt, float(spec.t_end), time_unit(spec), len(spec.y0))
+        if cost is not None:
+            print(f"note: {cost}", file=sys.stderr)
         args.save_every = 1
     out = Path(args.out)
     from poissonkit.files.lock import lock_folder

@@ -49,6 +49,7 @@ EXIT_FAILED = 5
 LEAVES = math.sqrt(2 * 0.534 / 9.81)
 
 
+@pytest.mark.slow
 def test_a_run_failing_at_033_s_keeps_summary_trajectory_and_figures(tmp_path, capsys):
     scene = tmp_path / "falling.toml"
     scene.write_text(FALLING)

@@ -67,6 +67,7 @@ def test_a_lock_held_by_another_process_is_refused_and_freed_when_it_dies(tmp_pa
         pass
 
 
+@pytest.mark.slow
 def test_two_runs_started_together_never_both_write(tmp_path):
     out = tmp_path / "out"
     common = ("--duration", "0.002", "--step", "1e-7", "--save-every", "100")
@@ -84,6 +85,7 @@ def test_two_runs_started_together_never_both_write(tmp_path):
         assert len(z["t"]) == summary["saved_rows"]
 
 
+@pytest.mark.slow
 def test_a_resume_during_a_live_run_is_refused(tmp_path):
     out = tmp_path / "out"
     live = _popen(out, "--duration", "0.05", "--step", "1e-8", "--save-every", "1000",
