@@ -44,9 +44,9 @@ from typing import Any
 import numpy as np
 
 from poissonkit.errors import InputError
-from poissonkit.numerics.parts import iter_parts, part_files, part_number, verify_parts
 from poissonkit.files import atomic
 from poissonkit.files.killpoints import kill_point
+from poissonkit.numerics.parts import iter_parts, part_files, part_number, verify_parts
 
 MAGIC = b"POISSONKIT-CHECKPOINT 1\n"
 _NAME = re.compile(r"^checkpoint-(\d{12})\.pkcp$")

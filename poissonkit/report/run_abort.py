@@ -48,9 +48,11 @@ def failure_record(spec: RunSpec, exc: BaseException, time_unit: float, last_t: 
         reason = "interrupted twice (Ctrl-C): aborted"
     else:
         reason = in_seconds(str(exc), time_unit)
-    failed_at = getattr(exc, "time", None)
-    if not isinstance(failed_at, float):
-        failed_at = getattr(exc, "time_reached", last_t)
+    failed_at: object = getattr(exc, "time", None)
+    if not isinstance(failed_at, (int, float)):
+        failed_at = getattr(exc, "time_reached", None)
+    if not isinstance(failed_at, (int, float)):
+        failed_at = last_t
     record: dict[str, Any] = {
         "kind": type(exc).__name__, "reason": reason,
         "time_s": float(failed_at) * time_unit, "last_saved_time_s": float(last_t) * time_unit}

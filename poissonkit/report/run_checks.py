@@ -52,7 +52,7 @@ def check_times(step: float | None, t_end: float, save_dt: float | None, time_un
 
 def save_dt_rows(save_dt: float, t_end: float, time_unit: float) -> int:
     """Rows a ``--save-dt`` run keeps: the samples plus the first and last state."""
-    return int(math.floor(float(t_end) * time_unit / save_dt)) + 2
+    return math.floor(float(t_end) * time_unit / save_dt) + 2
 
 
 def save_dt_cost(save_dt: float, t_end: float, time_unit: float, dim: int) -> str | None:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Mapping
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -69,7 +69,7 @@ def summary_document(spec: RunSpec, sol: Solution, *, wall: float, compile_time:
                              "scene's scales: parameters.scales); *_J in joules")
     if sol.extra.get("failure"):
         summary["failure"] = dict(sol.extra["failure"])
-    summary["written_utc"] = datetime.now(timezone.utc).isoformat(timespec="seconds")
+    summary["written_utc"] = datetime.now(UTC).isoformat(timespec="seconds")
     if "resumed_from" in sol.extra:
         summary["resumed_from"] = Path(sol.extra["resumed_from"]).name
     return summary

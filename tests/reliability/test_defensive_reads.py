@@ -115,9 +115,12 @@ def _all_nan(path: Path) -> None:
     ds.to_netcdf(path, engine="scipy")
 
 
+def _truncate_to(n: int):
+    return lambda p: p.write_bytes(p.read_bytes()[:n])
+
+
 VIEW_DAMAGE = {
-    **{f"truncated-{n}": (lambda n: lambda p: p.write_bytes(p.read_bytes()[:n]))(n)
-       for n in (0, 4, 50, 400, 3000)},
+    **{f"truncated-{n}": _truncate_to(n) for n in (0, 4, 50, 400, 3000)},
     "truncated-half": lambda p: p.write_bytes(p.read_bytes()[: len(p.read_bytes()) // 2]),
     "all-nan": _all_nan,
     "garbage": lambda p: p.write_bytes(b"CDF\x01" + bytes(range(256)) * 4),
