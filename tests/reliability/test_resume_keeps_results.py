@@ -46,7 +46,7 @@ SUMMARY_DAMAGE = {
 
 def _bytes(out: Path) -> dict[str, bytes]:
     return {str(p.relative_to(out)): p.read_bytes() for p in sorted(out.rglob("*"))
-            if p.is_file() and p.name != ".lock"}
+            if p.is_file() and p.name != ".poissonkit.lock"}
 
 
 @pytest.fixture(scope="module")
