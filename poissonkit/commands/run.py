@@ -21,7 +21,9 @@ folder (default ``./poissonkit-output``):
   ``orbit.png`` and ``drifts.png`` of the seed scene. ``--no-plot`` skips figures and view.
 
 Every file is written atomically; a folder holding another run's files is refused unless
-``--overwrite``. ``--checkpoint-every N`` / ``--resume`` checkpoint and continue a run; SIGINT
+``--overwrite``, and a folder another live run is writing is refused (an OS lock,
+:mod:`poissonkit.files.lock`). A run whose integration fails still writes its summary, its
+trajectory up to the last good state and its figures (:mod:`poissonkit.report.run_abort`). ``--checkpoint-every N`` / ``--resume`` checkpoint and continue a run; SIGINT
 stops it cleanly with a partial result. Scenes stop at a located contact of their finite-size
 bodies. Exit codes: :data:`EXIT_OK`, 1 (bad input), :data:`EXIT_ENERGY`, :data:`EXIT_CONTACT`,
 :data:`EXIT_FAILED` (the integration failed: summary, trajectory up to the last good state
