@@ -248,9 +248,13 @@ def _apply(out: Path, ops) -> None:
         elif op == "empty":
             p.write_bytes(b"")
         elif op == "json" and name == "summary.json":
-            doc = json.loads(data)
-            doc["status"] = value if frac < 0.5 else "interrupted"
-            p.write_text(json.dumps(doc))
+            try:
+                doc = json.loads(data)
+            except ValueError:  # damaged by an earlier operation: nothing to edit
+                continue
+            if isinstance(doc, dict):
+                doc["status"] = value if frac < 0.5 else "interrupted"
+                p.write_text(json.dumps(doc))
 
 
 def _snapshot(out: Path) -> dict[str, bytes]:
