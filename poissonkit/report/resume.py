@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import json
 import shutil
-import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -37,6 +36,10 @@ from poissonkit.numerics.parts import PartsError, iter_parts, verify_parts
 ATTEMPT_FILES = ("summary.json", "trajectory.npz", "trajectory.nc", "trajectory.zarr")
 DATASETS = ("trajectory.nc", "trajectory.zarr")
 PARTS = "trajectory.parts"
+#: What reading a damaged ``.npz`` raises. Any byte of it may be damaged, and the zip and zlib
+#: readers under numpy then raise many types (``zlib.error``, ``NotImplementedError`` for a
+#: garbled version field, ``struct.error``, ...): every ``Exception`` means "damaged" here.
+_UNREADABLE = (Exception,)
 CHECKPOINTS = "checkpoints"
 
 
@@ -59,7 +62,7 @@ def _npz_problem(path: Path, rows: object, t_reached: object) -> str | None:
             t = z["t"]
     except FileNotFoundError:
         return f"{path.name} is missing"
-    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile):
+    except _UNREADABLE:
         return f"{path.name} is damaged"
     if isinstance(rows, int) and len(t) != rows:
         return f"{path.name} holds {len(t)} of {rows} rows"
@@ -149,7 +152,7 @@ def _unreproduced(out: Path, parts_rows: int) -> str | None:
         try:
             with np.load(npz, allow_pickle=False) as z:
                 t = np.asarray(z["t_si"] if "t_si" in z.files else z["t"])
-        except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile):
+        except _UNREADABLE:
             return "its trajectory.npz cannot be read"
         if len(t) > parts_rows:
             end = f" up to t = {float(t[-1]):.9g} s" if len(t) else ""

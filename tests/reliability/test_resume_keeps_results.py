@@ -106,3 +106,20 @@ def test_resume_of_a_damaged_finished_run_removes_nothing(finished, tmp_path, ca
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err, err
     assert _bytes(out) == before
+
+
+def test_a_flipped_byte_in_a_compressed_member_is_damage_not_a_traceback(finished, tmp_path,
+                                                                           capsys):
+    """Found by the fuzz: a byte flipped near the start of ``trajectory.npz`` made zlib raise
+    ``zlib.error`` from ``np.load``, a traceback from ``--resume``."""
+    out = _copy(finished, tmp_path)
+    p = out / "trajectory.npz"
+    data = bytearray(p.read_bytes())
+    data[len(data) // 32] ^= 0xFF
+    p.write_bytes(bytes(data))
+    before = _bytes(out)
+    capsys.readouterr()
+    assert cli.main([*RUN, "--out", str(out), "--resume"]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "trajectory.npz is damaged" in err, err
+    assert _bytes(out) == before
