@@ -21,9 +21,13 @@ folder (default ``./poissonkit-output``):
   ``orbit.png`` and ``drifts.png`` of the seed scene. ``--no-plot`` skips figures and view.
 
 Every file is written atomically; a folder holding another run's files is refused unless
-``--overwrite``. ``--checkpoint-every N`` / ``--resume`` checkpoint and continue a run; SIGINT
+``--overwrite``, and a folder another live run is writing is refused (an OS lock,
+:mod:`poissonkit.files.lock`). A run whose integration fails still writes its summary, its
+trajectory up to the last good state and its figures (:mod:`poissonkit.report.run_abort`). ``--checkpoint-every N`` / ``--resume`` checkpoint and continue a run; SIGINT
 stops it cleanly with a partial result. Scenes stop at a located contact of their finite-size
 bodies. Exit codes: :data:`EXIT_OK`, 1 (bad input), :data:`EXIT_ENERGY`, :data:`EXIT_CONTACT`,
+:data:`EXIT_FAILED` (the integration failed: summary, trajectory up to the last good state
+and figures are written), :data:`EXIT_BUSY` (another run holds ``--out``'s lock),
 :data:`EXIT_INTERRUPTED` (``docs/reliability.md``).
 
 This module parses the options, builds the run and integrates it; the files are written by
@@ -46,7 +50,13 @@ import numpy as np
 
 from poissonkit.commands.parser import CommandParser
 from poissonkit.contracts import HasBodies
-from poissonkit.errors import InputError, MissingDependencyError, MissingStepError, SceneError
+from poissonkit.errors import (
+    InputError,
+    IntegrationError,
+    MissingDependencyError,
+    MissingStepError,
+    SceneError,
+)
 from poissonkit.report.run_units import (  # noqa: F401  (also importable from here, as before)
     relative_position,
     scales_of,
@@ -59,6 +69,7 @@ if TYPE_CHECKING:
     from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
     from poissonkit.numerics.runspec import RunSpec
     from poissonkit.numerics.solution import Solution
+    from poissonkit.report.rerun_schema import OptionType
 
 DEFAULT_OUT = "poissonkit-output"
 
@@ -66,6 +77,8 @@ DEFAULT_OUT = "poissonkit-output"
 EXIT_OK = 0
 EXIT_ENERGY = 3  #: energy error above the scene's tolerance
 EXIT_CONTACT = 4  #: stopped by a contact / collision event (bodies touched)
+EXIT_FAILED = 5  #: the integration failed (non-finite state, ...); partial results written
+EXIT_BUSY = 6  #: --out is being written by another live run (its lock is held)
 EXIT_INTERRUPTED = 130  #: stopped by SIGINT (128 + 2, the shell's convention)
 
 #: Default relative energy tolerance when neither the scene nor --energy-tol gives one.
@@ -176,10 +189,15 @@ def build_spec(args: argparse.Namespace) -> RunSpec:
     if not isinstance(target, Path):
         options = {k: getattr(args, k, None) for k in
                    ("method", "step", "tol", "periods", "duration", "tilt", "spin_ratio")}
+        given: dict[str, str] = {}
         for item in getattr(args, "param", None) or ():
             name, sep, value = item.partition("=")
             if not sep or not name.strip():
                 raise InputError(f"--param takes NAME=VALUE, got {item!r}")
+            if name.strip() in given and given[name.strip()] != value.strip():
+                raise InputError(f"--param {name.strip()} is given twice with different "
+                                 f"values ({given[name.strip()]!r}, {value.strip()!r})")
+            given[name.strip()] = value.strip()
             options[name.strip()] = value.strip()
         spec, consumed = registered_run(target, options)
         unused = {item.partition("=")[0].strip() for item in getattr(args, "param", None) or ()}
@@ -313,9 +331,19 @@ class _StopOnSigint:
 def main(args: argparse.Namespace) -> int:
     """Run, write ``summary.json``, ``trajectory.npz`` and the figures; print a short summary.
 
-    Returns :data:`EXIT_OK`, :data:`EXIT_ENERGY`, :data:`EXIT_CONTACT` or
-    :data:`EXIT_INTERRUPTED` (see ``docs/reliability.md``).
+    Returns :data:`EXIT_OK`, :data:`EXIT_ENERGY`, :data:`EXIT_CONTACT`, :data:`EXIT_FAILED`,
+    :data:`EXIT_BUSY` or :data:`EXIT_INTERRUPTED` (see ``docs/reliability.md``).
     """
+    from poissonkit.files.lock import FolderLockedError
+
+    try:
+        return _main_from(args)
+    except FolderLockedError as exc:  # not bad input: the folder is busy
+        print(f"poissonkit run: error: {exc}", file=sys.stderr)
+        return EXIT_BUSY
+
+
+def _main_from(args: argparse.Namespace) -> int:
     source = getattr(args, "from_summary", None)
     if source is None:
         return _main(args)
@@ -336,15 +364,23 @@ def _apply_summary(args: argparse.Namespace, source: Path, scene_dir: Path) -> N
     summary = loads_json(read_text(source, "--from-summary:"), f"--from-summary {str(source)!r}")
     if not isinstance(summary, dict):
         raise InputError(f"--from-summary: {str(source)!r} is not a run summary")
-    for key, value in rerun_options(summary, scene_dir).items():
+    for key, value in rerun_options(summary, scene_dir, _option_schema()).items():
         setattr(args, key, value)
 
 
-def _main(args: argparse.Namespace) -> int:
-    from dataclasses import replace
+def _option_schema() -> dict[str, OptionType]:
+    """The type of every option of ``run`` (what ``--from-summary`` accepts), from its parser."""
+    from poissonkit.report.rerun_schema import OptionType, schema_of
 
-    from poissonkit.files import atomic
-    from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
+    parser = argparse.ArgumentParser(add_help=False)
+    add_arguments(parser)
+    # keys every summary holds beside the command's own options
+    return schema_of(parser, {"command": OptionType("str", True),
+                              "verbose": OptionType("int", True),
+                              "quiet": OptionType("bool", True)})
+
+
+def _main(args: argparse.Namespace) -> int:
     from poissonkit.numerics.workload import plan_run
 
     if args.save_every is not None and args.save_every < 1:
@@ -360,7 +396,7 @@ def _main(args: argparse.Namespace) -> int:
                          "--checkpoint-every or --resume")
     energy_tol = getattr(args, "energy_tol", None)
     _positive("energy-tol", energy_tol)
-    from poissonkit.commands.run_engine import check_engine_options, run_on_lammps
+    from poissonkit.commands.run_engine import check_engine_options
 
     check_engine_options(args)
     spec = build_spec(args)
@@ -369,6 +405,9 @@ def _main(args: argparse.Namespace) -> int:
             raise InputError("the scene saves states at run.save_dt: checkpoints need saving "
                              "by steps (pass --save-every N to use them)")
         save_dt = float(spec.save_dt) * time_unit(spec)
+    from poissonkit.report.run_checks import check_times, save_dt_cost
+
+    check_times(spec.step, float(spec.t_end), save_dt, time_unit(spec))  # in seconds
     if getattr(args, "no_contact", False):
         from dataclasses import replace as _replace
 
@@ -379,8 +418,26 @@ def _main(args: argparse.Namespace) -> int:
     args.save_every = plan_run(spec, args.save_every, getattr(args, "max_steps", None),
                                measure=False).save_every
     if save_dt is not None:  # the sample times replace the scene's run.save_every
+        cost = save_dt_cost(save_dt, float(spec.t_end), time_unit(spec), len(spec.y0))
+        if cost is not None:
+            print(f"note: {cost}", file=sys.stderr)
         args.save_every = 1
     out = Path(args.out)
+    from poissonkit.files.lock import lock_folder
+
+    with lock_folder(out):  # one writer per folder, before anything in it is checked
+        return _run_locked(args, spec, out, every, resume, save_dt, energy_tol)
+
+
+def _run_locked(args: argparse.Namespace, spec: RunSpec, out: Path, every: int | None,
+                resume: bool, save_dt: float | None, energy_tol: float | None) -> int:
+    """Prepare ``out`` (held locked), compile, integrate and report (see :func:`main`)."""
+    from dataclasses import replace
+
+    from poissonkit.files import atomic
+    from poissonkit.numerics.checkpoint import Checkpoint, TrajectoryStream
+    from poissonkit.numerics.workload import plan_run
+
     if resume:  # refuses a finished run; clears the interrupted attempt's files
         from poissonkit.report.resume import prepare_resume
 
@@ -390,6 +447,8 @@ def _main(args: argparse.Namespace) -> int:
     if every is None and resume:
         every = _checkpoint_every_of(out)
     if getattr(args, "engine", "poissonkit") == "lammps":  # docs/lammps.md
+        from poissonkit.commands.run_engine import run_on_lammps
+
         return run_on_lammps(args, spec, out, energy_tol, _report)
     # compile the kernels on a one-step run first, so that the progress bar and the reported
     # wall time show the integration itself (compilation is reported separately)
@@ -399,18 +458,28 @@ def _main(args: argparse.Namespace) -> int:
     warm = replace(spec, t_end=min(float(spec.t_end), float(spec.step or spec.t_end * 1e-3)),
                    events=())
     with compile_notice(spec, enabled=not args.no_progress):  # said only if it takes a while
-        _solve(warm, progress=False, save_every=1)
+        try:
+            _solve(warm, progress=False, save_every=1)
+        except IntegrationError:
+            pass  # the run itself fails the same way, and keeps its partial result
     compile_time = time.perf_counter() - tc
     plan_run(spec, args.save_every, getattr(args, "max_steps", None),
              step_seconds_bound=compile_time,
              report=lambda m: print(f"warning: {m}", file=sys.stderr))
     parts = out / "trajectory.parts"
     checkpoint = Checkpoint(out / "checkpoints", every) if every is not None else None
+    stream = TrajectoryStream(parts)
     t0 = time.perf_counter()
     with _StopOnSigint() as stop:
-        sol = _solve(spec, progress=not args.no_progress, save_every=args.save_every,
-                     stop=stop, stream=TrajectoryStream(parts), checkpoint=checkpoint,
-                     resume=resume and checkpoint is not None, save_dt=save_dt)
+        try:
+            sol = _solve(spec, progress=not args.no_progress, save_every=args.save_every,
+                         stop=stop, stream=stream, checkpoint=checkpoint,
+                         resume=resume and checkpoint is not None, save_dt=save_dt)
+        except (IntegrationError, KeyboardInterrupt) as exc:  # keep what the run did
+            from poissonkit.report.run_abort import partial_solution
+
+            sol = partial_solution(spec, exc, stream, spec.method or "", time_unit(spec),
+                                   time.perf_counter() - t0)
     wall = sol.wall_time or (time.perf_counter() - t0)
     return _report(args, spec, sol, out, parts, wall, compile_time, energy_tol)
 
@@ -464,6 +533,8 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
           + (f", {', '.join(done.figures)}" if done.figures else ""), file=sys.stdout)
     for p in done.problems:
         print(f"warning: {p}", file=sys.stderr)
+    if done.failure is not None:
+        return EXIT_INTERRUPTED if done.failure["kind"] == "KeyboardInterrupt" else EXIT_FAILED
     if done.interrupted:
         return EXIT_INTERRUPTED
     if done.touching:

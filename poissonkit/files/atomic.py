@@ -181,7 +181,11 @@ def prepare_output_dir(folder: str | Path, overwrite: bool = False,
     if folder.exists() and not folder.is_dir():
         raise InputError(f"--out: {folder} exists and is not a folder")
     folder.mkdir(parents=True, exist_ok=True)
-    present = sorted(p for p in folder.iterdir() if p.name not in keep)
+    from poissonkit.files.lock import (
+        LOCK_NAME,  # the folder's lock is the running command's
+    )
+
+    present = sorted(p for p in folder.iterdir() if p.name not in keep and p.name != LOCK_NAME)
     if present and not overwrite:
         names = ", ".join(p.name for p in present[:5]) + (" ..." if len(present) > 5 else "")
         raise OutputExistsError(f"--out: {folder} already holds files of another run ({names}); "

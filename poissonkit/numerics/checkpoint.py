@@ -35,6 +35,7 @@ import hashlib
 import io
 import json
 import re
+import zipfile
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -43,9 +44,9 @@ from typing import Any
 import numpy as np
 
 from poissonkit.errors import InputError
-from poissonkit.numerics.parts import iter_parts, part_files, part_number, verify_parts
 from poissonkit.files import atomic
 from poissonkit.files.killpoints import kill_point
+from poissonkit.numerics.parts import iter_parts, part_files, part_number, verify_parts
 
 MAGIC = b"POISSONKIT-CHECKPOINT 1\n"
 _NAME = re.compile(r"^checkpoint-(\d{12})\.pkcp$")
@@ -147,10 +148,63 @@ def read_checkpoint(path: str | Path) -> tuple[dict[str, np.ndarray], dict[str, 
                               "payload bytes)")
     if hashlib.sha256(payload).hexdigest() != digest:
         raise CheckpointError(f"checkpoint {path}: checksum mismatch (corrupted); refusing it")
-    with np.load(io.BytesIO(payload), allow_pickle=False) as z:
-        arrays = {k: z[k] for k in z.files}
-    meta = json.loads(str(arrays.pop("meta")))
+    try:
+        with np.load(io.BytesIO(payload), allow_pickle=False) as z:
+            arrays = {k: z[k] for k in z.files}
+        meta = json.loads(str(arrays.pop("meta")))
+    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile, RecursionError):
+        raise CheckpointError(f"checkpoint {path}: its payload is not a checkpoint archive "
+                              "with a JSON 'meta' entry") from None
+    problem = _content_problem(arrays, meta)
+    if problem is not None:
+        raise CheckpointError(f"checkpoint {path}: {problem}; refusing it")
     return arrays, meta
+
+
+#: Arrays every checkpoint holds: name -> number of dimensions (0: a scalar).
+_ARRAYS = {"y": 1, "prev": 1, "prev2": 1, "hist": 1, "t": 0, "steps": 0}
+#: Keys of an event record (:class:`~poissonkit.numerics.events.EventRecord`) and their types.
+_RECORD = {"kind": (str,), "step": (int,), "time": (int, float), "value": (int, float),
+           "time_error": (int, float), "detail": (dict,)}
+
+
+def _is_int(v: object) -> bool:
+    return isinstance(v, int) and not isinstance(v, bool) and v >= 0
+
+
+def _content_problem(arrays: Mapping[str, np.ndarray], meta: object) -> str | None:
+    """What is wrong with a checkpoint's content (its checksum matched), ``None``: nothing.
+
+    A checksum proves the file is what was written, not that a writer wrote the right types
+    (a hand-made or foreign file): every field the resume reads is checked here."""
+    for name, ndim in _ARRAYS.items():
+        a = arrays.get(name)
+        if a is None:
+            return f"it has no {name!r} array"
+        kind = "iu" if name == "steps" else "f"
+        if a.ndim != ndim or a.dtype.kind not in kind:
+            return f"its {name!r} array has dtype {a.dtype} and {a.ndim} dimensions"
+    if not isinstance(meta, dict):
+        return f"its meta is a {type(meta).__name__}, not an object"
+    if not isinstance(meta.get("problem"), dict):
+        return "its meta has no 'problem' object"
+    if not _is_int(meta.get("nfev")) or not isinstance(meta.get("method"), str):
+        return "its meta 'nfev' (a count) or 'method' (a name) is missing or mistyped"
+    every = meta.get("every")
+    if not (_is_int(every) and isinstance(every, int) and every >= 1):
+        return f"its meta 'every' must be a positive integer, got {every!r}"
+    records = meta.get("records")
+    if not isinstance(records, list):
+        return f"its meta 'records' must be a list, got {records!r}"[:200]
+    for r in records:
+        if not isinstance(r, dict) or not {"kind", "step", "time", "value"} <= set(r) \
+                or any(k not in _RECORD or not isinstance(v, _RECORD[k])
+                       or isinstance(v, bool) for k, v in r.items()):
+            return f"its event record {r!r} is malformed"[:200]
+    stream = [meta.get(k) for k in ("stream_parts", "stream_rows")]
+    if any(v is not None for v in stream) and not all(_is_int(v) for v in stream):
+        return f"its meta 'stream_parts'/'stream_rows' must be counts, got {stream!r}"
+    return None
 
 
 def newest_checkpoint(folder: str | Path) -> tuple[Path, dict[str, np.ndarray], dict[str, Any]]:

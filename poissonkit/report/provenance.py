@@ -13,9 +13,13 @@ import hashlib
 import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from poissonkit.errors import InputError
 from poissonkit.numerics.units import Scales
+
+if TYPE_CHECKING:
+    from poissonkit.report.rerun_schema import OptionType
 
 #: Options of ``poissonkit run`` that describe where and how the files are written, not the
 #: run itself: a re-run takes them from its own command line.
@@ -30,15 +34,26 @@ JSONValue = None | bool | int | float | str | list["JSONValue"] | dict[str, "JSO
 
 
 def versions() -> dict[str, JSONValue]:
-    """``{"poissonkit": version, "plugins": [{name, source, version, status, error}, ...]}``
-    for every plugin poissonkit loaded (:func:`poissonkit.plugin.plugin_reports`)."""
+    """``{"poissonkit": version, "python": ..., "numpy": ..., "numba": ..., "plugins": [{name,
+    source, version, status, error}, ...]}`` for every plugin poissonkit loaded
+    (:func:`poissonkit.plugin.plugin_reports`); ``numba`` is ``None`` when it is missing."""
+    import platform
+    from importlib.metadata import PackageNotFoundError, version
+
+    import numpy as np
+
     from poissonkit._version import __version__
     from poissonkit.plugin import plugin_reports
 
+    try:
+        numba: str | None = version("numba")
+    except PackageNotFoundError:
+        numba = None
     plugins: list[JSONValue] = [
         {"name": r.name, "source": r.source, "version": r.version, "status": r.status,
          "error": r.error} for r in plugin_reports()]
-    return {"poissonkit": __version__, "plugins": plugins}
+    return {"poissonkit": __version__, "python": platform.python_version(),
+            "numpy": np.__version__, "numba": numba, "plugins": plugins}
 
 
 def options_of(args: argparse.Namespace) -> dict[str, JSONValue]:
@@ -116,7 +131,8 @@ def provenance(args: argparse.Namespace, scene: str | Path | None, scales: Scale
             "units": units(scales)}
 
 
-def rerun_options(summary: Mapping[str, object], scene_dir: Path) -> dict[str, object]:
+def rerun_options(summary: Mapping[str, object], scene_dir: Path,
+                  schema: Mapping[str, OptionType] | None = None) -> dict[str, object]:
     """Options that run the scene of ``summary`` again, as it ran.
 
     Parameters
@@ -126,6 +142,9 @@ def rerun_options(summary: Mapping[str, object], scene_dir: Path) -> dict[str, o
     scene_dir
         Folder where a scene file's copy is written (the copy is run, not the original path,
         so a moved or edited file does not change the re-run).
+    schema
+        The type of every option ``run`` has (:func:`poissonkit.report.rerun_schema.schema_of`
+        of its parser); without it, only lists are checked.
 
     Returns
     -------
@@ -136,28 +155,34 @@ def rerun_options(summary: Mapping[str, object], scene_dir: Path) -> dict[str, o
     Raises
     ------
     InputError
-        If the summary has no provenance (written by an older poissonkit).
+        If the summary has no provenance (written by an older poissonkit), an unknown option,
+        a value of the wrong type, a scene copy whose checksum does not match or a scene name
+        that is not a plain file name (:mod:`poissonkit.report.rerun_schema`).
     """
+    from poissonkit.report.rerun_schema import check_options, check_scene_source
+
     options = summary.get("options")
     source = summary.get("scene_source")
     if not isinstance(options, dict) or not isinstance(source, dict):
         raise InputError("--from-summary: the summary has no 'options'/'scene_source' (written "
                          "by a poissonkit without provenance); run the scene again by hand")
+    if schema is not None:
+        options = check_options(options, schema)
     out = {k: v for k, v in options.items() if k not in OUTPUT_OPTIONS}
     for key, value in out.items():
         if isinstance(value, list) and not all(isinstance(v, str) for v in value):
             raise InputError(f"--from-summary: option {key!r} must be a list of strings, got "
                              f"{value!r}")
-    if source.get("kind") == "file":
-        text = source.get("text")
-        if not isinstance(text, str):
-            raise InputError("--from-summary: the summary's scene_source has no scene text")
-        name = Path(str(source.get("name") or "scene.toml")).name
-        copy = scene_dir / name
-        copy.write_text(text, encoding="utf-8")
+    scene = check_scene_source(source)
+    if scene["kind"] == "file":
+        copy = scene_dir / str(scene["name"])
+        try:
+            copy.write_text(str(scene["text"]), encoding="utf-8")
+        except (OSError, UnicodeError) as exc:
+            raise InputError(f"--from-summary: cannot write the scene's copy ({exc})") from None
         out["scene"] = str(copy)
     else:
-        out["scene"] = source.get("name")
+        out["scene"] = scene["name"]
     return out
 
 

@@ -46,6 +46,9 @@ class RunOutputs:
         Stopped on request; the contact / collision events that stopped it.
     energy_error, energy_tol
         ``max |ΔH|/|H(0)|`` and the tolerance it is held to.
+    failure
+        What stopped a failed run (``summary["failure"]``, :mod:`poissonkit.report.run_abort`),
+        ``None`` for a run that did not fail.
     """
 
     summary: dict[str, Any]
@@ -56,6 +59,7 @@ class RunOutputs:
     touching: list[EventRecord] = field(default_factory=list)
     energy_error: float = 0.0
     energy_tol: float = 0.0
+    failure: dict[str, Any] | None = None
 
 
 @dataclass(frozen=True)
@@ -112,7 +116,9 @@ def write_run_outputs(args: argparse.Namespace, spec: RunSpec, sol: Solution, ou
                                  "poissonkit.numerics.checkpoint.read_trajectory)")
         files = ["summary.json", "trajectory.parts/"]
     energy_error = float(summary["max_rel_energy_error"])
-    problems = run_problems(energy_error, sol.message, energy_tol, interrupted, touching, tunit)
+    failure = sol.extra.get("failure")
+    problems = run_problems(energy_error, summary["message"], energy_tol, interrupted, touching,
+                            tunit, failure)
     summary["warnings"] = problems
     write_summary(out / "summary.json", summary)  # the commit record (report/resume.py)
     kill_point("summary-written")
@@ -132,4 +138,4 @@ def write_run_outputs(args: argparse.Namespace, spec: RunSpec, sol: Solution, ou
         figures = [p.name for p in write_figures(out, run)]
     return RunOutputs(summary=summary, files=files, figures=figures, problems=problems,
                       interrupted=interrupted, touching=touching, energy_error=energy_error,
-                      energy_tol=energy_tol)
+                      energy_tol=energy_tol, failure=failure)

@@ -10,12 +10,14 @@ from __future__ import annotations
 
 import argparse
 from collections.abc import Mapping
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from poissonkit.numerics.units import Scales
+from poissonkit.report.run_abort import in_seconds
 
 if TYPE_CHECKING:
     from poissonkit.numerics.events import EventRecord
@@ -25,8 +27,8 @@ if TYPE_CHECKING:
 
 
 def run_status(sol: Solution, interrupted: bool, touching: list[EventRecord]) -> str:
-    """``"interrupted"``, ``"contact"``, ``"escape"`` or ``"done"``."""
-    return ("interrupted" if interrupted else "contact" if touching
+    """``"failed"``, ``"interrupted"``, ``"contact"``, ``"escape"`` or ``"done"``."""
+    return ("failed" if sol.extra.get("failure") else "interrupted" if interrupted else "contact" if touching
             else "escape" if any(e.kind == "escape" for e in sol.events) else "done")
 
 
@@ -53,7 +55,7 @@ def summary_document(spec: RunSpec, sol: Solution, *, wall: float, compile_time:
         "t_reached": float(sol.t[-1]),
         "t_reached_s": float(sol.t[-1]) * tunit,
         "status": run_status(sol, interrupted, touching),
-        "message": sol.message,
+        "message": in_seconds(sol.message, tunit),
         "events": [dict(e.__dict__, time_s=e.time * tunit, time_error_s=e.time_error * tunit)
                    for e in sol.events],
         "energy_tol": energy_tol,
@@ -65,6 +67,9 @@ def summary_document(spec: RunSpec, sol: Solution, *, wall: float, compile_time:
                        * float(scales.energy))
     summary["units_note"] = ("absolute figures and references are in internal units (the "
                              "scene's scales: parameters.scales); *_J in joules")
+    if sol.extra.get("failure"):
+        summary["failure"] = dict(sol.extra["failure"])
+    summary["written_utc"] = datetime.now(UTC).isoformat(timespec="seconds")
     if "resumed_from" in sol.extra:
         summary["resumed_from"] = Path(sol.extra["resumed_from"]).name
     return summary
@@ -98,9 +103,15 @@ def run_provenance(args: argparse.Namespace, spec: RunSpec, scales: Scales | Non
 
 
 def run_problems(energy_error: float, message: str, tol: float, interrupted: bool,
-                 touching: list[EventRecord], time_unit: float) -> list[str]:
-    """The warnings of a run: stopped early, bodies touched, energy error above tolerance."""
+                 touching: list[EventRecord], time_unit: float,
+                 failure: Mapping[str, object] | None = None) -> list[str]:
+    """The warnings of a run: failed, stopped early, bodies touched, energy error above
+    tolerance (``message``: the run's status message, times in seconds)."""
     out = []
+    if failure:
+        out.append(f"run failed at t = {failure['time_s']:.9g} s: {failure['reason']}; the "
+                   f"trajectory up to t = {failure['last_saved_time_s']:.9g} s (the last good "
+                   "saved state), the summary and the figures are written")
     if interrupted:
         out.append(f"run interrupted: {message}; partial results written "
                    "(resume with --resume if --checkpoint-every was given)")

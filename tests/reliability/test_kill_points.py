@@ -104,3 +104,42 @@ def test_kill_before_the_first_checkpoint_is_refused_in_one_line(tmp_path):
     resumed = _run(out, "--resume")
     assert resumed.returncode == 1 and "Traceback" not in resumed.stderr
     assert "no checkpoint" in resumed.stderr and resumed.stderr.count("\n") == 1
+
+
+@pytest.fixture(scope="module")
+def killed_while_cleaning(tmp_path_factory) -> Path:
+    """A run killed after its summary, while removing its parts (a finished run)."""
+    out = tmp_path_factory.mktemp("cleaning") / "out"
+    assert _run(out, *EVERY, kill="parts-removing@1").returncode == -9
+    return out
+
+
+@pytest.mark.parametrize("damage", ["truncated", "deleted", "status-null", "status-interrupted",
+                                    "list"])
+def test_a_finished_run_killed_while_cleaning_keeps_its_files_when_its_summary_is_damaged(
+        tmp_path, killed_while_cleaning, damage):
+    import json
+    import shutil
+
+    out = tmp_path / "out"
+    shutil.copytree(killed_while_cleaning, out)
+    summary = out / "summary.json"
+    if damage == "truncated":
+        summary.write_bytes(summary.read_bytes()[:-2])
+    elif damage == "deleted":
+        summary.unlink()
+    elif damage == "list":
+        summary.write_text("[]")
+    else:
+        doc = json.loads(summary.read_text())
+        doc["status"] = None if damage == "status-null" else "interrupted"
+        summary.write_text(json.dumps(doc))
+    def files() -> dict[str, bytes]:  # (the lock file of the killed run is not a result)
+        return {str(p.relative_to(out)): p.read_bytes() for p in out.rglob("*")
+                if p.is_file() and p.name != ".poissonkit.lock"}
+
+    before = files()
+    resumed = _run(out, "--resume")
+    assert resumed.returncode == 1 and "Traceback" not in resumed.stderr
+    assert resumed.stderr.count("\n") == 1 and "finished" in resumed.stderr, resumed.stderr
+    assert files() == before

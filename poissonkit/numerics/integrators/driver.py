@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from poissonkit.contracts import Event, HasCompiledKernels
-from poissonkit.errors import IntegrationError, NonFiniteStateError
+from poissonkit.errors import IntegrationError, NonFiniteStateError, PoissonkitError
 from poissonkit.numerics.checkpoint import (Checkpoint, TrajectoryStream, check_matches,
                                             newest_checkpoint, write_checkpoint)
 from poissonkit.numerics.events import (EventRecord, centre_distance, check_events,
@@ -171,6 +171,9 @@ def drive(problem: LoopProblem | str, *args: Any, **kwargs: Any) -> RawResult:
     run = _Run(problem)
     try:
         run.loop()
+    except (PoissonkitError, KeyboardInterrupt) as exc:
+        run.describe_abort(exc)
+        raise
     finally:
         if run.bar is not None:
             run.bar.close()
@@ -341,6 +344,18 @@ class _Run:
             raise exc if exc is not None else IntegrationError(
                 f"{p.name}: unexpected status {status}")
         return False
+
+    def describe_abort(self, exc: BaseException) -> None:
+        """Attach to an error that ends the loop what a caller needs to keep the run's partial
+        result: ``held_rows`` (the saved rows not yet handed to the stream, ``(t, y)``),
+        ``time_reached`` (internal time of the last good state) and ``bad_components`` (indices
+        of the state's non-finite components, for a non-finite state)."""
+        st = self.st
+        exc.held_rows = self.buf.arrays()  # type: ignore[attr-defined]
+        exc.time_reached = float(st.t)  # type: ignore[attr-defined]
+        exc.steps_done = int(st.steps)  # type: ignore[attr-defined]
+        bad = np.flatnonzero(~np.isfinite(np.asarray(st.y, dtype=float)))
+        exc.bad_components = [int(i) for i in bad]  # type: ignore[attr-defined]
 
     def result(self) -> RawResult:
         """The saved rows (or, streaming, the first and last state) and the run's extras."""
