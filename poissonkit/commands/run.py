@@ -531,6 +531,9 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
           + ", ".join(shown) + f" (compilation {compile_time:.3g} s)")
     print(f"wrote {', '.join(str(out / f) for f in done.files)}"
           + (f", {', '.join(done.figures)}" if done.figures else ""), file=sys.stdout)
+    outcome = summary.get("outcome")
+    if isinstance(outcome, dict) and outcome.get("message"):
+        print(f"outcome: {outcome['message']}")
     for p in done.problems:
         print(f"warning: {p}", file=sys.stderr)
     if done.failure is not None:

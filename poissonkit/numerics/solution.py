@@ -320,14 +320,7 @@ class Solution:
             raise InputError("Solution.plot needs the solution's system (solution.system)")
         if isinstance(invariants, str):  # one name, not its letters
             invariants = (invariants,)
-        unknown = [n for n in invariants if n not in DRIFTS]
-        if unknown:
-            raise InputError(f"Solution.plot: unknown invariant {unknown[0]!r}; available: "
-                             f"{', '.join(DRIFTS)}")
-        if ax is None:
-            import matplotlib.pyplot as plt
-
-            _fig, ax = plt.subplots(figsize=(6.4, 3.6))
+        ax = _plot_axes(ax, "invariant", invariants, DRIFTS)
         t = np.asarray(self.t, dtype=float)
         for name in invariants:
             method, label = DRIFTS[name]
@@ -348,14 +341,7 @@ class Solution:
         names = self.layout()
         chosen = list(names) if components is None else (
             [components] if isinstance(components, str) else list(components))
-        unknown = [c for c in chosen if c not in names]
-        if unknown:
-            raise InputError(f"Solution.plot: unknown component {unknown[0]!r}; available: "
-                             f"{', '.join(names)}")
-        if ax is None:
-            import matplotlib.pyplot as plt
-
-            _fig, ax = plt.subplots(figsize=(6.4, 3.6))
+        ax = _plot_axes(ax, "component", chosen, names)
         t = np.asarray(self.t, dtype=float)
         y = np.asarray(self.y, dtype=float)
         for name in chosen:
@@ -366,3 +352,17 @@ class Solution:
         if 0 < len(chosen) <= 12:  # a legend of a whole N-body state would hide the plot
             ax.legend(loc="best", fontsize="small")
         return ax
+
+
+def _plot_axes(ax, what: str, chosen: Sequence[str], available: Sequence[str]):
+    """The axes :meth:`Solution.plot` draws on (new ones if ``ax`` is ``None``), after checking
+    that every ``chosen`` name is ``available``."""
+    unknown = [c for c in chosen if c not in available]
+    if unknown:
+        raise InputError(f"Solution.plot: unknown {what} {unknown[0]!r}; available: "
+                         f"{', '.join(available)}")
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        _fig, ax = plt.subplots(figsize=(6.4, 3.6))
+    return ax

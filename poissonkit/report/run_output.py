@@ -106,6 +106,11 @@ def write_run_outputs(args: argparse.Namespace, spec: RunSpec, sol: Solution, ou
     summary["parameters"] = meta
     summary.update(run_provenance(args, spec, sc))
     summary["saved_rows"] = nrows
+    from poissonkit.scene.registered import scene_outcome
+
+    outcome = scene_outcome(spec, t, y, sol.events)  # a registered scene's fate, if it has one
+    if outcome is not None:
+        summary["outcome"] = outcome
     if nrows <= limits.max_npz_rows:
         files, named = write_trajectory_files(
             out, spec, sol, parts, y, t, scales=sc, time_unit=tunit,

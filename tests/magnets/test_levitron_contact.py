@@ -71,6 +71,10 @@ def test_below_the_window_the_top_touches_the_base_and_its_fate_is_reported(tmp_
     (event,) = summary["events"]
     assert event["kind"] == "contact" and 0.1 < event["time_s"] < 0.3
     assert summary["max_rel_energy_error"] < 1e-6
+    # the run reports the fate itself, in the summary and on the terminal
+    assert summary["outcome"]["fate"] == "flip"
+    assert summary["outcome"]["contact"].startswith("top touched the base at t = 0.178")
+    assert "outcome: the top flipped" in capsys.readouterr().out
     # the scene's outcome on the saved trajectory: the axis turned up before the contact
     from poissonkit.numerics.events import EventRecord
     from poissonkit.plugin.registry import scene
