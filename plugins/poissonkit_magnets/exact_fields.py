@@ -36,12 +36,8 @@ from poissonkit.numerics.fields.magnetic import magnetic_kernel
 from poissonkit.numerics.fields.solids import Solid, rotvec_of_axis
 from poissonkit.plugin.contributions import ExternalField, Param
 from poissonkit_magnets._special import ellipk_d1, ellipke, gauss_legendre_unit
-from poissonkit_magnets.fields import (
-    N_MULTIPOLE,
-    N_RING,
-    cylinder_axial_moments,
-    cylinder_psi_cartesian,
-)
+from poissonkit_magnets.fields import (N_MULTIPOLE, N_RING, cylinder_axial_moments,
+                                       cylinder_psi_cartesian)
 
 _SERIES_M = 0.1
 

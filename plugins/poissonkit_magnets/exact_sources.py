@@ -28,12 +28,7 @@ from poissonkit.numerics.fields.magnetic import magnetic_kernel
 from poissonkit.validation import finite_number, vector3
 from poissonkit_magnets.exact_cuboid import cuboid_local
 from poissonkit_magnets.exact_cylinder import cylinder_local
-from poissonkit_magnets.exact_local import (
-    circle_local,
-    dipole_local,
-    polyline_local,
-    sphere_local,
-)
+from poissonkit_magnets.exact_local import circle_local, dipole_local, polyline_local, sphere_local
 
 #: Record kinds.
 DIPOLE, SPHERE, CIRCLE, POLYLINE, CUBOID, CYLINDER = 1, 2, 3, 4, 5, 6

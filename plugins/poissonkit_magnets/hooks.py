@@ -11,14 +11,8 @@ from __future__ import annotations
 
 from functools import partial
 
-from poissonkit.plugin.contributions import (
-    ExternalField,
-    ModelFamily,
-    OutcomeEntry,
-    PairPotential,
-    Param,
-    SceneEntry,
-)
+from poissonkit.plugin.contributions import (ExternalField, ModelFamily, OutcomeEntry,
+                                             PairPotential, Param, SceneEntry)
 from poissonkit.plugin.hookspecs import hookimpl
 from poissonkit_magnets.family import MAGNET_FAMILY
 from poissonkit_magnets.models import MODELS, evaluator, kernel, param_kernel, param_values

@@ -34,11 +34,7 @@ import numpy as np
 
 from poissonkit.errors import InputError, UnknownNameError
 from poissonkit.numerics.fields.base import CompiledField, FieldRequest
-from poissonkit.numerics.fields.tabulated import (
-    DEFAULT_TOL,
-    field_region,
-    tabulated_field,
-)
+from poissonkit.numerics.fields.tabulated import DEFAULT_TOL, field_region, tabulated_field
 from poissonkit.plugin.contributions import ExternalField, Param
 from poissonkit.validation import vector3
 from poissonkit_magnets.exact_sources import EXACT_MAGNET, split_sources

@@ -5,20 +5,9 @@ gravity. Turning a graph into a system is the core's job (:mod:`poissonkit.scene
 :mod:`poissonkit.scene.bodies`); those names are re-exported here for convenience.
 """
 
-from poissonkit.scene.assembly import (
-    EdgeSpec,
-    PairSpec,
-    auto_scales,
-    bodies_of,
-    edges_of,
-    from_graph,
-    initial_state,
-    pairs_of,
-    resolve,
-    state_arrays,
-    state_of,
-    system_of,
-)
+from poissonkit.scene.assembly import (EdgeSpec, PairSpec, auto_scales, bodies_of, edges_of,
+                                       from_graph, initial_state, pairs_of, resolve, state_arrays,
+                                       state_of, system_of)
 from poissonkit.scene.assembly import complete
 from poissonkit.scene.bodies import BodyModel, pair_params
 from poissonkit_nbody.graphs import chain, lattice, random_cluster, ring

@@ -15,17 +15,8 @@ import sympy as sp
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.deformed import chaplygin_ball_system
 from poissonkit.structure.system import HamiltonianSystem
-from poissonkit_nonholonomic.common import (
-    Scalar,
-    Triple,
-    block,
-    cross,
-    dot,
-    eps_matrix,
-    gamma_M,
-    positive,
-    three,
-)
+from poissonkit_nonholonomic.common import (Scalar, Triple, block, cross, dot, eps_matrix, gamma_M,
+                                            positive, three)
 
 
 def _ball_parts(I1, I2, I3, d):

@@ -56,15 +56,8 @@ from poissonkit.errors import InputError
 from poissonkit.numerics.conformal import LambdifiedSystem
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.system import HamiltonianSystem
-from poissonkit_nonholonomic.common import (
-    Scalar,
-    cross,
-    dot,
-    euler_bivector,
-    exact,
-    gamma_M,
-    positive,
-)
+from poissonkit_nonholonomic.common import (Scalar, cross, dot, euler_bivector, exact, gamma_M,
+                                            positive)
 from poissonkit_nonholonomic.revolution import symmetry_field as revolution_symmetry_field
 
 _QUARTER, _HALF = sp.Rational(1, 4), sp.Rational(1, 2)  # default parameters (exact)

@@ -28,16 +28,8 @@ import sympy as sp
 from poissonkit.errors import InputError
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.system import HamiltonianSystem
-from poissonkit_nonholonomic.common import (
-    Scalar,
-    claim_outcome,
-    cross,
-    dot,
-    euler_bivector,
-    exact,
-    gamma_M,
-    positive,
-)
+from poissonkit_nonholonomic.common import (Scalar, claim_outcome, cross, dot, euler_bivector,
+                                            exact, gamma_M, positive)
 from poissonkit_nonholonomic.revolution import e3_frame_map, e3_pullback, symmetry_decomposition
 
 

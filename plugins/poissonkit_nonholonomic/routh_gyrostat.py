@@ -29,12 +29,7 @@ from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.system import HamiltonianSystem
 from poissonkit_nonholonomic.common import Scalar, claim_outcome, dot
 from poissonkit_nonholonomic.revolution import symmetry_field
-from poissonkit_nonholonomic.routh import (
-    CASIMIR_CHOICES,
-    _rank4,
-    routh_gyrostat_parts,
-    routh_parts,
-)
+from poissonkit_nonholonomic.routh import CASIMIR_CHOICES, _rank4, routh_gyrostat_parts, routh_parts
 
 
 def shifted_bivector(P: sp.MatrixBase, s: sp.Expr, sign: int = 1) -> sp.Matrix:

@@ -22,16 +22,8 @@ from poissonkit.structure.casimirs import is_casimir, rank
 from poissonkit.structure.jacobi import is_zero_expression, jacobiator_terms
 from poissonkit.structure.parsing import as_expr, parse_expression
 from poissonkit.structure.system import HamiltonianSystem
-from poissonkit_nonholonomic.common import (
-    Scalar,
-    Triple,
-    cross,
-    dot,
-    euler_bivector,
-    exact,
-    positive,
-    vec,
-)
+from poissonkit_nonholonomic.common import (Scalar, Triple, cross, dot, euler_bivector, exact,
+                                            positive, vec)
 
 
 def _gamma_dot(gam, w) -> list[sp.Expr]:

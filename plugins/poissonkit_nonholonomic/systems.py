@@ -7,23 +7,16 @@ from dataclasses import replace
 import sympy as sp
 
 from poissonkit.plugin.contributions import Param, SystemEntry
-from poissonkit_nonholonomic.ball import (
-    chaplygin_ball,
-    chaplygin_ball_sphere_bmf,
-    chaplygin_gyrostat,
-)
+from poissonkit_nonholonomic.ball import (chaplygin_ball, chaplygin_ball_sphere_bmf,
+                                          chaplygin_gyrostat)
 from poissonkit_nonholonomic.claims import CLAIMS
 from poissonkit_nonholonomic.general import generalized_chaplygin, p_gf_system
 from poissonkit_nonholonomic.paraboloid import ball_on_paraboloid, ball_on_paraboloid_rank4
 from poissonkit_nonholonomic.routh import routh_sphere, routh_sphere_rank4
 from poissonkit_nonholonomic.routh_gyrostat import routh_gyrostat_rank4
 from poissonkit_nonholonomic.separation import chaplygin_spheroconical
-from poissonkit_nonholonomic.suslov import (
-    suslov,
-    suslov_potential,
-    suslov_rank2_bivector,
-    suslov_rank4,
-)
+from poissonkit_nonholonomic.suslov import (suslov, suslov_potential, suslov_rank2_bivector,
+                                            suslov_rank4)
 from poissonkit_nonholonomic.veselova import veselova, veselova_gyrostat
 
 TAG = "nonholonomic"

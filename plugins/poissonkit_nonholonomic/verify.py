@@ -51,13 +51,8 @@ import sympy as sp
 from poissonkit.errors import InputError
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.casimirs import is_casimir
-from poissonkit.structure.checks import (
-    CheckResult,
-    in_involution,
-    is_conformally_hamiltonian,
-    is_first_integral,
-    is_invariant_measure,
-)
+from poissonkit.structure.checks import (CheckResult, in_involution, is_conformally_hamiltonian,
+                                         is_first_integral, is_invariant_measure)
 from poissonkit.structure.jacobi import jacobiator_terms
 from poissonkit.structure.randompoints import RandomPoints
 from poissonkit.structure.system import HamiltonianSystem

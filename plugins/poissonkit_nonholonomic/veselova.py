@@ -14,15 +14,7 @@ import sympy as sp
 from poissonkit.structure.deformed import veselova as veselova_bracket
 from poissonkit.structure.deformed import veselova_gyrostat as veselova_gyrostat_bracket
 from poissonkit.structure.system import HamiltonianSystem
-from poissonkit_nonholonomic.common import (
-    Scalar,
-    Triple,
-    cross,
-    dot,
-    gamma_M,
-    positive,
-    three,
-)
+from poissonkit_nonholonomic.common import Scalar, Triple, cross, dot, gamma_M, positive, three
 
 
 def _parts(a1, a2, a3, second="K"):

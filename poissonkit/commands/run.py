@@ -50,13 +50,8 @@ import numpy as np
 
 from poissonkit.commands.parser import CommandParser
 from poissonkit.contracts import HasBodies
-from poissonkit.errors import (
-    InputError,
-    IntegrationError,
-    MissingDependencyError,
-    MissingStepError,
-    SceneError,
-)
+from poissonkit.errors import (InputError, IntegrationError, MissingDependencyError,
+                               MissingStepError, SceneError)
 from poissonkit.report.run_units import (  # noqa: F401  (also importable from here, as before)
     relative_position,
     scales_of,

@@ -16,17 +16,9 @@ PoissonGeometry's sign ``X_h = {h, .} = -P dh`` — the opposite of poissonkit's
 """
 
 from poissonkit.compat._inputs import read_bivector
-from poissonkit.compat.errors import (
-    CasimirError,
-    DiferentialFormError,
-    DifferentialFormError,
-    DimensionError,
-    FunctionError,
-    MultivectorError,
-    Nonhomogeneous,
-    Nonlinear,
-    ParseError,
-)
+from poissonkit.compat.errors import (CasimirError, DiferentialFormError, DifferentialFormError,
+                                      DimensionError, FunctionError, MultivectorError,
+                                      Nonhomogeneous, Nonlinear, ParseError)
 from poissonkit.compat.numeric import NumericalPoissonGeometry, NumPoissonGeometry
 from poissonkit.compat.symbolic import PoissonGeometry
 

@@ -25,21 +25,9 @@ from collections.abc import Mapping, Sequence
 import sympy as sp
 
 from poissonkit.compat import _calculus as calc
-from poissonkit.compat._inputs import (
-    Reader,
-    is_zero,
-    one_based,
-    render,
-    tidy,
-    validate_dimension,
-)
-from poissonkit.compat.errors import (
-    CasimirError,
-    FunctionError,
-    MultivectorError,
-    Nonhomogeneous,
-    Nonlinear,
-)
+from poissonkit.compat._inputs import Reader, is_zero, one_based, render, tidy, validate_dimension
+from poissonkit.compat.errors import (CasimirError, FunctionError, MultivectorError, Nonhomogeneous,
+                                      Nonlinear)
 from poissonkit.errors import DimensionError
 
 Dict = Mapping[tuple[int, ...], object]

@@ -21,13 +21,8 @@ import numpy as np
 
 from poissonkit.conventions import MU0
 from poissonkit.engines.lammps_express import NotExpressible, lammps_bodies
-from poissonkit.engines.lammps_input import (
-    DUMP_COLUMNS,
-    field_fixes,
-    read_dump,
-    write_data,
-    write_input,
-)
+from poissonkit.engines.lammps_input import (DUMP_COLUMNS, field_fixes, read_dump, write_data,
+                                             write_input)
 from poissonkit.engines.lammps_runtime import load_lammps, mpirun, worker_env
 from poissonkit.errors import InputError, IntegrationError
 from poissonkit.numerics.nbody import NBodySystem

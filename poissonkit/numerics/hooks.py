@@ -165,11 +165,8 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
               "table= picks a Blanes et al. (2013) method (e.g. 10_6_4), correctors= a "
               "Wisdom-Holman-Touma symplectic corrector (as WHFast).")
     from poissonkit.numerics.integrators.discrete_gradient import GRADIENTS
-    from poissonkit.numerics.integrators.wisdom_holman.tables import (
-        CORRECTOR_G,
-        CORRECTOR_ORDERS,
-        TABLE_ORDERS,
-    )
+    from poissonkit.numerics.integrators.wisdom_holman.tables import (CORRECTOR_G, CORRECTOR_ORDERS,
+                                                                      TABLE_ORDERS)
 
     wh_choices = {"stages": tuple(sorted(CORRECTOR_G)), "correctors": (0, *CORRECTOR_ORDERS)}
     out.append(_entry(

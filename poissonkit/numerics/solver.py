@@ -12,21 +12,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from poissonkit.contracts import (
-    Event,
-    HasBodies,
-    HasCompiledKernels,
-    HasOverlapCheck,
-    Integrator,
-    NumericsSystem,
-    System,
-)
-from poissonkit.errors import (
-    CapabilityError,
-    DimensionError,
-    InputError,
-    IntegrationError,
-)
+from poissonkit.contracts import (Event, HasBodies, HasCompiledKernels, HasOverlapCheck, Integrator,
+                                  NumericsSystem, System)
+from poissonkit.errors import CapabilityError, DimensionError, InputError, IntegrationError
 from poissonkit.numerics.solution import Solution
 from poissonkit.plugin.contributions import Capabilities
 from poissonkit.traits import offers

@@ -12,25 +12,10 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Protocol, SupportsInt, cast
 
-from poissonkit.contracts import (
-    AssemblyBuilder,
-    Capabilities,
-    Claim,
-    EnergyBound,
-    EnergyScale,
-    ErrorEstimator,
-    EvaluatorFactory,
-    KernelFactory,
-    OutcomeFunction,
-    PairFunction,
-    PairPredicate,
-    ParamCompleter,
-    ParamKernelFactory,
-    ParamValues,
-    SourcePredicate,
-    SweepFactory,
-    SymbolicEnergy,
-)
+from poissonkit.contracts import (AssemblyBuilder, Capabilities, Claim, EnergyBound, EnergyScale,
+                                  ErrorEstimator, EvaluatorFactory, KernelFactory, OutcomeFunction,
+                                  PairFunction, PairPredicate, ParamCompleter, ParamKernelFactory,
+                                  ParamValues, SourcePredicate, SweepFactory, SymbolicEnergy)
 from poissonkit.errors import InputError, UnknownNameError
 
 if TYPE_CHECKING:  # annotations only: these layers sit above the plugin host

@@ -5,7 +5,7 @@ plugins under ``plugins/`` and poissonkit's own integrators implement these same
 third-party package does so by declaring an entry point in the group ``poissonkit``::
 
     [project.entry-points.poissonkit]
-    myplugin = "my_package.plugin"
+    myplugin = "my_package.hooks"
 
 Every hook here must be documented in ``docs/plugins.md`` (a test checks it).
 
@@ -24,16 +24,8 @@ from __future__ import annotations
 
 import pluggy
 
-from poissonkit.plugin.contributions import (
-    Assembly,
-    ExternalField,
-    IntegratorEntry,
-    ModelFamily,
-    OutcomeEntry,
-    PairPotential,
-    SceneEntry,
-    SystemEntry,
-)
+from poissonkit.plugin.contributions import (Assembly, ExternalField, IntegratorEntry, ModelFamily,
+                                             OutcomeEntry, PairPotential, SceneEntry, SystemEntry)
 
 PROJECT = "poissonkit"
 

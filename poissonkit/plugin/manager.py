@@ -29,17 +29,9 @@ from typing import Any
 import pluggy
 
 from poissonkit.plugin import hookspecs
-from poissonkit.plugin.contributions import (
-    Assembly,
-    Entry,
-    ExternalField,
-    IntegratorEntry,
-    ModelFamily,
-    OutcomeEntry,
-    PairPotential,
-    SceneEntry,
-    SystemEntry,
-)
+from poissonkit.plugin.contributions import (Assembly, Entry, ExternalField, IntegratorEntry,
+                                             ModelFamily, OutcomeEntry, PairPotential, SceneEntry,
+                                             SystemEntry)
 
 #: Built-in plugin modules: (plugin name, module path). Registered like any other plugin.
 BUILTIN_PLUGINS: tuple[tuple[str, str], ...] = (

@@ -3,16 +3,8 @@
 from __future__ import annotations
 
 from poissonkit.errors import UnknownEntryError
-from poissonkit.plugin.contributions import (
-    Assembly,
-    Entry,
-    ExternalField,
-    IntegratorEntry,
-    ModelFamily,
-    PairPotential,
-    SceneEntry,
-    SystemEntry,
-)
+from poissonkit.plugin.contributions import (Assembly, Entry, ExternalField, IntegratorEntry,
+                                             ModelFamily, PairPotential, SceneEntry, SystemEntry)
 from poissonkit.plugin.manager import entries, plugin_reports
 
 

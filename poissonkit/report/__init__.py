@@ -14,15 +14,9 @@
   imported lazily (matplotlib).
 """
 
-from poissonkit.report.summary import (
-    Diagnostics,
-    conserved_quantities,
-    diagnostics,
-    invariant_report,
-    streamed_diagnostics,
-    write_summary,
-    write_trajectory,
-)
+from poissonkit.report.summary import (Diagnostics, conserved_quantities, diagnostics,
+                                       invariant_report, streamed_diagnostics, write_summary,
+                                       write_trajectory)
 
 __all__ = ["Diagnostics", "conserved_quantities", "diagnostics", "invariant_report",
            "streamed_diagnostics", "write_summary", "write_trajectory"]

@@ -14,15 +14,8 @@ import numpy as np
 from poissonkit.numerics.nbody import NBodySystem
 from poissonkit.report.axis_units import run_axis_units
 from poissonkit.report.figures import RunData, register_plot
-from poissonkit.report.plotkit import (
-    COARSE,
-    caption,
-    figure,
-    layout,
-    plot_quantity,
-    samples_per_turn,
-    thin,
-)
+from poissonkit.report.plotkit import (COARSE, caption, figure, layout, plot_quantity,
+                                       samples_per_turn, thin)
 from poissonkit.report.scene_kind import IN_FIELD
 from poissonkit.report.source_shapes import source_shapes
 

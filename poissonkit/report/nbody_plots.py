@@ -16,15 +16,8 @@ import numpy as np
 from poissonkit.numerics.nbody import NBodySystem
 from poissonkit.report.axis_units import run_axis_units
 from poissonkit.report.figures import RunData, register_plot
-from poissonkit.report.plotkit import (
-    COARSE,
-    caption,
-    constant_to_roundoff,
-    figure,
-    layout,
-    samples_per_turn,
-    thin,
-)
+from poissonkit.report.plotkit import (COARSE, caption, constant_to_roundoff, figure, layout,
+                                       samples_per_turn, thin)
 from poissonkit.report.scene_kind import IN_FIELD, NBODY, PLANETARY, TWO_BODY
 from poissonkit.report.source_shapes import SourceShape, outline, source_shapes
 from poissonkit.traits import offers

@@ -20,16 +20,8 @@ from poissonkit.contracts import HasEnergy
 from poissonkit.report.axis_units import AxisUnit, run_axis_units
 from poissonkit.report.drift_plot import drift_axes
 from poissonkit.report.figures import RunData, register_plot
-from poissonkit.report.plotkit import (
-    COARSE,
-    caption,
-    constant_to_roundoff,
-    figure,
-    plot_quantity,
-    samples_per_turn,
-    save,
-    thin,
-)
+from poissonkit.report.plotkit import (COARSE, caption, constant_to_roundoff, figure, plot_quantity,
+                                       samples_per_turn, save, thin)
 from poissonkit.report.scene_kind import TWO_BODY
 from poissonkit.report.summary import Diagnostics
 

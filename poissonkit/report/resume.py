@@ -178,11 +178,7 @@ def prepare_resume(out: str | Path) -> None:
     PartsError
         If the parts the checkpoint points past are not all there.
     """
-    from poissonkit.numerics.checkpoint import (
-        CheckpointError,
-        checkpoints,
-        newest_checkpoint,
-    )
+    from poissonkit.numerics.checkpoint import CheckpointError, checkpoints, newest_checkpoint
 
     out = Path(out)
     finished, _ = finished_problem(out)

@@ -14,12 +14,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, cast
 
 from poissonkit.contracts import HasEnergy
-from poissonkit.report.run_summary import (
-    distance_figures,
-    run_problems,
-    run_provenance,
-    summary_document,
-)
+from poissonkit.report.run_summary import (distance_figures, run_problems, run_provenance,
+                                           summary_document)
 from poissonkit.report.run_units import relative_position, scales_of, time_unit
 
 if TYPE_CHECKING:

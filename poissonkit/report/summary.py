@@ -10,13 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from poissonkit.contracts import (
-    DeclaresNotConserved,
-    HasBodies,
-    HasBodyMomenta,
-    HasEnergy,
-    HasExternalFields,
-)
+from poissonkit.contracts import (DeclaresNotConserved, HasBodies, HasBodyMomenta, HasEnergy,
+                                  HasExternalFields)
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.diagnostics import QUANTITIES, Drift, drifts
 from poissonkit.numerics.diagnostics import report as report_drifts

@@ -222,12 +222,7 @@ def _all_pairs_direct(scene: Scene, scales: Scales | str | None) -> BuiltScene |
     """A scene whose bodies all interact through one potential, with per-pair parameters
     that differ only by what they read from the bodies, built without listing its pairs
     (``None`` if it is not one): set-up in O(N) time and memory."""
-    from poissonkit.scene.assembly import (
-        all_pairs_system,
-        bodies_of,
-        state_of,
-        uniform_graph_pair,
-    )
+    from poissonkit.scene.assembly import all_pairs_system, bodies_of, state_of, uniform_graph_pair
 
     if not every_pair_alike(scene):
         return None

@@ -14,17 +14,8 @@ from typing import TYPE_CHECKING, Any
 import sympy as sp
 
 from poissonkit.errors import InputError
-from poissonkit.structure.surds import (
-    _HALF,
-    _MPQ,
-    _ONE,
-    _ZERO,
-    Surd,
-    _Base,
-    _inverse,
-    _Rebase,
-    _Undefined,
-)
+from poissonkit.structure.surds import (_HALF, _MPQ, _ONE, _ZERO, Surd, _Base, _inverse, _Rebase,
+                                        _Undefined)
 
 if TYPE_CHECKING:
     from poissonkit.structure.randompoints import RandomPoints

@@ -29,9 +29,7 @@ from sympy.polys.matrices import DomainMatrix
 from sympy.polys.orderings import grlex
 from sympy.polys.rings import PolyElement, PolyRing
 
-from poissonkit.errors import (
-    InputError,
-)
+from poissonkit.errors import InputError
 from poissonkit.structure._casimir_basis import reduced_generators, relations
 from poissonkit.structure._graded_casimirs import graded_casimir_rows
 from poissonkit.structure.bivector import Bivector
@@ -39,11 +37,7 @@ from poissonkit.structure.checks import CheckResult
 from poissonkit.structure.decomposition import _bivector, _blocks, _sub
 from poissonkit.structure.rank import RankResult, rank
 from poissonkit.structure.sampling import PointStream, Sampler
-from poissonkit.structure.singular import (
-    SingularSet,
-    SingularSetTooExpensive,
-    singular_set,
-)
+from poissonkit.structure.singular import SingularSet, SingularSetTooExpensive, singular_set
 from poissonkit.structure.zerotest import _as_exprs, _Atomizer, _expr, _vanishing
 
 __all__ = [

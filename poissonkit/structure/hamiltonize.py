@@ -49,21 +49,13 @@ from dataclasses import dataclass
 import sympy as sp
 
 from poissonkit.errors import InputError
-from poissonkit.structure._exact_linear import (
-    check_certificate,
-    inconsistency_certificate,
-    nullspace_sparse,
-    solve_sparse,
-)
+from poissonkit.structure._exact_linear import (check_certificate, inconsistency_certificate,
+                                                nullspace_sparse, solve_sparse)
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.hamiltonize_ansatz import ansatz_columns, checked_ansatz
 from poissonkit.structure.hamiltonize_input import build_problem, read_text
-from poissonkit.structure.hamiltonize_problem import (
-    Ansatz,
-    HamiltonizationProblem,
-    problem_from,
-)
+from poissonkit.structure.hamiltonize_problem import Ansatz, HamiltonizationProblem, problem_from
 from poissonkit.structure.hamiltonize_result import Certificate, HamiltonizeResult, result_record
 from poissonkit.structure.hamiltonize_span import casimir_combinations, impose_span
 

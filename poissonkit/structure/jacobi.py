@@ -51,20 +51,10 @@ from poissonkit.errors import InputError, NotPoissonError
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.jacobi_result import JacobiResult, Key
-from poissonkit.structure.sampling import (
-    SAMPLE_RANGE,
-    Sampler,
-    false_positive_bound,
-    is_zero_at_point,
-)
-from poissonkit.structure.zerotest import (
-    _function_atoms,
-    canonical_atom,
-    _has_transcendental,
-    _is_half_power,
-    _ZeroTester,
-    is_zero_expression,
-)
+from poissonkit.structure.sampling import (SAMPLE_RANGE, Sampler, false_positive_bound,
+                                           is_zero_at_point)
+from poissonkit.structure.zerotest import (_function_atoms, canonical_atom, _has_transcendental,
+                                           _is_half_power, _ZeroTester, is_zero_expression)
 
 _METHODS = ("auto", "exact", "random")
 #: Without square roots, the polynomial-ring path is used above this total operation count.

@@ -26,11 +26,7 @@ from sympy.polys.matrices import DomainMatrix
 
 from poissonkit.errors import InputError, PoissonkitError, UnknownNameError
 from poissonkit.structure.bivector import Bivector, _as_symbols
-from poissonkit.structure.invariants import (
-    euclid_invariants,
-    pfaffian_invariant,
-    traces_invariants,
-)
+from poissonkit.structure.invariants import euclid_invariants, pfaffian_invariant, traces_invariants
 
 __all__ = ["LIE_ALGEBRA_NAMES", "LieAlgebra", "lie_algebra", "pfaffian"]
 

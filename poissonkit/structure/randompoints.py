@@ -80,18 +80,10 @@ from poissonkit.structure._expr import as_expr, as_symbols
 from poissonkit.structure._point_eval import RandomPointError, _PointContext
 from poissonkit.structure.degreebound import _as_degree, _Degree
 from poissonkit.structure.surds import _MPQ, _to_sympy, _Undefined
-from poissonkit.structure.surfaces import (
-    _check_acyclic,
-    _param_degree,
-    _recognise,
-    sphere_parametrization,
-)
-from poissonkit.structure.sampling import (
-    SAMPLE_RANGE,
-    Sampler,
-    false_positive_bound,
-    is_zero_at_point,
-)
+from poissonkit.structure.surfaces import (_check_acyclic, _param_degree, _recognise,
+                                           sphere_parametrization)
+from poissonkit.structure.sampling import (SAMPLE_RANGE, Sampler, false_positive_bound,
+                                           is_zero_at_point)
 
 __all__ = [
     "SAMPLE_RANGE", "RandomPointError", "RandomPoints",

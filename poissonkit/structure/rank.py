@@ -14,11 +14,7 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 from sympy.polys.matrices import DomainMatrix
 
-from poissonkit.errors import (
-    DimensionError,
-    InputError,
-    UnknownNameError,
-)
+from poissonkit.errors import DimensionError, InputError, UnknownNameError
 from poissonkit.structure._expr import as_expr
 from poissonkit.structure.bivector import Bivector
 from poissonkit.structure.zerotest import _Atomizer, canonical_atom

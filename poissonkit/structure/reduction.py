@@ -34,11 +34,7 @@ from sympy.polys.orderings import grlex
 from sympy.polys.rings import PolyElement, PolyRing
 
 from poissonkit.errors import InputError
-from poissonkit.structure._casimir_basis import (
-    gen_monomials,
-    reduced_generators,
-    relations,
-)
+from poissonkit.structure._casimir_basis import gen_monomials, reduced_generators, relations
 from poissonkit.structure._exact_linear import solve_sparse
 from poissonkit.structure._expr import as_bivector, as_expr
 from poissonkit.structure.bivector import Bivector

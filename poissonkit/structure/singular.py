@@ -12,9 +12,7 @@ from itertools import combinations
 
 import sympy as sp
 
-from poissonkit.errors import (
-    PoissonkitError,
-)
+from poissonkit.errors import PoissonkitError
 from poissonkit.structure.zerotest import _Atomizer
 from poissonkit.structure.decomposition import _bivector, _blocks, _sub
 from poissonkit.structure.rank import rank

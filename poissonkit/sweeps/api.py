@@ -13,36 +13,15 @@ import numpy as np
 from poissonkit.contracts import SweepScene
 from poissonkit.errors import InputError
 from poissonkit.plugin.contributions import OutcomeEntry
-from poissonkit.sweeps.execute import (
-    PointResult,
-    batch_size_for,
-    execute,
-    make_client,
-    resolve_units,
-    worker_count,
-)
-from poissonkit.sweeps.integrity import (
-    StoreRepairWarning,
-    chunk_of,
-    chunk_regions,
-    chunk_shape,
-    fill_dataset,
-    region_points,
-    repair_message,
-    verify_store,
-)
+from poissonkit.sweeps.execute import (PointResult, batch_size_for, execute, make_client,
+                                       resolve_units, worker_count)
+from poissonkit.sweeps.integrity import (StoreRepairWarning, chunk_of, chunk_regions, chunk_shape,
+                                         fill_dataset, region_points, repair_message, verify_store)
 from poissonkit.sweeps.outcomes import outcome_entries, resolve_outcomes
 from poissonkit.sweeps.params import Axis, Design, Range, design_from
 from poissonkit.sweeps.targets import sweep_scene
-from poissonkit.sweeps.store import (
-    ZarrWriter,
-    check_layout,
-    check_resumable,
-    create_store,
-    empty_dataset,
-    refresh_coords,
-    store_attrs,
-)
+from poissonkit.sweeps.store import (ZarrWriter, check_layout, check_resumable, create_store,
+                                     empty_dataset, refresh_coords, store_attrs)
 
 if TYPE_CHECKING:  # dask and xarray are imported where used
     import xarray as xr

@@ -108,12 +108,7 @@ def check_path(data: Mapping[str, object], path: str) -> list[str]:
     SweepPathError
         Naming the path, the segment that is wrong and what would be valid there.
     """
-    from poissonkit.scene.schema import (
-        INTERACTION_KEYS,
-        PLANNER_KEYS,
-        RUN_KEYS,
-        TOP_KEYS,
-    )
+    from poissonkit.scene.schema import INTERACTION_KEYS, PLANNER_KEYS, RUN_KEYS, TOP_KEYS
 
     segs = normalise(path)
     names = [s for s in segs if not _is_index(s)]

@@ -23,15 +23,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from poissonkit.errors import InputError
-from poissonkit.sweeps.integrity import (
-    RECORDS,
-    ChunkCoords,
-    Region,
-    ensure_records,
-    quiet_zarr,
-    open_arrays,
-    write_record,
-)
+from poissonkit.sweeps.integrity import (RECORDS, ChunkCoords, Region, ensure_records, quiet_zarr,
+                                         open_arrays, write_record)
 from poissonkit.sweeps.outcomes import OUTCOMES
 from poissonkit.sweeps.params import Design
 

@@ -18,13 +18,7 @@ import numpy as np
 from poissonkit.plugin.contributions import PairPotential
 from poissonkit.testing.checks_kick import check_kick
 from poissonkit.testing.checks_runtime import check_runtime_params
-from poissonkit.testing.geometry import (
-    PairConfig,
-    configurations,
-    energy,
-    loads,
-    numerical_loads,
-)
+from poissonkit.testing.geometry import PairConfig, configurations, energy, loads, numerical_loads
 from poissonkit.testing.lookup import entry_of, label
 from poissonkit.testing.potential_setup import Options, Setup, setup
 from poissonkit.testing.report import Findings

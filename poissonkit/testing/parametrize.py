@@ -100,11 +100,7 @@ def plugin_checks(plugin: str, *, examples: Mapping[str, Mapping[str, Any]] | No
     list of KitCase
     """
     from poissonkit.plugin import entries
-    from poissonkit.testing.checks_potential import (
-        COMPILING,
-        EXPENSIVE,
-        POTENTIAL_CHECKS,
-    )
+    from poissonkit.testing.checks_potential import COMPILING, EXPENSIVE, POTENTIAL_CHECKS
 
     examples = examples or {}
     skipped = set(skip)

@@ -26,45 +26,16 @@ Derivation (see ``docs/seed000.md``)
   no circular orbit.
 """
 
-from poissonkit_magnets.seed000.table import (
-    CONFIGURATIONS,
-    DENSITY,
-    DIAMETER,
-    HEIGHT,
-    MOMENT,
-    ORBIT_RADIUS,
-    SEED_PRINTED,
-    SeedTable,
-    dumbbell_energy,
-    parameter_table,
-    radial_force,
-)
-from poissonkit_magnets.seed000.orbit import (
-    CircularOrbit,
-    circular_orbit,
-    find_orbit_radius,
-    initial_state,
-    metadata,
-    nondimensional_parameters,
-    scales,
-)
-from poissonkit_magnets.seed000.two_body import (
-    dumbbell_potential,
-    nbody_state,
-    nbody_system,
-    relative_orbit,
-    two_body_system,
-)
-from poissonkit_magnets.seed000.fate import (
-    OrbitFate,
-    axis_distance,
-    orbit_fate,
-)
-from poissonkit_magnets.seed000.runs import (
-    default_run,
-    main,
-    scene_run,
-)
+from poissonkit_magnets.seed000.table import (CONFIGURATIONS, DENSITY, DIAMETER, HEIGHT, MOMENT,
+                                              ORBIT_RADIUS, SEED_PRINTED, SeedTable,
+                                              dumbbell_energy, parameter_table, radial_force)
+from poissonkit_magnets.seed000.orbit import (CircularOrbit, circular_orbit, find_orbit_radius,
+                                              initial_state, metadata, nondimensional_parameters,
+                                              scales)
+from poissonkit_magnets.seed000.two_body import (dumbbell_potential, nbody_state, nbody_system,
+                                                 relative_orbit, two_body_system)
+from poissonkit_magnets.seed000.fate import OrbitFate, axis_distance, orbit_fate
+from poissonkit_magnets.seed000.runs import default_run, main, scene_run
 
 #: The two-body form was called ``seed_system``; the name stays for existing code.
 seed_system = two_body_system

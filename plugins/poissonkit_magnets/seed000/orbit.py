@@ -11,13 +11,8 @@ import numpy as np
 
 from poissonkit.errors import InputError
 from poissonkit.numerics.units import Scales
-from poissonkit_magnets.seed000.table import (
-    ORBIT_RADIUS,
-    SEED_PRINTED,
-    SeedTable,
-    parameter_table,
-    radial_force,
-)
+from poissonkit_magnets.seed000.table import (ORBIT_RADIUS, SEED_PRINTED, SeedTable,
+                                              parameter_table, radial_force)
 
 
 @dataclass(frozen=True)

@@ -11,12 +11,8 @@ systems, systems of bodies, scenes).
 
 from __future__ import annotations
 
-from poissonkit.numerics.equilibria.errors import (
-    EquilibriumError,
-    NoConvergenceError,
-    NotAnEquilibriumError,
-    SingularPointError,
-)
+from poissonkit.numerics.equilibria.errors import (EquilibriumError, NoConvergenceError,
+                                                   NotAnEquilibriumError, SingularPointError)
 from poissonkit.numerics.equilibria.relative import RelativeEquilibrium, relative_equilibrium
 from poissonkit.numerics.equilibria.stability import LinearStability, linear_stability
 

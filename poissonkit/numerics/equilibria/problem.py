@@ -22,14 +22,8 @@ import numpy as np
 import sympy as sp
 from numpy.typing import ArrayLike
 
-from poissonkit.contracts import (
-    HasCasimirs,
-    HasJacobian,
-    HasLayout,
-    HasPoissonStructure,
-    HasSymbolicForm,
-    NumericsSystem,
-)
+from poissonkit.contracts import (HasCasimirs, HasJacobian, HasLayout, HasPoissonStructure,
+                                  HasSymbolicForm, NumericsSystem)
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.equilibria import differences as fd
 from poissonkit.traits import offers

@@ -32,12 +32,8 @@ from poissonkit.errors import InputError
 from poissonkit.numerics.equilibria.errors import NotAnEquilibriumError
 from poissonkit.numerics.equilibria.linalg import RANK_TOL, complement, null_space
 from poissonkit.numerics.equilibria.problem import EquilibriumProblem, Momentum, as_problem
-from poissonkit.numerics.equilibria.relative import (
-    RelativeEquilibrium,
-    check_regular,
-    describe,
-    relative_residual,
-)
+from poissonkit.numerics.equilibria.relative import (RelativeEquilibrium, check_regular, describe,
+                                                     relative_residual)
 
 #: Verdict strings (compare against these, not against literals).
 UNSTABLE = "unstable"

@@ -21,12 +21,7 @@ Modules, one job each:
 
 from __future__ import annotations
 
-from poissonkit.numerics.fields.base import (
-    CompiledField,
-    FieldRequest,
-    FieldSpec,
-    compile_fields,
-    field,
-)
+from poissonkit.numerics.fields.base import (CompiledField, FieldRequest, FieldSpec, compile_fields,
+                                             field)
 
 __all__ = ["CompiledField", "FieldRequest", "FieldSpec", "compile_fields", "field"]

@@ -22,8 +22,7 @@ from poissonkit.numerics.integrators.base import (NO_CONVERGENCE, RUNNING, RawRe
                                                   step_end_kernels, step_tail)
 from poissonkit.numerics.integrators.driver import Control, LoopProblem, LoopState, drive
 from poissonkit.numerics.integrators.glue import ChunkResult, Scratch, guard_division
-from poissonkit.numerics.integrators.newton import (CONVERGED, SINGULAR, newton_solver,
-                                                    no_jacobian)
+from poissonkit.numerics.integrators.newton import CONVERGED, SINGULAR, newton_solver, no_jacobian
 from poissonkit.numerics.jit import jit
 
 

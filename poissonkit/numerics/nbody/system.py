@@ -24,7 +24,7 @@ from poissonkit.numerics.fields.base import CompiledField, FieldLike, compile_fi
 from poissonkit.numerics.fields.compose import field_data, field_term
 from poissonkit.numerics.kernels import Kernels
 from poissonkit.numerics.nbody.bodies import (BODY_SYSTEM_TRAITS, AllPairs, Body, Interaction,
-                                             NonUnitAxisError)
+                                              NonUnitAxisError)
 from poissonkit.numerics.nbody.data import (DirectData, Work, direct_data, empty_field_data,
                                             new_direct_work, new_work, system_data)
 from poissonkit.numerics.nbody.evaluate import (OverlapError, coincident_pair, evaluate_energy,

@@ -8,13 +8,8 @@
   every ``replan_every`` steps, and its result :class:`PlannedRun`.
 """
 
-from poissonkit.scene.planner.choice import (
-    CUTOFF_HYSTERESIS,
-    Planner,
-    body_attributes,
-    estimated_error,
-    family_of,
-)
+from poissonkit.scene.planner.choice import (CUTOFF_HYSTERESIS, Planner, body_attributes,
+                                             estimated_error, family_of)
 from poissonkit.scene.planner.run import PlannedRun, run_planned
 from poissonkit.scene.planner.plans import DroppedPair, PairPlan, Plan, PlannerError, Switch
 

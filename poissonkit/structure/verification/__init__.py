@@ -14,33 +14,16 @@ survey's report uses :func:`jacobi_verdict`). Modules, one job each:
 from poissonkit.structure.verification.budget import BoundedChecks, TimeLimit
 from poissonkit.structure.verification.claims import ClaimOutcome, SystemClaim, system_claims
 from poissonkit.structure.verification.engine import DEFAULT_TIMEOUT, verify
-from poissonkit.structure.verification.jacobi_verdict import (
-    AUTO_POINTS_OPS,
-    JacobiVerdict,
-    check_jacobi_at_points,
-    has_undefined_functions,
-    jacobi_verdict,
-)
-from poissonkit.structure.verification.loading import (
-    ALMOST_POISSON_TAG,
-    JSON_KEYS,
-    MAX_DIM,
-    MAX_EXPONENT,
-    entry_claims,
-    exact_number,
-    is_almost_poisson,
-    load_structure_json,
-    load_target,
-)
-from poissonkit.structure.verification.report import (
-    EXIT_CODES,
-    EXIT_ERROR,
-    EXIT_FAILED,
-    EXIT_OK,
-    EXIT_UNDECIDED,
-    VerifyReport,
-    format_report,
-)
+from poissonkit.structure.verification.jacobi_verdict import (AUTO_POINTS_OPS, JacobiVerdict,
+                                                              check_jacobi_at_points,
+                                                              has_undefined_functions,
+                                                              jacobi_verdict)
+from poissonkit.structure.verification.loading import (ALMOST_POISSON_TAG, JSON_KEYS, MAX_DIM,
+                                                       MAX_EXPONENT, entry_claims, exact_number,
+                                                       is_almost_poisson, load_structure_json,
+                                                       load_target)
+from poissonkit.structure.verification.report import (EXIT_CODES, EXIT_ERROR, EXIT_FAILED, EXIT_OK,
+                                                      EXIT_UNDECIDED, VerifyReport, format_report)
 
 __all__ = [
     "ALMOST_POISSON_TAG", "AUTO_POINTS_OPS", "DEFAULT_TIMEOUT", "EXIT_CODES", "EXIT_ERROR",
