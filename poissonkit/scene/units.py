@@ -19,6 +19,7 @@ before it in the file. ``mu = G (m_primary + m)`` with ``G`` of the scene's unit
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -62,9 +63,16 @@ def scene_units(raw: object) -> UnitSystem:
 # ---------------------------------------------------------------- orbital elements
 
 def _float(value: Any, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
-        raise SceneError(f"{where}: must be a finite number, got {value!r}")
-    return float(value)
+    bad = SceneError(f"{where}: must be a finite number, got {value!r}")
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise bad
+    try:
+        x = float(value)  # an integer beyond the float range overflows here
+    except OverflowError:
+        raise bad from None
+    if not math.isfinite(x):
+        raise bad
+    return x
 
 
 def _elements(table: Mapping[str, Any], where: str) -> dict[str, float]:
@@ -128,10 +136,12 @@ def with_orbits(raw: list[Any], defaults: Mapping[str, Any], units: UnitSystem
                              f"orbital elements, got {merged.get('mass')!r}")
         names[str(body.get("name", f"b{k}"))] = k
         if not any(key in body for key in ELEMENT_KEYS):
-            r = np.array([_float(x, f"{where}.r") for x in body.get("r", (0, 0, 0))])
-            p = np.array([_float(x, f"{where}.p") for x in body.get("p", (0, 0, 0))])
-            if r.shape != (3,) or p.shape != (3,):
+            r_raw, p_raw = body.get("r", (0, 0, 0)), body.get("p", (0, 0, 0))
+            if not (isinstance(r_raw, (list, tuple)) and isinstance(p_raw, (list, tuple))
+                    and len(r_raw) == 3 and len(p_raw) == 3):
                 return raw  # the schema names the error
+            r = np.array([_float(x, f"{where}.r") for x in r_raw])
+            p = np.array([_float(x, f"{where}.p") for x in p_raw])
             masses.append(mass)
             states.append((r, p / mass))
             out.append(body)

@@ -33,7 +33,7 @@ JSON_TEXTS = [json.dumps({"dim": 3, "bivector": {"1,2": "x3", "1,3": "-x2", "2,3
                          indent=1),
               json.dumps({"coords": ["a", "b", "c", "d"], "params": ["k"],
                           "bivector": {"1,2": "k*c", "3,4": "a"}}, indent=1)]
-TOML_TEXTS = {p.name: p.read_text() for p in sorted((ROOT / "poissonkit/scenes").glob("*.toml"))}
+TOML_TEXTS = {p.name: p.read_text() for p in sorted((ROOT / "poissonkit/scene/shipped").glob("*.toml"))}
 
 
 def _nesting(draw, opener: str, closer: str) -> str:

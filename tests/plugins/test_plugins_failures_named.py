@@ -106,7 +106,7 @@ def test_misspelt_hooks_are_warnings_never_fatal(site, capsys):
     assert cli_main(["plugins"]) == 0
     out = capsys.readouterr().out
     block = out.split("pk_typo 1.0 (pk-typo)", 1)[1]
-    assert block.startswith("  [2 WARNINGS]")
+    assert block.startswith(" [plugin API unversioned]  [2 WARNINGS]")
     assert "    warning: unknown hook 'poissonkit_assembly' is ignored" in block
     assert cli_main(["plugins", "--json"]) == 0
     listed = {r["name"]: r for r in json.loads(capsys.readouterr().out)}
