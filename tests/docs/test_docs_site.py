@@ -45,12 +45,20 @@ def _env() -> dict[str, str]:
     return env
 
 
-def build_site(dest: Path) -> subprocess.CompletedProcess:
-    """``mkdocs build --strict`` of the project into ``dest``."""
+def build_site(dest: Path, execute: bool = False) -> subprocess.CompletedProcess:
+    """``mkdocs build --strict`` of the project into ``dest``.
+
+    ``execute=False`` renders the tutorial notebooks from their stored outputs (the notebook
+    tests execute them); the user's build, and ``execute=True``, runs them afresh (with an
+    empty notebook cache beside ``dest``, so that nothing is taken from an earlier build).
+    """
+    env = _env() | {"POISSONKIT_DOCS_EXECUTE": "true" if execute else "false",
+                    "POISSONKIT_DOCS_CACHE_DIR": str(dest.parent / "notebook-cache")}
     # no -q: it raises mkdocs' log level, so strict mode no longer sees the warnings it counts
     return subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict",
                            "-f", str(ROOT / "mkdocs.yml"), "-d", str(dest)],
-                          cwd=ROOT, env=_env(), capture_output=True, text=True, timeout=300)
+                          cwd=ROOT, env=env, capture_output=True, text=True,
+                          timeout=1200 if execute else 300)
 
 
 @pytest.fixture(scope="module")
@@ -168,3 +176,18 @@ def test_built_pages_render_in_a_browser(site, tmp_path, page, title, needle):
     body = re.sub(r"<script.*?</script>", "", dom, flags=re.S)
     for bad in ("Traceback", "404 - Not found", "Could not collect", "ERROR"):
         assert bad not in body, bad
+
+
+@pytest.mark.slow
+def test_the_users_docs_build_executes_the_notebooks(tmp_path):
+    """Without the test's switch the build executes every notebook in a fresh kernel."""
+    mkyml = (ROOT / "mkdocs.yml").read_text(encoding="utf-8")
+    assert "execute: !ENV [POISSONKIT_DOCS_EXECUTE, true]" in mkyml
+    done = build_site(tmp_path / "site", execute=True)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert "Cache hit" not in done.stdout + done.stderr
+    for name in ("brackets", "magnets", "planets"):
+        page = (tmp_path / "site" / "notebooks" / name / "index.html").read_text(encoding="utf-8")
+        assert "Traceback" not in page, name
+    assert "Casimirs up to degree 2" in (tmp_path / "site" / "notebooks" / "brackets"
+                                         / "index.html").read_text(encoding="utf-8")
