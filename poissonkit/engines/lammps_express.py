@@ -184,9 +184,9 @@ def _collect(system: NBodySystem) -> _Collected:
     for term in system.interactions:
         pot = _entry(term)
         if pot.name not in PAIR_STYLES:
-            why = NO_STYLE.get(pot.name, "it has no LAMMPS pair style mapped here")
-            raise NotExpressible(f"pair potential {pot.name!r}: {why} (mapped: "
-                                 f"{', '.join(PAIR_STYLES)})")
+            why = NO_STYLE.get(pot.name, "none is mapped to it here")
+            raise NotExpressible(f"pair potential {pot.name!r} has no LAMMPS pair style ({why}; "
+                                 f"mapped: {', '.join(PAIR_STYLES)})")
         pairs, members, every = _pairs_of(system, term)
         _check_formula(system, term, pot, members)
         got.pairs.setdefault(pot.name, set()).update(pairs)
