@@ -20,8 +20,14 @@ from pathlib import Path
 import numpy as np
 
 from poissonkit.engines.lammps_express import NotExpressible, lammps_bodies
-from poissonkit.engines.lammps_input import (DUMP_COLUMNS, POINT_COLUMNS, dump_columns,
-                                             read_dump, write_data, write_input)
+from poissonkit.engines.lammps_input import (
+    DUMP_COLUMNS,
+    POINT_COLUMNS,
+    dump_columns,
+    read_dump,
+    write_data,
+    write_input,
+)
 from poissonkit.engines.lammps_runtime import load_lammps, mpirun, worker_env
 from poissonkit.errors import InputError, IntegrationError
 from poissonkit.numerics.nbody import NBodySystem

@@ -28,12 +28,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from functools import partial
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
-from poissonkit.conventions import MU0, NEWTON_G
+from poissonkit.conventions import MU0
 from poissonkit.errors import InputError
 from poissonkit.numerics.nbody import NBodySystem
 from poissonkit.numerics.nbody.bodies import AllPairs, Interaction
@@ -188,7 +188,8 @@ def _collect(system: NBodySystem) -> _Collected:
             raise NotExpressible(f"pair potential {pot.name!r} has no LAMMPS pair style ({why}; "
                                  f"mapped: {', '.join(PAIR_STYLES)})")
         pairs, members, every = _pairs_of(system, term)
-        _check_formula(system, term, pot, members)
+        if pot.name not in got.pairs:  # the energy's form, once per potential
+            _check_formula(system, term, pot, members)
         got.pairs.setdefault(pot.name, set()).update(pairs)
         if every:
             got.every.add(pot.name)
@@ -327,7 +328,8 @@ def _lammps_energy(name: str, value: Callable[[str], float], r: float, c1: float
 def _check_formula(system: NBodySystem, term: AllPairs | Interaction, pot: PairPotential,
                    members: list[int]) -> None:
     """:class:`NotExpressible` unless the registered energy of ``pot`` is the LAMMPS formula
-    (to 1e-12, at :data:`_SAMPLES`, with the first pair's parameters)."""
+    (to 1e-12, at :data:`_SAMPLES`, with the parameters of the pair of ``members[0]`` and
+    ``members[1]`` of ``term``)."""
     import sympy as sp
 
     if pot.expr is None:
@@ -338,7 +340,7 @@ def _check_formula(system: NBodySystem, term: AllPairs | Interaction, pot: PairP
     for p in pot.params:
         try:
             params[p.name] = _value(system, term, pot, p.name, j if p.name.endswith("2") else i)
-        except (InputError, TypeError):  # noqa: PERF203 - a parameter the formula may not use
+        except (InputError, TypeError):  # a parameter the formula may not use
             continue
 
     def value(name: str) -> float:

@@ -157,7 +157,7 @@ def test_a_short_run_agrees_with_poissonkit_within_the_integrators_error(spheres
 def test_the_summary_is_written_once_naming_lammps_with_its_setup_time(tmp_path, capsys,
                                                                       monkeypatch):
     _lammps_or_skip()
-    import poissonkit.report as report
+    from poissonkit import report
 
     written = []
     real = report.write_summary
