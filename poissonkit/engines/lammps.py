@@ -206,7 +206,8 @@ def run_lammps(built: BuiltScene | RunSpec, duration: float, step: float, ranks:
 
 def lammps_forces(system: NBodySystem, y: np.ndarray, ranks: int = 1
                   ) -> tuple[np.ndarray, np.ndarray]:
-    """LAMMPS's forces [N] and torques [N m] on every body at state ``y`` (internal units).
+    """LAMMPS's forces [N] and torques [N m] on every body at state ``y`` (internal units);
+    the torques are zero for point masses, as poissonkit's.
 
     Raises
     ------

@@ -34,7 +34,7 @@ from functools import partial
 import numpy as np
 
 from poissonkit.conventions import MU0
-from poissonkit.errors import InputError
+from poissonkit.errors import InputError, UnknownNameError
 from poissonkit.numerics.nbody import NBodySystem
 from poissonkit.numerics.nbody.bodies import AllPairs, Interaction
 from poissonkit.plugin.contributions import PairPotential
@@ -113,7 +113,10 @@ def _entry(term: AllPairs | Interaction) -> PairPotential:
     if isinstance(pot, PairPotential):
         return pot
     if isinstance(pot, str):
-        return registry.potential(pot)
+        try:
+            return registry.potential(pot)
+        except UnknownNameError as exc:  # a plugin that has gone since the system was built
+            raise NotExpressible(str(exc)) from None
     raise NotExpressible("a pair potential given as an expression or a compiled kernel has no "
                          "LAMMPS pair style (give a registered potential by name)")
 
@@ -159,22 +162,18 @@ class _Collected:
     strength: dict[str, np.ndarray]
     prefactor: dict[str, float]
     lj: tuple[float, float] | None
-    pairs: dict[str, set[tuple[int, int]]]
-    every: set[str]
+    groups: dict[str, list[list[int]]]  # the bodies of each term (a listed pair: two)
+    every: set[str]  # potentials with a term joining every body
 
 
-def _pairs_of(system: NBodySystem, term: AllPairs | Interaction
-              ) -> tuple[list[tuple[int, int]], list[int], bool]:
-    """``(listed pairs, members, joins every body)`` of a term."""
-    n = len(system.bodies)
+def _members(system: NBodySystem, term: AllPairs | Interaction) -> list[int]:
+    """The bodies a term joins: all its members, or the pair ``(i, j)``."""
     index = {b.name: k for k, b in enumerate(system.bodies)}
     if isinstance(term, AllPairs):
-        members = list(range(n)) if term.members is None else [
-            m if isinstance(m, int) else index[m] for m in term.members]
-        pairs = [(a, b) for x, a in enumerate(members) for b in members[x + 1:]]
-        return pairs, members, len(set(members)) == n
-    i, j = (x if isinstance(x, int) else index[x] for x in (term.i, term.j))
-    return [(min(i, j), max(i, j))], [i, j], False
+        if term.members is None:
+            return list(range(len(system.bodies)))
+        return [m if isinstance(m, int) else index[m] for m in term.members]
+    return [x if isinstance(x, int) else index[x] for x in (term.i, term.j)]
 
 
 def _collect(system: NBodySystem) -> _Collected:
@@ -187,11 +186,11 @@ def _collect(system: NBodySystem) -> _Collected:
             why = NO_STYLE.get(pot.name, "none is mapped to it here")
             raise NotExpressible(f"pair potential {pot.name!r} has no LAMMPS pair style ({why}; "
                                  f"mapped: {', '.join(PAIR_STYLES)})")
-        pairs, members, every = _pairs_of(system, term)
-        if pot.name not in got.pairs:  # the energy's form, once per potential
+        members = _members(system, term)
+        if pot.name not in got.groups:  # the energy's form, once per potential
             _check_formula(system, term, pot, members)
-        got.pairs.setdefault(pot.name, set()).update(pairs)
-        if every:
+        got.groups.setdefault(pot.name, []).append(members)
+        if isinstance(term, AllPairs) and len(set(members)) == n:
             got.every.add(pot.name)
         scalar = partial(_value, system, term, pot, k=members[0])
         if pot.name == "lennard_jones":
@@ -219,10 +218,15 @@ def _collect(system: NBodySystem) -> _Collected:
 
 
 def _check_complete(system: NBodySystem, got: _Collected) -> None:
-    """Every potential joins every pair of bodies (LAMMPS applies a style to all pairs)."""
+    """Every potential joins every pair of bodies (LAMMPS applies a style to all pairs); the
+    pairs are listed only for a potential without a term over every body."""
     n = len(system.bodies)
-    for name, pairs in got.pairs.items():
-        if name not in got.every and len(pairs) != n * (n - 1) // 2:
+    for name, groups in got.groups.items():
+        if name in got.every:
+            continue
+        pairs = {(min(a, b), max(a, b)) for g in groups for x, a in enumerate(g)
+                 for b in g[x + 1:] if a != b}
+        if len(pairs) != n * (n - 1) // 2:
             raise NotExpressible(f"some pairs of bodies do not interact through {name!r}: "
                                  "LAMMPS applies the pair style to every pair of atoms")
 

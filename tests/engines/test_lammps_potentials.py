@@ -6,6 +6,9 @@ magnetic or electric point dipoles) forces and torques against poissonkit's on t
 random state, and its velocity-Verlet runs against a converged poissonkit run. Lennard-Jones
 and the electric dipoles are the example plugin's (``examples/external_plugin``): those tests
 are skipped, saying so, where it is not installed; the LAMMPS ones where LAMMPS is absent.
+The default suite keeps gravity and the refusals; the other mappings and the runs are marked
+slow (each compiles poissonkit's kernels of a new potential combination first):
+``pytest -m slow tests/engines/``.
 """
 
 from __future__ import annotations
@@ -96,6 +99,7 @@ def test_gravity_forces_equal_poissonkits_and_newtons():
     assert np.abs(f - newton.sum(axis=1)).max() <= 1e-12 * np.abs(f).max()
 
 
+@pytest.mark.slow  # compiles poissonkit's kernels of new potentials: 30-75 s cold
 def test_lennard_jones_of_point_masses_alone_and_beside_gravity():
     _lammps_or_skip()
     _example_plugin_or_skip()
@@ -106,6 +110,7 @@ def test_lennard_jones_of_point_masses_alone_and_beside_gravity():
         _assert_same_forces(system, system.pack(POS, VEL))
 
 
+@pytest.mark.slow  # compiles poissonkit's kernels of new potentials: 30-75 s cold
 def test_lennard_jones_beside_magnetic_dipoles_of_different_moments():
     _lammps_or_skip()
     _example_plugin_or_skip()
@@ -114,6 +119,7 @@ def test_lennard_jones_beside_magnetic_dipoles_of_different_moments():
         _assert_same_forces(system, system.pack(POS, VEL * 1e-3, AXES, SPIN))
 
 
+@pytest.mark.slow  # compiles poissonkit's kernels of new potentials: 30-75 s cold
 def test_electric_point_dipoles_alone_and_beside_lennard_jones():
     _lammps_or_skip()
     _example_plugin_or_skip()
@@ -143,6 +149,7 @@ def _converges(spec: RunSpec) -> None:
     assert err_a <= 1.5 * (4 / 3) * np.abs(a - b).max() and err_a < 1e-3 * moved
 
 
+@pytest.mark.slow  # compiles poissonkit's kernels of new potentials: 30-75 s cold
 def test_a_gravitating_lennard_jones_cluster_runs_as_in_poissonkit():
     _lammps_or_skip()
     _example_plugin_or_skip()
@@ -154,6 +161,7 @@ def test_a_gravitating_lennard_jones_cluster_runs_as_in_poissonkit():
     _converges(RunSpec("cluster", system, y0, t_end=100.0, method="splitting4", step=1.0))
 
 
+@pytest.mark.slow  # compiles poissonkit's kernels of new potentials: 30-75 s cold
 def test_dipoles_with_lennard_jones_run_as_in_poissonkit():
     _lammps_or_skip()
     _example_plugin_or_skip()
@@ -203,3 +211,17 @@ def test_a_potential_registered_under_a_mapped_name_with_another_energy_is_refus
         orientation="none", body_params=(("mass1", "mass", 1), ("mass2", "mass", 2)))
     ok, why = can_express(_Built(_points(AllPairs(softened))))
     assert not ok and "another energy than LAMMPS's coul/cut" in why
+
+
+@pytest.mark.slow
+def test_a_gravitating_cluster_on_two_ranks_equals_one_rank_to_round_off():
+    _lammps_or_skip()
+    from poissonkit.engines import run_lammps
+
+    system = _points(AllPairs("gravity"))
+    spec = RunSpec("cluster", system, system.pack(LATTICE, np.zeros((N, 3))), t_end=100.0,
+                   method="splitting4", step=1.0)
+    one = run_lammps(spec, spec.t_end, 1.0, ranks=1)
+    two = run_lammps(spec, spec.t_end, 1.0, ranks=2)
+    assert two.extra["ranks"] == 2 and two.method == "lammps nve"
+    assert np.abs(one.y - two.y).max() <= 1e-12 * np.abs(one.y).max()
