@@ -218,14 +218,21 @@ def _collect(system: NBodySystem) -> _Collected:
 
 
 def _check_complete(system: NBodySystem, got: _Collected) -> None:
-    """Every potential joins every pair of bodies (LAMMPS applies a style to all pairs); the
-    pairs are listed only for a potential without a term over every body."""
+    """Every potential joins every pair of bodies once (LAMMPS applies a style once to every
+    pair); the pairs are listed only for a potential without a term over every body."""
     n = len(system.bodies)
     for name, groups in got.groups.items():
+        counted = sum(len(g) * (len(g) - 1) // 2 for g in groups)
+        if counted > n * (n - 1) // 2 or (name in got.every and len(groups) > 1):
+            raise NotExpressible(f"some pairs of bodies interact twice through {name!r}: "
+                                 "LAMMPS applies the pair style once to each pair of atoms")
         if name in got.every:
             continue
         pairs = {(min(a, b), max(a, b)) for g in groups for x, a in enumerate(g)
                  for b in g[x + 1:] if a != b}
+        if len(pairs) != counted:
+            raise NotExpressible(f"some pairs of bodies interact twice through {name!r}: "
+                                 "LAMMPS applies the pair style once to each pair of atoms")
         if len(pairs) != n * (n - 1) // 2:
             raise NotExpressible(f"some pairs of bodies do not interact through {name!r}: "
                                  "LAMMPS applies the pair style to every pair of atoms")

@@ -188,6 +188,17 @@ def test_a_potential_without_a_lammps_style_is_refused_with_the_reason():
     assert not ok and "magnetic and electric point dipoles" in why
 
 
+def test_pairs_joined_twice_or_not_at_all_by_a_potential_are_refused():
+    from poissonkit.engines import can_express
+
+    ok, why = can_express(_Built(_points(AllPairs("gravity"), AllPairs("gravity"))))
+    assert not ok and "interact twice through 'gravity'" in why
+    ok, why = can_express(_Built(_tops(*_dipole_pairs(), _dipole_pairs()[0])))
+    assert not ok and "interact twice through 'dipole'" in why
+    ok, why = can_express(_Built(_tops(*_dipole_pairs()[1:])))
+    assert not ok and "do not interact through 'dipole'" in why
+
+
 def test_gravity_beside_dipoles_and_tops_without_dipoles_are_refused():
     from poissonkit.engines import can_express
 
