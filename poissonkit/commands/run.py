@@ -523,7 +523,9 @@ def _report(args: argparse.Namespace, spec: RunSpec, sol: Solution, out: Path, p
         shown.append("max |Δj|/(Σ|r×p|+Σ|m|) = "
                      f"{summary['max_rel_angular_momentum_drift']:.2e}")
     print(f"{spec.name}: {summary['method']}, {summary['steps']} steps in {wall:.3g} s; "
-          + ", ".join(shown) + f" (compilation {compile_time:.3g} s)")
+          + ", ".join(shown) + (f" (compilation {compile_time:.3g} s)" if "engine" not in summary
+                                else f" ({summary['engine']}, MPI ranks: {summary['ranks']}, "
+                                     f"setup {summary['setup_time_s']:.3g} s)"))
     print(f"wrote {', '.join(str(out / f) for f in done.files)}"
           + (f", {', '.join(done.figures)}" if done.figures else ""), file=sys.stdout)
     outcome = summary.get("outcome")

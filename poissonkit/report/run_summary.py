@@ -65,6 +65,13 @@ def summary_document(spec: RunSpec, sol: Solution, *, wall: float, compile_time:
         summary.update(energy_reference_J=summary["energy_reference"] * float(scales.energy),
                        max_abs_energy_error_J=summary["max_abs_energy_error"]
                        * float(scales.energy))
+    engine = sol.extra.get("engine")
+    if engine is not None:  # run by another engine (docs/lammps.md): nothing was compiled
+        summary.update(engine=engine, ranks=sol.extra.get("ranks"), compile_time_s=None,
+                       setup_time_s=float(sol.extra.get("setup_time_s", 0.0)),
+                       wall_time_note=f"{engine}'s own loop time of the steps; setup_time_s is "
+                                      "the rest (starting its ranks, reading the data and the "
+                                      "trajectory); no kernel is compiled")
     summary["units_note"] = ("absolute figures and references are in internal units (the "
                              "scene's scales: parameters.scales); *_J in joules")
     if sol.extra.get("failure"):

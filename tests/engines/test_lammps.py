@@ -154,6 +154,27 @@ def test_a_short_run_agrees_with_poissonkit_within_the_integrators_error(spheres
     assert err_a <= 1.5 * (4 / 3) * np.abs(a - b).max() and err_a < 1e-4 * moved
 
 
+def test_the_summary_is_written_once_naming_lammps_with_its_setup_time(tmp_path, capsys,
+                                                                      monkeypatch):
+    _lammps_or_skip()
+    from poissonkit import report
+
+    written = []
+    real = report.write_summary
+    monkeypatch.setattr(report, "write_summary", lambda path, doc: (written.append(dict(doc)),
+                                                                    real(path, doc)))
+    out = tmp_path / "one"
+    assert cli.main(["run", "dipolar_spheres", "--engine", "lammps", "--out", str(out),
+                     "--no-progress", "--no-plots"]) == 0
+    printed = capsys.readouterr().out
+    s = json.loads((out / "summary.json").read_text())
+    assert len(written) == 1 and written[0]["engine"] == "lammps"
+    assert s["engine"] == "lammps" and s["ranks"] == 1 and s["steps"] == 100
+    # nothing is compiled: no compile time, LAMMPS's setup time instead (starting a process)
+    assert s["compile_time_s"] is None and s["setup_time_s"] > 0 and s["wall_time_s"] > 0
+    assert "lammps, MPI ranks: 1, setup" in printed and "compilation" not in printed
+
+
 @pytest.mark.slow
 def test_two_ranks_equal_one_rank_to_round_off(spheres):
     _lammps_or_skip()
@@ -161,7 +182,7 @@ def test_two_ranks_equal_one_rank_to_round_off(spheres):
 
     one = run_lammps(spheres, spheres.t_end, spheres.step, ranks=1)
     two = run_lammps(spheres, spheres.t_end, spheres.step, ranks=2)
-    assert two.extra == {"engine": "lammps", "ranks": 2}
+    assert two.extra["engine"] == "lammps" and two.extra["ranks"] == 2
     np.testing.assert_array_equal(one.t, two.t)
     assert np.abs(one.y - two.y).max() <= 1e-12 * np.abs(one.y).max()
 
