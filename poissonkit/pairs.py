@@ -20,6 +20,7 @@ import numpy as np
 
 from poissonkit.errors import InputError, UnknownNameError
 from poissonkit.plugin.contributions import ModelFamily, PairPotential
+from poissonkit.validation import vector3
 
 
 class OverlapError(InputError):
@@ -63,14 +64,7 @@ MAX_COMPONENT = 1e150
 
 
 def _vector(name: str, value: object) -> np.ndarray:
-    try:
-        v = np.asarray(value, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a 3-vector of numbers, got {value!r}") from None
-    if v.shape != (3,):
-        raise InputError(f"{name} must be a 3-vector, got shape {np.shape(value)}")
-    if not np.all(np.isfinite(v)):
-        raise InputError(f"{name} must be finite, got {value!r}")
+    v = vector3(value, name)
     if np.max(np.abs(v)) > MAX_COMPONENT:  # its square would overflow in every norm below
         raise InputError(f"{name} has a component of magnitude {np.max(np.abs(v)):.3g}, more "
                          f"than {MAX_COMPONENT:.0e}")

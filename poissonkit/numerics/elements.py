@@ -24,6 +24,7 @@ the node (REBOUND's conventions).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -100,6 +101,25 @@ def eccentric_anomaly(M: np.ndarray | float, e: np.ndarray | float) -> np.ndarra
     return out
 
 
+def _bracketed_newton(x: np.ndarray, lo: np.ndarray, hi: np.ndarray,
+                      residual: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+                      ) -> np.ndarray:
+    """The root of an increasing ``g`` inside ``[lo, hi]`` from ``x``, elementwise: Newton steps
+    (``residual(x) = (g, g')``) that keep the bracket, bisection where a step leaves it."""
+    for _ in range(_MAX_ITER):
+        g, dg = residual(x)
+        lo = np.where(g < 0, x, lo)
+        hi = np.where(g > 0, x, hi)
+        new = x - g / dg
+        outside = ~((new > lo) & (new < hi)) | ~np.isfinite(new)
+        new = np.where(outside, 0.5 * (lo + hi), new)
+        done = np.abs(new - x) <= 4e-16 * np.maximum(1.0, np.abs(x))
+        x = new
+        if np.all(done):
+            break
+    return x
+
+
 def _elliptic(M: np.ndarray, e: np.ndarray) -> np.ndarray:
     """``E`` with ``E - e sin E = M`` for ``0 <= e < 1``; Newton inside ``[m - e, m + e]``
     (``m`` = ``M`` reduced to ``(-π, π]``, where ``E - M`` has the sign of ``m``)."""
@@ -108,18 +128,7 @@ def _elliptic(M: np.ndarray, e: np.ndarray) -> np.ndarray:
     lo = np.where(m >= 0, m, m - e)
     hi = np.where(m >= 0, m + e, m)
     E = np.clip(m + 0.85 * e * np.sign(m), lo, hi)  # Danby (1987)
-    for _ in range(_MAX_ITER):
-        g = E - e * np.sin(E) - m
-        lo = np.where(g < 0, E, lo)
-        hi = np.where(g > 0, E, hi)
-        step = g / (1.0 - e * np.cos(E))
-        new = E - step
-        outside = ~((new > lo) & (new < hi)) | ~np.isfinite(new)
-        new = np.where(outside, 0.5 * (lo + hi), new)
-        done = np.abs(new - E) <= 4e-16 * np.maximum(1.0, np.abs(E))
-        E = new
-        if np.all(done):
-            break
+    E = _bracketed_newton(E, lo, hi, lambda x: (x - e * np.sin(x) - m, 1.0 - e * np.cos(x)))
     return E + turns * TWO_PI
 
 
@@ -131,17 +140,7 @@ def _hyperbolic(M: np.ndarray, e: np.ndarray) -> np.ndarray:
     lo = np.zeros_like(m)
     hi = np.arcsinh(m / (e - 1.0)) + 1.0
     H = np.clip(np.arcsinh(m / e), lo, hi)
-    for _ in range(_MAX_ITER):
-        g = e * np.sinh(H) - H - m
-        lo = np.where(g < 0, H, lo)
-        hi = np.where(g > 0, H, hi)
-        new = H - g / (e * np.cosh(H) - 1.0)
-        outside = ~((new > lo) & (new < hi)) | ~np.isfinite(new)
-        new = np.where(outside, 0.5 * (lo + hi), new)
-        done = np.abs(new - H) <= 4e-16 * np.maximum(1.0, np.abs(H))
-        H = new
-        if np.all(done):
-            break
+    H = _bracketed_newton(H, lo, hi, lambda x: (e * np.sinh(x) - x - m, e * np.cosh(x) - 1.0))
     return s * H
 
 

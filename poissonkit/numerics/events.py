@@ -51,8 +51,31 @@ def _time_tol(value: object, what: str) -> float | None:
     return None if value is None else positive_number(value, f"{what} time_tol")
 
 
+class _CentreDistanceEvent:
+    """What :class:`Collision` and :class:`ClosestApproach` share: both watch the smallest
+    centre distance against ``distance`` (checked positive, as is ``time_tol``)."""
+
+    distance: float
+    time_tol: float | None
+
+    def __post_init__(self) -> None:
+        what = type(self).__name__  # names the event in messages: "Collision distance ..."
+        object.__setattr__(self, "distance", positive_number(self.distance, f"{what} distance"))
+        object.__setattr__(self, "time_tol", _time_tol(self.time_tol, what))
+
+    @property
+    def watch(self) -> float:
+        """Centre distance below which the compiled loop hands the step to the locator (and
+        the grazing test looks for a dip)."""
+        return self.distance
+
+    def value(self, system: HasCompiledKernels, y: np.ndarray) -> float:
+        """``g(y)``: smallest centre distance minus ``distance`` (negative inside)."""
+        return centre_distance(system, y) - self.distance
+
+
 @dataclass(frozen=True)
-class Collision:
+class Collision(_CentreDistanceEvent):
     """Fires when two bodies' centres come closer than ``distance`` (internal length unit).
 
     Parameters
@@ -70,19 +93,6 @@ class Collision:
     time_tol: float | None = None
     kind = "collision"
     terminal = True
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "distance", positive_number(self.distance, "Collision distance"))
-        object.__setattr__(self, "time_tol", _time_tol(self.time_tol, "Collision"))
-
-    @property
-    def watch(self) -> float:
-        """Centre distance below which the compiled loop hands the step to the locator."""
-        return self.distance
-
-    def value(self, system: HasCompiledKernels, y: np.ndarray) -> float:
-        """``g(y)``: smallest centre distance minus ``distance``."""
-        return centre_distance(system, y) - self.distance
 
 
 @dataclass(frozen=True)
@@ -248,7 +258,7 @@ class Escape:
 
 
 @dataclass(frozen=True)
-class ClosestApproach:
+class ClosestApproach(_CentreDistanceEvent):
     """Records (does not stop at) each local minimum of the smallest centre distance below
     ``distance``, located to ``time_tol``."""
 
@@ -257,19 +267,6 @@ class ClosestApproach:
     kind = "closest_approach"
     terminal = False
     error = False
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "distance", positive_number(self.distance, "ClosestApproach distance"))
-        object.__setattr__(self, "time_tol", _time_tol(self.time_tol, "ClosestApproach"))
-
-    @property
-    def watch(self) -> float:
-        """Centre distance watched by the grazing test."""
-        return self.distance
-
-    def value(self, system: HasCompiledKernels, y: np.ndarray) -> float:
-        """Smallest centre distance minus ``distance`` (negative inside the watched zone)."""
-        return centre_distance(system, y) - self.distance
 
 
 Event = Collision | Contact | Escape | ClosestApproach

@@ -50,12 +50,36 @@ def two_tops_hamiltonian():
         name="two_tops_hamiltonian", doc="Seed 000 (19)/(20), generic U(r, c', c'', c''')")
 
 
-def _deformed(name: str):
+def _deformed(name: str, **preset: object):
+    """The builder of :mod:`poissonkit.structure.deformed`'s ``name`` (imported when built),
+    with the keywords ``preset``."""
     def build(**kw):
         from poissonkit.structure import deformed
 
-        return getattr(deformed, name)(**kw)
+        return getattr(deformed, name)(**preset, **kw)
     return build
+
+
+#: The survey's deformed brackets with symbolic parameters: registered name, description, the
+#: function of :mod:`poissonkit.structure.deformed` and the keywords it is built with.
+_SURVEY: tuple[tuple[str, str, str, dict[str, None]], ...] = (
+    ("p_gf_bracket", "Survey (22)/(23): P_{g,f} with undefined g(gamma), f(gamma).", "p_gf",
+     {"g": None, "f": None}),
+    ("p_gf_phi_bracket", "P_{g,f} plus Remark 5's phi(gamma) term, all three functions undefined.",
+     "p_gf", {"g": None, "f": None, "phi": None}),
+    ("chaplygin_ball_bracket",
+     "Survey (38)/(39): P_g with g = sqrt(1 - d(gamma, A gamma)), symbolic I, d.", "chaplygin_ball",
+     {}),
+    ("chaplygin_gyrostat_bracket", "Survey (49): P_sg, the Chaplygin ball with gyrostat S (symbolic).",
+     "chaplygin_gyrostat", {}),
+    ("veselova_bracket", "Survey (65): Veselova bracket P_v in (gamma, K), b = (gamma, K).",
+     "veselova", {}),
+    ("veselova_gyrostat_bracket", "Survey (70): Veselova gyrostat bracket P_k in (gamma, K), rotor k.",
+     "veselova_gyrostat", {}),
+    ("canonical_deformation",
+     "Survey (42): {q_i, p_j} = g(q) delta_ij, {p_i, p_j} = p_i d_j g - p_j d_i g.",
+     "canonical_deformation", {}),
+)
 
 
 @hookimpl
@@ -77,28 +101,8 @@ def poissonkit_systems() -> list[SystemEntry]:
         SystemEntry("two_tops_hamiltonian",
                     "Seed 000 (19)/(20): two tops, generic U(r,c',c'',c'''), Casimirs and j claimed.",
                     build=two_tops_hamiltonian, tags=("seed000", "system")),
-        SystemEntry("p_gf_bracket",
-                    "Survey (22)/(23): P_{g,f} with undefined g(gamma), f(gamma).",
-                    build=lambda: _deformed("p_gf")(g=None, f=None), tags=("seed001", "deformed")),
-        SystemEntry("p_gf_phi_bracket",
-                    "P_{g,f} plus Remark 5's phi(gamma) term, all three functions undefined.",
-                    build=lambda: _deformed("p_gf")(g=None, f=None, phi=None),
-                    tags=("seed001", "deformed")),
-        SystemEntry("chaplygin_ball_bracket",
-                    "Survey (38)/(39): P_g with g = sqrt(1 - d(gamma, A gamma)), symbolic I, d.",
-                    build=_deformed("chaplygin_ball"), tags=("seed001", "deformed")),
-        SystemEntry("chaplygin_gyrostat_bracket",
-                    "Survey (49): P_sg, the Chaplygin ball with gyrostat S (symbolic).",
-                    build=_deformed("chaplygin_gyrostat"), tags=("seed001", "deformed")),
-        SystemEntry("veselova_bracket",
-                    "Survey (65): Veselova bracket P_v in (gamma, K), b = (gamma, K).",
-                    build=_deformed("veselova"), tags=("seed001", "deformed")),
-        SystemEntry("veselova_gyrostat_bracket",
-                    "Survey (70): Veselova gyrostat bracket P_k in (gamma, K), rotor k.",
-                    build=_deformed("veselova_gyrostat"), tags=("seed001", "deformed")),
-        SystemEntry("canonical_deformation",
-                    "Survey (42): {q_i, p_j} = g(q) delta_ij, {p_i, p_j} = p_i d_j g - p_j d_i g.",
-                    build=_deformed("canonical_deformation"), tags=("seed001", "deformed")),
+        *(SystemEntry(name, doc, build=_deformed(function, **preset), tags=("seed001", "deformed"))
+          for name, doc, function, preset in _SURVEY),
         SystemEntry("chaplygin_ball_numeric_bracket",
                     "P_g of the Chaplygin ball with numeric I = (I1, I2, I3) and d.",
                     params=(Param("I", "vector", "principal moments (kg m^2)", (1.0, 2.0, 3.0)),

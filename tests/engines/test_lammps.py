@@ -12,6 +12,7 @@ import json
 
 import numpy as np
 import pytest
+from scene_texts import GRAVITY, magnet_scene  # type: ignore[import-not-found]
 
 from poissonkit import cli
 from poissonkit.errors import MissingDependencyError
@@ -86,31 +87,16 @@ def test_forces_and_torques_equal_poissonkits_on_the_same_state(spheres):
     assert np.abs(t - tp).max() <= 1e-12 * np.abs(tp).max()
 
 
-FIELDS_SCENE = """
-name = "spheres_in_fields"
-[defaults]
-mass = 4.909e-4
-inertia = 1.2272e-9
-moment = 0.06545
-[[bodies]]
-name = "a"
-r = [0.0, 0.0, 0.0]
-nu = [0.6, 0.0, 0.8]
-[[bodies]]
-name = "b"
-r = [0.02, 0.005, 0.0]
-nu = [0.0, 1.0, 0.0]
-[[bodies]]
-name = "c"
-r = [0.0, 0.025, 0.01]
-nu = [0.0, 0.6, -0.8]
-[interactions]
+FIELDS_SCENE = magnet_scene(
+    "spheres_in_fields",
+    ("a", "[0.0, 0.0, 0.0]", "[0.6, 0.0, 0.8]"),
+    ("b", "[0.02, 0.005, 0.0]", "[0.0, 1.0, 0.0]"),
+    ("c", "[0.0, 0.025, 0.01]", "[0.0, 0.6, -0.8]"),
+    defaults="[defaults]\nmass = 4.909e-4\ninertia = 1.2272e-9\nmoment = 0.06545\n"
+) + """[interactions]
 potential = "dipole"
 pairs = "all"
-[[fields]]
-source = "gravity"
-g = [0.0, 0.0, -9.81]
-[[fields]]
+""" + GRAVITY + """[[fields]]
 source = "uniform"
 B = [0.001, -0.002, 0.003]
 [run]

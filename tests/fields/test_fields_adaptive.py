@@ -4,13 +4,12 @@ magpylib CylinderSegment run from an adaptive table at tol = 1e-5."""
 
 from __future__ import annotations
 
-import json
 
 import magpylib as magpy
 import numpy as np
 import pytest
+from scene_texts import run_scene, top_scene  # type: ignore[import-not-found]
 
-from poissonkit.cli import main as cli_main
 from poissonkit.numerics.fields.octree import evaluate, octree_table
 from poissonkit.numerics.fields.solids import Solid
 from poissonkit.numerics.fields.tabulated import tabulated_field
@@ -86,42 +85,16 @@ def test_a_uniform_table_that_fits_stays_uniform():
     assert "adaptive" not in f.info and f.info["nodes"] <= 300_000
 
 
-SCENE = """
-name = "top_over_cylinder_segment"
-
-[[bodies]]
-name = "top"
-mass = 0.02
-inertia = 2.0e-6
-moment = 0.1
-r = [0.0, 0.0, 0.03]
-nu = [0.0, 0.0, -1.0]
-m = [0.0, 0.0, -2.0e-4]
-
-[[fields]]
-source = "magpylib"
-class = "CylinderSegment"
-params = { polarization = [0.0, 0.0, 1.0], dimension = [0.005, 0.025, 0.01, 0.0, 360.0] }
-tol = 1e-5
-
-[[fields]]
-source = "gravity"
-g = [0.0, 0.0, -9.81]
-
-[run]
-method = "splitting6"
-step = 2e-4
-duration = 0.05
-"""
+SCENE = top_scene(
+    "top_over_cylinder_segment",
+    'source = "magpylib"\nclass = "CylinderSegment"\n'
+    "params = { polarization = [0.0, 0.0, 1.0], dimension = [0.005, 0.025, 0.01, 0.0, 360.0] }\n"
+    "tol = 1e-5")
 
 
 @pytest.mark.slow
 def test_a_top_over_a_cylinder_segment_runs_from_an_adaptive_table(tmp_path):
-    path = tmp_path / "scene.toml"
-    path.write_text(SCENE)
-    out = tmp_path / "run"
-    assert cli_main(["run", str(path), "--out", str(out), "--no-progress", "--no-plot"]) == 0
-    summary = json.loads((out / "summary.json").read_text())
+    out, summary = run_scene(tmp_path, SCENE)
     field = summary["parameters"]["fields"][0]
     assert field["adaptive"] == "octree" and field["tol"] == 1e-5
     assert field["field_error"] <= 1e-5 and field["gradient_error"] <= 1e-5

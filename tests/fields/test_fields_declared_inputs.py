@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from scene_texts import top_scene  # type: ignore[import-not-found]
 
 import poissonkit as pk
 from poissonkit.errors import InputError, PoissonkitError
@@ -15,24 +16,8 @@ from poissonkit.scene.build import build_run
 GOOD = {"polarization": [0.0, 0.0, 1.0], "dimension": [0.05, 0.01]}
 AT = FieldRequest(np.array([[0.0, 0.0, 0.03]]))
 
-SCENE = """
-name = "t"
-[[bodies]]
-name = "top"
-mass = 0.02
-inertia = 2.0e-6
-moment = 0.1
-r = [0.0, 0.0, 0.03]
-nu = [0.0, 0.0, -1.0]
-m = [0.0, 0.0, -2.0e-4]
-[[fields]]
-source = "magpylib"
-class = "Cylinder"
-{extra}
-[run]
-step = 2e-4
-duration = 0.002
-"""
+SCENE = top_scene("t", 'source = "magpylib"\nclass = "Cylinder"\n{extra}', gravity=False,
+                  run="step = 2e-4\nduration = 0.002")
 
 
 @pytest.mark.parametrize("kw, match", [

@@ -6,17 +6,16 @@ scene (a top 3 cm over a magpylib Cylinder, no region, no tolerance) pushed up."
 from __future__ import annotations
 
 import itertools
-import json
 
 import magpylib as magpy
 import numba
 import numpy as np
 import pytest
 from poissonkit_magnets.exact_sources import EXACT_MAGNET, evaluate, split_sources
+from scene_texts import CYLINDER_PARAMS, run_scene, top_scene  # type: ignore[import-not-found]
 from scipy.spatial.transform import Rotation
 
 import poissonkit as pk
-from poissonkit.cli import main as cli_main
 from poissonkit.errors import InputError
 from poissonkit.numerics.fields import CompiledField
 from poissonkit.numerics.nbody import Body, NBodySystem
@@ -308,40 +307,12 @@ def test_energy_is_conserved_to_round_off_while_a_perturbed_gradient_drifts(kind
     assert errors["control"] >= 1e-8 > 100 * errors["exact"]
 
 
-SCENE = """
-name = "top_over_cylinder_exact"
-
-[[bodies]]
-name = "top"
-mass = 0.02
-inertia = 2.0e-6
-moment = 0.1
-r = [0.0, 0.0, 0.03]
-nu = [0.0, 0.0, -1.0]
-m = [0.0, 0.0, -2.0e-4]
-
-[[fields]]
-source = "magpylib"
-class = "Cylinder"
-params = { polarization = [0.0, 0.0, 1.0], dimension = [0.05, 0.01] }
-
-[[fields]]
-source = "gravity"
-g = [0.0, 0.0, -9.81]
-
-[run]
-method = "splitting6"
-step = 2e-4
-duration = 0.05
-"""
+SCENE = top_scene("top_over_cylinder_exact",
+                  f'source = "magpylib"\nclass = "Cylinder"\n{CYLINDER_PARAMS}')
 
 
 def test_a_top_3_cm_over_a_magpylib_cylinder_runs_exact_and_is_pushed_up(tmp_path):
-    path = tmp_path / "scene.toml"
-    path.write_text(SCENE)
-    out = tmp_path / "run"
-    assert cli_main(["run", str(path), "--out", str(out), "--no-progress", "--no-plot"]) == 0
-    summary = json.loads((out / "summary.json").read_text())
+    out, summary = run_scene(tmp_path, SCENE)
     assert summary["max_rel_energy_error"] <= 1e-10
     field = summary["parameters"]["fields"][0]
     assert field["exact"] and field["class"] == "Cylinder" and "grid" not in field

@@ -3,59 +3,29 @@ as the one built from Python."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 import pytest
+from scene_texts import CYLINDER_PARAMS, run_scene, top_scene  # type: ignore[import-not-found]
 
 import poissonkit as pk
-from poissonkit.cli import main as cli_main
 from poissonkit.errors import SceneError
 from poissonkit.scene.loader import loads_scene
 
 ROOT = Path(__file__).resolve().parents[2]
 
-SCENE = """
-name = "top_over_cylinder"
-
-[[bodies]]
-name = "top"
-mass = 0.02
-inertia = 2.0e-6
-moment = 0.1
-r = [0.001, 0.0005, 0.035]
-p = [0.0004, 0.0, 0.0]
-nu = [0.05, 0.0, -1.0]
-m = [0.0, 0.0, -2.0e-4]
-
-[[fields]]
-source = "magpylib"
-class = "Cylinder"
-params = { polarization = [0.0, 0.0, 1.0], dimension = [0.05, 0.01] }
-position = [0.0, 0.0, 0.0]
-orientation = [0.0, 0.0, 0.0]
-mode = "table"
-tol = 1e-4
-region = [-0.01, -0.01, 0.025, 0.01, 0.01, 0.045]
-
-[[fields]]
-source = "gravity"
-g = [0.0, 0.0, -9.81]
-
-[run]
-method = "splitting6"
-step = 2e-4
-duration = 0.04
-"""
+SCENE = top_scene(
+    "top_over_cylinder",
+    f'source = "magpylib"\nclass = "Cylinder"\n{CYLINDER_PARAMS}\nposition = [0.0, 0.0, 0.0]\n'
+    'orientation = [0.0, 0.0, 0.0]\nmode = "table"\ntol = 1e-4\n'
+    "region = [-0.01, -0.01, 0.025, 0.01, 0.01, 0.045]",
+    r="[0.001, 0.0005, 0.035]", p="[0.0004, 0.0, 0.0]", nu="[0.05, 0.0, -1.0]",
+    run='method = "splitting6"\nstep = 2e-4\nduration = 0.04')
 
 
 def test_a_scene_with_fields_runs_through_the_cli(tmp_path):
-    path = tmp_path / "scene.toml"
-    path.write_text(SCENE)
-    out = tmp_path / "run"
-    assert cli_main(["run", str(path), "--out", str(out), "--no-progress", "--no-plot"]) == 0
-    summary = json.loads((out / "summary.json").read_text())
+    _, summary = run_scene(tmp_path, SCENE)
     assert summary["max_rel_energy_error"] < 1e-12
     fields = summary["parameters"]["fields"]
     assert [f["source"] for f in fields] == ["magpylib", "gravity"]

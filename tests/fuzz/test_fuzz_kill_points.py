@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from checkout_env import checkout_env  # type: ignore[import-not-found]
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -37,13 +38,7 @@ _REFERENCES: dict[tuple[int, int], dict[str, bytes]] = {}
 
 
 def _env(kill: str | None) -> dict[str, str]:
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(ROOT / "plugins"),
-                                         env.get("PYTHONPATH", "")])
-    env.pop(ENV, None)
-    if kill:
-        env[ENV] = kill
-    return env
+    return checkout_env(**{ENV: kill or None})
 
 
 def _run(out: Path, steps: int, save_every: int, *extra: str,

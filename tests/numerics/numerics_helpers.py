@@ -68,3 +68,14 @@ def assert_invariants_at_roundoff(system, sol, tol=1e-13):
     P = system.linear_momentum(sol.y)
     p_scale = np.linalg.norm(parts["p"], axis=-1).sum(-1).max()
     assert np.max(np.linalg.norm(P - P[0], axis=1)) <= tol * p_scale
+
+
+def assert_energy_without_drift(sol):
+    """A long run's energy error bounded (below 1e-3) with no secular growth (its last tenth
+    within twice its first tenth), and the Casimirs and angular momentum at round-off."""
+    err = sol.energy_error()
+    first, last = err[: len(err) // 10].max(), err[-len(err) // 10:].max()
+    assert err.max() < 1e-3
+    assert last < 2.0 * first + 1e-12, (first, last)  # no secular growth
+    assert np.max(sol.casimir_drift()) <= 1e-12
+    assert np.max(sol.angular_momentum_drift()) <= 1e-12

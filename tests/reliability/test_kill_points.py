@@ -5,13 +5,13 @@ finished run that ``--resume`` refuses, untouched."""
 
 from __future__ import annotations
 
-import os
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from checkout_env import checkout_env  # type: ignore[import-not-found]
 
 from poissonkit.killpoints import ENV, PHASES
 
@@ -37,13 +37,7 @@ FAST = {"part-written", "gather-tmp", "parts-removing"}  # the others run with -
 
 
 def _env(kill: str | None = None) -> dict[str, str]:
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(ROOT / "plugins"),
-                                         env.get("PYTHONPATH", "")])
-    env.pop(ENV, None)
-    if kill:
-        env[ENV] = kill
-    return env
+    return checkout_env(**{ENV: kill or None})
 
 
 def _run(out: Path, *extra: str, kill: str | None = None) -> subprocess.CompletedProcess:

@@ -7,7 +7,6 @@ check and mixed their files (one's summary beside the other's trajectory, both e
 from __future__ import annotations
 
 import json
-import os
 import signal
 import subprocess
 import sys
@@ -16,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from checkout_env import checkout_env  # type: ignore[import-not-found]
 
 from poissonkit.files.lock import LOCK_NAME, FolderLockedError, lock_folder
 from poissonkit.numerics.checkpoint import checkpoints
@@ -25,18 +25,11 @@ TWO = ROOT / "poissonkit" / "scene" / "shipped" / "two_magnets.toml"
 EXIT_BUSY = 6
 
 
-def _env() -> dict[str, str]:
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(ROOT / "plugins"),
-                                         env.get("PYTHONPATH", "")])
-    return env
-
-
 def _popen(out: Path, *extra: str) -> subprocess.Popen:
     return subprocess.Popen(
         [sys.executable, "-m", "poissonkit", "run", str(TWO), "--no-progress", "--no-plots",
          "--out", str(out), *extra],
-        env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        env=checkout_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
 def test_the_lock_is_exclusive_and_released(tmp_path):
@@ -53,7 +46,7 @@ def test_the_lock_is_exclusive_and_released(tmp_path):
 def test_a_lock_held_by_another_process_is_refused_and_freed_when_it_dies(tmp_path):
     code = ("import sys, time; from poissonkit.files.lock import lock_folder\n"
             "with lock_folder(sys.argv[1]):\n    print('held', flush=True); time.sleep(600)\n")
-    holder = subprocess.Popen([sys.executable, "-c", code, str(tmp_path)], env=_env(),
+    holder = subprocess.Popen([sys.executable, "-c", code, str(tmp_path)], env=checkout_env(),
                               stdout=subprocess.PIPE, text=True)
     try:
         assert holder.stdout is not None and holder.stdout.readline().strip() == "held"
@@ -98,7 +91,7 @@ def test_a_resume_during_a_live_run_is_refused(tmp_path):
         resume = subprocess.run(
             [sys.executable, "-m", "poissonkit", "run", str(TWO), "--duration", "0.05",
              "--step", "1e-8", "--save-every", "1000", "--no-progress", "--no-plots",
-             "--out", str(out), "--resume"], env=_env(), capture_output=True, text=True,
+             "--out", str(out), "--resume"], env=checkout_env(), capture_output=True, text=True,
             timeout=600, check=False)
         assert resume.returncode == EXIT_BUSY, resume.stderr
         assert resume.stderr.count("\n") == 1 and "another poissonkit process" in resume.stderr

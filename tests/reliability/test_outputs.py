@@ -4,7 +4,6 @@ for long trajectories, SIGINT leaves a readable partial result."""
 from __future__ import annotations
 
 import json
-import os
 import signal
 import subprocess
 import sys
@@ -13,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from checkout_env import checkout_env  # type: ignore[import-not-found]
 from reliability_helpers import bound_pair, orbit_state  # type: ignore[import-not-found]
 
 from poissonkit import cli
@@ -69,20 +69,13 @@ def test_streamed_trajectory_keeps_memory_bounded(tmp_path):
     assert sol.y[-1].tobytes() == ref.y[-1].tobytes()
 
 
-def _env() -> dict[str, str]:
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), str(ROOT / "plugins"),
-                                         env.get("PYTHONPATH", "")])
-    return env
-
-
 def _start_long_run(out: Path, *extra: str) -> subprocess.Popen:
     # the two-magnet scene's own 0.05 s in 5e6 steps: far longer than the test waits
     return subprocess.Popen(
         [sys.executable, "-m", "poissonkit", "run", str(TWO), "--duration", "0.05", "--step",
          "1e-8", "--save-every", "1000", "--checkpoint-every", "100000", "--out", str(out),
          "--no-progress", "--no-plots", *extra],
-        env=_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        env=checkout_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
 def _wait_for_checkpoint(proc: subprocess.Popen, out: Path) -> None:
@@ -124,7 +117,7 @@ def test_cli_sigkill_then_resume_matches_uninterrupted_run(tmp_path):
     resumed = subprocess.run(
         [sys.executable, "-m", "poissonkit", "run", str(TWO), "--duration", "0.05", "--step",
          "1e-8", "--save-every", "1000", "--out", str(out), "--no-progress", "--no-plots",
-         "--resume"], env=_env(), capture_output=True, text=True, timeout=1800)
+         "--resume"], env=checkout_env(), capture_output=True, text=True, timeout=1800)
     assert resumed.returncode == 0, resumed.stderr
     ref = tmp_path / "ref"
     assert cli.main(["run", str(TWO), "--duration", "0.05", "--step", "1e-8", "--save-every",

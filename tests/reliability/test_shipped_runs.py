@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from scene_texts import CYLINDER_MAGNETS, magnet_scene  # type: ignore[import-not-found]
 
 from poissonkit import cli
 from poissonkit.commands.run import EXIT_CONTACT, EXIT_ENERGY
@@ -60,24 +61,12 @@ def test_example_script_runs_clean(tmp_path, script):
     assert "Traceback" not in done.stderr and "warning:" not in done.stderr.lower()
 
 
-SNAP = """
-name = "snap"
-[defaults]
-mass = 7.658e-4
-inertia = 2.5827e-8
-moment = 0.15546875
-radius = 1.25e-3
-length = 0.02
-[[bodies]]
-name = "a"
-r = [0.0, 0.0, 0.0]
-nu = [0.0, 0.0, 1.0]
-{fixed}
-[[bodies]]
-name = "b"
-r = [0.0, 0.0, 0.04]
-nu = [0.0, 0.0, 1.0]
-[interactions]
+SNAP = magnet_scene(
+    "snap",
+    ("a", "[0.0, 0.0, 0.0]", "[0.0, 0.0, 1.0]", "{fixed}"),
+    ("b", "[0.0, 0.0, 0.04]", "[0.0, 0.0, 1.0]"),
+    defaults=CYLINDER_MAGNETS.replace("magnetization = 1.58359e6", "moment = 0.15546875")
+) + """[interactions]
 potential = "dumbbell"
 [run]
 method = "splitting4"

@@ -10,6 +10,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
+from scene_texts import magnet_scene  # type: ignore[import-not-found]  # noqa: E402
 
 from poissonkit import cli  # noqa: E402
 from poissonkit.numerics.diagnostics import Drift  # noqa: E402
@@ -18,36 +19,13 @@ from poissonkit.report.figures import PLOTS, RunData, figures_for, register_plot
 from poissonkit.report.summary import Diagnostics  # noqa: E402
 
 # five magnets, the first bolted down; dumbbell pairs (the kernel magnet_chain uses too)
-FIVE = """
-name = "five_magnets"
-[defaults]
-mass = 7.658e-4
-inertia = 2.5827e-8
-magnetization = 1.58359e6
-radius = 1.25e-3
-length = 0.02
-[[bodies]]
-name = "m0"
-r = [0.0, 0.0, 0.0]
-nu = [0.0, 0.0, 1.0]
-fixed = true
-[[bodies]]
-name = "m1"
-r = [0.04, 0.0, 0.0]
-nu = [0.0, 0.0, 1.0]
-[[bodies]]
-name = "m2"
-r = [0.0, 0.05, 0.01]
-nu = [1.0, 0.0, 0.0]
-[[bodies]]
-name = "m3"
-r = [-0.05, 0.0, 0.02]
-nu = [0.0, 1.0, 0.0]
-[[bodies]]
-name = "m4"
-r = [0.0, -0.06, 0.0]
-nu = [0.0, 0.0, -1.0]
-[interactions]
+FIVE = magnet_scene(
+    "five_magnets",
+    ("m0", "[0.0, 0.0, 0.0]", "[0.0, 0.0, 1.0]", "fixed = true"),
+    ("m1", "[0.04, 0.0, 0.0]", "[0.0, 0.0, 1.0]"),
+    ("m2", "[0.0, 0.05, 0.01]", "[1.0, 0.0, 0.0]"),
+    ("m3", "[-0.05, 0.0, 0.02]", "[0.0, 1.0, 0.0]"),
+    ("m4", "[0.0, -0.06, 0.0]", "[0.0, 0.0, -1.0]")) + """[interactions]
 potential = "dumbbell"
 [run]
 method = "splitting4"

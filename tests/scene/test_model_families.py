@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scene_texts import magnet_scene  # type: ignore[import-not-found]
 
 from poissonkit.errors import UnknownNameError
 from poissonkit.pairs import NoModelFamilyError, pair_interaction
@@ -171,29 +172,11 @@ def test_without_the_magnets_plugin_the_core_still_plans_and_evaluates():
     assert math.isfinite(float(pairs[0].params["mass1"]))
 
 
-SCENE = """
-name = "default_potential_and_planner"
-[defaults]
-mass = 7.658e-4
-inertia = 2.5827e-8
-magnetization = 1.58359e6
-radius = 1.25e-3
-length = 0.02
-[[bodies]]
-name = "a"
-r = [0.0, 0.0, 0.0]
-nu = [0.0, 0.0, 1.0]
-[[bodies]]
-name = "b"
-r = [0.05, 0.0, 0.0]
-nu = [0.0, 0.0, 1.0]
-[[bodies]]
-name = "brass"
-moment = 0.0
-mass = 0.05
-r = [0.0, 0.08, 0.0]
-nu = [1.0, 0.0, 0.0]
-[interactions]
+SCENE = magnet_scene(
+    "default_potential_and_planner",
+    ("a", "[0.0, 0.0, 0.0]", "[0.0, 0.0, 1.0]"),
+    ("b", "[0.05, 0.0, 0.0]", "[0.0, 0.0, 1.0]"),
+    ("brass", "[0.0, 0.08, 0.0]", "[1.0, 0.0, 0.0]", "moment = 0.0\nmass = 0.05")) + """[interactions]
 pairs = "all"
 potential = "gravity"
 [planner]

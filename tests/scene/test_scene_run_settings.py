@@ -67,8 +67,8 @@ def test_all_bodies_fixed_gives_a_summary(tmp_path):
     assert np.all(npz["y"] == npz["y"][:1])
 
 
-def test_all_fixed_point_masses_have_an_empty_state(tmp_path):
-    text = """name = "still"
+#: Two point masses, both fixed: a scene with an empty state.
+STILL = """name = "still"
 [[bodies]]
 name = "a"
 mass = 1.0
@@ -83,8 +83,12 @@ fixed = true
 potential = "gravity"
 [run]
 step = 0.01
-duration = 0.5
+duration = {duration}
 """
+
+
+def test_all_fixed_point_masses_have_an_empty_state(tmp_path):
+    text = STILL.format(duration=0.5)
     spec = build_run(loads_scene(text))
     assert spec.system.dim == 0
     code, summary, npz = _run(tmp_path, _scene(tmp_path, text))
@@ -169,23 +173,7 @@ def test_all_fixed_sweep_point_is_bounded_without_warnings(tmp_path):
     # the sweep path took the spread of the moving bodies: with none, np.max of an empty array
     from poissonkit.sweeps.targets import TomlScene
 
-    scene = TomlScene.from_file(_scene(tmp_path, """name = "still"
-[[bodies]]
-name = "a"
-mass = 1.0
-r = [0, 0, 0]
-fixed = true
-[[bodies]]
-name = "b"
-mass = 2.0
-r = [1, 0, 0]
-fixed = true
-[interactions]
-potential = "gravity"
-[run]
-step = 0.01
-duration = 0.2
-"""))
+    scene = TomlScene.from_file(_scene(tmp_path, STILL.format(duration=0.2)))
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)
         rec = scene.run(scene.prepare(), {"bodies.a.mass": 3.0})

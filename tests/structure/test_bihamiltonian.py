@@ -17,6 +17,7 @@ import time
 
 import pytest
 import sympy as sp
+from brackets import bivector_of  # type: ignore[import-not-found]
 
 import poissonkit as pk
 from poissonkit.structure import Bivector, so3
@@ -31,15 +32,6 @@ from poissonkit.structure.bihamiltonian import (
 )
 
 LAM = sp.Symbol("lam")
-
-
-def _bivector(coords, entries) -> Bivector:
-    M = sp.zeros(len(coords))
-    for (u, v), val in entries.items():
-        i, j = coords.index(u), coords.index(v)
-        M[i, j] += val
-        M[j, i] -= val
-    return Bivector(coords, sp.ImmutableMatrix(M))
 
 
 def toda_flaschka(n: int):
@@ -59,7 +51,7 @@ def toda_flaschka(n: int):
     L = sp.diag(*b)
     for i in range(n - 1):
         L[i, i + 1] = L[i + 1, i] = a[i]
-    return _bivector(X, lin), _bivector(X, quad), L
+    return bivector_of(X, lin), bivector_of(X, quad), L
 
 
 def _span_rank(polys, coords) -> int:
@@ -136,7 +128,7 @@ def test_not_a_pencil_casimir_is_refused():
 def test_incompatible_pair_is_reported():
     P1, _P2, _L = toda_flaschka(3)
     a1, a2, b1, b2, b3 = P1.coords
-    Q = _bivector(list(P1.coords), {(b1, b2): a2, (a1, a2): 1})
+    Q = bivector_of(list(P1.coords), {(b1, b2): a2, (a1, a2): 1})
     res = pk.compatible(P1, Q, check_poisson=False)
     assert not res and any(lab.startswith("[P1,P2]") for lab, _ in res.failures)
 
@@ -152,7 +144,7 @@ def toda_canonical(n: int):
     L = sp.diag(*p)
     for i in range(n - 1):
         L[i, i + 1] = L[i + 1, i] = sp.exp((q[i] - q[i + 1]) / 2)
-    return _bivector(X, can), _bivector(X, second), L
+    return bivector_of(X, can), bivector_of(X, second), L
 
 
 def test_toda_recursion_operator_canonical():

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import pytest
 import sympy as sp
+from brackets import bivector_of  # type: ignore[import-not-found]
 
 import poissonkit as pk
 from poissonkit.structure import Bivector, so3
@@ -29,15 +30,6 @@ from poissonkit.structure.bihamiltonian import (
 
 LAM = sp.Symbol("lam")
 x, y, z = sp.symbols("x y z")
-
-
-def _bivector(coords, entries) -> Bivector:
-    M = sp.zeros(len(coords))
-    for (u, v), val in entries.items():
-        i, j = coords.index(u), coords.index(v)
-        M[i, j] += val
-        M[j, i] -= val
-    return Bivector(coords, sp.ImmutableMatrix(M))
 
 
 def _nambu(F) -> Bivector:
@@ -62,7 +54,7 @@ def periodic_toda3():
         quad[(a[i], b[i])], quad[(a[i], b[j])] = -a[i] * b[i], a[i] * b[j]
         quad[(b[i], b[j])] = 2 * a[i] ** 2
         quad[(a[i], a[j])] = a[i] * a[j] / 2
-    return _bivector(a + b, lin), _bivector(a + b, quad), a, b
+    return bivector_of(a + b, lin), bivector_of(a + b, quad), a, b
 
 
 def test_so3_against_twice_so3_gives_the_norm():
@@ -75,8 +67,8 @@ def test_so3_against_twice_so3_gives_the_norm():
 def test_central_coordinate_is_kept():
     c = sp.Symbol("c")
     X = [x, y, c]
-    P1 = _bivector(X, {(x, y): c})
-    P2 = _bivector(X, {(x, y): c ** 2})
+    P1 = bivector_of(X, {(x, y): c})
+    P2 = bivector_of(X, {(x, y): c ** 2})
     found = pencil_casimirs(P1, P2, 1)
     assert len(found) == 1 and _proportional(found[0], c, X)
     chains = lenard_magri_chains(P1, P2, 1)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import pytest
 import sympy as sp
+from brackets import p_g  # type: ignore[import-not-found]
 
 from poissonkit.errors import DimensionError, InputError, UnknownNameError
 from poissonkit.structure import Bivector, canonical, direct_sum, e3, eps_matrix, lie_poisson, so3
@@ -164,12 +165,7 @@ def _chaplygin(I, d):
     a = [1 / (sp.sympify(Ii) + d) for Ii in I]
     Ag = [ai * gi for ai, gi in zip(a, gam)]
     g = sp.sqrt(1 - d * _dot(gam, Ag))
-    G = eps_matrix(gam)
-    mat = sp.zeros(6, 6)
-    mat[0:3, 3:6] = g * G
-    mat[3:6, 0:3] = g * G
-    mat[3:6, 3:6] = g * eps_matrix(M) - d * _dot(M, Ag) / g * G
-    return Bivector.from_matrix(mat, gam + M), gam, M
+    return p_g(gam, M, g, -(d * _dot(M, Ag) / g)), gam, M
 
 
 def test_chaplygin_ball_casimirs_with_sqrt_g():

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import pytest
 import sympy as sp
+from brackets import p_g  # type: ignore[import-not-found]
 
 from poissonkit.errors import DimensionError, InputError
-from poissonkit.structure import Bivector, canonical, e3, eps_matrix
+from poissonkit.structure import Bivector, canonical, e3
 from poissonkit.structure.checks import vanishes
 from poissonkit.structure.poisson_map import (
     PushForwardError, is_poisson_map, jacobian_bracket, push_forward,
@@ -33,13 +34,7 @@ def _deformed_canonical(q, p, g):
 
 def _p_g0(gam, M, g):
     """P_{g,0} of FORMULAS §5 = (44)."""
-    G = eps_matrix(gam)
-    grad = [sp.diff(g, c) for c in gam]
-    mat = sp.zeros(6, 6)
-    mat[0:3, 3:6] = g * G
-    mat[3:6, 0:3] = g * G
-    mat[3:6, 3:6] = g * eps_matrix(M) + _dot(grad, M) * G
-    return Bivector.from_matrix(mat, list(gam) + list(M))
+    return p_g(gam, M, g, _dot([sp.diff(g, c) for c in gam], M))
 
 
 def test_canonical_pushed_by_g_times_p_is_bracket_42():
@@ -105,12 +100,7 @@ def chaplygin_symbolic():
     d = sp.Symbol("d", positive=True)
     Ag = [ai * gi for ai, gi in zip(a, gam)]
     g = sp.sqrt(1 - d * _dot(gam, Ag))
-    G = eps_matrix(gam)
-    mat = sp.zeros(6, 6)
-    mat[0:3, 3:6] = g * G
-    mat[3:6, 0:3] = g * G
-    mat[3:6, 3:6] = g * eps_matrix(M) - d * _dot(M, Ag) / g * G
-    return Bivector.from_matrix(mat, gam + M), gam, M, Ag, g, d
+    return p_g(gam, M, g, -(d * _dot(M, Ag) / g)), gam, M, Ag, g, d
 
 
 def test_remark_6_holds_exactly_on_the_leaf_gamma_dot_M_zero(chaplygin_symbolic):

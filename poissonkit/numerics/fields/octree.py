@@ -43,7 +43,8 @@ from poissonkit.errors import InputError
 from poissonkit.numerics.fields.base import CompiledField
 from poissonkit.numerics.fields.magnetic import magnetic_kernel
 from poissonkit.numerics.fields.solids import Solid
-from poissonkit.numerics.fields.tricubic import hermite_patch, node_table
+from poissonkit.numerics.fields.tricubic import (grid_coordinates, hermite_patch,
+                                                 node_table)
 
 HEAD = 11
 LEAF = 192
@@ -69,15 +70,7 @@ _CORNERS = np.array([(a, b, c) for c in (0, 1) for b in (0, 1) for a in (0, 1)],
 def octree_field(x, y, z, P):
     """``(B, ∂B/∂x)`` (12 numbers, as the uniform table's) of the leaf holding the point;
     NaN outside the region."""
-    hx = P[3]
-    hy = P[4]
-    hz = P[5]
-    nx = int(P[6])
-    ny = int(P[7])
-    nz = int(P[8])
-    tx = (x - P[0]) / hx
-    ty = (y - P[1]) / hy
-    tz = (z - P[2]) / hz
+    tx, ty, tz, hx, hy, hz, nx, ny, nz = grid_coordinates(x, y, z, P)
     if not (0.0 <= tx <= nx and 0.0 <= ty <= ny and 0.0 <= tz <= nz):
         nan = math.nan
         return (nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan)

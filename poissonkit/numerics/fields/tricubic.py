@@ -81,6 +81,18 @@ def _basis(u):
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
+def grid_coordinates(x, y, z, P):
+    """``(tx, ty, tz, hx, hy, hz, nx, ny, nz)``: the point in units of the grid whose header
+    ``[x0, y0, z0, hx, hy, hz, nx, ny, nz]`` starts ``P`` (this table's and the octree's), the
+    spacings and the counts."""
+    hx = P[3]
+    hy = P[4]
+    hz = P[5]
+    return ((x - P[0]) / hx, (y - P[1]) / hy, (z - P[2]) / hz, hx, hy, hz, int(P[6]), int(P[7]),
+            int(P[8]))
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
 def _cell(t, n):
     """Cell index and local coordinate of ``t`` (in cells) on an axis of ``n`` nodes
     (``-1`` outside)."""
@@ -135,15 +147,10 @@ def hermite_patch(P, origin, sa, sb, sc, u, v, w, hx, hy, hz):
 def tricubic_field(x, y, z, P):
     """``(B, ∂B/∂x)`` of the tabulated field at ``(x, y, z)``: 3 values, then the Jacobian
     ``J_ij = ∂B_i/∂x_j`` row by row (12 numbers); NaN outside the grid."""
-    hx = P[3]
-    hy = P[4]
-    hz = P[5]
-    nx = int(P[6])
-    ny = int(P[7])
-    nz = int(P[8])
-    ix, u = _cell((x - P[0]) / hx, nx)
-    iy, v = _cell((y - P[1]) / hy, ny)
-    iz, w = _cell((z - P[2]) / hz, nz)
+    tx, ty, tz, hx, hy, hz, nx, ny, nz = grid_coordinates(x, y, z, P)
+    ix, u = _cell(tx, nx)
+    iy, v = _cell(ty, ny)
+    iz, w = _cell(tz, nz)
     if ix < 0 or iy < 0 or iz < 0:
         nan = math.nan
         return (nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, nan)

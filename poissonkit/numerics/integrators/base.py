@@ -12,8 +12,9 @@ from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, runtime_checkable
 import numpy as np
 
 from poissonkit.contracts import CompiledFunction, CompiledKernels, KernelData
-from poissonkit.errors import InputError, IntegrationError, MissingStepError, NonFiniteStateError
+from poissonkit.errors import IntegrationError, MissingStepError, NonFiniteStateError
 from poissonkit.numerics.events import EventRecord
+from poissonkit.validation import positive_number
 
 # status codes returned by the compiled loops
 # GRAZE: the smallest distance has a local minimum between step ends worth a closer look
@@ -267,13 +268,7 @@ def check_step(step: float | None, t_end: float, name: str) -> float:
     if step is None:
         raise MissingStepError(name, f"{name} is a fixed-step method: give step=... "
                                "(internal time unit)")
-    try:
-        step = float(step)
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: step must be a number, got {step!r}") from None
-    if not (np.isfinite(step) and step > 0):
-        raise InputError(f"{name}: step must be positive and finite, got {step!r}")
-    return step
+    return positive_number(step, f"{name}: step")
 
 
 _step_end: dict[tuple[int, int],

@@ -2,16 +2,14 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Union
 
-import numpy as np
-
 from poissonkit import contracts
 from poissonkit.errors import InputError
 from poissonkit.traits import SystemTraits
+from poissonkit.validation import finite_number, positive_number, vector3
 
 #: The contracts every system of moving bodies fulfils (two bodies and N bodies alike);
 #: a system class extends them with what it adds (:meth:`SystemTraits.extended`).
@@ -43,14 +41,7 @@ class NonUnitAxisError(InputError):
 
 def _vector3(value: object, what: str) -> tuple[float, float, float]:
     """``value`` as a finite 3-tuple of floats, else :class:`InputError` naming ``what``."""
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{what} must be three numbers, got {value!r}") from None
-    if a.shape != (3,):
-        raise InputError(f"{what} must have shape (3,), got shape {a.shape}: {value!r}")
-    if not np.all(np.isfinite(a)):
-        raise InputError(f"{what} must be finite, got {value!r}")
+    a = vector3(value, what)
     return (float(a[0]), float(a[1]), float(a[2]))
 
 
@@ -91,13 +82,7 @@ class Body:
         if self.alpha is not None:
             checked.append(("alpha", self.alpha))
         for attr, v in checked:
-            try:
-                v = float(v)
-            except (TypeError, ValueError):
-                raise InputError(f"body {self.name!r}: {attr} must be a number, got {v!r}") from None
-            if not (math.isfinite(v) and v > 0):
-                raise InputError(f"body {self.name!r}: {attr} must be positive and finite, got {v!r}")
-            object.__setattr__(self, attr, v)
+            object.__setattr__(self, attr, positive_number(v, f"body {self.name!r}: {attr}"))
         if self.fixed and self.position is None:
             raise InputError(f"fixed body {self.name!r} needs a position")
         if self.fixed and self.alpha is not None and self.axis is None:
@@ -119,13 +104,7 @@ class Body:
                              f"got {attrs!r}") from None
         clean = []
         for k, v in sorted(named):
-            try:
-                v = float(v)
-            except (TypeError, ValueError):
-                raise InputError(f"body {self.name!r}: attribute {k!r} must be a number, "
-                                 f"got {v!r}") from None
-            if not math.isfinite(v):
-                raise InputError(f"body {self.name!r}: attribute {k!r} must be finite, got {v!r}")
+            v = finite_number(v, f"body {self.name!r}: attribute {k!r}")
             if k in ("mass", "alpha"):
                 raise InputError(f"body {self.name!r}: {k!r} is a field of the body, not an "
                                  "attribute")

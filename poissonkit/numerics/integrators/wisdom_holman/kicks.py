@@ -18,6 +18,7 @@ from poissonkit.contracts import CompiledFunction
 from poissonkit.numerics.integrators.wisdom_holman.jacobi import from_jacobi, jacobi_of_inertial
 from poissonkit.numerics.integrators.wisdom_holman.kepler import drift_all, drift_planets
 from poissonkit.numerics.jit import jit
+from poissonkit.numerics.kernels import zero2
 
 
 @numba.njit(cache=True, error_model="numpy", fastmath={"contract"}, inline="always")
@@ -30,10 +31,7 @@ def gravity_kick_accel(xj, m, mfrac, inv_eta, gm, gmass, r, a, aj):
     """
     n = m.shape[0]
     from_jacobi(xj, mfrac, r)
-    for i in range(n):
-        a[i, 0] = 0.0
-        a[i, 1] = 0.0
-        a[i, 2] = 0.0
+    zero2(a)
     for i in range(n):
         xi0, xi1, xi2 = r[i, 0], r[i, 1], r[i, 2]
         for j in range(2 if i == 0 else i + 1, n):
@@ -66,10 +64,7 @@ def gravity_kick_jerk(xj, w, m, mfrac, inv_eta, gm, gmass, r, dr, da, jerk):
     them). For each pair, ``∂/∂d (d/|d|³) δd = δd/|d|³ − 3 d (d·δd)/|d|⁵``."""
     n = m.shape[0]
     from_jacobi(w, mfrac, dr)
-    for i in range(n):
-        da[i, 0] = 0.0
-        da[i, 1] = 0.0
-        da[i, 2] = 0.0
+    zero2(da)
     for i in range(n):
         for j in range(2 if i == 0 else i + 1, n):
             dx = r[j, 0] - r[i, 0]
