@@ -155,9 +155,11 @@ class Solvers:
             method, opts = method[: -len("+adaptive")], {"adaptive": True}
         elif method.endswith("+compensated"):  # Kahan-compensated increments (no 1e-10 floor)
             method, opts = method[: -len("+compensated")], {"compensated": True}
-        elif "+k" in method:  # time-transformed splitting with another exponent
-            method, k = method.split("+k")
-            opts = {"exponent": float(k)}
+        elif "+k" in method:  # time-transformed splitting with another exponent (+tracked:
+            method, k = method.split("+k")  # T + p_t carried by the kicks' work)
+            opts = {"exponent": float(k.removesuffix("+tracked"))}
+            if k.endswith("+tracked"):
+                opts["track_kinetic"] = True
         return solve(system, y0, t_end, method=method, step=step, tol=tol, progress=progress,
                      save_every=save_every, options=opts)
 
@@ -184,7 +186,7 @@ class Solvers:
 
 def scenes(quick: bool):
     """(name, RunSpec, reference step, splitting methods) of the three benchmark scenes."""
-    logh = ["logh6", "logh8", "logh8+k0.5"]
+    logh = ["logh6", "logh8", "logh8+k0.5", "logh10+k0.5+tracked"]
     comp = ["splitting6_bm+compensated", "splitting8+compensated"]
     high = ["splitting8_bce", "splitting10_ss", "splitting8_bce+compensated",
             "splitting10_ss+compensated"]
@@ -242,7 +244,7 @@ def run_scene(name, spec, ref_step, split_methods, quick: bool,
     for m in split_methods:
         if "adaptive" in m:
             hs = np.geomspace(0.05, 0.002, n)
-        elif m.startswith(("splitting8_bce", "splitting10_ss")):
+        elif m.startswith(("splitting8_bce", "splitting10_ss", "logh10")):
             # 1e-7 at h = 0.07-0.15 and 1e-10 at 0.03-0.05: sampled more densely than the
             # usual grid, which has one point in that range
             hs = np.geomspace(0.3, 0.012, n + 2)

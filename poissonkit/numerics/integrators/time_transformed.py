@@ -361,32 +361,33 @@ class TimeTransformedSplitting:
         trial = np.empty_like(y)
         scratch = Scratch(y.size)
         a, b, kexp = self.a, self.b, self.exponent
-        # tracked T + p_t: wk[0] is valid for the state wy (it starts at C - V(y0), Γ = 0);
-        # a state changed outside the loop (event location, restart) is resynchronised
-        wk = np.zeros(1 if self.track_kinetic else 0)
+        # tracked T + p_t: carry "w" = [T + p_t] valid for the state carry "w_at" (it starts at
+        # C - V(y0), Γ = 0); a state changed outside the loop (event location) is
+        # resynchronised from its momenta; both are checkpointed (bit-identical resume)
         kz = np.zeros(y.size if self.track_kinetic else 0)
-        wy = y.copy()
-        if wk.size:
-            wk[0] = g0
+        carry = {"w": np.array([g0]), "w_at": y.copy()} if self.track_kinetic else {}
+        untracked = np.empty(0)
 
-        def tracked(ys: np.ndarray) -> np.ndarray:
-            if wk.size and not np.array_equal(ys, wy):
-                wk[0] = kinetic_energy(ys, kidx, kw) + pt
+        def tracked(st: LoopState) -> np.ndarray:
+            if not st.carry:
+                return untracked
+            wk, at = st.carry["w"], st.carry["w_at"]
+            if not np.array_equal(st.y, at):
+                wk[0] = kinetic_energy(st.y, kidx, kw) + pt
             return wk
 
         def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
             status, t_new, k, nsave, value = run(
                 st.y, st.t, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work, save_every,
                 st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, trial,
-                st.prev, st.prev2, st.hist, tracked(st.y), kz)
-            wy[:] = st.y
+                st.prev, st.prev2, st.hist, tracked(st), kz)
+            if st.carry:
+                st.carry["w_at"][:] = st.y
             st.detail = value
             return status, t_new, k, nsave, k * len(b), value
 
         def one_step(ys: np.ndarray, ts: float, done_steps: int) -> tuple[int, float]:
-            w1 = wk.copy()
-            if w1.size:
-                w1[0] = kinetic_energy(ys, kidx, kw) + pt
+            w1 = np.array([kinetic_energy(ys, kidx, kw) + pt]) if kz.size else untracked
             out = run(ys, ts, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work,
                       save_every, done_steps, 1, scratch.t, scratch.y, 0.0, 0.0, 0.0, trial, ys,
                       ys, scratch.hist, w1, kz)
@@ -430,7 +431,7 @@ class TimeTransformedSplitting:
         raw = drive(LoopProblem(
             self.name, system, y, t0, t_end,
             guard_division(self.name, chunk, lambda st: (one_step, st.y.copy())), advance, done,
-            problem, 4096, events, progress, save_every, control, failure))
+            problem, 4096, events, progress, save_every, control, failure, carry=carry))
         raw.extra.update(step=ds, order=self.order, shift=C, exponent=self.exponent,
                          time_transformed=True)
         if self.track_kinetic:
