@@ -160,6 +160,12 @@ class Solvers:
             opts = {"exponent": float(k.removesuffix("+tracked"))}
             if k.endswith("+tracked"):
                 opts["track_kinetic"] = True
+        if method == "logh10":  # order 10 (s35odr10 weights) has no registry name
+            from poissonkit.numerics.integrators.time_transformed import TimeTransformedSplitting
+
+            integ = TimeTransformedSplitting(10, **(opts or {}))
+            return solve(system, y0, t_end, method=integ, step=step, progress=progress,
+                         save_every=save_every)
         return solve(system, y0, t_end, method=method, step=step, tol=tol, progress=progress,
                      save_every=save_every, options=opts)
 

@@ -87,7 +87,6 @@ _LOGH_DOCS = {
     4: "Order-4 (Suzuki) composition of the time-transformed leapfrog",
     6: "Order-6 (Kahan–Li s9odr6) composition of the time-transformed leapfrog",
     8: "Order-8 (Kahan–Li s15odr8) composition of the time-transformed leapfrog",
-    10: "Order-10 (Sofroniou–Spaletta s35odr10) composition of the time-transformed leapfrog",
 }
 
 
@@ -159,7 +158,7 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
             "Preserves |ν|, (ν, m), total linear and angular momentum to round-off; symplectic "
             "in extended phase space, energy error bounded. TwoBodySystem and NBodySystem.",
             _logh(p), _LOGH_PARAMS, order=p)
-        for p in (2, 4, 6, 8, 10))
+        for p in (2, 4, 6, 8))
     wh_doc = ("Wisdom–Holman splitting in Jacobi coordinates (exact Kepler drifts, interaction "
               "kicks; SABA_n of Laskar & Robutel 2001) for point masses around one dominant "
               "body 0, with AllPairs('gravity'). Fixed step; symplectic; total momenta to "

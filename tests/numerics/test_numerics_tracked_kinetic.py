@@ -1,5 +1,5 @@
 """Time-transformed splittings with a tracked kinetic energy (``track_kinetic=True``) and of
-order 10 (``logh10``): order against analytic truth with fast spins, the round-off floor of the
+order 10 (``TimeTransformedSplitting(order=10)``): order against analytic truth with fast spins, the round-off floor of the
 recomputed ``T + p_t`` on the seed's close encounter and its removal (against heyoka at its
 tightest tolerance), events, a bit-identical resume and an unchanged default."""
 
@@ -13,6 +13,7 @@ from oracles import KeplerOrbit, free_top_axis  # type: ignore[import-not-found]
 
 from poissonkit.numerics import Collision, TwoBodySystem, solve
 from poissonkit.numerics.checkpoint import Checkpoint
+from poissonkit.numerics.integrators.time_transformed import TimeTransformedSplitting
 
 TRACKED = {"track_kinetic": True}
 
@@ -40,8 +41,8 @@ def test_tracked_kinetic_energy_keeps_the_order_against_the_exact_solution(name,
     system, y0, t_end, truth = fast_spinning_kepler()
     errs = []
     for h in steps:
-        sol = solve(system, y0, t_end, name, step=h,
-                    options={"exponent": 0.5, **TRACKED})
+        sol = solve(system, y0, t_end, TimeTransformedSplitting(order, exponent=0.5,
+                                                                track_kinetic=True), step=h)
         assert sol.t[-1] == t_end and sol.extra["track_kinetic"]
         errs.append(float(np.max(np.abs(sol.y[-1] - truth))))
     slope = np.log2(errs[0] / errs[1])
@@ -88,8 +89,8 @@ def test_tracking_removes_the_round_off_floor_of_fast_spins(seed_encounter):
     spec, ref = seed_encounter
 
     def error(track: bool, h: float) -> float:
-        sol = solve(spec.system, spec.y0, spec.t_end, "logh10", step=h, save_every=10**9,
-                    options={"exponent": 0.5, "track_kinetic": track})
+        integ = TimeTransformedSplitting(10, exponent=0.5, track_kinetic=track)
+        sol = solve(spec.system, spec.y0, spec.t_end, integ, step=h, save_every=10**9)
         return final_state_error(sol.y[-1], ref)
 
     # recomputed T + p_t: a clock error that grows as the step shrinks (measured 2.6e-9)
