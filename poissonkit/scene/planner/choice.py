@@ -457,6 +457,9 @@ CLOSE_APPROACH_ERROR = 1e-7
 def close_approach_integrator(system: System, y0: np.ndarray, error: float) -> Integrator | str:
     """The integrator for an orbit of tops with close approaches, for a final-state ``error``.
 
+    For orbits whose pericentre lies well inside the start distance (the seed encounter: 0.43;
+    on a near-circular orbit the fixed step needs 1.2× fewer evaluations at 1e-10).
+
     ``splitting8_bce`` (fixed step) down to :data:`CLOSE_APPROACH_ERROR`; below it, and when the
     start is in an attractive well (``V(y₀) < 0``), the order-10 time-transformed splitting with
     a tracked kinetic energy (1.3–1.55× fewer force evaluations at 1e-8 on eccentric approaches,
