@@ -47,8 +47,9 @@ error ``δH``, a relative rate error ``δH/(C − V)``: with a kinetic energy fa
 amplified by ``T/|V|`` (445 on the seed encounter) into the rate, i.e. a clock error of the
 orbit (measured: the final-state error at small steps is a time shift of 3e-10–8e-10 with a
 residual of 1e-11). With the option, ``T + p_t`` starts at ``C − V(y₀)`` (``Γ = 0``) and each
-kick adds its work ``Σ w δ (u + δ/2)`` from its exact increments ``δ`` (the kick applied once
-more to a zero state); the drift leaves ``T`` unchanged. The method is the same in exact
+kick adds its work ``Σ w δ (u + δ/2)`` from its exact increments ``δ`` (two bodies: in the
+kick's own pass over the forces; N bodies: the kick applied once more to a zero state); the
+drift leaves ``T`` unchanged. The method is the same in exact
 arithmetic; the floor falls to the ordinary splitting's (1e-11–1e-10 on the encounter). A
 state changed outside the loop (event location, restart) is resynchronised from its momenta.
 
