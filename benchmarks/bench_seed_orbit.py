@@ -54,6 +54,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import functools
 import math
 import time
 from types import SimpleNamespace
@@ -150,14 +151,27 @@ class Solvers:
         if method in YOSHIDA:
             return solve(system, y0, t_end, method=yoshida(method), step=step,
                          progress=progress, save_every=save_every)
+        if method == "close-approach":  # the planner's choice for errors below 1e-7
+            from poissonkit.scene.planner.choice import close_approach_integrator
+
+            return solve(system, y0, t_end, method=close_approach_integrator(system, y0, 1e-8),
+                         step=step, progress=progress, save_every=save_every)
         opts = None
         if method.endswith("+adaptive"):
             method, opts = method[: -len("+adaptive")], {"adaptive": True}
         elif method.endswith("+compensated"):  # Kahan-compensated increments (no 1e-10 floor)
             method, opts = method[: -len("+compensated")], {"compensated": True}
-        elif "+k" in method:  # time-transformed splitting with another exponent
-            method, k = method.split("+k")
-            opts = {"exponent": float(k)}
+        elif "+k" in method:  # time-transformed splitting with another exponent (+tracked:
+            method, k = method.split("+k")  # T + p_t carried by the kicks' work)
+            opts = {"exponent": float(k.removesuffix("+tracked"))}
+            if k.endswith("+tracked"):
+                opts["track_kinetic"] = True
+        if method == "logh10":  # order 10 (s35odr10 weights) has no registry name
+            from poissonkit.numerics.integrators.time_transformed import TimeTransformedSplitting
+
+            integ = TimeTransformedSplitting(10, **(opts or {}))
+            return solve(system, y0, t_end, method=integ, step=step, progress=progress,
+                         save_every=save_every)
         return solve(system, y0, t_end, method=method, step=step, tol=tol, progress=progress,
                      save_every=save_every, options=opts)
 
@@ -184,7 +198,7 @@ class Solvers:
 
 def scenes(quick: bool):
     """(name, RunSpec, reference step, splitting methods) of the three benchmark scenes."""
-    logh = ["logh6", "logh8", "logh8+k0.5"]
+    logh = ["logh6", "logh8", "logh8+k0.5", "logh10+k0.5+tracked", "close-approach"]
     comp = ["splitting6_bm+compensated", "splitting8+compensated"]
     high = ["splitting8_bce", "splitting10_ss", "splitting8_bce+compensated",
             "splitting10_ss+compensated"]
@@ -242,7 +256,7 @@ def run_scene(name, spec, ref_step, split_methods, quick: bool,
     for m in split_methods:
         if "adaptive" in m:
             hs = np.geomspace(0.05, 0.002, n)
-        elif m.startswith(("splitting8_bce", "splitting10_ss")):
+        elif m.startswith(("splitting8_bce", "splitting10_ss", "logh10", "close-approach")):
             # 1e-7 at h = 0.07-0.15 and 1e-10 at 0.03-0.05: sampled more densely than the
             # usual grid, which has one point in that range
             hs = np.geomspace(0.3, 0.012, n + 2)
@@ -279,7 +293,7 @@ def run_scene(name, spec, ref_step, split_methods, quick: bool,
             f"{m} {v:.4g} s" if v else f"{m} —" for m, v in tte.items()), flush=True)
         for label, group in (("splitting", [m for m in registered if m.startswith("splitting")]),
                              ("time-transformed", [m for m in split_methods
-                                                   if m.startswith("logh")])):
+                                                   if m.startswith(("logh", "close-"))])):
             best = min((m for m in group if tte.get(m)), key=lambda m: tte[m], default=None)
             if best:
                 for base in ("dop853", "heyoka"):
@@ -295,13 +309,100 @@ def run_scene(name, spec, ref_step, split_methods, quick: bool,
     return out
 
 
+# ------------------------------------------------------------- force evaluations per accuracy
+#: (name, periods, tilt, momentum factor): the seed orbit and the close encounter of the timed
+#: benchmark and two eccentric close approaches (one pericentre passage each, pericentre 0.29 /
+#: 0.33 of the apocentre; heyoka at tol 1e-13 agrees with its tol-1e-16 state to 5e-11 on both)
+EVAL_SCENES = (("seed orbit (20 periods)", 20.0, 0.05, 1.0),
+               ("close encounter (10 periods)", 10.0, 0.01, 0.8),
+               ("eccentric A (0.6 periods, peri 0.29)", 0.6, 0.01, 0.7),
+               ("eccentric B (1.2 periods, peri 0.33)", 1.2, 0.02, 0.75))
+EVAL_METHODS = ("splitting8_bce", "splitting10_ss", "splitting6_bm", "splitting8+adaptive",
+                "logh8+k0.5", "logh8+k0.5+tracked", "logh10+k0.5+tracked", "logh10+k0.7+tracked",
+                "close-approach")
+EVAL_TARGETS = (1e-7, 1e-8, 1e-10)
+
+
+def _to_error(points: list[tuple[float, float]], target: float) -> float | None:
+    """Work (first entries) to reach ``target`` error, log–log between the first point at or
+    below it and the one before (as :func:`poissonkit.numerics.workprecision.time_to_error`)."""
+    pts = sorted(points)
+    for k, (work, err) in enumerate(pts):
+        if err <= target:
+            if k == 0:
+                return work
+            w0, e0 = pts[k - 1]
+            f = math.log(target / e0) / math.log(err / e0)
+            return math.exp(math.log(w0) + f * math.log(work / w0))
+    return None
+
+
+def _cpu(call, repeats: int = 5) -> float:
+    best = math.inf
+    for _ in range(repeats):
+        c = time.thread_time()
+        call()
+        best = min(best, time.thread_time() - c)
+    return best
+
+
+def evaluation_counts(quick: bool) -> None:
+    """Force evaluations each method needs to reach each error (load-independent), against
+    heyoka's steps to the same error times its cost per step in poissonkit evaluations."""
+    params = seed000.nondimensional_parameters()
+    solver = Solvers(params, "cpu")
+    grid = np.geomspace(0.4, 0.012, 10 if quick else 16)
+    for title, periods, tilt, mf in EVAL_SCENES:
+        spec = seed000.default_run(periods=periods, tilt=tilt, momentum_factor=mf)
+        t_end = float(spec.t_end)
+        ref = solver(None, spec.y0, t_end, method="heyoka", tol=1e-16).y[-1]
+        print(f"\n== {title}: evaluations to final-state error", flush=True)
+        # one evaluation of poissonkit (with its drift) in CPU time, to price heyoka's steps
+        run = functools.partial(solve, spec.system, spec.y0, t_end, method="splitting8_bce",
+                                step=0.05, save_every=10**9)
+        per_eval = _cpu(run) / run().nfev
+        hy_pts = []
+        for tol in np.geomspace(1e-7, 1e-15, 9):
+            sol = solver(None, spec.y0, t_end, method="heyoka", tol=float(tol))
+            err = wp.final_state_error(sol.y[-1], ref)
+            ta = solver._ta[(float(tol), np.asarray(spec.y0).tobytes())]
+            again = functools.partial(solver, None, spec.y0, t_end, method="heyoka",
+                                      tol=float(tol))
+            per_step = _cpu(again) / sol.steps
+            hy_pts.append((sol.steps * per_step / per_eval, err))
+            print(f"  heyoka tol={tol:.0e} order {ta.order:2d} steps {sol.steps:6d} err {err:.1e} "
+                  f"step = {per_step / per_eval:.1f} evaluations", flush=True)
+        rows = {"heyoka (steps x cost)": hy_pts}
+        for m in EVAL_METHODS:
+            pts = []
+            for h in grid:
+                try:
+                    sol = solver(spec.system, spec.y0, t_end, method=m, step=float(h),
+                                 save_every=10**9)
+                except Exception:  # noqa: BLE001 - a step too large for the method
+                    continue
+                pts.append((float(sol.nfev), wp.final_state_error(sol.y[-1], ref)))
+            rows[m] = pts
+        print(f"  {'method':26s}" + "".join(f" {t:>9.0e}" for t in EVAL_TARGETS))
+        for m, pts in rows.items():
+            need = [_to_error(pts, t) for t in EVAL_TARGETS]
+            print(f"  {m:26s}" + "".join(f" {n:9.0f}" if n else f" {'—':>9s}" for n in need),
+                  flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--scene", type=int, default=None, help="only scene 0, 1 or 2")
     ap.add_argument("--clock", choices=("wall", "cpu"), default="wall",
                     help="time the calls by wall time (default) or by the thread's CPU time")
+    ap.add_argument("--evals", action="store_true",
+                    help="count force evaluations to each error instead of timing (load-"
+                         "independent; heyoka priced by its CPU time per step)")
     args = ap.parse_args()
+    if args.evals:
+        evaluation_counts(args.quick)
+        return
     print(f"clock: {args.clock}")
     for k, (name, spec, h, ms) in enumerate(scenes(args.quick)):
         if args.scene is None or args.scene == k:

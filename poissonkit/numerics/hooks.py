@@ -78,6 +78,8 @@ _LOGH_PARAMS = (
           "positive (0 = Mikkola-Tanikawa logarithmic Hamiltonian, for V < 0)", 0.0),
     Param("exponent", "float", "k of dt/ds = ((C - V0)/(C - V))^k: 1 = logarithmic Hamiltonian "
           "(1/r potentials), about 1/2 for dipolar 1/r^3 encounters", 1.0),
+    Param("track_kinetic", "bool", "carry T + p_t by each kick's work instead of recomputing it "
+          "from the momenta: removes the round-off floor of fast spins (T >> |V|)", False),
 )
 
 _LOGH_DOCS = {

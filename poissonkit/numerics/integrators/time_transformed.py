@@ -30,8 +30,9 @@ constant; both flows are the system's own exact Poisson sub-flows run for a resc
   exact kick ``φ_V`` for ``σ = Δs g₀/(C − V)``.
 
 They are composed with the same symmetric drift–kick tables as the splitting (Strang, Suzuki's
-order 4, Kahan–Li's orders 6 and 8: :data:`~poissonkit.numerics.integrators.splitting.WEIGHTS`),
-so the method is symplectic in the extended phase space, of order 2–8 in ``s``, and keeps
+order 4, Kahan–Li's orders 6 and 8: :data:`~poissonkit.numerics.integrators.splitting.WEIGHTS`;
+Sofroniou–Spaletta's order 10 of ``splitting10_ss``), so the method is symplectic in the
+extended phase space, of order 2–10 in ``s``, and keeps
 ``|ν|``, ``(ν, m)``, total linear and angular momentum to round-off at any step (each stage is
 an exact Poisson map of the original bracket). The energy error is bounded without drift
 (``H − H₀ = (T + p_t) − (C − V)`` is the modified-``Γ`` error of a symplectic map).
@@ -40,6 +41,17 @@ The drift's rate ``g₀/(T + p_t)`` and the kick's ``g₀/(C − V)`` agree only
 error ``δH``, a relative rate error ``δH/(C − V)``: with a kinetic energy far larger than
 ``|V|`` (fast spins) this sets an accuracy floor (about 1e-9 on the seed orbit; see
 ``docs/numerics.md``), lowered by a larger ``C``.
+
+**Tracked kinetic energy** (``track_kinetic=True``). The floor is round-off, not truncation:
+``T + p_t`` computed from the momenta carries their accumulated round-off (``ε|m|`` per kick),
+amplified by ``T/|V|`` (445 on the seed encounter) into the rate, i.e. a clock error of the
+orbit (measured: the final-state error at small steps is a time shift of 3e-10–8e-10 with a
+residual of 1e-11). With the option, ``T + p_t`` starts at ``C − V(y₀)`` (``Γ = 0``) and each
+kick adds its work ``Σ w δ (u + δ/2)`` from its exact increments ``δ`` (two bodies: in the
+kick's own pass over the forces; N bodies: the kick applied once more to a zero state); the
+drift leaves ``T`` unchanged. The method is the same in exact
+arithmetic; the floor falls to the ordinary splitting's (1e-11–1e-10 on the encounter). A
+state changed outside the loop (event location, restart) is resynchronised from its momenta.
 
 Each stage costs one force evaluation: the system's ``forces`` kernel returns ``V`` and leaves
 the forces in the scratch arrays, from which the kick is applied (no second evaluation).
@@ -69,6 +81,7 @@ from poissonkit.numerics.integrators.base import (NONFINITE, RUNNING, RawResult,
                                                   check_step, state_digest, step_end_kernels,
                                                   step_tail)
 from poissonkit.numerics.integrators.capabilities import TIME_TRANSFORMED
+from poissonkit.numerics.integrators.compositions import TABLES
 from poissonkit.numerics.integrators.driver import Control, LoopProblem, LoopState, drive
 from poissonkit.numerics.integrators.glue import ChunkResult, Scratch, guard_division
 from poissonkit.numerics.integrators.splitting import WEIGHTS, drift_kick_coefficients
@@ -96,6 +109,18 @@ def kinetic_energy(y, idx, w):
 
 
 @numba.njit(cache=True, error_model="numpy")
+def kick_work(y, dy, idx, w):
+    """``T(y + dy) − T(y) = Σ_k w_k dy_k (y_k + dy_k/2)`` over the momentum slots ``idx``: the
+    work of a kick from its exact increments ``dy``, free of the cancellation of two large
+    kinetic energies (fast spins) and of the round-off of the kicked momenta."""
+    e = 0.0
+    for k in range(idx.shape[0]):
+        d = dy[idx[k]]
+        e += w[k] * d * (y[idx[k]] + 0.5 * d)
+    return e
+
+
+@numba.njit(cache=True, error_model="numpy")
 def _apply_two_body(y, h, data, work):
     """Kick ``p, m', m''`` by ``h`` times the forces left in ``work.partials`` by ``forces``."""
     f = work.partials
@@ -103,6 +128,21 @@ def _apply_two_body(y, h, data, work):
         y[3 + d] += h * f[d]
         y[9 + d] += h * f[3 + d]
         y[15 + d] += h * f[6 + d]
+
+
+@numba.njit(cache=True, error_model="numpy")
+def _kick_tracked_two_body(y, h, idx, w, kz, data, work):
+    """:func:`_apply_two_body` fused with :func:`kick_work` (same numbers, one pass): kicks
+    ``y`` and returns the kick's work (``idx`` lists the slots of ``p, m', m''`` in the order of
+    ``work.partials``)."""
+    f = work.partials
+    e = 0.0
+    for k in range(idx.shape[0]):
+        d = h * f[k]
+        u = y[idx[k]]
+        e += w[k] * d * (u + 0.5 * d)
+        y[idx[k]] = u + d
+    return e
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
@@ -144,6 +184,19 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
     apply = _apply_two_body if layout == _TWO_BODY else apply_forces
 
     @jit
+    def kick_tracked_bodies(y, h, kidx, kw, kz, data, work):
+        """Kick ``y``; returns the kick's work from its increments (the kick applied to ``kz``,
+        zero in the momentum slots)."""
+        for i in range(kidx.shape[0]):
+            kz[kidx[i]] = 0.0
+        apply(kz, h, data, work)
+        e = kick_work(y, kz, kidx, kw)
+        apply(y, h, data, work)
+        return e
+
+    kick_tracked = _kick_tracked_two_body if layout == _TWO_BODY else kick_tracked_bodies
+
+    @jit
     def plain_step(y, h, a, b, data, work):
         """One ordinary composition step of physical time ``h``."""
         nb = b.shape[0]
@@ -154,12 +207,16 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
         drift(y, a[nb] * h, data)
 
     @jit
-    def tt_step(y, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work):
-        """One step ``Δs`` in fictitious time; returns ``(Δt, status, offending value)``."""
+    def tt_step(y, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work, wk, kz):
+        """One step ``Δs`` in fictitious time; returns ``(Δt, status, offending value)``.
+        ``wk`` empty: the drift's rate reads ``T(y) + p_t``; else ``wk[0]`` carries
+        ``T + p_t``, advanced by each kick's work, whose increments the kick leaves in the
+        momentum slots of ``kz`` (zero elsewhere)."""
         nb = b.shape[0]
         dt = 0.0
+        tracked = wk.shape[0] > 0
         for s in range(nb + 1):
-            w = kinetic_energy(y, kidx, kw) + pt
+            w = wk[0] if tracked else kinetic_energy(y, kidx, kw) + pt
             if not w > 0.0:
                 return dt, KINETIC_LOST, w
             tau = a[s] * ds * _power(g0 / w, kexp)
@@ -171,14 +228,19 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
             den = c - v
             if not den > 0.0:
                 return dt, SHIFT_TOO_SMALL, v
-            apply(y, b[s] * ds * _power(g0 / den, kexp), data, work)
+            hk = b[s] * ds * _power(g0 / den, kexp)
+            if tracked:
+                wk[0] += kick_tracked(y, hk, kidx, kw, kz, data, work)
+            else:
+                apply(y, hk, data, work)
         return dt, RUNNING, 0.0
 
     @jit
     def run(y, t0, t_end, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work, save_every, step0,
-            max_steps, out_t, out_y, contact, escape, watch, trial, prev, prev2, hist):
+            max_steps, out_t, out_y, contact, escape, watch, trial, prev, prev2, hist, wk, kz):
         """Advance ``y`` in place. Returns (status, t, steps_done_in_call, n_saved, value)
-        (``prev``, ``prev2``, ``hist`` as in the splitting's loop)."""
+        (``prev``, ``prev2``, ``hist`` as in the splitting's loop; ``wk``, ``kz`` as in
+        ``tt_step``)."""
         nsave = 0
         t = t0
         k = 0
@@ -188,7 +250,8 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
             if track:
                 remember(y, prev, prev2, hist, t)
             copy_into(y, trial)
-            dt, code, bad = tt_step(y, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work)
+            w_start = wk[0] if wk.shape[0] > 0 else 0.0
+            dt, code, bad = tt_step(y, ds, a, b, pt, c, g0, kexp, kidx, kw, data, work, wk, kz)
             if code != RUNNING:
                 copy_into(trial, y)  # leave the last good state for the error message
                 return code, t, k, nsave, bad
@@ -200,6 +263,8 @@ def _runner(kernels: CompiledKernels, layout: int) -> CompiledFunction:
             last = not t + dt < t_end
             if last:  # undo, and finish with an ordinary step of the remaining time
                 copy_into(trial, y)
+                if wk.shape[0] > 0:
+                    wk[0] = w_start
                 plain_step(y, t_end - t, a, b, data, work)
                 t = t_end
             else:
@@ -227,7 +292,8 @@ class TimeTransformedSplitting:
     Parameters
     ----------
     order
-        2, 4, 6 or 8 (in the fictitious time ``s``).
+        2, 4, 6, 8 or 10 (in the fictitious time ``s``; 10 composes 35 stages, the weights of
+        ``splitting10_ss``).
     shift
         The constant ``C`` of ``ln(C − V)`` (internal energy unit); ``C − V`` must stay
         positive. ``0`` is Mikkola–Tanikawa's logarithmic Hamiltonian, right for attractive
@@ -238,14 +304,21 @@ class TimeTransformedSplitting:
         logarithmic Hamiltonian (``f = ln``; exact Kepler orbits at order 2, right for ``1/r``
         potentials); for steeper potentials (dipoles, ``1/r³``) ``k ≈ 1/2`` shrinks the step
         like ``r^{3/2}`` instead of ``r³`` (Preto–Tremaine's ``f(x) = x^{1−k}/(1−k)``).
+    track_kinetic
+        Carry ``T + p_t`` from kick to kick by each kick's work (module doc, "Tracked kinetic
+        energy") instead of recomputing it from the momenta: the same method in exact
+        arithmetic, without the round-off floor of fast spins (``T ≫ |V|``). ``False`` (the
+        default) keeps the original loop bit for bit.
     """
 
     family = TIME_TRANSFORMED.family
     capabilities = TIME_TRANSFORMED.capabilities
 
-    def __init__(self, order: int = 6, shift: float = 0.0, exponent: float = 1.0) -> None:
-        if order not in WEIGHTS:
-            raise InputError(f"logh order must be one of {sorted(WEIGHTS)}, got {order!r}")
+    def __init__(self, order: int = 6, shift: float = 0.0, exponent: float = 1.0,
+                 track_kinetic: bool = False) -> None:
+        if order not in WEIGHTS and order != 10:
+            raise InputError(f"logh order must be one of {sorted(WEIGHTS) + [10]}, "
+                             f"got {order!r}")
         try:
             shift = float(shift)
         except (TypeError, ValueError):
@@ -262,8 +335,38 @@ class TimeTransformedSplitting:
         self.order = order
         self.shift = shift
         self.exponent = exponent
-        self.a, self.b = drift_kick_coefficients(WEIGHTS[order])
+        self.track_kinetic = bool(track_kinetic)
+        # order 10: Sofroniou–Spaletta's s35odr10, the weights of ``splitting10_ss``
+        weights = WEIGHTS[order] if order in WEIGHTS else TABLES["splitting10_ss"].weights
+        self.a, self.b = drift_kick_coefficients(weights)
         self.name = f"logh{order}"
+
+    #: shift of :meth:`for_close_approach` in units of ``|V(y₀)|``: ``dt/ds = (C − V₀)/(C − V)``
+    #: then shrinks the step at a pericentre 12× deeper than the start like ``k = 1/2`` would
+    #: (0.26 against 0.28), without the two square roots per stage of ``k = 1/2``
+    CLOSE_APPROACH_SHIFT = 3.0
+
+    @classmethod
+    def for_close_approach(cls, system: System, y0: np.ndarray) -> TimeTransformedSplitting:
+        """The tuning that needs the fewest force evaluations per accuracy on eccentric close
+        approaches of tops (``docs/performance.md``, "Force evaluations per accuracy"): order
+        10, tracked kinetic energy, exponent 1 and shift ``3 |V(y₀)|``.
+
+        Raises
+        ------
+        InputError
+            ``V(y₀) ≥ 0`` (no well to adapt to; the largest ``V`` of the run is not known) or
+            ``system`` has no forces kernel.
+        """
+        if not offers(system, HasCompiledKernels) or system.kernels.forces is None:
+            raise InputError(f"{type(system).__name__} has no forces kernel: a time-transformed "
+                             "splitting needs a system of bodies")
+        v0 = float(system.kernels.forces(np.array(y0, dtype=float), system.data,
+                                         system.work()))
+        if not v0 < 0:
+            raise InputError(f"close-approach tuning needs an attractive start, V(y0) < 0; got "
+                             f"V(y0) = {v0:.6g} (give logh8 a shift above the largest V)")
+        return cls(10, shift=cls.CLOSE_APPROACH_SHIFT * abs(v0), track_kinetic=True)
 
     @property
     def stages(self) -> int:
@@ -312,19 +415,36 @@ class TimeTransformedSplitting:
         trial = np.empty_like(y)
         scratch = Scratch(y.size)
         a, b, kexp = self.a, self.b, self.exponent
+        # tracked T + p_t: carry "w" = [T + p_t] valid for the state carry "w_at" (it starts at
+        # C - V(y0), Γ = 0); a state changed outside the loop (event location) is
+        # resynchronised from its momenta; both are checkpointed (bit-identical resume)
+        kz = np.zeros(y.size if self.track_kinetic else 0)
+        carry = {"w": np.array([g0]), "w_at": y.copy()} if self.track_kinetic else {}
+        untracked = np.empty(0)
+
+        def tracked(st: LoopState) -> np.ndarray:
+            if not st.carry:
+                return untracked
+            wk, at = st.carry["w"], st.carry["w_at"]
+            if not np.array_equal(st.y, at):
+                wk[0] = kinetic_energy(st.y, kidx, kw) + pt
+            return wk
 
         def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
             status, t_new, k, nsave, value = run(
                 st.y, st.t, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work, save_every,
                 st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, trial,
-                st.prev, st.prev2, st.hist)
+                st.prev, st.prev2, st.hist, tracked(st), kz)
+            if st.carry:
+                st.carry["w_at"][:] = st.y
             st.detail = value
             return status, t_new, k, nsave, k * len(b), value
 
         def one_step(ys: np.ndarray, ts: float, done_steps: int) -> tuple[int, float]:
+            w1 = np.array([kinetic_energy(ys, kidx, kw) + pt]) if kz.size else untracked
             out = run(ys, ts, t_end, ds, a, b, pt, C, g0, kexp, kidx, kw, data, work,
                       save_every, done_steps, 1, scratch.t, scratch.y, 0.0, 0.0, 0.0, trial, ys,
-                      ys, scratch.hist)
+                      ys, scratch.hist, w1, kz)
             return out[0], out[1]
 
         def advance(ys: np.ndarray, s: float) -> np.ndarray:
@@ -360,10 +480,14 @@ class TimeTransformedSplitting:
                    # progress-bar granularity only (the number of steps is not known ahead)
                    "n_total": max(1, math.ceil((t_end - t0) / ds)),
                    "y0": state_digest(y0)}
+        if self.track_kinetic:  # existing runs keep their problem key (checkpoints)
+            problem["track_kinetic"] = True
         raw = drive(LoopProblem(
             self.name, system, y, t0, t_end,
             guard_division(self.name, chunk, lambda st: (one_step, st.y.copy())), advance, done,
-            problem, 4096, events, progress, save_every, control, failure))
+            problem, 4096, events, progress, save_every, control, failure, carry=carry))
         raw.extra.update(step=ds, order=self.order, shift=C, exponent=self.exponent,
                          time_transformed=True)
+        if self.track_kinetic:
+            raw.extra["track_kinetic"] = True
         return raw
