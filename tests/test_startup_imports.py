@@ -124,3 +124,21 @@ def test_a_scene_listing_loads_only_the_plugins_with_scenes(monkeypatch):
         assert loaded == scene_plugins
     finally:
         manager.reset()
+
+
+def test_loaded_reports_name_every_plugin_without_calling_other_hooks(monkeypatch):
+    monkeypatch.setenv("POISSONKIT_DISABLE_PLUGIN_AUTOLOAD", "1")
+    manager.reset()
+    try:
+        manager.entries("potential")
+        light = [(r.name, r.source, r.version, r.status, r.error)
+                 for r in manager.loaded_reports()]
+        state = manager._get()
+        assert all(s.loaded for s in state.slots)
+        assert not any("outcome" in s.called or "system" in s.called for s in state.slots)
+        full = [(r.name, r.source, r.version, r.status, r.error)
+                for r in manager.plugin_reports()]
+        assert light == full
+        assert [n for n, _ in manager.BUILTIN_PLUGINS] == [r[0] for r in full]
+    finally:
+        manager.reset()

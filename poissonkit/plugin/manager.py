@@ -370,6 +370,22 @@ def plugin_reports() -> list[PluginReport]:
         return [slot.report for slot in state.slots]
 
 
+def loaded_reports() -> list[PluginReport]:
+    """One report per plugin, every plugin imported but no further hook called.
+
+    What a run's provenance needs (name, source, version, status) without calling the hooks of
+    kinds the run did not use (sweep outcomes, symbolic systems, fields...), which
+    :func:`plugin_reports` calls to list every contribution. A plugin that fails to import is
+    reported ``"failed"`` as there; one whose uncalled hook would raise is still ``"ok"``.
+    The ``contributions`` of a report are filled only once :func:`plugin_reports` has run.
+    """
+    with _lock:
+        state = _get()
+        for slot in state.slots:
+            _load(state, slot)
+        return [slot.report for slot in state.slots]
+
+
 def entries(kind: str) -> dict[str, Entry]:
     """All entries of one kind (``"potential"``, ``"assembly"``, ``"system"``, ``"integrator"``,
     ``"scene"``, ``"model_family"``, ``"outcome"``, ``"field"``), by name, in registration
