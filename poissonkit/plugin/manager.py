@@ -33,6 +33,7 @@ import os
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import pluggy
@@ -210,7 +211,7 @@ def _slots() -> list[_Slot]:
     from poissonkit._version import __version__
 
     slots = [_Slot(PluginReport(name=name, source="builtin", version=__version__),
-                   lambda m=module: importlib.import_module(m), BUILTIN_KINDS.get(module))
+                   partial(importlib.import_module, module), BUILTIN_KINDS.get(module))
              for name, module in BUILTIN_PLUGINS]
     if os.environ.get(ENV_DISABLE, "").strip() not in ("1", "true", "yes"):
         for ep in md.entry_points(group=hookspecs.PROJECT):
