@@ -142,3 +142,39 @@ def test_loaded_reports_name_every_plugin_without_calling_other_hooks(monkeypatc
         assert [n for n, _ in manager.BUILTIN_PLUGINS] == [r[0] for r in full]
     finally:
         manager.reset()
+
+
+HALF_BROKEN = '''
+from poissonkit.plugin import Param, SceneEntry, hookimpl
+
+@hookimpl
+def poissonkit_scenes():
+    return [SceneEntry("pk_half_broken_scene", "A scene of a plugin with a broken hook.",
+                       params=(Param("n", "int", "count", 1),), load=lambda **p: None)]
+
+@hookimpl
+def poissonkit_potentials():
+    raise RuntimeError("this hook is broken on purpose")
+'''
+
+
+def test_a_third_party_plugin_is_loaded_whole_even_for_one_kind(tmp_path, monkeypatch):
+    # loading by kind must not let a third-party plugin's scenes through while another of its
+    # hooks fails: the whole plugin is skipped, as when everything is loaded
+    from tests.plugins.test_plugins_host import install_fake
+
+    monkeypatch.syspath_prepend(str(tmp_path))
+    monkeypatch.delenv("POISSONKIT_DISABLE_PLUGIN_AUTOLOAD", raising=False)
+    monkeypatch.delenv("POISSONKIT_BLOCK_PLUGINS", raising=False)
+    install_fake(tmp_path, "pk-half", "1.0", {"pk_half": "pk_half_broken_mod"},
+                 {"pk_half_broken_mod": HALF_BROKEN})
+    importlib.invalidate_caches()
+    manager.reset()
+    try:
+        assert "pk_half_broken_scene" not in manager.entries("scene")
+        assert "seed000" in manager.entries("scene")
+        (half,) = [r for r in manager.plugin_reports() if r.name == "pk_half"]
+        assert half.status == "failed" and "broken on purpose" in half.error
+        assert "pk_half_broken_scene" not in manager.entries("scene")
+    finally:
+        manager.reset()
