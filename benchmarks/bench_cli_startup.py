@@ -5,8 +5,9 @@ Each command runs ``--repeat`` times (default 5) in a fresh interpreter; the tab
 median and the best wall time, the CPU time (user + system of the child, from
 ``resource.getrusage(RUSAGE_CHILDREN)``) of the median run, and both as ratios to a bare
 ``python -c pass`` measured the same way in the same session. On a loaded machine the wall
-times grow with the load but the CPU times and the ratios stay close to those of a quiet one:
-compare those, and re-measure wall times against the targets on an idle machine.
+times grow with the load; the CPU times and the ratios vary much less (they still grow somewhat,
+cores being shared): compare those, and re-measure wall times against the targets on an idle
+machine.
 The warm run is preceded by one untimed run that fills the kernel cache (a temporary folder,
 unless ``POISSONKIT_CACHE_DIR`` is set), so it measures a second run of the scene: start-up,
 loading the kernels, 0.02 s of integration, writing summary and trajectory. Targets (on an idle
