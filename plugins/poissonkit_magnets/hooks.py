@@ -9,14 +9,16 @@ default scene of ``poissonkit run``.
 
 from __future__ import annotations
 
-from functools import partial
+from functools import cache, partial
 
 from poissonkit.plugin.contributions import (ExternalField, ModelFamily, OutcomeEntry,
                                              PairPotential, Param, SceneEntry)
 from poissonkit.plugin.hookspecs import hookimpl
-from poissonkit_magnets.family import MAGNET_FAMILY
-from poissonkit_magnets.models import MODELS, evaluator, kernel, param_kernel, param_values
-from poissonkit_magnets.pair_params import MAGNET_QUANTITIES, complete_params
+
+# Each hook imports what it hands out when it is called: the host calls only the hooks of the
+# kinds a command needs (``poissonkit scenes`` calls poissonkit_scenes alone), so listing the
+# scenes loads neither the models (sympy, numba) nor the fields.
+
 
 def _dipole_energy_scale(bodies, length: float) -> float | None:
     """Energy unit of a magnet scene: the dipole energy ``mu0 mu^2 / (4 pi L^3)`` of the
@@ -31,30 +33,37 @@ def _dipole_energy_scale(bodies, length: float) -> float | None:
     return MU0 * strongest ** 2 / (4 * math.pi * length ** 3)
 
 
-# Built once per process: compiled kernels are cached per entry, so handing out the same
-# entries after every plugin-manager rebuild avoids recompiling them.
-_ENTRIES: tuple[PairPotential, ...] = tuple(
-    PairPotential(name=m.name, doc=m.doc, params=m.params, expr=m.expr,
-                  kernel=partial(kernel, m.name), orientation="both",
-                  param_kernel=partial(param_kernel, m.name),
-                  param_values=partial(param_values, m.name),
-                  evaluate=partial(evaluator, m.name),
-                  complete_params=partial(complete_params, tuple(p.name for p in m.params)),
-                  body_quantities=MAGNET_QUANTITIES,
-                  energy_scale=_dipole_energy_scale)
-    for m in MODELS
-)
+@cache
+def _potential_entries() -> tuple[PairPotential, ...]:
+    """Built once per process: compiled kernels are cached per entry, so handing out the same
+    entries after every plugin-manager rebuild avoids recompiling them."""
+    from poissonkit_magnets.models import MODELS, evaluator, kernel, param_kernel, param_values
+    from poissonkit_magnets.pair_params import MAGNET_QUANTITIES, complete_params
+
+    return tuple(
+        PairPotential(name=m.name, doc=m.doc, params=m.params, expr=m.expr,
+                      kernel=partial(kernel, m.name), orientation="both",
+                      param_kernel=partial(param_kernel, m.name),
+                      param_values=partial(param_values, m.name),
+                      evaluate=partial(evaluator, m.name),
+                      complete_params=partial(complete_params, tuple(p.name for p in m.params)),
+                      body_quantities=MAGNET_QUANTITIES,
+                      energy_scale=_dipole_energy_scale)
+        for m in MODELS
+    )
 
 
 @hookimpl
 def poissonkit_potentials() -> list[PairPotential]:
     """The magnet pair potentials (SI units)."""
-    return list(_ENTRIES)
+    return list(_potential_entries())
 
 
 @hookimpl
 def poissonkit_model_families() -> list[ModelFamily]:
     """The magnet family: dipole, dumbbells, exact cylinders, with their error estimate."""
+    from poissonkit_magnets.family import MAGNET_FAMILY
+
     return [MAGNET_FAMILY]
 
 

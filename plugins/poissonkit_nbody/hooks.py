@@ -6,8 +6,9 @@ from typing import Any
 
 from poissonkit.plugin.contributions import Assembly, PairPotential, Param
 from poissonkit.plugin.hookspecs import hookimpl
-from poissonkit_nbody import graphs
-from poissonkit_nbody.potentials import GRAVITY
+
+# networkx and sympy are imported by the hooks and builders that need them, not with this module:
+# the host loads it for any registry of a kind it contributes.
 
 #: Flat, typed body parameters shared by every registered assembly (0 = absent).
 _BODY_PARAMS = (
@@ -35,16 +36,22 @@ def _body(params: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
 
 
 def _chain(**params: Any):
+    from poissonkit_nbody import graphs
+
     body, kw = _body(params)
     return graphs.chain(kw.pop("n"), kw.pop("spacing"), body, **kw)
 
 
 def _ring(**params: Any):
+    from poissonkit_nbody import graphs
+
     body, kw = _body(params)
     return graphs.ring(kw.pop("n"), kw.pop("ring_radius"), body, **kw)
 
 
 def _lattice(**params: Any):
+    from poissonkit_nbody import graphs
+
     body, kw = _body(params)
     shape = (kw.pop("nx"), kw.pop("ny")) + ((kw.pop("nz"),) if kw.get("nz", 0) else ())
     kw.pop("nz", None)
@@ -52,6 +59,8 @@ def _lattice(**params: Any):
 
 
 def _cluster(**params: Any):
+    from poissonkit_nbody import graphs
+
     body, kw = _body(params)
     if not kw.get("min_distance"):
         kw.pop("min_distance", None)
@@ -61,6 +70,8 @@ def _cluster(**params: Any):
 @hookimpl
 def poissonkit_assemblies() -> list[Assembly]:
     """Chains, rings, 2D/3D lattices and seeded random clusters built as networkx graphs."""
+    from poissonkit_nbody import graphs
+
     n = Param("n", "int", "number of bodies", positive=True)
     spacing = Param("spacing", "float", "centre-to-centre distance [m]", unit="m", positive=True)
     return [
@@ -92,4 +103,6 @@ def poissonkit_assemblies() -> list[Assembly]:
 @hookimpl
 def poissonkit_potentials() -> list[PairPotential]:
     """Point-mass gravity."""
+    from poissonkit_nbody.potentials import GRAVITY
+
     return [GRAVITY]

@@ -119,11 +119,12 @@ def scene_catalog() -> list[SceneListing]:
     list of SceneListing
         Sorted by name within each kind.
     """
-    from poissonkit.plugin import entries, plugin_reports
     from poissonkit.plugin.contributions import SceneEntry
+    from poissonkit.plugin.manager import entries, providers
     from poissonkit.scene.loader import scene_description, shipped_scenes
 
-    owner = {n: r.name for r in plugin_reports() for n in r.contributions.get("scene", [])}
+    # providers, not plugin_reports: the listing loads only the plugins that register scenes
+    owner = providers("scene")
     out = [SceneListing(name, "registered", _first_line(e.doc), owner.get(name, ""),
                         isinstance(e, SceneEntry) and e.default, scene_parameters(e))
            for name, e in sorted(entries("scene").items())]
