@@ -7,11 +7,28 @@ Each model has a sympy expression ``U(r, c1, c2, c3)`` and a compiled kernel ret
 from __future__ import annotations
 
 import math
+from functools import cache
+from typing import TYPE_CHECKING
 
-import sympy as sp
 from numba import njit
 
-R, C1, C2, C3 = sp.symbols("r c1 c2 c3", real=True)
+if TYPE_CHECKING:
+    import sympy as sp
+
+
+@cache
+def _symbols() -> tuple[sp.Symbol, sp.Symbol, sp.Symbol, sp.Symbol]:
+    # sympy loads on the first expression asked for: a run from compiled kernels never needs it
+    import sympy as sp
+
+    return sp.symbols("r c1 c2 c3", real=True)
+
+
+def __getattr__(name: str) -> sp.Symbol:
+    """The coordinates ``R, C1, C2, C3`` of the expressions, made on first use."""
+    if name in ("R", "C1", "C2", "C3"):
+        return _symbols()[("R", "C1", "C2", "C3").index(name)]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def dipole_strength(moment1: float, moment2: float, mu0: float) -> float:
@@ -80,12 +97,18 @@ def dumbbell_core_k(r: float, c1: float, c2: float, c3: float, kap: float, l1: f
 
 def dipole_expr(moment1: float, moment2: float, mu0: float) -> sp.Expr:
     """Sympy ``U`` of two point dipoles."""
+    import sympy as sp
+
+    R, C1, C2, C3 = _symbols()
     k = sp.Float(mu0) * sp.Float(moment1) * sp.Float(moment2) / (4 * sp.pi)
     return k * (C3 - 3 * C1 * C2) / R ** 3
 
 
 def dumbbell_expr(moment1: float, moment2: float, l1: float, l2: float, mu0: float) -> sp.Expr:
     """Sympy ``U`` of two dumbbells (seed 000 eq. (16))."""
+    import sympy as sp
+
+    R, C1, C2, C3 = _symbols()
     k1 = sp.Float(moment1) / (2 * sp.Float(l1))
     k2 = sp.Float(moment2) / (2 * sp.Float(l2))
     a, b = sp.Float(l1), sp.Float(l2)

@@ -16,14 +16,16 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import networkx as nx
 import numpy as np
 
 from poissonkit.errors import InputError
 from poissonkit.validation import count
 from poissonkit.scene.bodies import BodyModel
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 _INTERACTIONS = ("complete", "neighbours")
 
@@ -41,6 +43,8 @@ def _is_top(body: Mapping[str, Any]) -> bool:
 
 
 def _new_graph(potential: str | None, params: Mapping[str, Any] | None, kind: str) -> nx.Graph:
+    import networkx as nx  # loaded when a graph is built or checked
+
     G = nx.Graph(assembly=kind)
     if potential is not None:
         G.graph["potential"] = potential

@@ -3,16 +3,20 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import sympy as sp
 
 from poissonkit.conventions import NEWTON_G
 from poissonkit.plugin.contributions import PairPotential, Param
 
+if TYPE_CHECKING:
+    import sympy as sp
+
 
 def _gravity_expr(params: dict[str, Any]) -> sp.Expr:
+    import sympy as sp  # only when the expression is asked for, not at plugin load
+
     r = sp.Symbol("r", real=True)
     return -params["G"] * params["mass1"] * params["mass2"] / r
 

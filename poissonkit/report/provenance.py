@@ -36,14 +36,15 @@ JSONValue = None | bool | int | float | str | list["JSONValue"] | dict[str, "JSO
 def versions() -> dict[str, JSONValue]:
     """``{"poissonkit": version, "python": ..., "numpy": ..., "numba": ..., "plugins": [{name,
     source, version, status, error}, ...]}`` for every plugin poissonkit loaded
-    (:func:`poissonkit.plugin.plugin_reports`); ``numba`` is ``None`` when it is missing."""
+    (:func:`poissonkit.plugin.manager.loaded_reports`: the hooks a run did not use are not
+    called for this); ``numba`` is ``None`` when it is missing."""
     import platform
     from importlib.metadata import PackageNotFoundError, version
 
     import numpy as np
 
     from poissonkit._version import __version__
-    from poissonkit.plugin import plugin_reports
+    from poissonkit.plugin.manager import loaded_reports
 
     try:
         numba: str | None = version("numba")
@@ -51,7 +52,7 @@ def versions() -> dict[str, JSONValue]:
         numba = None
     plugins: list[JSONValue] = [
         {"name": r.name, "source": r.source, "version": r.version, "status": r.status,
-         "error": r.error} for r in plugin_reports()]
+         "error": r.error} for r in loaded_reports()]
     return {"poissonkit": __version__, "python": platform.python_version(),
             "numpy": np.__version__, "numba": numba, "plugins": plugins}
 

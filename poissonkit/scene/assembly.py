@@ -8,13 +8,13 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-import networkx as nx
 import numpy as np
 
 from poissonkit.errors import InputError
 from poissonkit.scene.bodies import BodyModel, ParamValue, pair_params
 
 if TYPE_CHECKING:
+    import networkx as nx
     from poissonkit.numerics.nbody import NBodySystem
     from poissonkit.numerics.units import Scales
     from poissonkit.plugin.contributions import PairPotential
@@ -41,6 +41,8 @@ def complete(G: nx.Graph) -> nx.Graph:
 
 def require_graph(G: object) -> nx.Graph:
     """``G`` itself if it is a networkx graph; else an :class:`InputError` naming its type."""
+    import networkx as nx  # loaded when a graph is built or checked
+
     if not isinstance(G, nx.Graph):  # DiGraph and MultiGraph are Graph subclasses too
         raise InputError(f"expected a networkx graph of bodies, got {type(G).__name__} {G!r:.60}")
     return G
@@ -309,6 +311,8 @@ def uniform_graph_pair(G: nx.Graph, bodies: list[BodyModel],
     The system :func:`all_pairs_system` builds from it is the one :func:`system_of` builds
     from the full pair list; only the set-up differs (O(N) instead of O(N²)).
     """
+    import networkx as nx  # G is a networkx graph: the module is loaded already
+
     n = G.number_of_nodes()
     if G.is_directed() or G.is_multigraph() or G.number_of_edges() not in (0, n * (n - 1) // 2):
         return None

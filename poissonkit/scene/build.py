@@ -7,7 +7,6 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-import networkx as nx
 import numpy as np
 
 from poissonkit.errors import PoissonkitError, SceneError
@@ -16,6 +15,8 @@ from poissonkit.scene.bodies import BodyModel
 from poissonkit.scene.schema import Scene
 
 if TYPE_CHECKING:
+    import networkx as nx
+
     from poissonkit.numerics.events import Contact
     from poissonkit.plugin.contributions import Assembly
     from poissonkit.numerics.nbody import NBodySystem
@@ -56,6 +57,7 @@ def scene_graph(scene: Scene, *, edges: bool = True) -> nx.Graph:
             apply_overrides([G.nodes[n] for n in G.nodes], scene.assembly_overrides,
                             scene.assembly_bodies)
     else:
+        import networkx as nx  # only when a graph is built: a run's start-up skips it
         G = nx.Graph()
         for k, body in enumerate(scene.bodies):
             G.add_node(k, **dict(body))
@@ -230,6 +232,7 @@ def _all_pairs_direct(scene: Scene, scales: Scales | str | None) -> BuiltScene |
         if scene.assembly is None:
             bodies = [BodyModel.from_attrs(b, str(b.get("name", k)))
                       for k, b in enumerate(scene.bodies)]
+            import networkx as nx  # only when a graph is built: a run's start-up skips it
             G = nx.Graph(potential=scene.potential, params=dict(scene.potential_params))
         else:
             G = scene_graph(scene, edges=False)

@@ -550,6 +550,10 @@ def check_size(bodies: int, pairs: int, where: str) -> None:
     check_memory(bodies, pairs, where)
 
 
+#: Up to this many bodies, :func:`check_overlaps` compares every pair directly.
+_DIRECT_OVERLAP_CHECK = 64
+
+
 def check_overlaps(bodies, where: str = "bodies") -> None:
     """Raise :class:`SceneError` naming the first two bodies that overlap at t = 0.
 
@@ -558,7 +562,6 @@ def check_overlaps(bodies, where: str = "bodies") -> None:
     coincide) get the exact shape test, found with a k-d tree, so large scenes check fast.
     """
     import numpy as np
-    from scipy.spatial import cKDTree
 
     from poissonkit.scene.geometry import overlapping, shape_of
 
@@ -577,7 +580,14 @@ def check_overlaps(bodies, where: str = "bodies") -> None:
     reach += 1e-9 * (reach + float(np.abs(centers).max()))
     # in the max-norm (a superset of the Euclidean pairs within reach): no squares, so
     # coordinates up to the float limit do not overflow inside the tree
-    near = cKDTree(centers).query_pairs(reach, p=np.inf, output_type="ndarray")
+    if len(shapes) <= _DIRECT_OVERLAP_CHECK:
+        # a few bodies: every pair at once, without loading scipy's tree (a run's start-up)
+        gap = np.abs(centers[:, None, :] - centers[None, :, :]).max(axis=2)
+        near = np.argwhere(np.triu(gap <= reach, k=1))
+    else:
+        from scipy.spatial import cKDTree
+
+        near = cKDTree(centers).query_pairs(reach, p=np.inf, output_type="ndarray")
     for i, j in sorted((int(a), int(b)) for a, b in near):  # (i, j) order: first pair named
         a, c = shapes[i], shapes[j]
         coincident = bool(np.all(a.center == c.center))
