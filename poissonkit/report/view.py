@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from poissonkit.errors import InputError, MissingDependencyError
-from poissonkit.report.axis_units import length_unit_for, time_unit_for
+from poissonkit.report.axis_units import dataset_units, length_unit_for, time_unit_for
 from poissonkit.report.source_shapes import SourceShape, mesh
 
 if TYPE_CHECKING:
@@ -146,7 +146,8 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     Parameters
     ----------
     dataset
-        A trajectory dataset (:func:`poissonkit.report.trajectory.trajectory_dataset`, SI).
+        A trajectory dataset (:func:`poissonkit.report.trajectory.trajectory_dataset`): SI, or
+        a scene's own units (its ``units_*`` attributes), which the axes and slider then show.
     shapes
         ``{body name: (radius, half_length)}`` in metres: a body with a half-length and an axis
         is a cylinder, otherwise a sphere; bodies without a shape get a marker-sized sphere
@@ -173,10 +174,14 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     """
     go = _plotly()
     pos, axis, names, frame_note = _positions(dataset)
-    unit = length_unit_for(float(np.nanmax(np.abs(pos))) if pos.size else 0.0)
+    # a dataset in a scene's own units (AU, yr): back to SI, then shown in those units
+    units = dataset_units(dataset.attrs)
+    length_si = units.si_per_unit("length")
+    pos = pos * length_si
+    unit = length_unit_for(float(np.nanmax(np.abs(pos))) if pos.size else 0.0, units)
     pos = pos / unit.size
-    times = np.asarray(dataset["time"].values, dtype=float)
-    tunit = time_unit_for(float(times[-1]) if times.size else 0.0)
+    times = np.asarray(dataset["time"].values, dtype=float) * units.si_per_unit("time")
+    tunit = time_unit_for(float(times[-1]) if times.size else 0.0, units)
     source_meshes = [(src.label, (mesh(src)[0] / unit.size).astype(np.float32),
                       mesh(src)[1].astype(np.int32)) for src in sources]
     pick = _frames_index(len(times), len(names), max_frames)
@@ -186,7 +191,8 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     lo, hi = np.nanmin(pos, axis=(0, 1)), np.nanmax(pos, axis=(0, 1))
     for _, v, _ in source_meshes:  # the sources are in the box too
         lo, hi = np.minimum(lo, v.min(axis=0)), np.maximum(hi, v.max(axis=0))
-    shapes = dict(shapes) if shapes is not None else _dataset_shapes(dataset, names)
+    shapes = dict(shapes) if shapes is not None else {
+        n: (r * length_si, h * length_si) for n, (r, h) in _dataset_shapes(dataset, names).items()}
     shapes = {n: (r / unit.size, h / unit.size) for n, (r, h) in shapes.items()}
     extent = float(np.max(hi - lo)) or max((max(s) for s in shapes.values()), default=1.0)
     default_radius = 0.01 * extent
