@@ -14,16 +14,20 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import pytest  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
 
-from poissonkit.numerics import AllPairs, Body, NBodySystem  # noqa: E402
-from poissonkit.numerics.unitsystem import UnitSystem  # noqa: E402
-from poissonkit.report.axis_units import (dataset_units, quantity_unit,  # noqa: E402
-                                          run_axis_units, scene_units)
-from poissonkit.report.figures import RunData, figures_for  # noqa: E402
-from poissonkit.report.summary import Diagnostics  # noqa: E402
+from poissonkit.numerics import AllPairs, Body, NBodySystem
+from poissonkit.numerics.unitsystem import UnitSystem
+from poissonkit.report.axis_units import (
+    dataset_units,
+    quantity_unit,
+    run_axis_units,
+    scene_units,
+)
+from poissonkit.report.figures import RunData, figures_for
+from poissonkit.report.summary import Diagnostics
 
 AU, DAY, YEAR = 149_597_870_700.0, 86_400.0, 365.25 * 86_400.0
 AU_YR = UnitSystem("AU", "yr", "Msun")
