@@ -8,7 +8,9 @@ suffix names one of the allow-listed units; nothing else is read (no expression 
 from __future__ import annotations
 
 import argparse
+import re
 
+import numpy as np
 import pytest
 
 from poissonkit import cli
@@ -158,3 +160,25 @@ def test_a_bad_time_is_a_usage_error_naming_the_option(capsys):
     assert exc.value.code == 2
     err = capsys.readouterr().err
     assert "--duration" in err and "unknown time unit 'furlongs'" in err
+
+
+@pytest.mark.slow  # a Wisdom–Holman run of the outer Solar System, with figures
+def test_outer_solar_system_run_in_years_speaks_days_and_au(tmp_path, capsys):
+    xr = pytest.importorskip("xarray")
+    import json
+
+    out = tmp_path / "out"
+    code = cli.main(["run", "outer_solar_system", "--duration", "10yr", "--save-dt", "0.5yr",
+                     "--out", str(out)])
+    assert code == 0
+    err = capsys.readouterr().err.replace("\r", "\n")
+    assert re.search(r"\d/3652 day", err), err[-2000:]  # the bar counts the scene's days
+    with xr.open_dataset(out / "trajectory.nc") as ds:
+        t = ds["time"].values
+        assert ds["time"].attrs["units"] == "day"
+        assert t[-1] == pytest.approx(10 * 365.25, rel=1e-12)  # the scene's days
+        np.testing.assert_allclose(np.diff(t)[:-1], 182.625, rtol=1e-12)  # 0.5 yr apart
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["options"]["duration"] == pytest.approx(3652.5, rel=1e-15)  # scene days
+    html = (out / "trajectory.html").read_text()
+    assert "[AU]" in html and " day" in html
