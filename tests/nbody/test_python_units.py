@@ -153,3 +153,10 @@ def test_kepler_period_in_nbody_units():
     sol = solve(system, y0, 2 * math.pi, method="splitting6", step=2 * math.pi / 2000)
     r = system.unpack(sol.y[-1:])["r"][0]
     np.testing.assert_allclose(r[1], [1.0, 0.0, 0.0], atol=1e-9)  # one full turn
+
+
+def test_an_overlap_is_reported_in_the_units():
+    system = NBodySystem([Body("a", 1.0), Body("b", 1e-3)], [AllPairs("gravity")], units=AU_YR)
+    with pytest.raises(InputError, match=r"same position \[1\.0, 0\.0, 0\.0\] \(AU\)") as e:
+        system.pack([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]], np.zeros((2, 3)))  # checks it
+    assert type(e.value).__name__ == "OverlapError"

@@ -453,8 +453,10 @@ class NBodySystem:
         hit = coincident_pair(pos, self._fixed)
         if hit is not None:
             a, b = (self.bodies[k].name for k in hit)
+            where = ("internal units" if self.units.is_si
+                     else self.units.label("length"))  # a system in the user's units: theirs
             raise OverlapError(f"bodies {a!r} and {b!r} are at the same position "
-                               f"{pos[hit[0]].tolist()} (internal units); every pair force is "
+                               f"{pos[hit[0]].tolist()} ({where}); every pair force is "
                                "singular there")
 
     def kinetic_split(self) -> KineticSplit:
