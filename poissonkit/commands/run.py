@@ -49,14 +49,17 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from poissonkit.commands.parser import CommandParser
+from poissonkit.commands.time_options import in_scene_unit, scene_seconds, time_argument
 from poissonkit.contracts import HasBodies
 from poissonkit.errors import (InputError, IntegrationError, MissingDependencyError,
                                MissingStepError, SceneError)
+from poissonkit.numerics.unitsystem import SI
 from poissonkit.report.run_units import (  # noqa: F401  (also importable from here, as before)
     relative_position,
     scales_of,
     time_unit,
     trajectory_rows,
+    unit_system,
 )
 from poissonkit.traits import offers
 
@@ -99,13 +102,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="integrator registry name "
                         "(default: the scene's, splitting6 for seed 000)")
     g = parser.add_mutually_exclusive_group()
-    g.add_argument("--step", type=float, default=None,
-                   help="fixed step in seconds (SI; default for the seed scene: T_orb/200)")
+    g.add_argument("--step", type=time_argument, default=None, metavar="TIME",
+                   help="fixed step, in the scene's time unit (seconds for an SI scene) or "
+                   "with a unit: 0.01yr, 3day, 0.5s (default for the seed scene: T_orb/200)")
     g.add_argument("--tol", type=float, default=None, help="tolerance of adaptive methods")
     d = parser.add_mutually_exclusive_group()
     d.add_argument("--periods", type=float, default=None,
                    help="duration in orbital periods (seed scene; default 20)")
-    d.add_argument("--duration", type=float, default=None, help="duration in seconds (SI)")
+    d.add_argument("--duration", type=time_argument, default=None, metavar="TIME",
+                   help="duration, in the scene's time unit (seconds for an SI scene) or with "
+                   "a unit: 100yr, 3day, 0.5s")
     parser.add_argument("--tilt", type=float, default=0.0,
                         help="seed scene: tilt both axes by this angle [rad] (default 0: the "
                         "exact circular orbit; 0.02 gives a wobbling orbit)")
@@ -126,9 +132,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="refuse, before it starts, a run of more than N fixed steps "
                         "(default: the scene's run.max_steps, else no limit); runs estimated "
                         "to take more than 10 min are warned about")
-    parser.add_argument("--save-dt", type=float, default=None, metavar="SECONDS",
-                        help="save the state every SECONDS of physical time instead, reached "
-                        "exactly by every method (not with --save-every or checkpoints)")
+    parser.add_argument("--save-dt", type=time_argument, default=None, metavar="TIME",
+                        help="save the state every TIME instead (the scene's time unit, or "
+                        "with a unit: 2day), reached exactly by every method (not with "
+                        "--save-every or checkpoints)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.add_argument("--no-plot", "--no-plots", dest="no_plots", action="store_true",
                         help="do not write PNG figures (as for `sweep`)")
@@ -184,6 +191,8 @@ def build_spec(args: argparse.Namespace) -> RunSpec:
     if not isinstance(target, Path):
         options = {k: getattr(args, k, None) for k in
                    ("method", "step", "tol", "periods", "duration", "tilt", "spin_ratio")}
+        for k in ("step", "duration"):  # registered scenes take seconds
+            options[k] = scene_seconds(options[k], SI, f"--{k}")
         given: dict[str, str] = {}
         for item in getattr(args, "param", None) or ():
             name, sep, value = item.partition("=")
@@ -215,12 +224,17 @@ def build_spec(args: argparse.Namespace) -> RunSpec:
     if args.method and "method" not in consumed:
         changes["method"] = args.method
     tunit = time_unit(spec)
-    if args.step is not None and "step" not in consumed:
-        changes.update(step=args.step / tunit, tol=None)
+    # times in the scene's unit (or their own); the summary records them in the scene's unit
+    units = unit_system(spec)
+    step_s, duration_s = (scene_seconds(args.step, units, "--step"),
+                          scene_seconds(args.duration, units, "--duration"))
+    args.step, args.duration = in_scene_unit(step_s, units), in_scene_unit(duration_s, units)
+    if step_s is not None and "step" not in consumed:
+        changes.update(step=step_s / tunit, tol=None)
     if args.tol is not None and "tol" not in consumed:
         changes.update(tol=args.tol, step=None)
-    if args.duration is not None and "duration" not in consumed:
-        changes["t_end"] = args.duration / tunit
+    if duration_s is not None and "duration" not in consumed:
+        changes["t_end"] = duration_s / tunit
     if args.periods is not None and "periods" not in consumed:
         period = spec.metadata.get("T_orb")
         if not period:
@@ -261,22 +275,25 @@ def _solve(spec: RunSpec, progress: bool, save_every: int, *,
     except ImportError:
         raise MissingDependencyError(
             "poissonkit.numerics.solver is not available in this build") from None
-    from poissonkit.numerics.integrators.base import progress_in_seconds
+    from poissonkit.numerics.integrators.base import progress_in_unit
+    from poissonkit.report.run_units import scene_time_unit
 
     try:
-        with progress_in_seconds(time_unit(spec)):  # the bar counts seconds, as the options do
+        with progress_in_unit(*scene_time_unit(spec)):  # the bar counts the scene's time unit
             return solve(spec.system, spec.y0, spec.t_end, method=spec.method, step=spec.step,
                          tol=spec.tol, progress=progress, save_every=save_every,
                          options=spec.options,
                          events=spec.events, checkpoint=checkpoint, resume=resume,
                          stream=stream, stop=stop, t_eval=_sample_times(spec, save_dt))
     except MissingStepError as exc:  # the API's message speaks of step=... in internal units
-        raise InputError(f"{exc.method} is a fixed-step method: pass --step SECONDS, or choose "
+        label = unit_system(spec).label("time")
+        raise InputError(f"{exc.method} is a fixed-step method: pass --step TIME (in {label}, "
+                         "the scene's time unit, or with a unit: 0.01s, 2day), or choose "
                          "an adaptive method with --method (e.g. dop853) for --tol") from None
 
 
 def _sample_times(spec: RunSpec, save_dt: float | None) -> np.ndarray | None:
-    """Internal sample times of ``--save-dt SECONDS`` (``None`` without it)."""
+    """Internal sample times of ``--save-dt`` (``save_dt`` in seconds; ``None`` without it)."""
     if save_dt is None:
         return None
     from poissonkit.numerics.sample_times import uniform_times
@@ -370,9 +387,11 @@ def _option_schema() -> dict[str, OptionType]:
     parser = argparse.ArgumentParser(add_help=False)
     add_arguments(parser)
     # keys every summary holds beside the command's own options
-    return schema_of(parser, {"command": OptionType("str", True),
-                              "verbose": OptionType("int", True),
-                              "quiet": OptionType("bool", True)})
+    schema = schema_of(parser, {"command": OptionType("str", True),
+                                "verbose": OptionType("int", True),
+                                "quiet": OptionType("bool", True)})
+    # times are recorded as numbers in the scene's time unit (commands/time_options.py)
+    return {**schema, **dict.fromkeys(("step", "duration", "save_dt"), OptionType("float", True))}
 
 
 def _main(args: argparse.Namespace) -> int:
@@ -395,6 +414,9 @@ def _main(args: argparse.Namespace) -> int:
 
     check_engine_options(args)
     spec = build_spec(args)
+    units = unit_system(spec)
+    save_dt = scene_seconds(save_dt, units, "--save-dt")  # seconds from here on
+    args.save_dt = in_scene_unit(save_dt, units)
     if save_dt is None and spec.save_dt is not None and args.save_every is None:
         if every is not None or resume:  # the scene's run.save_dt, unless the options say else
             raise InputError("the scene saves states at run.save_dt: checkpoints need saving "
@@ -402,7 +424,7 @@ def _main(args: argparse.Namespace) -> int:
         save_dt = float(spec.save_dt) * time_unit(spec)
     from poissonkit.report.run_checks import check_times, save_dt_cost
 
-    check_times(spec.step, float(spec.t_end), save_dt, time_unit(spec))  # in seconds
+    check_times(spec.step, float(spec.t_end), save_dt, time_unit(spec), units)
     if getattr(args, "no_contact", False):
         from dataclasses import replace as _replace
 
@@ -413,7 +435,7 @@ def _main(args: argparse.Namespace) -> int:
     args.save_every = plan_run(spec, args.save_every, getattr(args, "max_steps", None),
                                measure=False).save_every
     if save_dt is not None:  # the sample times replace the scene's run.save_every
-        cost = save_dt_cost(save_dt, float(spec.t_end), time_unit(spec), len(spec.y0))
+        cost = save_dt_cost(save_dt, float(spec.t_end), time_unit(spec), len(spec.y0), units)
         if cost is not None:
             print(f"note: {cost}", file=sys.stderr)
         args.save_every = 1

@@ -16,6 +16,7 @@ from poissonkit.numerics import diagnostics
 from poissonkit.numerics.diagnostics import Drift
 from poissonkit.numerics.events import EventRecord
 from poissonkit.numerics.units import Scales
+from poissonkit.numerics.unitsystem import units_of
 from poissonkit.traits import offers
 
 if TYPE_CHECKING:
@@ -124,8 +125,9 @@ class Solution:
 
     def orbital_elements(self, primary: int | str | None = "dominant") -> OrbitalElements:
         """Osculating orbital elements of every body at every saved state (REBOUND's names:
-        ``a, e, inc, Omega, omega, M, f``; SI lengths, radians), for a system of point masses
-        under all-pairs gravity.
+        ``a, e, inc, Omega, omega, M, f``; lengths in SI, or in the system's units for
+        ``NBodySystem(units=...)``; radians), for a system of point masses under all-pairs
+        gravity.
 
         Parameters
         ----------
@@ -249,7 +251,10 @@ class Solution:
             the dataset writes to netCDF/zarr as is). For a system in internal units
             (:class:`~poissonkit.contracts.HasScales`) the SI value of one internal unit of
             each kind is an attribute ``internal_unit_<kind>`` (with ``..._units``), and
-            ``t_si`` [s] a coordinate along ``time`` (the same values as ``time``). (``poissonkit run`` writes the richer
+            ``t_si`` [s] a coordinate along ``time`` (the same values as ``time``). For a system
+            in the user's units (``NBodySystem(units=...)``) ``time`` is in its time unit (its
+            ``units`` attribute) and the attributes ``units_length``, ``units_time``,
+            ``units_mass``, ``units_G`` name the units. (``poissonkit run`` writes the richer
             ``time × body × component`` form: :mod:`poissonkit.report.trajectory`.)
 
         Raises
@@ -281,6 +286,10 @@ class Solution:
             t_si = t * float(scales.time)
             coords["time"] = ("time", t_si, {"units": "s"})
             coords["t_si"] = ("time", t_si, {"units": "s"})
+        units = units_of(self.system)
+        if not units.is_si:  # a system in the user's units (NBodySystem(units=...))
+            coords["time"] = ("time", t, {"units": units.label("time", text=False)})
+            attrs.update(units.attributes())
         return xr.Dataset(data, coords=coords,
                           attrs={k: v for k, v in attrs.items() if v is not None})
 
@@ -329,7 +338,7 @@ class Solution:
                 continue
             # zeros (e.g. at t = 0) cannot be drawn on a log axis
             ax.semilogy(t, np.where(values > 0, values, np.nan), label=label)
-        ax.set_xlabel("t (internal units)")
+        ax.set_xlabel(_time_label(self.system))
         ax.set_ylabel("relative drift")
         ax.set_title(f"{self._system_name()}: {self.method}, {int(self.steps)} steps")
         if ax.get_legend_handles_labels()[0]:
@@ -346,12 +355,18 @@ class Solution:
         y = np.asarray(self.y, dtype=float)
         for name in chosen:
             ax.plot(t, y[:, names.index(name)], label=name)
-        ax.set_xlabel("t (internal units)")
+        ax.set_xlabel(_time_label(self.system))
         ax.set_ylabel("state (internal units)")
         ax.set_title(f"{self._system_name()}: {self.method}, {int(self.steps)} steps")
         if 0 < len(chosen) <= 12:  # a legend of a whole N-body state would hide the plot
             ax.legend(loc="best", fontsize="small")
         return ax
+
+
+def _time_label(system: object) -> str:
+    """The time axis label of :meth:`Solution.plot`: the system's time unit when it has one."""
+    units = units_of(system)
+    return "t (internal units)" if units.is_si else f"t [{units.label('time')}]"
 
 
 def _plot_axes(ax, what: str, chosen: Sequence[str], available: Sequence[str]):

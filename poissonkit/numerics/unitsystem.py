@@ -212,6 +212,19 @@ class UnitSystem:
                 "length_si": L, "time_si": T, "mass_si": M, "G": self.G,
                 "nbody": self.is_nbody}
 
+    def attributes(self) -> dict[str, str | float]:
+        """Dataset attributes naming these units (``units_length``, ``units_time``,
+        ``units_mass``, ``units_G`` and, for physical units, ``units_<kind>_in_si``), as in
+        ``trajectory.nc``."""
+        out: dict[str, str | float] = {
+            "units_length": self.label("length", text=False),
+            "units_time": self.label("time", text=False),
+            "units_mass": self.label("mass", text=False), "units_G": float(self.G)}
+        if not self.is_nbody:
+            L, M, T = self.base_si
+            out.update(units_length_in_si=L, units_time_in_si=T, units_mass_in_si=M)
+        return out
+
     @classmethod
     def from_dict(cls, d: Mapping[str, object]) -> UnitSystem:
         """Inverse of :meth:`as_dict`."""
@@ -231,6 +244,14 @@ def _power(name: str, e: int) -> str:
 
 #: The default, SI.
 SI = UnitSystem()
+
+
+def units_of(system: object) -> UnitSystem:
+    """The units a system's numbers are given in (``NBodySystem(units=...)``); SI for every
+    other system."""
+    from poissonkit.numerics.nbody.system import NBodySystem
+
+    return system.units if isinstance(system, NBodySystem) else SI
 
 
 def dimension(kind: str | tuple[int, int, int]) -> tuple[int, int, int]:

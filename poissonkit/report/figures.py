@@ -156,9 +156,24 @@ def register_plot(name: str, applies: Callable[[RunData], bool], draw: Draw, *,
     if wanted is not None and not wanted <= set(KINDS):
         raise InputError(f"plot {name!r}: unknown scene kind(s) {sorted(wanted - set(KINDS))} "
                          f"(kinds: {', '.join(KINDS)})")
-    entry = PlotEntry(name, applies, draw, wanted)
+    entry = PlotEntry(name, applies, _in_run_units(draw), wanted)
     PLOTS[name] = entry
     return entry
+
+
+def _in_run_units(draw: Draw) -> Draw:
+    """``draw`` with its axes in the units of the run's scene
+    (:func:`~poissonkit.report.axis_units.scene_units`)."""
+    import functools
+
+    @functools.wraps(draw)
+    def drawn(run: RunData) -> object:
+        from poissonkit.report.axis_units import scene_units
+        from poissonkit.report.run_units import unit_system
+
+        with scene_units(unit_system(run.metadata)):
+            return draw(run)
+    return drawn
 
 
 def figures_for(run: RunData) -> list[PlotEntry]:

@@ -14,7 +14,7 @@ from typing import Protocol, cast, runtime_checkable
 import numpy as np
 
 from poissonkit.numerics.nbody import NBodySystem
-from poissonkit.report.axis_units import run_axis_units
+from poissonkit.report.axis_units import quantity_unit, run_axis_units
 from poissonkit.report.figures import RunData, register_plot
 from poissonkit.report.plotkit import (COARSE, caption, constant_to_roundoff, figure, layout,
                                        samples_per_turn, thin)
@@ -296,11 +296,12 @@ def energy_partition(system: NBodySystem, y: np.ndarray) -> dict[str, np.ndarray
 
 
 def energy_partition_axes(system: NBodySystem, t_s: np.ndarray, y: np.ndarray, *, ax=None):
-    """Energy partition against time [J]; returns the Axes."""
+    """Energy partition against time (J, or the scene's energy unit); returns the Axes."""
     ax = ax if ax is not None else figure("Energy partition")[1]
     t_s, yy = thin(np.asarray(t_s), np.atleast_2d(y), limit=_row_limit(4000, len(system.bodies)))
     parts = energy_partition(system, yy)
     _, tunit = run_axis_units(t_s, None)
+    eunit = quantity_unit("energy", np.concatenate([np.ravel(v) for v in parts.values()]))
     styles = {"translational": ("tab:blue", "-"), "rotational": ("tab:orange", "-"),
               "interaction": ("tab:green", "-"), "total": ("k", "--")}
     flat = []
@@ -308,12 +309,13 @@ def energy_partition_axes(system: NBodySystem, t_s: np.ndarray, y: np.ndarray, *
         color, ls = styles.get(name, (None, "-"))
         if constant_to_roundoff(v):
             flat.append(name)
-        ax.plot(tunit.of(t_s), v, color=color, linestyle=ls, linewidth=0.9, label=name)
+        ax.plot(tunit.of(t_s), eunit.of(v), color=color, linestyle=ls, linewidth=0.9,
+                label=name)
     if flat:  # the others set the scale; say which are flat rather than zoom into noise
         ax.set_title(f"{ax.get_title()} — {', '.join(flat)} constant to round-off",
                      fontsize=10)
     ax.set_xlabel(f"t [{tunit.name}]")
-    ax.set_ylabel("energy [J]")
+    ax.set_ylabel(f"energy [{eunit.name}]")
     ax.legend(loc="best", fontsize=7)
     return ax
 

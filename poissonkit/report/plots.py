@@ -17,7 +17,7 @@ from typing import cast
 import numpy as np
 
 from poissonkit.contracts import HasEnergy
-from poissonkit.report.axis_units import AxisUnit, run_axis_units
+from poissonkit.report.axis_units import AxisUnit, quantity_unit, run_axis_units
 from poissonkit.report.drift_plot import drift_axes
 from poissonkit.report.figures import RunData, register_plot
 from poissonkit.report.plotkit import (COARSE, caption, constant_to_roundoff, figure, plot_quantity,
@@ -145,7 +145,9 @@ def _jz(run: RunData) -> np.ndarray:
 
 def _jz_figure(run: RunData):
     tunit = _units(run)[1]
-    return angular_momentum_z_axes(tunit.of(run.t_s), _jz(run), time_unit=tunit.name).figure
+    junit = quantity_unit("angular_momentum", _jz(run))
+    return angular_momentum_z_axes(tunit.of(run.t_s), junit.of(_jz(run)), unit=junit.name,
+                                   time_unit=tunit.name).figure
 
 
 def _radius_figure(run: RunData):

@@ -27,13 +27,15 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from poissonkit.errors import InputError, MissingDependencyError
-from poissonkit.report.axis_units import length_unit_for, time_unit_for
+from poissonkit.report.axis_units import dataset_units, length_unit_for, time_unit_for
 from poissonkit.report.source_shapes import SourceShape, mesh
 
 if TYPE_CHECKING:
     import plotly.graph_objects as go
     import xarray as xr
     from plotly.basedatatypes import BaseTraceType
+
+    from poissonkit.numerics.unitsystem import UnitSystem
 
 #: Bodies drawn as meshes (spheres, cylinders); more are drawn as markers.
 MESH_BODIES = 40
@@ -133,6 +135,17 @@ def _dataset_shapes(ds: xr.Dataset, names: list[str]) -> dict[str, tuple[float, 
             if np.isfinite(r) and r > 0}
 
 
+def _in_si(ds: xr.Dataset, pos: np.ndarray, names: list[str]
+           ) -> tuple[UnitSystem, np.ndarray, np.ndarray, dict[str, tuple[float, float]]]:
+    """The dataset's units (a scene's own: AU, yr), and its positions, times and shapes back
+    in SI (the figure then shows them in those units)."""
+    units = dataset_units(ds.attrs)
+    length = units.si_per_unit("length")
+    times = np.asarray(ds["time"].values, dtype=float) * units.si_per_unit("time")
+    shapes = {n: (r * length, h * length) for n, (r, h) in _dataset_shapes(ds, names).items()}
+    return units, pos * length, times, shapes
+
+
 def _frames_index(n_t: int, n_bodies: int, max_frames: int) -> np.ndarray:
     n = int(min(max_frames, max(2, MAX_POINTS // max(n_bodies, 1)), n_t))
     return np.unique(np.linspace(0, n_t - 1, n).round().astype(int))
@@ -146,7 +159,8 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     Parameters
     ----------
     dataset
-        A trajectory dataset (:func:`poissonkit.report.trajectory.trajectory_dataset`, SI).
+        A trajectory dataset (:func:`poissonkit.report.trajectory.trajectory_dataset`): SI, or
+        a scene's own units (its ``units_*`` attributes), which the axes and slider then show.
     shapes
         ``{body name: (radius, half_length)}`` in metres: a body with a half-length and an axis
         is a cylinder, otherwise a sphere; bodies without a shape get a marker-sized sphere
@@ -173,10 +187,10 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     """
     go = _plotly()
     pos, axis, names, frame_note = _positions(dataset)
-    unit = length_unit_for(float(np.nanmax(np.abs(pos))) if pos.size else 0.0)
+    units, pos, times, own_shapes = _in_si(dataset, pos, names)
+    unit = length_unit_for(float(np.nanmax(np.abs(pos))) if pos.size else 0.0, units)
     pos = pos / unit.size
-    times = np.asarray(dataset["time"].values, dtype=float)
-    tunit = time_unit_for(float(times[-1]) if times.size else 0.0)
+    tunit = time_unit_for(float(times[-1]) if times.size else 0.0, units)
     source_meshes = [(src.label, (mesh(src)[0] / unit.size).astype(np.float32),
                       mesh(src)[1].astype(np.int32)) for src in sources]
     pick = _frames_index(len(times), len(names), max_frames)
@@ -186,7 +200,7 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     lo, hi = np.nanmin(pos, axis=(0, 1)), np.nanmax(pos, axis=(0, 1))
     for _, v, _ in source_meshes:  # the sources are in the box too
         lo, hi = np.minimum(lo, v.min(axis=0)), np.maximum(hi, v.max(axis=0))
-    shapes = dict(shapes) if shapes is not None else _dataset_shapes(dataset, names)
+    shapes = dict(shapes) if shapes is not None else own_shapes
     shapes = {n: (r / unit.size, h / unit.size) for n, (r, h) in shapes.items()}
     extent = float(np.max(hi - lo)) or max((max(s) for s in shapes.values()), default=1.0)
     default_radius = 0.01 * extent

@@ -1,6 +1,6 @@
 """The run command speaks in its own flags and units: the step message, the progress bar.
 
-Truth used: the CLI's step flag is ``--step`` in seconds while ``solve`` takes ``step=`` in
+Truth used: the CLI's step flag is ``--step`` in the scene's time unit (seconds here) while ``solve`` takes ``step=`` in
 internal units; a bar over a run of ``T`` internal units with ``time_unit`` seconds per unit
 ends at ``T * time_unit`` seconds, shown to three significant digits.
 """
@@ -23,7 +23,7 @@ def test_fixed_step_method_with_tol_names_the_cli_flag_and_seconds(tmp_path, cap
     assert code == 1
     err = capsys.readouterr().err
     assert "splitting6 is a fixed-step method" in err
-    assert "--step SECONDS" in err and "adaptive" in err
+    assert "--step TIME (in s, the scene's time unit" in err and "adaptive" in err
     assert "internal time unit" not in err and "step=..." not in err
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import AbstractContextManager, contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, NamedTuple, Protocol, runtime_checkable
@@ -162,25 +162,34 @@ class SaveBuffer:
         return np.concatenate(self.ts), np.concatenate(self.ys)
 
 
-#: Seconds per internal time unit for the progress bars of runs in this context (``None``:
-#: the bar counts internal time, ``t``); set with :func:`progress_in_seconds`.
-_BAR_SECONDS: ContextVar[float | None] = ContextVar("poissonkit_bar_seconds", default=None)
+#: ``(scene units per internal time unit, label)`` for the progress bars of runs in this
+#: context (``None``: the bar counts internal time, ``t``); set with :func:`progress_in_unit`.
+_BAR_UNIT: ContextVar[tuple[float, str] | None] = ContextVar("poissonkit_bar_unit", default=None)
 
 
 @contextmanager
-def progress_in_seconds(time_unit: float) -> Iterator[None]:
-    """Progress bars opened inside this block count physical time in seconds.
+def progress_in_unit(factor: float, label: str) -> Iterator[None]:
+    """Progress bars opened inside this block count time in a unit of the user's (the
+    scene's: ``yr``, ``day``, ``s``).
 
     Parameters
     ----------
-    time_unit
-        Seconds per internal time unit of the runs made inside the block.
+    factor
+        That unit per internal time unit of the runs made inside the block.
+    label
+        Its name, shown after the counts (``12.0/100 yr``).
     """
-    token = _BAR_SECONDS.set(float(time_unit))
+    token = _BAR_UNIT.set((float(factor), str(label)))
     try:
         yield
     finally:
-        _BAR_SECONDS.reset(token)
+        _BAR_UNIT.reset(token)
+
+
+def progress_in_seconds(time_unit: float) -> AbstractContextManager[None]:
+    """Progress bars opened inside this block count physical time in seconds
+    (:func:`progress_in_unit` with ``time_unit`` seconds per internal time unit)."""
+    return progress_in_unit(time_unit, "s")
 
 
 class _ScaledBar:
@@ -211,8 +220,9 @@ def bar_decimals(total: float) -> int:
 def progress_bar(enabled: bool, total: float, desc: str) -> ProgressBar | None:
     """A tqdm bar (or a no-op) measuring progress over a run of ``total`` internal time units.
 
-    Inside :func:`progress_in_seconds` it shows seconds (``0.120/0.741 s``), else internal time
-    (``3.14/126 t``), with about three significant digits of the total.
+    Inside :func:`progress_in_unit` it counts in that unit (``0.120/0.741 s``, ``12.0/100
+    yr``), else internal time (``3.14/126 t``), with about three significant digits of the
+    total.
     """
     if not enabled:
         return None
@@ -222,14 +232,13 @@ def progress_bar(enabled: bool, total: float, desc: str) -> ProgressBar | None:
         from poissonkit.errors import MissingDependencyError
 
         raise MissingDependencyError("progress bars need tqdm: pip install tqdm") from None
-    seconds = _BAR_SECONDS.get()
-    scale = 1.0 if seconds is None else seconds
-    unit = "t" if seconds is None else "s"
+    shown = _BAR_UNIT.get()
+    scale, unit = (1.0, "t") if shown is None else shown
     d = bar_decimals(total * scale)
     fmt = ("{desc}: {percentage:3.0f}%|{bar}| "
            f"{{n:.{d}f}}/{{total:.{d}f}} {unit} [{{elapsed}}<{{remaining}}]")
     bar = tqdm(total=total * scale, desc=desc, unit=unit, leave=False, bar_format=fmt)
-    return bar if seconds is None else _ScaledBar(bar, scale)
+    return bar if shown is None else _ScaledBar(bar, scale)
 
 
 def locate_division(name: str, one_step: StepFn, y: np.ndarray, t: float,

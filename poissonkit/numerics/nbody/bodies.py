@@ -54,7 +54,9 @@ class Body:
     name
         Unique name; coordinates are called ``name.r_x`` etc.
     mass
-        Mass [kg] (or internal unit without scales), > 0.
+        Mass [kg] (or the unit of the system's ``units``, e.g. M☉ for
+        ``NBodySystem(..., units=("AU", "yr", "Msun"))``; the internal unit with scales), > 0.
+        Every other number of a body is in the system's units likewise.
     alpha
         ``1 / I_perp`` [1/(kg m²)], > 0, or ``None`` for a point mass.
     fixed

@@ -34,6 +34,7 @@ from poissonkit.numerics.nbody.options import PARALLEL_MIN_BODIES, check_bodies,
 from poissonkit.numerics.nbody.pairkernels import _dispatcher
 from poissonkit.numerics.nbody.scaling import body_arrays, units_of
 from poissonkit.numerics.nbody.table import kernel_table
+from poissonkit.numerics.nbody.user_units import UnitsLike, as_unit_system, interactions_in
 from poissonkit.numerics.nbody.verlet import new_verlet_state
 from poissonkit.numerics.units import Scales
 
@@ -94,6 +95,15 @@ class NBodySystem:
         moving body that has the attribute a field reads (``mass``, ``moment`` in
         ``attributes``, ...); see ``docs/fields.md``. A tabulated field given by name needs a
         ``region`` here (or use :meth:`with_fields` with a state).
+    units
+        The units every number of the system is given in, as REBOUND's ``sim.units``: a
+        :class:`~poissonkit.numerics.unitsystem.UnitSystem`, three names in any order
+        (``("AU", "yr", "Msun")``) or a ``[units]``-style mapping (``{"G": 1.0}``: N-body
+        units). Masses, positions, momenta, the cutoff, external fields' parameters and the
+        times of :func:`~poissonkit.numerics.solve` are then in those units and so are the
+        solution's times, energies and orbital elements; gravity's ``G`` (and any other
+        left-out dimensional parameter of a registered potential) defaults to its value in
+        them (:mod:`~poissonkit.numerics.nbody.user_units`). Default SI. Not with ``scales``.
 
     Notes
     -----
@@ -112,8 +122,13 @@ class NBodySystem:
                  parallel: bool = True,
                  parallel_min_bodies: int | None = None,
                  skin: float | None = None,
-                 fields: Sequence[FieldLike] = ()) -> None:
+                 fields: Sequence[FieldLike] = (), units: UnitsLike = None) -> None:
         bodies = check_bodies(bodies)
+        self.units = as_unit_system(units)
+        if scales is not None and not self.units.is_si:
+            raise InputError("give units (numbers in your units, as they are) or scales (SI "
+                             "numbers in internal units), not both")
+        interactions = interactions_in(interactions, self.units)
         opts = check_options(cutoff, smooth_cutoff, skin, parallel, parallel_min_bodies)
         self.bodies = bodies
         self.interactions = tuple(interactions)
@@ -266,7 +281,7 @@ class NBodySystem:
         return NBodySystem(bodies, self.interactions, cutoff=self.cutoff, scales=self.scales,
                            fast_path=self._fast_path, smooth_cutoff=self.smooth_cutoff,
                            parallel=self.parallel, parallel_min_bodies=self.parallel_min_bodies,
-                           skin=self.skin, fields=built)
+                           skin=self.skin, fields=built, units=self.units)
 
     def work(self) -> Work:
         """Fresh scratch :class:`~poissonkit.numerics.nbody.data.Work` for the kernels
@@ -438,8 +453,10 @@ class NBodySystem:
         hit = coincident_pair(pos, self._fixed)
         if hit is not None:
             a, b = (self.bodies[k].name for k in hit)
+            where = ("internal units" if self.units.is_si
+                     else self.units.label("length"))  # a system in the user's units: theirs
             raise OverlapError(f"bodies {a!r} and {b!r} are at the same position "
-                               f"{pos[hit[0]].tolist()} (internal units); every pair force is "
+                               f"{pos[hit[0]].tolist()} ({where}); every pair force is "
                                "singular there")
 
     def kinetic_split(self) -> KineticSplit:

@@ -133,17 +133,17 @@ class WisdomHolman:
 
         def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
             status, t_new, k, nsave, value = run(
-                st.y, st.carry["xj"], st.carry["uj"], st.carry["merge"], *masses, t0, h, n_total,
-                c, dk, tau, proc, data, work, save_every, st.steps, max_steps, buf.cur_t,
-                buf.cur_y, contact, escape, watch, st.prev, st.prev2, st.hist)
+                st.y, st.carry["xj"], st.carry["uj"], st.carry["merge"], *masses, t0, t_end, h,
+                n_total, c, dk, tau, proc, data, work, save_every, st.steps, max_steps,
+                buf.cur_t, buf.cur_y, contact, escape, watch, st.prev, st.prev2, st.hist)
             return status, t_new, k, nsave, k * per_step, value
 
         def replay(st: LoopState) -> tuple[StepFn, np.ndarray]:
             start = {key: arr.copy() for key, arr in st.carry.items()}
 
             def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
-                out = run(ys, start["xj"], start["uj"], start["merge"], *masses, t0, h, n_total,
-                          c, dk, tau, proc, data, work, save_every, done, 1, scratch.t,
+                out = run(ys, start["xj"], start["uj"], start["merge"], *masses, t0, t_end, h,
+                          n_total, c, dk, tau, proc, data, work, save_every, done, 1, scratch.t,
                           scratch.y, 0.0, 0.0, 0.0, ys, ys, scratch.hist)
                 return out[0], out[1]
             return one_step, st.y.copy()
@@ -155,7 +155,7 @@ class WisdomHolman:
             if proc.shape[0]:
                 process(xs, us, proc, -1.0, s, *masses, data, work)
             ts = self.g * s ** 3
-            run(yc, xs, us, np.zeros(2), *masses, 0.0, s, 1, c, dk, ts, proc, data, work, 1, 0,
+            run(yc, xs, us, np.zeros(2), *masses, 0.0, s, s, 1, c, dk, ts, proc, data, work, 1, 0,
                 1, scratch.t, scratch.y, 0.0, 0.0, 0.0, yc, yc, scratch.hist)
             return yc
 

@@ -34,12 +34,14 @@ def runner(kernels: CompiledKernels, pure_gravity: bool
     process, sync_processed = kk.process, kk.sync_processed
 
     @jit
-    def run(y, xj, uj, carried, m, mfrac, inv_eta, gm, gmass, t_orig, h, n_total, c, dk, tau,
-            proc, data, work, save_every, step0, max_steps, out_t, out_y, contact, escape,
+    def run(y, xj, uj, carried, m, mfrac, inv_eta, gm, gmass, t_orig, t_end, h, n_total, c, dk,
+            tau, proc, data, work, save_every, step0, max_steps, out_t, out_y, contact, escape,
             watch, prev, prev2, hist):
         """Advance the Jacobi state ``xj, uj`` (written to ``y`` at every save and on return).
 
-        Returns (status, t, steps done, saved, value). Without corrector the last drift of a
+        Returns (status, t, steps done, saved, value). The last step ends at ``t_end`` itself
+        (``t_orig + n_total h`` may miss it by an ulp, and a piece of a sampled run that ends
+        short of its end reads as stopped by an event). Without corrector the last drift of a
         step is merged into the first drift of the next; with it, the closing corrector of a
         step and the opening one of the next are one kick (both depend on positions only).
         ``carried = [pending drift, corrector opened]`` is that merge's state between calls:
@@ -115,7 +117,7 @@ def runner(kernels: CompiledKernels, pure_gravity: bool
                     ok = drift_all(xj, uj, gm, c[s + 1] * h) and ok
             last = gstep >= n_total
             k += 1
-            t = t_orig + gstep * h
+            t = t_end if last else t_orig + gstep * h
             saving = gstep == next_save  # (a counter: no integer division per step)
             if saving:
                 next_save += save_every
