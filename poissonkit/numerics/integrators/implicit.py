@@ -60,9 +60,12 @@ class ImplicitMethod(NamedTuple):
 
 
 def implicit_loop(kernels: CompiledKernels, method: ImplicitMethod) -> CompiledFunction:
-    """The compiled time loop ``run(y, c, t0, h, n_total, tol, maxiter, newton, extra, data,
-    work, save_every, step0, max_steps, out_t, out_y, contact, escape, watch, back1, back2,
-    hist) -> (status, t, steps, rows, evaluations, value)`` of ``method`` on ``kernels``."""
+    """The compiled time loop ``run(y, c, t0, t_end, h, n_total, tol, maxiter, newton, extra,
+    data, work, save_every, step0, max_steps, out_t, out_y, contact, escape, watch, back1, back2,
+    hist) -> (status, t, steps, rows, evaluations, value)`` of ``method`` on ``kernels``.
+
+    The last step ends at ``t_end`` itself: ``t0 + n_total h`` may miss it by an ulp, and a
+    piece of a sampled run that ends short of its end reads as stopped by an event."""
     rhs = kernels.rhs
     jac = kernels.jac if kernels.jac is not None else no_jacobian
     remember = step_end_kernels(kernels)[0]
@@ -71,8 +74,8 @@ def implicit_loop(kernels: CompiledKernels, method: ImplicitMethod) -> CompiledF
     scratch, guess, accept = method.scratch, method.guess, method.accept
 
     @jit
-    def run(y, c, t0, h, n_total, tol, maxiter, newton, extra, data, work, save_every, step0,
-            max_steps, out_t, out_y, contact, escape, watch, back1, back2, hist):
+    def run(y, c, t0, t_end, h, n_total, tol, maxiter, newton, extra, data, work, save_every,
+            step0, max_steps, out_t, out_y, contact, escape, watch, back1, back2, hist):
         n = y.shape[0]
         f = np.empty(n)
         Z = np.empty(n)
@@ -99,9 +102,9 @@ def implicit_loop(kernels: CompiledKernels, method: ImplicitMethod) -> CompiledF
             if outcome == SINGULAR:
                 return NO_CONVERGENCE, t0 + gstep * h, k + 1, nsave, nfev, 0.0
             ok = outcome == CONVERGED
-            t = t0 + gstep * h
-            accept(Z, y, c)
             last = gstep >= n_total
+            t = t_end if last else t0 + gstep * h
+            accept(Z, y, c)
             status, nsave, value = tail(y, c, t, RUNNING if ok else NO_CONVERGENCE, last,
                                         last or gstep % save_every == 0, track, data, work,
                                         contact, escape, watch, hist, out_t, out_y, nsave)
@@ -144,14 +147,14 @@ def drive_implicit(run: CompiledFunction, spec: ImplicitRun, compensated: bool,
         return ys - cs if compensated else ys
 
     def chunk(st: LoopState, max_steps: int, buf: SaveBuffer) -> ChunkResult:
-        return run(st.y, st.comp if compensated else st.y, t0, h, n_total, *fixed, save_every,
-                   st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch, st.prev,
-                   st.prev2, st.hist)
+        return run(st.y, st.comp if compensated else st.y, t0, t_end, h, n_total, *fixed,
+                   save_every, st.steps, max_steps, buf.cur_t, buf.cur_y, contact, escape, watch,
+                   st.prev, st.prev2, st.hist)
 
     def one_step(ys: np.ndarray, ts: float, done: int) -> tuple[int, float]:
         cs = comp_of(ys)
-        out = run(ys, cs, t0, h, n_total, *fixed, save_every, done, 1, scratch.t, scratch.y,
-                  0.0, 0.0, 0.0, ys, ys, scratch.hist)
+        out = run(ys, cs, t0, t_end, h, n_total, *fixed, save_every, done, 1, scratch.t,
+                  scratch.y, 0.0, 0.0, 0.0, ys, ys, scratch.hist)
         if compensated:
             ys -= cs
         return out[0], out[1]
@@ -159,7 +162,7 @@ def drive_implicit(run: CompiledFunction, spec: ImplicitRun, compensated: bool,
     def advance(ys: np.ndarray, s: float) -> np.ndarray:
         yc = np.array(ys, dtype=float)
         cc = comp_of(yc)
-        status = run(yc, cc, 0.0, s, 1, *fixed, 1, 0, 1, scratch.t, scratch.y, 0.0, 0.0, 0.0,
+        status = run(yc, cc, 0.0, s, s, 1, *fixed, 1, 0, 1, scratch.t, scratch.y, 0.0, 0.0, 0.0,
                      yc, yc, scratch.hist)[0]
         if status == NO_CONVERGENCE:
             raise IntegrationError(f"{spec.name}: {spec.solver} did not converge while locating "
