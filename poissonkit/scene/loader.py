@@ -40,8 +40,20 @@ def loads_scene(text: str, source: str = "") -> Scene:
     The text is parsed within the limits of :mod:`poissonkit.input_limits` (size, nesting
     depth, digits per number, valid Unicode); past them a :class:`SceneError` names the limit.
     """
+    from poissonkit.plugin.manager import plugin_manager
+
+    key = (text, source, plugin_manager())  # the same plugins: a reset rebuilds the manager
+    if key in _last:  # the run's provenance reads the scene file again: a large
+        return _last[key]  # assembly (10⁵ bodies) would be built and checked twice
     data = loads_toml(text, repr(source) if source else "scene", SceneError)
-    return scene_from_mapping(data, source=source)
+    scene = scene_from_mapping(data, source=source)
+    _last.clear()
+    _last[key] = scene  # frozen and validated: safe to hand out twice
+    return scene
+
+
+#: the last scene validated, by (text, source): one entry
+_last: dict[tuple[str, str, object], Scene] = {}
 
 
 def shipped_scenes() -> dict[str, Path]:
