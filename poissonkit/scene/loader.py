@@ -3,6 +3,8 @@ and the scene files shipped with the package (``poissonkit/scene/shipped/*.toml`
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from importlib import resources
 from pathlib import Path
 
@@ -43,17 +45,38 @@ def loads_scene(text: str, source: str = "") -> Scene:
     from poissonkit.plugin.manager import plugin_manager
 
     key = (text, source, plugin_manager())  # the same plugins: a reset rebuilds the manager
-    if key in _last:  # the run's provenance reads the scene file again: a large
-        return _last[key]  # assembly (10⁵ bodies) would be built and checked twice
+    if _reuse[0] and key in _last:
+        return _last[key]
     data = loads_toml(text, repr(source) if source else "scene", SceneError)
     scene = scene_from_mapping(data, source=source)
-    _last.clear()
-    _last[key] = scene  # frozen and validated: safe to hand out twice
+    if _reuse[0]:
+        _last.clear()
+        _last[key] = scene  # frozen and validated: safe to hand out twice
     return scene
 
 
-#: the last scene validated, by (text, source): one entry
+#: the last scene validated inside :func:`reuse_validated`, by (text, source, plugins)
 _last: dict[tuple[str, str, object], Scene] = {}
+#: depth of nested :func:`reuse_validated` blocks
+_reuse = [0]
+
+
+@contextmanager
+def reuse_validated() -> Iterator[None]:
+    """Within this block, the same scene text is validated once.
+
+    ``poissonkit run`` reads its scene file twice, to build the run and for the provenance of
+    its summary; validating a 10⁵-body assembly builds and checks every body, so the second
+    read reuses the first one's :class:`Scene`. Outside the block every call validates anew
+    (what validation checks may change between calls: plugins, available memory).
+    """
+    _reuse[0] += 1
+    try:
+        yield
+    finally:
+        _reuse[0] -= 1
+        if not _reuse[0]:
+            _last.clear()
 
 
 def shipped_scenes() -> dict[str, Path]:
