@@ -18,8 +18,10 @@ energy):
   at the first evaluation and walked by the later ones (the bodies do not move here, so it is
   never rebuilt; the build time is printed on its own) — serial, parallel loop on 1 and on 2
   threads, speed-up of 2 threads over the serial walk (target ≥ 1.8×), bitwise equality, and
-  two bounds that hold without a free core: the slab balance of the list and the CPU time of
-  both threads over the serial walk's;
+  two bounds that hold without a free core: the load balance of the parallel loops (max over
+  threads of the pairs each handles / mean, on 2 and 4 threads, for the Verlet walk's listed
+  pairs and the cell loop's candidate pairs) and the CPU time of both threads over the serial
+  walk's;
 * a plain compiled loop written here over the same cell list (``nbody.cell_list``): the
   potential's closed form inlined, one pass over each pair, no dispatch, no switch — the
   per-pair cost ratio poissonkit / plain (target ≤ 1.5×);
