@@ -18,8 +18,10 @@ energy):
   at the first evaluation and walked by the later ones (the bodies do not move here, so it is
   never rebuilt; the build time is printed on its own) — serial, parallel loop on 1 and on 2
   threads, speed-up of 2 threads over the serial walk (target ≥ 1.8×), bitwise equality, and
-  two bounds that hold without a free core: the slab balance of the list and the CPU time of
-  both threads over the serial walk's;
+  two bounds that hold without a free core: the load balance of the parallel loops (max over
+  threads of the pairs each handles / mean, on 2 and 4 threads, for the Verlet walk's listed
+  pairs and the cell loop's candidate pairs) and the CPU time of both threads over the serial
+  walk's;
 * a plain compiled loop written here over the same cell list (``nbody.cell_list``): the
   potential's closed form inlined, one pass over each pair, no dispatch, no switch — the
   per-pair cost ratio poissonkit / plain (target ≤ 1.5×);
@@ -153,14 +155,48 @@ def count_pairs(pos: np.ndarray, radius: float = CUTOFF) -> int:
     return len(cKDTree(pos).query_pairs(radius))
 
 
+def thread_loads(per_slab: np.ndarray, threads: int) -> np.ndarray:
+    """The work of each thread when the slabs with work ``per_slab`` go through the parallel
+    loops' ``prange``: even slabs first, then odd ones, in contiguous static blocks (the first
+    ``len % threads`` blocks one longer)."""
+    ns = len(per_slab)
+    half = (ns + 1) // 2
+    order = [2 * k if k < half else 2 * (k - half) + 1 for k in range(ns)]
+    base, extra = divmod(ns, threads)
+    loads, lo = [], 0
+    for k in range(threads):
+        hi = lo + base + (1 if k < extra else 0)
+        loads.append(sum(per_slab[order[i]] for i in range(lo, hi)))
+        lo = hi
+    return np.array(loads, dtype=float)
+
+
+def cell_candidates(pos: np.ndarray, members: np.ndarray) -> np.ndarray:
+    """Candidate pairs (same or forward cell) the cell loop tests in each x-slab."""
+    nc, count, _, _, _, _ = cell_list(members, pos, pos, CUTOFF)
+    per, fwd = nc[1] * nc[2], np.empty(13, dtype=np.int64)
+    out = np.zeros(nc[0], dtype=np.int64)
+    for c in range(nc[0] * per):
+        k = count[c + 1] - count[c]
+        if k:
+            nf = forward_cells(c, nc, fwd)
+            out[c // per] += k * (k - 1) // 2 + k * int(sum(count[f + 1] - count[f]
+                                                             for f in fwd[:nf]))
+    return out
+
+
 def slab_ceiling(pos: np.ndarray, members: np.ndarray, skin: float) -> str:
-    """The most 2 threads can gain on the Verlet walk: listed pairs of the even slabs and of
-    the odd ones (the parallel loop hands out even slabs, then odd ones)."""
+    """The load balance of the parallel loops, which holds without a free core: max over
+    threads of the pairs each handles / mean, on 2 (and 4) threads, for the Verlet walk
+    (listed pairs) and the cell loop (candidate pairs); 2 / balance bounds the speed-up."""
     _, start, _, first, _ = verlet_build(members, pos, CUTOFF + skin)
-    per_slab = start[first[1:]] - start[first[:-1]]
-    even, odd = per_slab[0::2].sum(), per_slab[1::2].sum()
-    return (f"{len(per_slab)} slabs, listed pairs even / odd {even} / {odd}: at most "
-            f"{per_slab.sum() / max(even, odd):.2f}x")
+    listed = start[first[1:]] - start[first[:-1]]
+    out = []
+    for name, w in (("Verlet walk", listed), ("cell loop", cell_candidates(pos, members))):
+        b2, b4 = (float(v.max() / v.mean()) for v in (thread_loads(w, 2), thread_loads(w, 4)))
+        out.append(f"{name}: {len(w)} slabs, balance {b2:.3f} on 2 threads (at most "
+                   f"{2 / b2:.2f}x), {b4:.3f} on 4")
+    return "; ".join(out)
 
 
 def best_times(calls: dict[str, callable], repeat: int, cpu: dict | None = None

@@ -82,6 +82,8 @@ def vector3(value: object, what: str) -> np.ndarray:
         v = np.asarray(value, dtype=float).reshape(-1)
     except (TypeError, ValueError):
         raise InputError(f"{what} must be a 3-vector of numbers, got {value!r}") from None
-    if v.shape != (3,) or not np.all(np.isfinite(v)):
+    # three scalar tests: np.all costs ~15 µs a call, and scenes check 10⁶ vectors
+    if v.shape != (3,) or not (math.isfinite(v[0]) and math.isfinite(v[1])
+                               and math.isfinite(v[2])):
         raise InputError(f"{what} must be a finite 3-vector, got {value!r}")
     return v

@@ -347,9 +347,11 @@ def main(args: argparse.Namespace) -> int:
     :data:`EXIT_BUSY` or :data:`EXIT_INTERRUPTED` (see ``docs/reliability.md``).
     """
     from poissonkit.files.lock import FolderLockedError
+    from poissonkit.scene.loader import reuse_validated
 
     try:
-        return _main_from(args)
+        with reuse_validated():  # the summary's provenance reads the scene file again
+            return _main_from(args)
     except FolderLockedError as exc:  # not bad input: the folder is busy
         print(f"poissonkit run: error: {exc}", file=sys.stderr)
         return EXIT_BUSY

@@ -137,10 +137,15 @@ def energy_error_of(H: ArrayLike) -> Drift:
     return Drift("energy_error", absolute, absolute / scale, scale)
 
 
-def energy_error(system: HasEnergy, y: ArrayLike) -> Drift:
-    """Energy error along the rows ``y`` (t × dim) of ``system``; see :func:`energy_error_of`."""
+def energy_error(system: HasEnergy, y: ArrayLike, energies: ArrayLike | None = None) -> Drift:
+    """Energy error along the rows ``y`` (t × dim) of ``system``; see :func:`energy_error_of`.
+
+    ``energies``: ``system.energy(y)`` if the caller has it already (each row costs a force
+    evaluation, as much as a kick of a large system).
+    """
     rows = _rows(y)
-    return energy_error_of(_per_row(system.energy(rows), rows.shape[0], "energy"))
+    H = system.energy(rows) if energies is None else energies
+    return energy_error_of(_per_row(H, rows.shape[0], "energy"))
 
 
 def casimir_drift(system: HasCasimirs, y: ArrayLike) -> Drift | None:
@@ -203,13 +208,14 @@ def angular_momentum_drift(system: HasBodyMomenta, y: ArrayLike) -> Drift:
     return _vector_drift("angular_momentum_drift", j, angular_momentum_scale(system, rows[0]))
 
 
-def drifts(system: HasEnergy, y: ArrayLike) -> dict[str, Drift]:
+def drifts(system: HasEnergy, y: ArrayLike, energies: ArrayLike | None = None
+           ) -> dict[str, Drift]:
     """Every diagnostic the system defines along the rows ``y``, keyed by quantity name.
 
     Energy always; Casimir drift if the system claims Casimirs; both momentum drifts if it is a
-    system of bodies (:class:`HasBodyMomenta`).
+    system of bodies (:class:`HasBodyMomenta`). ``energies``: as for :func:`energy_error`.
     """
-    out = {"energy_error": energy_error(system, y)}
+    out = {"energy_error": energy_error(system, y, energies)}
     if offers(system, HasCasimirs):
         c = casimir_drift(system, y)
         if c is not None:

@@ -104,7 +104,9 @@ def gather_trajectory(path: str | Path, folder: str | Path, *, layout: tuple[str
     f8 = np.dtype(float)
     with atomic_path(path) as tmp, \
             zipfile.ZipFile(tmp, mode="w", compression=zipfile.ZIP_DEFLATED,
-                            allowZip64=True) as zf:
+                            compresslevel=1, allowZip64=True) as zf:
+        # deflate level 1: float states shrink ~2 % less than at the default 6, in 2/3 of the
+        # time (a 10⁵-body state took about one force evaluation to compress)
         _member(zf, "t", (rows,), f8, (t for t, _ in iter_parts(infos)))
         _member(zf, "t_si", (rows,), f8, (t * unit for t, _ in iter_parts(infos)))
         kill_point("gather-tmp")

@@ -96,14 +96,14 @@ def diagnostics(system: HasEnergy, t: np.ndarray, y: np.ndarray) -> Diagnostics:
         raise InputError("empty trajectory")
     if not np.all(np.isfinite(y)):
         raise InputError("trajectory contains non-finite values")
-    found = drifts(system, y)
+    # one energy per row (each costs a force evaluation): H(0) is the first of them
+    H = np.asarray(system.energy(y), dtype=float).reshape(-1)
+    found = drifts(system, y, energies=H)
     if offers(system, HasBodyMomenta):
         j = np.asarray(system.angular_momentum(y), dtype=float).reshape(y.shape[0], 3)
     else:
         j = np.zeros((y.shape[0], 3))
-    return Diagnostics(t=t, drifts=found, angular_momentum=j,
-                       energy_reference=float(np.asarray(system.energy(y[:1]),
-                                                         dtype=float).reshape(-1)[0]))
+    return Diagnostics(t=t, drifts=found, angular_momentum=j, energy_reference=float(H[0]))
 
 
 def conserved_quantities(system: HasEnergy) -> dict[str, str]:
@@ -171,6 +171,14 @@ def _combine(overall: dict[str, float | list[float]], part: Mapping[str, float |
             overall.setdefault(k, v)
 
 
+def _rows_of(d: Diagnostics, rows: np.ndarray) -> Diagnostics:
+    """``d`` at the saved states ``rows`` only."""
+    found = {name: Drift(name, v.absolute[rows], v.relative[rows], v.scale)
+             for name, v in d.drifts.items()}
+    return Diagnostics(t=d.t[rows], drifts=found, angular_momentum=d.angular_momentum[rows],
+                       energy_reference=d.energy_reference)
+
+
 def streamed_diagnostics(system: HasEnergy, folder: str | Path, plot_rows: int = 20000
                          ) -> tuple[Diagnostics, np.ndarray, np.ndarray]:
     """Diagnostics of a streamed trajectory (``part-*.npz`` of
@@ -191,26 +199,36 @@ def streamed_diagnostics(system: HasEnergy, folder: str | Path, plot_rows: int =
     overall: dict[str, float | list[float]] = {}
     keep_t: list[np.ndarray] = []
     keep_y: list[np.ndarray] = []
+    kept: list[Diagnostics] = []  # the kept rows' diagnostics, cut from each part's
     offset = 0
     for f in files:
         with np.load(f, allow_pickle=False) as z:
             t, y = z["t"], z["y"]
+        # each part's figures against the first state, which leads every part but the first
+        lead = 0 if first is None else 1
         if first is None:
             first_t, first = t[:1], y[:1]
-        d = diagnostics(system, np.concatenate([first_t, t]), np.vstack([first, y]))
+            d = diagnostics(system, t, y)
+        else:
+            d = diagnostics(system, np.concatenate([first_t, t]), np.vstack([first, y]))
         _combine(overall, d.maxima())
         sel = np.arange((-offset) % every, len(t), every)
+        if offset + len(t) == total and (len(sel) == 0 or sel[-1] != len(t) - 1):
+            sel = np.append(sel, len(t) - 1)  # the last row is always kept
         keep_t.append(t[sel])
         keep_y.append(y[sel])
+        kept.append(_rows_of(d, sel + lead))
         offset += len(t)
-        last_t, last_y = t[-1:], y[-1:]
-    t_all, y_all = np.concatenate(keep_t), np.concatenate(keep_y)
-    if t_all[-1] != last_t[0]:
-        t_all, y_all = np.concatenate([t_all, last_t]), np.vstack([y_all, last_y])
-    d = diagnostics(system, t_all, y_all)
-    from dataclasses import replace
-
-    return replace(d, overall=overall), t_all, y_all
+    # the kept rows' figures are those computed above (every part is measured against the
+    # same first state): no energy is evaluated twice
+    found = {name: Drift(name, np.concatenate([k.drifts[name].absolute for k in kept]),
+                         np.concatenate([k.drifts[name].relative for k in kept]),
+                         kept[0].drifts[name].scale) for name in kept[0].drifts}
+    t_all = np.concatenate(keep_t)
+    d = Diagnostics(t=t_all, drifts=found,
+                    angular_momentum=np.concatenate([k.angular_momentum for k in kept]),
+                    energy_reference=kept[0].energy_reference, overall=overall)
+    return d, t_all, np.concatenate(keep_y)
 
 
 def _jsonable(x: object) -> object:

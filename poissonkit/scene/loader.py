@@ -3,6 +3,8 @@ and the scene files shipped with the package (``poissonkit/scene/shipped/*.toml`
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from importlib import resources
 from pathlib import Path
 
@@ -40,8 +42,41 @@ def loads_scene(text: str, source: str = "") -> Scene:
     The text is parsed within the limits of :mod:`poissonkit.input_limits` (size, nesting
     depth, digits per number, valid Unicode); past them a :class:`SceneError` names the limit.
     """
+    from poissonkit.plugin.manager import plugin_manager
+
+    key = (text, source, plugin_manager())  # the same plugins: a reset rebuilds the manager
+    if _reuse[0] and key in _last:
+        return _last[key]
     data = loads_toml(text, repr(source) if source else "scene", SceneError)
-    return scene_from_mapping(data, source=source)
+    scene = scene_from_mapping(data, source=source)
+    if _reuse[0]:
+        _last.clear()
+        _last[key] = scene  # frozen and validated: safe to hand out twice
+    return scene
+
+
+#: the last scene validated inside :func:`reuse_validated`, by (text, source, plugins)
+_last: dict[tuple[str, str, object], Scene] = {}
+#: depth of nested :func:`reuse_validated` blocks
+_reuse = [0]
+
+
+@contextmanager
+def reuse_validated() -> Iterator[None]:
+    """Within this block, the same scene text is validated once.
+
+    ``poissonkit run`` reads its scene file twice, to build the run and for the provenance of
+    its summary; validating a 10⁵-body assembly builds and checks every body, so the second
+    read reuses the first one's :class:`Scene`. Outside the block every call validates anew
+    (what validation checks may change between calls: plugins, available memory).
+    """
+    _reuse[0] += 1
+    try:
+        yield
+    finally:
+        _reuse[0] -= 1
+        if not _reuse[0]:
+            _last.clear()
 
 
 def shipped_scenes() -> dict[str, Path]:
