@@ -6,6 +6,7 @@ import math
 import os
 import time
 from collections.abc import Callable, Mapping, Sequence
+from contextlib import AbstractContextManager, nullcontext
 from dataclasses import replace
 from typing import TYPE_CHECKING
 
@@ -206,6 +207,34 @@ def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator 
         ``resume`` without a valid checkpoint, or one of another problem.
     """
     y0, t0, t_end, step, tol = _check_arguments(system, y0, t0, t_end, save_every, step, tol)
+    if progress:
+        with _bar_in_system_units(system):
+            return _solve_checked(system, y0, t0, t_end, method, step, tol, events, progress,
+                                  save_every, options, t_eval, stop, stream, checkpoint, resume)
+    return _solve_checked(system, y0, t0, t_end, method, step, tol, events, progress,
+                          save_every, options, t_eval, stop, stream, checkpoint, resume)
+
+
+def _bar_in_system_units(system: System) -> AbstractContextManager[None]:
+    """A bar that counts the time unit of a system given in other units than SI
+    (``NBodySystem(units=...)``: its numbers are in those units), unless a caller chose one."""
+    from poissonkit.numerics.integrators.base import progress_in_unit, progress_unit_set
+    from poissonkit.numerics.unitsystem import units_of
+
+    units = units_of(system)
+    if units.is_si or progress_unit_set():
+        return nullcontext()
+    return progress_in_unit(1.0, units.label("time"))
+
+
+def _solve_checked(system: System, y0: np.ndarray, t0: float, t_end: float,
+                   method: str | Integrator, step: float | None, tol: float | None,
+                   events: Sequence[Event], progress: bool, save_every: int,
+                   options: Mapping[str, OptionValue] | None, t_eval: ArrayLike | None,
+                   stop: Callable[[], bool] | None,
+                   stream: TrajectoryStream | str | os.PathLike[str] | None,
+                   checkpoint: Checkpoint | None, resume: bool) -> Solution:
+    """:func:`solve` after its arguments are checked."""
     from poissonkit.numerics.events import check_events
 
     events = check_events(events)

@@ -145,6 +145,14 @@ def test_the_solution_speaks_the_units():
     assert el.a[0, 1] == pytest.approx(5.2, rel=0.01)
 
 
+@pytest.mark.slow  # the same splitting kernel as above
+def test_the_progress_bar_counts_the_units(capsys):
+    system, y0 = _system()
+    solve(system, y0, 2.0, method="splitting4", step=0.01, progress=True)
+    bar = capsys.readouterr().err
+    assert "/2.00 yr" in bar and "/2.00 t" not in bar, bar[-300:]  # years, not internal t
+
+
 @pytest.mark.slow  # the kernels compile for G = 1
 def test_kepler_period_in_nbody_units():
     system = NBodySystem([Body("m", 1.0), Body("p", 1e-12)], [AllPairs("gravity")],

@@ -186,6 +186,11 @@ def progress_in_unit(factor: float, label: str) -> Iterator[None]:
         _BAR_UNIT.reset(token)
 
 
+def progress_unit_set() -> bool:
+    """True inside a :func:`progress_in_unit` block (a caller chose the bars' unit)."""
+    return _BAR_UNIT.get() is not None
+
+
 def progress_in_seconds(time_unit: float) -> AbstractContextManager[None]:
     """Progress bars opened inside this block count physical time in seconds
     (:func:`progress_in_unit` with ``time_unit`` seconds per internal time unit)."""

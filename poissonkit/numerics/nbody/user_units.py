@@ -31,7 +31,8 @@ def _kind_of(name: str) -> str:
     """``"length"``, ``"time"`` or ``"mass"``: the table a unit name belongs to."""
     for kind, table in (("length", LENGTHS), ("time", TIMES), ("mass", MASSES)):
         try:
-            UnitSystem(**{kind: name})
+            UnitSystem(length=name) if kind == "length" else (
+                UnitSystem(time=name) if kind == "time" else UnitSystem(mass=name))
         except InputError:
             continue
         return kind
@@ -60,7 +61,8 @@ def as_unit_system(units: UnitsLike) -> UnitSystem:
             if kind in named:
                 raise InputError(f"units: two {kind} units, {named[kind]!r} and {name!r}")
             named[kind] = name
-        return UnitSystem(**named)
+        return UnitSystem(named.get("length", "m"), named.get("time", "s"),
+                          named.get("mass", "kg"))
     raise InputError("units must be a UnitSystem, a mapping {length, time, mass} or {G}, or "
                      f"unit names such as ('AU', 'yr', 'Msun'); got {units!r}")
 
