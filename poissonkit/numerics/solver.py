@@ -210,6 +210,9 @@ def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator 
 
     events = check_events(events)
     integ, caps = _integrator_and_capabilities(method, options)
+    from poissonkit.numerics.fields.contact import refuse_inside
+
+    refuse_inside(system, y0)  # a body inside a magnet or on a wire: the field is not valid
     if t_eval is not None:
         return _solve_at_times(integ, caps, system, y0, t0, t_end, t_eval, step=step, tol=tol,
                                events=events, progress=progress, stop=stop, stream=stream,

@@ -249,7 +249,7 @@ def _built(scene: Scene, system: NBodySystem, y0: np.ndarray, bodies: list[BodyM
         from poissonkit.scene.fields import with_scene_fields
 
         with _named_errors(scene):
-            system = with_scene_fields(system, y0, bodies, scene.fields)
+            system = with_scene_fields(system, y0, bodies, scene.fields, scene.units)
     unit = system.scales.time if system.scales is not None else 1.0
     step = None if scene.run.step is None else scene.run.step / unit
     return BuiltScene(system, y0, bodies, scene.run.duration / unit, step, plan)
@@ -277,6 +277,10 @@ def build_run(scene: Scene) -> RunSpec:
     system = built.system
     events = () if scene.run.contact == "ignore" else contact_events(built.bodies,
                                                                      built.length_unit)
+    if scene.run.contact != "ignore" and system.fields:  # field sources are solids too
+        from poissonkit.scene.fields import field_contact_events
+
+        events += field_contact_events(system, built.bodies, built.length_unit)
     metadata["time_unit_s"] = built.time_unit
     if system.fields:
         metadata["fields"] = [{"source": f.name, **dict(f.info)} for f in system.fields]
