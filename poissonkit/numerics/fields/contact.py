@@ -13,7 +13,7 @@ other solids (cuboids, cylinder segments, wires, meshes) use their signed distan
 ball (exact for balls and point masses, conservative for a cylinder body).
 
 The compiled time loops watch only centre distances between bodies, so a solid that is no body
-would go unseen between chunks; :class:`ContactGuard` bounds each chunk instead (*conservative
+would go unseen between chunks; :class:`ChunkGuard` bounds each chunk instead (*conservative
 advancement*): a chunk may last only as long as the bodies, at their present speed and
 measured acceleration, take to cover half the gap, and the state at a chunk's end is tested
 (``g < 0``: the chunk's last step is handed to the locator, as a flagged step is).
@@ -24,7 +24,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -33,6 +33,9 @@ from poissonkit.errors import InputError
 from poissonkit.numerics.events import BodyShape, body_frames, body_names, shape_gap
 from poissonkit.numerics.fields.solids import Solid
 from poissonkit.validation import positive_number
+
+if TYPE_CHECKING:
+    from poissonkit.numerics.fields.growth import RegionWatch
 
 #: Fraction of the gap a chunk may let the fastest body cover (conservative advancement).
 GAP_FRACTION = 0.5
@@ -182,28 +185,40 @@ def refuse_inside(system: object, y0: np.ndarray) -> None:
     if not solids:
         return
     r = np.asarray(system.unpack(y0, si=True)["r"], dtype=float).reshape(-1, 3)
-    if len(r) != len(system.bodies):
-        return
-    moving = [k for k, b in enumerate(system.bodies) if not b.fixed]
-    check_outside(solids, [system.bodies[k].name for k in moving], r[moving])
+    slot = np.asarray(system.data.body_slot)  # body → its row of r (moving bodies only)
+    moving = [k for k in range(len(system.bodies)) if slot[k] >= 0]
+    check_outside(solids, [system.bodies[k].name for k in moving], r[slot[moving]])
 
 
-class ContactGuard:
-    """Chunk bounds and chunk-end tests of the :class:`SolidContact` events of a run (module
-    docstring): ``limit`` before a chunk, ``after`` once it ran."""
+class ChunkGuard:
+    """What the driver does at chunk boundaries for what the compiled loops cannot see: the
+    :class:`SolidContact` events and the growing tables
+    (:class:`~poissonkit.numerics.fields.growth.RegionWatch`). ``limit`` before a chunk
+    (module docstring), ``after`` once it ran, ``report`` for the run's extras."""
 
-    def __init__(self, system: HasCompiledKernels, events: Sequence[SolidContact]) -> None:
-        self.system, self.events = system, tuple(events)
+    def __init__(self, system: HasCompiledKernels, events: Sequence[SolidContact],
+                 regions: RegionWatch | None = None) -> None:
+        self.system, self.events, self.regions = system, tuple(events), regions
         self.h: float | None = None  # mean step of the last chunk (internal time)
         self.last: tuple[float, np.ndarray] | None = None  # (t, velocities) at its start
+        scales = getattr(system, "scales", None)
+        self.time_unit = float(scales.time) if scales is not None else 1.0
 
     def _velocities(self, y: np.ndarray) -> np.ndarray:
         mass = np.asarray(self.system.data.mass, dtype=float)
         p = np.asarray(y, dtype=float)[:6 * mass.size].reshape(-1, 6)[:, 3:]
         return p / mass[:, None]
 
+    def _room(self, y: np.ndarray) -> float:
+        room = min((ev.value(self.system, y) for ev in self.events), default=math.inf)
+        if self.regions is not None and self.regions.watched:
+            room = min(room, self.regions.room(y))
+        return room
+
     def limit(self, y: np.ndarray, t: float, max_steps: int) -> int:
-        """The most steps the next chunk may take from ``(t, y)``."""
+        """The most steps the next chunk may take from ``(t, y)``: the fastest body, at its
+        speed and the acceleration measured over the last chunk (doubled), covers at most
+        :data:`GAP_FRACTION` of the room (the smallest gap to a solid or face of a table)."""
         v = self._velocities(y)
         acc = 0.0
         if self.last is not None and t > self.last[0]:
@@ -211,30 +226,42 @@ class ContactGuard:
         self.last = (t, v)
         if self.h is None:
             return min(max_steps, 1)
-        gap = min(ev.value(self.system, y) for ev in self.events) * GAP_FRACTION
-        if gap <= 0:
+        room = self._room(y) * GAP_FRACTION
+        if room <= 0:
             return min(max_steps, 1)
         speed = float(np.max(np.linalg.norm(v, axis=1))) if v.size else 0.0
         acc *= 2.0  # the acceleration may grow near a source
         if acc > 0:
-            span = (-speed + math.sqrt(speed * speed + 4.0 * acc * gap)) / (2.0 * acc)
+            span = (-speed + math.sqrt(speed * speed + 4.0 * acc * room)) / (2.0 * acc)
         else:
-            span = gap / speed if speed > 0 else math.inf
+            span = room / speed if speed > 0 else math.inf
         steps = span / self.h
         return max(1, min(max_steps, int(steps) if math.isfinite(steps) else max_steps))
 
     def after(self, y: np.ndarray, t: float, t_before: float, steps: int) -> bool:
-        """True if a solid is touched at the chunk's end state ``(t, y)`` (``steps`` steps
-        from ``t_before``): the chunk's last step holds the contact."""
+        """Grow the tables bodies came near; True if a solid is touched at the chunk's end
+        state ``(t, y)`` (``steps`` steps from ``t_before``): its last step holds the
+        contact."""
         if steps > 0 and t > t_before:
             self.h = (t - t_before) / steps
+        if self.regions is not None and self.regions.watched:
+            self.regions.grow(y, t * self.time_unit)
         return any(ev.value(self.system, y) < 0 for ev in self.events)
 
+    def report(self) -> dict[str, Any]:
+        """The run's extras: ``field_regrowths`` when a table grew (or could not)."""
+        log = self.regions.log if self.regions is not None else []
+        return {"field_regrowths": list(log)} if log else {}
 
-def contact_guard(system: HasCompiledKernels, events: Sequence[object]) -> ContactGuard | None:
-    """The :class:`ContactGuard` of ``events``' :class:`SolidContact` events (``None``: none)."""
+
+def chunk_guard(system: HasCompiledKernels, events: Sequence[object]) -> ChunkGuard | None:
+    """The :class:`ChunkGuard` of a run (``None``: no :class:`SolidContact` and no growing
+    table)."""
+    from poissonkit.numerics.fields.growth import region_watch
+
     solid = [ev for ev in events if isinstance(ev, SolidContact)]
-    return ContactGuard(system, solid) if solid else None
+    regions = region_watch(system)
+    return ChunkGuard(system, solid, regions) if solid or regions is not None else None
 
 
 def with_record_value(ev: object, record: Any, system: HasCompiledKernels,

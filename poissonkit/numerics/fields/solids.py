@@ -129,7 +129,8 @@ class Solid:
         if self.kind == "sphere":
             return np.linalg.norm(q, axis=1) - float(d["radius"])
         if self.kind == "cylinder":
-            return _rect_distance(rho, q[:, 2], 0.0, float(d["radius"]), float(d["height"]) / 2)
+            r = float(d["radius"])  # (a rectangle symmetric about the axis: ρ = 0 is deep)
+            return _rect_distance(rho, q[:, 2], -r, r, float(d["height"]) / 2)
         if self.kind == "cuboid":
             return _box_distance(q, np.array([d["a"], d["b"], d["c"]], dtype=float) / 2)
         if self.kind == "cylinder_segment":

@@ -25,7 +25,7 @@ from poissonkit.numerics.checkpoint import (Checkpoint, TrajectoryStream, check_
                                             newest_checkpoint, write_checkpoint)
 from poissonkit.numerics.events import (EventRecord, centre_distance, check_events,
                                         event_thresholds, raise_or_record)
-from poissonkit.numerics.fields.contact import contact_guard
+from poissonkit.numerics.fields.contact import chunk_guard
 from poissonkit.numerics.integrators.base import (BUFFER_FULL, COLLISION, DONE, ESCAPE, GRAZE,
                                                   NONFINITE, RUNNING, RawResult, SaveBuffer,
                                                   progress_bar)
@@ -188,7 +188,7 @@ class _Run:
         self.p = p
         self.events = check_events(p.events)
         self.contact, _, self.watch = event_thresholds(self.events)
-        self.guard = contact_guard(p.system, self.events)  # solids the loops cannot see
+        self.guard = chunk_guard(p.system, self.events)  # solids, tables that grow
         self.control = p.control or Control()
         self.ck = self.control.checkpoint
         self.stream = self.control.stream
@@ -369,6 +369,8 @@ class _Run:
         p, st, buf, stream = self.p, self.st, self.buf, self.stream
         extra: dict[str, Any] = {"peak_rows_in_memory": buf.peak_rows,
                                  "interrupted": self.interrupted}
+        if self.guard is not None:
+            extra.update(self.guard.report())
         if self.resumed_from is not None:
             extra["resumed_from"] = str(self.resumed_from)
         if stream is not None:
