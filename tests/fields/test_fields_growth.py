@@ -15,10 +15,10 @@ from poissonkit.numerics.nbody import Body, NBodySystem
 
 MU0 = 4e-7 * np.pi
 M = np.array([0.0, 0.0, 1.0])  # the source: a point dipole at the origin [A m²]
-TOL = 1e-5
+TOL = 3e-5
 SMALL = (np.array([-0.01, -0.01, 0.02]), np.array([0.01, 0.01, 0.04]))
-LARGE = (np.array([-0.01, -0.01, 0.02]), np.array([0.05, 0.01, 0.04]))
-DURATION = 0.03
+LARGE = (np.array([-0.01, -0.01, 0.02]), np.array([0.025, 0.01, 0.04]))
+DURATION = 0.02
 
 
 def dipole_b(p):
@@ -55,13 +55,13 @@ def test_a_body_crosses_the_edge_of_a_small_region_with_a_regrow(runs):
     r_ref = runs[1][0].unpack(ref.y[-1], si=True)["r"][0]
     travel = np.linalg.norm(r - small.unpack(sol.y[0], si=True)["r"][0])
     # both tables are within TOL of the field: the trajectories differ by about that much
-    assert np.linalg.norm(r - r_ref) < 10 * TOL * travel
+    assert np.linalg.norm(r - r_ref) < TOL * travel
 
 
 def test_the_energy_is_conserved_to_the_table_accuracy(runs):
     (small, sol), _ = runs
     e = np.asarray(small.energy(sol.y))
-    assert np.max(np.abs(e - e[0])) / abs(e[0]) < 10 * TOL
+    assert np.max(np.abs(e - e[0])) / abs(e[0]) < TOL
 
 
 def test_a_table_without_room_does_not_grow(monkeypatch):
