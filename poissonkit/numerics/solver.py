@@ -15,6 +15,7 @@ from numpy.typing import ArrayLike
 from poissonkit.contracts import (Event, HasBodies, HasCompiledKernels, HasOverlapCheck, Integrator,
                                   NumericsSystem, System)
 from poissonkit.errors import CapabilityError, DimensionError, InputError, IntegrationError
+from poissonkit.numerics.fields.contact import refuse_inside
 from poissonkit.numerics.solution import Solution
 from poissonkit.plugin.contributions import Capabilities
 from poissonkit.traits import offers
@@ -210,8 +211,6 @@ def solve(system: System, y0: ArrayLike, t_end: float, method: str | Integrator 
 
     events = check_events(events)
     integ, caps = _integrator_and_capabilities(method, options)
-    from poissonkit.numerics.fields.contact import refuse_inside
-
     refuse_inside(system, y0)  # a body inside a magnet or on a wire: the field is not valid
     if t_eval is not None:
         return _solve_at_times(integ, caps, system, y0, t0, t_end, t_eval, step=step, tol=tol,
