@@ -164,7 +164,7 @@ class Contact:
         else:
             candidates = ((i, j) for i in range(len(placed)) for j in range(i + 1, len(placed)))
         for i, j in candidates:
-            (ki, si, a), (kj, sj, b) = placed[i], placed[j]
+            (ki, _, a), (kj, _, b) = placed[i], placed[j]
             if fixed[ki] and fixed[kj]:
                 continue
             best = min(best, shape_gap(a, b, float(np.linalg.norm(pos[ki] - pos[kj]))))

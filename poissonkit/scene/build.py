@@ -17,6 +17,7 @@ from poissonkit.scene.schema import Scene
 
 if TYPE_CHECKING:
     from poissonkit.numerics.events import Contact
+    from poissonkit.numerics.fields.contact import SolidContact
     from poissonkit.plugin.contributions import Assembly
     from poissonkit.numerics.nbody import NBodySystem
     from poissonkit.numerics.units import Scales
@@ -275,12 +276,12 @@ def build_run(scene: Scene) -> RunSpec:
     if built.plan is not None:
         metadata["plan"] = built.plan
     system = built.system
-    events = () if scene.run.contact == "ignore" else contact_events(built.bodies,
-                                                                     built.length_unit)
+    events: tuple[Contact | SolidContact, ...] = () if scene.run.contact == "ignore" \
+        else contact_events(built.bodies, built.length_unit)
     if scene.run.contact != "ignore" and system.fields:  # field sources are solids too
         from poissonkit.scene.fields import field_contact_events
 
-        events += field_contact_events(system, built.bodies, built.length_unit)
+        events = (*events, *field_contact_events(system, built.bodies, built.length_unit))
     metadata["time_unit_s"] = built.time_unit
     if system.fields:
         metadata["fields"] = [{"source": f.name, **dict(f.info)} for f in system.fields]

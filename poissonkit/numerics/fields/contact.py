@@ -36,6 +36,7 @@ from poissonkit.validation import positive_number
 
 if TYPE_CHECKING:
     from poissonkit.numerics.fields.growth import RegionWatch
+    from poissonkit.numerics.nbody import NBodySystem
 
 #: Fraction of the gap a chunk may let the fastest body cover (conservative advancement).
 GAP_FRACTION = 0.5
@@ -196,16 +197,18 @@ class ChunkGuard:
     (:class:`~poissonkit.numerics.fields.growth.RegionWatch`). ``limit`` before a chunk
     (module docstring), ``after`` once it ran, ``report`` for the run's extras."""
 
-    def __init__(self, system: HasCompiledKernels, events: Sequence[SolidContact],
+    def __init__(self, system: NBodySystem, events: Sequence[SolidContact],
                  regions: RegionWatch | None = None) -> None:
-        self.system, self.events, self.regions = system, tuple(events), regions
+        self.system: HasCompiledKernels = system  # type: ignore[assignment]
+        self.mass = np.asarray(system.data.mass, dtype=float)  # of the momentum slots
+        self.events, self.regions = tuple(events), regions
         self.h: float | None = None  # mean step of the last chunk (internal time)
         self.last: tuple[float, np.ndarray] | None = None  # (t, velocities) at its start
-        scales = getattr(system, "scales", None)
+        scales = system.scales
         self.time_unit = float(scales.time) if scales is not None else 1.0
 
     def _velocities(self, y: np.ndarray) -> np.ndarray:
-        mass = np.asarray(self.system.data.mass, dtype=float)
+        mass = self.mass
         p = np.asarray(y, dtype=float)[:6 * mass.size].reshape(-1, 6)[:, 3:]
         return p / mass[:, None]
 
@@ -258,7 +261,10 @@ def chunk_guard(system: HasCompiledKernels, events: Sequence[object]) -> ChunkGu
     """The :class:`ChunkGuard` of a run (``None``: no :class:`SolidContact` and no growing
     table)."""
     from poissonkit.numerics.fields.growth import region_watch
+    from poissonkit.numerics.nbody import NBodySystem
 
+    if not isinstance(system, NBodySystem):  # solids and tables come with N-body fields
+        return None
     solid = [ev for ev in events if isinstance(ev, SolidContact)]
     regions = region_watch(system)
     return ChunkGuard(system, solid, regions) if solid or regions is not None else None
