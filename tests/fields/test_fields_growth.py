@@ -68,3 +68,29 @@ def test_a_table_without_room_does_not_grow(monkeypatch):
     monkeypatch.setattr(tabulated, "GROWTH_ROOM", 1)
     with pytest.raises(NonFiniteStateError):
         _run(SMALL)
+
+
+def test_a_box_grows_until_it_holds_a_point_beyond_it():
+    from poissonkit.numerics.fields.growth import EDGE_FRACTION, _grown
+
+    lo, hi = _grown(SMALL[0], SMALL[1], np.array([[0.07, 0.0, 0.03]]))
+    assert np.array_equal(lo, SMALL[0]) and hi[1:].tolist() == SMALL[1][1:].tolist()
+    assert hi[0] - 0.07 >= EDGE_FRACTION * (hi[0] - lo[0])
+
+
+def test_a_growth_the_memory_cap_refuses_is_recorded_and_the_table_kept():
+    from poissonkit.numerics.fields.growth import region_watch
+
+    field = tabulated_field("dipole", dipole_b, SMALL[0].copy(), SMALL[1].copy(), TOL)
+    s = NBodySystem([Body("top", 0.01, alpha=1e5, attributes={"moment": 0.05})],
+                    fields=[field])
+    watch = region_watch(s)
+    before = s.data.fields.params.copy()
+    far = s.pack([[0.2, 0.0, 0.03]], [[0.0, 0.0, 0.0]], [[0.0, 0.0, 1.0]], [[0.0, 0.0, 0.0]],
+                 si=True)
+    watch.grow(far, 0.5)
+    (entry,) = watch.log
+    assert entry["grown"] is False and "reason" in entry and entry["time"] == 0.5
+    assert not watch.watched  # left alone from then on
+    assert np.array_equal(s.data.fields.params, before)
+    assert s.fields[0].info["region_m"][1][0] == pytest.approx(0.01)

@@ -228,6 +228,8 @@ class ChunkGuard:
             acc = float(np.max(np.linalg.norm(v - self.last[1], axis=1))) / (t - self.last[0])
         self.last = (t, v)
         if self.h is None:
+            if self.regions is not None and self.regions.watched:  # a resumed run may start
+                self.regions.grow(y, t * self.time_unit)  # near or beyond the first table
             return min(max_steps, 1)
         room = self._room(y) * GAP_FRACTION
         if room <= 0:

@@ -68,14 +68,9 @@ class RegionWatch:
         for item in list(self.watched):
             f, bodies = item
             lo, hi = self._box(f)
-            extent = hi - lo
-            p = r[bodies]
-            low = np.any(p - lo < EDGE_FRACTION * extent, axis=0)
-            high = np.any(hi - p < EDGE_FRACTION * extent, axis=0)
-            if not (low.any() or high.any()):
+            new_lo, new_hi = _grown(lo, hi, r[bodies])
+            if np.array_equal(new_lo, lo) and np.array_equal(new_hi, hi):
                 continue
-            new_lo = np.where(low, lo - GROW_FRACTION * extent, lo)
-            new_hi = np.where(high, hi + GROW_FRACTION * extent, hi)
             entry: dict[str, Any] = {"field": self.system.fields[f].name, "time": t_seconds,
                                      "old": [lo.tolist(), hi.tolist()],
                                      "new": [new_lo.tolist(), new_hi.tolist()]}
@@ -108,6 +103,23 @@ class RegionWatch:
                             info={**dict(old.info), **dict(new.info)})
         self.system.fields = tuple(fields)
         return None
+
+
+def _grown(lo: np.ndarray, hi: np.ndarray, points: np.ndarray,
+           most: int = 20) -> tuple[np.ndarray, np.ndarray]:
+    """The box ``[lo, hi]`` grown, face by face, until every point is farther than
+    :data:`EDGE_FRACTION` of the extent from each face (at most ``most`` growths: a resumed
+    run may start outside the first table)."""
+    lo, hi = lo.copy(), hi.copy()
+    for _ in range(most):
+        extent = hi - lo
+        low = np.any(points - lo < EDGE_FRACTION * extent, axis=0)
+        high = np.any(hi - points < EDGE_FRACTION * extent, axis=0)
+        if not (low.any() or high.any()):
+            break
+        lo = np.where(low, lo - GROW_FRACTION * extent, lo)
+        hi = np.where(high, hi + GROW_FRACTION * extent, hi)
+    return lo, hi
 
 
 def region_watch(system: object) -> RegionWatch | None:
