@@ -149,11 +149,10 @@ def test_a_body_leaving_a_table_is_named_with_its_field_position_and_time(monkey
     the field, the body, where it is [m] and when [s]."""
     import poissonkit as pk
     from poissonkit.errors import NonFiniteStateError
+    from poissonkit.numerics.fields import tabulated
     from poissonkit.numerics.fields.regions import FieldRegionError, explain_nonfinite
     from poissonkit.numerics.nbody import Body, NBodySystem
     from poissonkit.numerics.units import Scales
-
-    from poissonkit.numerics.fields import tabulated
 
     monkeypatch.setattr(tabulated, "GROWTH_ROOM", 1)  # no room: the table cannot grow
     field = tabulated_field("dipole", dipole_b, np.array([-0.01, -0.01, 0.02]),
