@@ -152,7 +152,7 @@ class Contact:
         then the capsules around the cylinders) while that is positive, the distance by
         alternating projections otherwise — and, once shapes overlap, minus the overlap of
         their bounding spheres (bisection needs only the sign)."""
-        from poissonkit.geometry import distance, shape_of
+        from poissonkit.geometry import shape_of
 
         pos, axes, fixed = body_frames(system, y)
         index = {name: k for k, name in enumerate(body_names(system))}
@@ -174,26 +174,11 @@ class Contact:
         else:
             candidates = ((i, j) for i in range(len(placed)) for j in range(i + 1, len(placed)))
         for i, j in candidates:
-            (ki, si, a), (kj, sj, b) = placed[i], placed[j]
+            (ki, _, a), (kj, _, b) = placed[i], placed[j]
             if fixed[ki] and fixed[kj]:
                 continue
-            centre = float(np.linalg.norm(pos[ki] - pos[kj]))
-            reach = a.bounding_radius + b.bounding_radius
-            if centre > reach:
-                best = min(best, centre - reach)  # a lower bound is enough far away
-                continue
-            if (a.kind == "cylinder") != (b.kind == "cylinder"):  # a ball and a cylinder:
-                best = min(best, ball_cylinder_gap(b if a.kind == "cylinder" else a,
-                                                   a if a.kind == "cylinder" else b))
-                continue  # the closed form (a fixed solid under a moving body, mostly)
-            bound = _capsule_gap(a, b)
-            if bound > 0:  # the capsules around the cylinders are apart: so are they
-                best = min(best, bound)
-                continue
-            d = distance(a, b)
-            best = min(best, d if d > 0 else centre - reach)
+            best = min(best, shape_gap(a, b, float(np.linalg.norm(pos[ki] - pos[kj]))))
         return best
-
 
     def touching(self, system: HasCompiledKernels, y: np.ndarray) -> dict[str, Any]:
         """The pair of shapes with the smallest gap at ``y``: their names (``bodies``), the
@@ -303,26 +288,40 @@ class EventRecord:
 
 def check_events(events: Sequence[object] | object | None) -> tuple[Event, ...]:
     """Validate an ``events`` sequence; :class:`InputError` for anything unknown."""
+    from poissonkit.numerics.fields.contact import SolidContact
+
+    known = (Collision, Contact, Escape, ClosestApproach, SolidContact)
     if events is None:
         return ()
-    if isinstance(events, (Collision, Contact, Escape, ClosestApproach)):
+    if isinstance(events, known):
         events = (events,)
     out = tuple(events)  # type: ignore[arg-type]  # a non-iterable fails below as unknown
     for ev in out:
-        if not isinstance(ev, (Collision, Contact, Escape, ClosestApproach)):
+        if not isinstance(ev, known):
             raise InputError(f"events: unknown event {ev!r}; use numerics.events.Collision, "
-                             "Contact, Escape or ClosestApproach")
+                             "Contact, Escape, ClosestApproach or "
+                             "numerics.fields.contact.SolidContact")
     return out  # type: ignore[return-value]  # each checked above
+
+
+#: A contact threshold that keeps the compiled loops' event memory without ever flagging.
+TRACK_ONLY = 1e-300
 
 
 def event_thresholds(events: Sequence[object]) -> tuple[float, float, float]:
     """``(contact, escape, watch)`` thresholds of the compiled loops; 0 disables a check.
 
-    ``contact``: centre distance below which a step end is handed to the locator; ``escape``:
-    radius beyond which it is; ``watch``: the grazing test's distance.
+    ``contact``: centre distance below which a step end is handed to the locator
+    (:data:`TRACK_ONLY` for a :class:`~poissonkit.numerics.fields.contact.SolidContact`, which
+    the run's driver watches between chunks); ``escape``: radius beyond which it is;
+    ``watch``: the grazing test's distance.
     """
+    from poissonkit.numerics.fields.contact import SolidContact
+
     contact = escape = watch = 0.0
     for ev in check_events(events):
+        if isinstance(ev, SolidContact):  # no centre distance to watch, but the loops must
+            contact = max(contact, TRACK_ONLY)  # keep the previous states for the locator
         if isinstance(ev, (Collision, Contact)):
             contact = max(contact, ev.watch)
         if isinstance(ev, (Collision, Contact, ClosestApproach)):
@@ -340,7 +339,10 @@ def raise_or_record(ev: Event, record: EventRecord, records: list[EventRecord],
     Given the ``system`` and the ``state`` at the event, a contact's record names the two
     bodies that touched and their positions and axes there (:meth:`Contact.touching`).
     """
-    if isinstance(ev, Contact) and system is not None and state is not None:
+    from poissonkit.numerics.fields.contact import SolidContact, with_record_value
+
+    if isinstance(ev, (Contact, SolidContact)) and system is not None and state is not None:
+        record = with_record_value(ev, record, system, state)
         record.detail.update(ev.touching(system, state))
     if ev.error:
         where = (f"at step {record.step} (t = {record.time:.10g} "
@@ -348,6 +350,9 @@ def raise_or_record(ev: Event, record: EventRecord, records: list[EventRecord],
         if ev.kind == "escape":
             raise EscapeError(f"a body reached distance {record.value:.6g} {where}")
         what = "touched" if ev.kind == "contact" else f"came within {record.value:.6g}"
+        if isinstance(ev, SolidContact):
+            body, field = record.detail["bodies"]
+            raise CollisionError(f"body {body!r} touched field {field!r} {where}")
         raise CollisionError(f"bodies {what} {where}")
     records.append(record)
 
@@ -431,6 +436,26 @@ def ball_cylinder_gap(ball: Shape, cyl: Shape) -> float:
     if dz <= 0.0 and dr <= 0.0:
         return max(dz, dr) - ball.radius
     return math.hypot(max(dz, 0.0), max(dr, 0.0)) - ball.radius
+
+
+def shape_gap(a: Shape, b: Shape, centre: float) -> float:
+    """Signed gap of two placed shapes (balls, solid cylinders) whose centres are ``centre``
+    apart: a lower bound (bounding spheres, then capsules) while that is positive, the
+    distance by alternating projections otherwise, and once they overlap minus the overlap of
+    their bounding spheres (see :meth:`Contact.value`)."""
+    from poissonkit.geometry import distance
+
+    reach = a.bounding_radius + b.bounding_radius
+    if centre > reach:
+        return centre - reach  # a lower bound is enough far away
+    if (a.kind == "cylinder") != (b.kind == "cylinder"):  # a ball and a cylinder: the closed
+        return ball_cylinder_gap(b if a.kind == "cylinder" else a,  # form (a fixed solid
+                                 a if a.kind == "cylinder" else b)  # under a body, mostly)
+    bound = _capsule_gap(a, b)
+    if bound > 0:  # the capsules around the cylinders are apart: so are they
+        return bound
+    d = distance(a, b)
+    return d if d > 0 else centre - reach
 
 
 def _capsule_gap(a: Shape, b: Shape) -> float:

@@ -16,6 +16,7 @@ from numpy.typing import ArrayLike
 from poissonkit.contracts import (Event, HasBodies, HasCompiledKernels, HasOverlapCheck, Integrator,
                                   NumericsSystem, System)
 from poissonkit.errors import CapabilityError, DimensionError, InputError, IntegrationError
+from poissonkit.numerics.fields.contact import refuse_inside
 from poissonkit.numerics.solution import Solution
 from poissonkit.plugin.contributions import Capabilities
 from poissonkit.traits import offers
@@ -239,6 +240,7 @@ def _solve_checked(system: System, y0: np.ndarray, t0: float, t_end: float,
 
     events = check_events(events)
     integ, caps = _integrator_and_capabilities(method, options)
+    refuse_inside(system, y0)  # a body inside a magnet or on a wire: the field is not valid
     if t_eval is not None:
         return _solve_at_times(integ, caps, system, y0, t0, t_end, t_eval, step=step, tol=tol,
                                events=events, progress=progress, stop=stop, stream=stream,

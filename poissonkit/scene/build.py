@@ -18,6 +18,7 @@ if TYPE_CHECKING:
     import networkx as nx
 
     from poissonkit.numerics.events import Contact
+    from poissonkit.numerics.fields.contact import SolidContact
     from poissonkit.plugin.contributions import Assembly
     from poissonkit.numerics.nbody import NBodySystem
     from poissonkit.numerics.units import Scales
@@ -252,7 +253,7 @@ def _built(scene: Scene, system: NBodySystem, y0: np.ndarray, bodies: list[BodyM
         from poissonkit.scene.fields import with_scene_fields
 
         with _named_errors(scene):
-            system = with_scene_fields(system, y0, bodies, scene.fields)
+            system = with_scene_fields(system, y0, bodies, scene.fields, scene.units)
     unit = system.scales.time if system.scales is not None else 1.0
     step = None if scene.run.step is None else scene.run.step / unit
     return BuiltScene(system, y0, bodies, scene.run.duration / unit, step, plan)
@@ -278,8 +279,12 @@ def build_run(scene: Scene) -> RunSpec:
     if built.plan is not None:
         metadata["plan"] = built.plan
     system = built.system
-    events = () if scene.run.contact == "ignore" else contact_events(built.bodies,
-                                                                     built.length_unit)
+    events: tuple[Contact | SolidContact, ...] = () if scene.run.contact == "ignore" \
+        else contact_events(built.bodies, built.length_unit)
+    if scene.run.contact != "ignore" and system.fields:  # field sources are solids too
+        from poissonkit.scene.fields import field_contact_events
+
+        events = (*events, *field_contact_events(system, built.bodies, built.length_unit))
     metadata["time_unit_s"] = built.time_unit
     if system.fields:
         metadata["fields"] = [{"source": f.name, **dict(f.info)} for f in system.fields]

@@ -13,11 +13,14 @@ from poissonkit.scene.bodies import BodyModel
 from poissonkit.scene.schema import FieldDecl
 
 if TYPE_CHECKING:
+    from poissonkit.numerics.fields.contact import SolidContact
     from poissonkit.numerics.nbody import NBodySystem
+    from poissonkit.numerics.unitsystem import UnitSystem
 
 
 def with_scene_fields(system: NBodySystem, y0: np.ndarray, bodies: Sequence[BodyModel],
-                      fields: Sequence[FieldDecl]) -> NBodySystem:
+                      fields: Sequence[FieldDecl], units: UnitSystem | None = None
+                      ) -> NBodySystem:
     """``system`` with the scene's fields; every body's ``moment`` (and any other attribute a
     field reads) is passed to the numerics, and tabulated fields cover the bodies' initial
     positions unless given a region.
@@ -25,7 +28,8 @@ def with_scene_fields(system: NBodySystem, y0: np.ndarray, bodies: Sequence[Body
     Raises
     ------
     InputError
-        If a moving body starts inside a field source's solid or on its wire.
+        If a moving body starts inside a field source's solid or on its wire (positions in
+        the scene's length unit ``units.length``).
     """
     from poissonkit.plugin.registry import external_field
 
@@ -42,5 +46,24 @@ def with_scene_fields(system: NBodySystem, y0: np.ndarray, bodies: Sequence[Body
         names = [b.name for b in built.bodies]
         moving = [k for k, b in enumerate(built.bodies) if not b.fixed]
         if len(r) == len(names):
-            check_outside(solids, [names[k] for k in moving], r[moving])
+            unit, scale = ("m", 1.0) if units is None else (units.length,
+                                                           units.to_si(1.0, "length"))
+            check_outside(solids, [names[k] for k in moving], r[moving], unit, scale)
     return built
+
+
+def field_contact_events(system: NBodySystem, bodies: Sequence[BodyModel],
+                         length_unit: float = 1.0) -> tuple[SolidContact, ...]:
+    """The contact of the scene's moving bodies with its fields' solids
+    (:class:`~poissonkit.numerics.fields.contact.SolidContact`): finite-size bodies by their
+    shape (as :func:`~poissonkit.scene.build.contact_events`), the others as points; ``()``
+    when no field has a shape."""
+    from poissonkit.numerics.events import BodyShape
+    from poissonkit.numerics.fields.contact import solid_contact
+
+    moving = {b.name for b in system.bodies if not b.fixed}
+    shapes = [BodyShape(b.name, float(b.magnet.get("radius", 0.0)) / length_unit,
+                        float(b.magnet.get("half_length", 0.0)) / length_unit)
+              for b in bodies if b.name in moving]
+    event = solid_contact(system, shapes)
+    return () if event is None else (event,)

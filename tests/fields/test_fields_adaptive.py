@@ -117,15 +117,17 @@ def test_a_top_over_a_cylinder_segment_runs_from_an_adaptive_table(tmp_path):
     assert np.max(np.linalg.norm(B - ref, axis=1)) <= 1e-5 * built.info["max_B_T"]
 
 
-def test_a_body_leaving_a_table_is_named_with_its_field_position_and_time():
+def test_a_body_leaving_a_table_is_named_with_its_field_position_and_time(monkeypatch):
     """The run stops with NaN forces once the body is outside the table; the explanation names
     the field, the body, where it is [m] and when [s]."""
     import poissonkit as pk
     from poissonkit.errors import NonFiniteStateError
+    from poissonkit.numerics.fields import tabulated
     from poissonkit.numerics.fields.regions import FieldRegionError, explain_nonfinite
     from poissonkit.numerics.nbody import Body, NBodySystem
     from poissonkit.numerics.units import Scales
 
+    monkeypatch.setattr(tabulated, "GROWTH_ROOM", 1)  # no room: the table cannot grow
     field = tabulated_field("dipole", dipole_b, np.array([-0.01, -0.01, 0.02]),
                             np.array([0.01, 0.01, 0.03]), 1e-3)
     s = NBodySystem([Body("top", 0.02, alpha=1 / 2e-6, attributes={"moment": 0.1})],

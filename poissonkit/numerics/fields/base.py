@@ -63,6 +63,12 @@ class CompiledField:
         The space the source occupies (:class:`~poissonkit.numerics.fields.solids.Solid`
         pieces: magnets, wires), for drawing, contact and the start check; empty for fields
         without a shape (gravity, a uniform field).
+    regrow
+        For a tabulated field: ``regrow(lo, hi)`` builds the same kind of table over the box
+        ``[lo, hi]`` [m] (:mod:`~poissonkit.numerics.fields.growth`); ``None``: fixed region.
+    capacity
+        Floats the system reserves for :attr:`data` so that a regrown table fits in place
+        (0: only the table's own size).
     """
 
     name: str
@@ -72,6 +78,16 @@ class CompiledField:
     orientation: bool = False
     info: Mapping[str, Any] = dc_field(default_factory=dict)
     solids: tuple[Solid, ...] = ()
+    regrow: Callable[[np.ndarray, np.ndarray], CompiledField] | None = dc_field(
+        default=None, compare=False, repr=False)
+    capacity: int = dc_field(default=0, compare=False)
+
+    def __getstate__(self) -> dict[str, Any]:
+        """Pickled without :attr:`regrow` (it holds the source's own field function, which
+        need not pickle): a copy in another process keeps its region."""
+        state = dict(self.__dict__)
+        state["regrow"] = None
+        return state
 
     def energy(self, r: npt.ArrayLike, nu: npt.ArrayLike, coupling: float
                ) -> tuple[float, np.ndarray, np.ndarray]:

@@ -42,7 +42,10 @@ def field_data(fields: Sequence[CompiledField], bodies: Sequence[Body], length: 
         if fld.kernel not in kerns:
             kerns.append(fld.kernel)
         gid.append(kerns.index(fld.kernel))
-        chunks.append(np.asarray(fld.data, dtype=float).ravel())
+        chunk = np.asarray(fld.data, dtype=float).ravel()
+        if fld.capacity > chunk.size:  # room for a regrown table (numerics/fields/growth)
+            chunk = np.concatenate([chunk, np.zeros(fld.capacity - chunk.size)])
+        chunks.append(chunk)
         offs.append(offs[-1] + chunks[-1].size)
         for k, b in enumerate(bodies):
             value = dict(b.attributes).get(fld.reads) if fld.reads != "mass" else b.mass

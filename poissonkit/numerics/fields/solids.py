@@ -116,6 +116,34 @@ class Solid:
         v = np.asarray(d["vertices"], dtype=float)
         return np.all((q > v.min(axis=0) - m) & (q < v.max(axis=0) + m), axis=1)
 
+    def signed_distance(self, points: npt.ArrayLike) -> np.ndarray:
+        """Distance [m] of the points (n, 3) [m] from the piece: exact outside, negative
+        inside (its magnitude then only a depth estimate: contact events need the sign).
+
+        A wire (``loop``, ``polyline``) is a tube of radius ``wire_radius`` (a dimension,
+        default 0: the wire itself); a ``mesh`` is its bounding box (conservative: contact may
+        be reported before the mesh is reached, never after)."""
+        q = self.local(points)
+        d = self.dimensions
+        rho = np.hypot(q[:, 0], q[:, 1])
+        if self.kind == "sphere":
+            return np.linalg.norm(q, axis=1) - float(d["radius"])
+        if self.kind == "cylinder":
+            r = float(d["radius"])  # (a rectangle symmetric about the axis: ρ = 0 is deep)
+            return _rect_distance(rho, q[:, 2], -r, r, float(d["height"]) / 2)
+        if self.kind == "cuboid":
+            return _box_distance(q, np.array([d["a"], d["b"], d["c"]], dtype=float) / 2)
+        if self.kind == "cylinder_segment":
+            return _segment_distance_of(q, rho, d)
+        wire = float(d.get("wire_radius", 0.0))
+        if self.kind == "loop":
+            return np.hypot(rho - float(d["radius"]), q[:, 2]) - wire
+        if self.kind == "polyline":
+            return _polyline_distance(q, np.asarray(d["vertices"], float)) - wire
+        v = np.asarray(d["vertices"], dtype=float)
+        lo, hi = v.min(axis=0), v.max(axis=0)
+        return _box_distance(q - (lo + hi) / 2, (hi - lo) / 2)
+
     def contact_shape(self) -> tuple[float, float] | None:
         """``(radius, half_length)`` of the convex solid a contact event can use (a cylinder,
         or a ball with half-length 0); ``None`` for other kinds."""
@@ -143,6 +171,45 @@ def _plane_distance(q: np.ndarray, phi_deg: float) -> np.ndarray:
     along = q[:, 0] * math.cos(t) + q[:, 1] * math.sin(t)
     across = -q[:, 0] * math.sin(t) + q[:, 1] * math.cos(t)
     return np.where(along >= 0, np.abs(across), np.hypot(along, across))
+
+
+def _rect_distance(u: np.ndarray, z: np.ndarray, lo: float, hi: float, half: float
+                   ) -> np.ndarray:
+    """Signed distance in a half-plane from the rectangle ``lo ≤ u ≤ hi``, ``|z| ≤ half``
+    (the cross-section of a cylinder or a ring)."""
+    du = np.maximum(lo - u, u - hi)
+    dz = np.abs(z) - half
+    outside = np.hypot(np.maximum(du, 0.0), np.maximum(dz, 0.0))
+    return np.where((du > 0) | (dz > 0), outside, np.maximum(du, dz))
+
+
+def _box_distance(q: np.ndarray, half: np.ndarray) -> np.ndarray:
+    """Signed distance of the points ``q`` from the box ``|q_i| ≤ half_i``."""
+    d = np.abs(q) - half
+    return np.linalg.norm(np.maximum(d, 0.0), axis=1) + np.minimum(d.max(axis=1), 0.0)
+
+
+def _segment_distance_of(q: np.ndarray, rho: np.ndarray, d: Mapping[str, Any]) -> np.ndarray:
+    """Signed distance from a cylinder segment: within its angular range, from the ring's
+    cross-section at the point's azimuth; outside it, from the nearer end face (the distance
+    to the cross-section at azimuth ``φ`` grows with the angle between them)."""
+    ri, ro, half = float(d["inner_radius"]), float(d["outer_radius"]), float(d["height"]) / 2
+    ring = _rect_distance(rho, q[:, 2], ri, ro, half)
+    lo, hi = float(d["phi1"]), float(d["phi2"])
+    if hi - lo >= 360.0:
+        return ring
+    phi = np.degrees(np.arctan2(q[:, 1], q[:, 0]))
+    within = (phi - lo) % 360.0 <= hi - lo
+    ends = []
+    for a in (lo, hi):
+        t = math.radians(a)
+        along = q[:, 0] * math.cos(t) + q[:, 1] * math.sin(t)
+        across = -q[:, 0] * math.sin(t) + q[:, 1] * math.cos(t)
+        face = np.maximum(_rect_distance(along, q[:, 2], ri, ro, half), 0.0)
+        ends.append(np.hypot(across, face))
+    end = np.minimum(ends[0], ends[1])
+    # inside: no deeper than the distance to an end plane (the sign is what matters)
+    return np.where(within, np.where(ring < 0, np.maximum(ring, -end), ring), end)
 
 
 def _polyline_distance(q: np.ndarray, verts: np.ndarray) -> np.ndarray:

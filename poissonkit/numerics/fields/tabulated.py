@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -27,6 +28,11 @@ MAX_NODES = 300_000
 CHECK_POINTS = 400
 #: Default relative tolerance of a tabulated field.
 DEFAULT_TOL = 1e-5
+
+#: A table's room for growth: this many times its size (numerics/fields/growth) ...
+GROWTH_ROOM = 4
+#: ... within this many floats (64 MB): the memory cap of a growing table.
+GROWTH_CAP = 1 << 23
 
 #: The energy kernel of a moment in a tabulated field.
 TABULATED_MAGNET = magnetic_kernel(tricubic_field)
@@ -108,7 +114,8 @@ def tabulated_field(name: str, bfun: BField, lo: np.ndarray, hi: np.ndarray, tol
         if nodes > MAX_NODES and adaptive:
             from poissonkit.numerics.fields.octree import octree_table
 
-            return octree_table(name, bfun, lo, hi, tol, solids, info)
+            return growable(octree_table(name, bfun, lo, hi, tol, solids, info),
+                            lambda a, b: octree_table(name, bfun, a, b, tol, solids, info))
         if nodes > MAX_NODES:
             raise InputError(f"{name}: tolerance {tol:g} needs more than {MAX_NODES} grid nodes "
                              f"over the region {lo.tolist()}..{hi.tolist()} m; loosen tol or "
@@ -125,5 +132,16 @@ def tabulated_field(name: str, bfun: BField, lo: np.ndarray, hi: np.ndarray, tol
               "region_m": [lo.tolist(), hi.tolist()],
               "field_error": err["field"], "gradient_error": err["gradient"],
               "max_B_T": err["max_B_T"]}
-    return CompiledField(name=name, kernel=TABULATED_MAGNET, data=P, reads="moment",
-                         orientation=True, info=report)
+    return growable(CompiledField(name=name, kernel=TABULATED_MAGNET, data=P, reads="moment",
+                                  orientation=True, info=report),
+                    lambda a, b: tabulated_field(name, bfun, a, b, tol, info, False, solids))
+
+
+def growable(built: CompiledField, regrow: Callable[[np.ndarray, np.ndarray], CompiledField]
+             ) -> CompiledField:
+    """``built`` with its ``regrow`` and the room a regrown table may take in place: up to
+    :data:`GROWTH_ROOM` times its size, within :data:`GROWTH_CAP` floats (a table already
+    larger gets no more than its own size: it cannot grow)."""
+    size = int(np.asarray(built.data).size)
+    room = max(size, min(GROWTH_ROOM * size, GROWTH_CAP))
+    return replace(built, regrow=regrow, capacity=room)

@@ -25,6 +25,7 @@ from poissonkit.numerics.checkpoint import (Checkpoint, TrajectoryStream, check_
                                             newest_checkpoint, write_checkpoint)
 from poissonkit.numerics.events import (EventRecord, centre_distance, check_events,
                                         event_thresholds, raise_or_record)
+from poissonkit.numerics.fields.contact import chunk_guard
 from poissonkit.numerics.integrators.base import (BUFFER_FULL, COLLISION, DONE, ESCAPE, GRAZE,
                                                   NONFINITE, RUNNING, RawResult, SaveBuffer,
                                                   progress_bar)
@@ -187,6 +188,7 @@ class _Run:
         self.p = p
         self.events = check_events(p.events)
         self.contact, _, self.watch = event_thresholds(self.events)
+        self.guard = chunk_guard(p.system, self.events)  # solids, tables that grow
         self.control = p.control or Control()
         self.ck = self.control.checkpoint
         self.stream = self.control.stream
@@ -280,9 +282,14 @@ class _Run:
             max_steps = min(cap, prog_chunk)
             if next_ck is not None:
                 max_steps = min(max_steps, next_ck - st.steps)
+            if self.guard is not None:
+                max_steps = self.guard.limit(st.y, st.t, max_steps)
             t_before = st.t
             tic = time.perf_counter()
             status, t_new, k, nsave, nf, _ = p.chunk(st, max_steps, self.buf)
+            if self.guard is not None and status in (RUNNING, BUFFER_FULL, DONE) \
+                    and self.guard.after(st.y, t_new, t_before, k):
+                status = COLLISION  # a solid touched: its last step goes to the locator
             if control.stop is not None:  # look at stop requests about 10 times a second
                 took = time.perf_counter() - tic
                 if took > 0.2 and cap > 1:
@@ -362,6 +369,8 @@ class _Run:
         p, st, buf, stream = self.p, self.st, self.buf, self.stream
         extra: dict[str, Any] = {"peak_rows_in_memory": buf.peak_rows,
                                  "interrupted": self.interrupted}
+        if self.guard is not None:
+            extra.update(self.guard.report())
         if self.resumed_from is not None:
             extra["resumed_from"] = str(self.resumed_from)
         if stream is not None:
