@@ -76,6 +76,8 @@ def summary_document(spec: RunSpec, sol: Solution, *, wall: float, compile_time:
                              "scene's scales: parameters.scales); *_J in joules")
     if sol.extra.get("failure"):
         summary["failure"] = dict(sol.extra["failure"])
+    if sol.extra.get("field_regrowths"):  # a tabulated field's region grew (or could not)
+        summary["field_regrowths"] = list(sol.extra["field_regrowths"])
     summary["written_utc"] = datetime.now(UTC).isoformat(timespec="seconds")
     if "resumed_from" in sol.extra:
         summary["resumed_from"] = Path(sol.extra["resumed_from"]).name
@@ -123,9 +125,16 @@ def run_problems(energy_error: float, message: str, tol: float, interrupted: boo
         out.append(f"run interrupted: {message}; partial results written "
                    "(resume with --resume if --checkpoint-every was given)")
     for e in touching:
-        out.append(f"bodies touched ({e.kind}) at t = {e.time * time_unit:.9g} s "
-                   f"(located to {e.time_error * time_unit:.2g} s, step {e.step}); the run "
-                   "stopped there — the scene's bodies interpenetrate beyond this time")
+        where = (f"at t = {e.time * time_unit:.9g} s (located to {e.time_error * time_unit:.2g} "
+                 f"s, step {e.step}); the run stopped there")
+        field_name = e.detail.get("field")
+        if field_name is not None:  # a field's source is a solid (docs/fields.md)
+            body = (e.detail.get("bodies") or ["?"])[0]
+            out.append(f"body {body!r} touched the source of field {field_name!r} {where} — "
+                       "the body would enter the magnet beyond this time")
+            continue
+        out.append(f"bodies touched ({e.kind}) {where} — the scene's bodies interpenetrate "
+                   "beyond this time")
     if energy_error > tol:
         out.append(f"energy error max |ΔH|/|H(0)| = {energy_error:.3g} "
                    f"exceeds the scene's tolerance {tol:g}")

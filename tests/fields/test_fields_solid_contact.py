@@ -159,7 +159,7 @@ def test_contact_ignore_lets_the_body_through():
     assert sol.y[-1][2] < -0.1  # fell through the magnet
 
 
-def test_the_cli_stops_and_the_summary_names_the_field(tmp_path):
+def test_the_cli_stops_and_the_summary_names_the_field(tmp_path, capsys):
     path = tmp_path / "drop.toml"
     path.write_text(_drop_scene(CUBOID))
     out = tmp_path / "run"
@@ -168,6 +168,9 @@ def test_the_cli_stops_and_the_summary_names_the_field(tmp_path):
     (ev,) = summary["events"]
     assert ev["detail"]["field"] == "magpylib"
     assert ev["time_s"] == pytest.approx(math.sqrt(2 * 0.025 / G), abs=1e-10)
+    said = capsys.readouterr()
+    assert (f"body 'ball' touched the source of field 'magpylib' at t = {ev['time_s']:.9g} s"
+            in said.err)
 
 
 def _flyer(solid_field: object, speed: float, start: float) -> tuple[NBodySystem, np.ndarray]:
