@@ -355,6 +355,13 @@ def _get() -> _State:
     return _state
 
 
+def plugins_token() -> object:
+    """An object that stays the same until :func:`reset`: keys a cache by the plugins in use
+    without loading any of them (:func:`plugin_manager` loads every one)."""
+    with _lock:
+        return _get().pm  # hashable by identity; not yet loaded with the plugins
+
+
 def plugin_manager() -> pluggy.PluginManager:
     """The lazily built :class:`pluggy.PluginManager` with every plugin that loaded."""
     with _lock:

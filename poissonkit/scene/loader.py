@@ -42,9 +42,9 @@ def loads_scene(text: str, source: str = "") -> Scene:
     The text is parsed within the limits of :mod:`poissonkit.input_limits` (size, nesting
     depth, digits per number, valid Unicode); past them a :class:`SceneError` names the limit.
     """
-    from poissonkit.plugin.manager import plugin_manager
+    from poissonkit.plugin.manager import plugins_token
 
-    key = (text, source, plugin_manager())  # the same plugins: a reset rebuilds the manager
+    key = (text, source, plugins_token())  # the same plugins: a reset makes a new token
     if _reuse[0] and key in _last:
         return _last[key]
     data = loads_toml(text, repr(source) if source else "scene", SceneError)
