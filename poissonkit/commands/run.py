@@ -458,9 +458,12 @@ def _run_locked(args: argparse.Namespace, spec: RunSpec, out: Path, every: int |
         except IntegrationError:
             pass  # the run itself fails the same way, and keeps its partial result
     compile_time = time.perf_counter() - tc
-    plan_run(spec, args.save_every, getattr(args, "max_steps", None),
-             step_seconds_bound=compile_time,
-             report=lambda m: print(f"warning: {m}", file=sys.stderr))
+    try:
+        plan_run(spec, args.save_every, getattr(args, "max_steps", None),
+                 step_seconds_bound=compile_time,
+                 report=lambda m: print(f"warning: {m}", file=sys.stderr))
+    except IntegrationError:
+        pass  # its timing steps failed as the run will; the run keeps its partial result
     parts = out / "trajectory.parts"
     checkpoint = Checkpoint(out / "checkpoints", every) if every is not None else None
     stream = TrajectoryStream(parts)
