@@ -148,6 +148,25 @@ class NonFiniteStateError(IntegrationError):
                                    detail))
 
 
+class StepLimitReached(IntegrationError):
+    """A run reached its step limit (``--max-steps`` / ``run.max_steps``) before its end time:
+    a run whose step count is not known up front (adaptive steps) is cut there.
+
+    Attributes
+    ----------
+    limit
+        The step limit.
+    time
+        The (internal) time reached.
+    """
+
+    def __init__(self, limit: int, time: float, t_end: float) -> None:
+        self.limit = limit
+        self.time = time
+        super().__init__(f"stopped at the step limit max_steps = {limit} (t = {time:.6g} of "
+                         f"t = {t_end:.6g}): raise --max-steps / run.max_steps to go further")
+
+
 class EventTerminated(PoissonkitError):
     """Base class of typed terminal events raised when the user asked events to be errors."""
 

@@ -468,7 +468,10 @@ def _run_locked(args: argparse.Namespace, spec: RunSpec, out: Path, every: int |
     checkpoint = Checkpoint(out / "checkpoints", every) if every is not None else None
     stream = TrajectoryStream(parts)
     t0 = time.perf_counter()
-    with _StopOnSigint() as stop:
+    from poissonkit.numerics.integrators.driver import step_limit
+
+    limit = getattr(args, "max_steps", None) or spec.max_steps  # adaptive runs: cut mid-run
+    with _StopOnSigint() as stop, step_limit(limit):
         try:
             sol = _solve(spec, progress=not args.no_progress, save_every=args.save_every,
                          stop=stop, stream=stream, checkpoint=checkpoint,

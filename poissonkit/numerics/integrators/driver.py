@@ -13,14 +13,17 @@ from __future__ import annotations
 import json
 import math
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
 
 from poissonkit.contracts import Event, HasCompiledKernels
-from poissonkit.errors import AbortState, IntegrationError, InterruptedRun, NonFiniteStateError
+from poissonkit.errors import (AbortState, IntegrationError, InterruptedRun, NonFiniteStateError,
+                               StepLimitReached)
 from poissonkit.numerics.checkpoint import (Checkpoint, TrajectoryStream, check_matches,
                                             newest_checkpoint, write_checkpoint)
 from poissonkit.numerics.events import (EventRecord, centre_distance, check_events,
@@ -36,6 +39,28 @@ from poissonkit.numerics.locate import Window, locate
 #: comes every 0.05–0.2 s, up to MAX_STOP_CHUNK steps (chunking never changes the arithmetic).
 STOP_CHUNK = 256
 MAX_STOP_CHUNK = 1 << 16
+
+
+#: The most steps a run of this context may take (``None``: no limit); see :func:`step_limit`.
+_STEP_LIMIT: ContextVar[int | None] = ContextVar("poissonkit_step_limit", default=None)
+
+
+@contextmanager
+def step_limit(max_steps: int | None) -> Iterator[None]:
+    """Cut the compiled loops run in this context after ``max_steps`` steps.
+
+    A run that reaches the limit before its end time raises
+    :class:`~poissonkit.errors.StepLimitReached`, its last state added to the held rows (its
+    ``abort``), like any integration error. For runs whose step count is not known up front
+    (adaptive steps); fixed-step runs are checked before they start
+    (:func:`poissonkit.numerics.workload.plan_run`). Chunking never changes the arithmetic,
+    so the steps taken are those of the uncut run.
+    """
+    token = _STEP_LIMIT.set(max_steps)
+    try:
+        yield
+    finally:
+        _STEP_LIMIT.reset(token)
 
 
 @dataclass
@@ -286,10 +311,14 @@ class _Run:
         n_total = int(p.description.get("n_total", 200))  # type: ignore[call-overload]
         prog_chunk = max(1, n_total // 200) if p.progress else (1 << 62)
         next_ck = (st.steps // ck.every + 1) * ck.every if ck is not None else None
+        limit = _STEP_LIMIT.get()
         while not p.done(st):
             max_steps = min(cap, prog_chunk)
             if next_ck is not None:
                 max_steps = min(max_steps, next_ck - st.steps)
+            if limit is not None:
+                self.check_limit(limit)
+                max_steps = min(max_steps, limit - st.steps)
             t_before = st.t
             if self.keep_start:
                 self.start = _copy(st)
@@ -322,6 +351,16 @@ class _Run:
                 if self.buf.last_t != st.t:  # the partial result ends where it stopped
                     self.buf.add(st.t, st.state())
                 break
+
+    def check_limit(self, limit: int) -> None:
+        """Raise :class:`~poissonkit.errors.StepLimitReached` once ``limit`` steps are done
+        (the run is not at its end: the caller asks), the state saved as the last row."""
+        st = self.st
+        if st.steps < limit:
+            return
+        if self.buf.last_t != st.t:  # the partial result ends where the run stopped
+            self.buf.add(st.t, st.state())
+        raise StepLimitReached(limit, st.t, self.p.t_end)
 
     def after_chunk(self, status: int, k: int = 0) -> bool:
         """Act on a chunk's status (``k`` steps done in the chunk): raise its error, locate its
