@@ -23,7 +23,7 @@ import numpy as np
 
 from poissonkit.errors import AbortState, IntegrationError, InterruptedRun, NonFiniteStateError
 from poissonkit.numerics.fields.regions import FieldRegionError
-from poissonkit.report.run_units import layout_of
+from poissonkit.report.run_units import layout_of, scene_time_unit
 
 if TYPE_CHECKING:
     from poissonkit.numerics.checkpoint import TrajectoryStream
@@ -47,7 +47,9 @@ def failure_record(spec: RunSpec, exc: BaseException, time_unit: float, last_t: 
                    ) -> dict[str, Any]:
     """What ``summary.json["failure"]`` says of an aborted run: ``kind`` (the error's class),
     ``reason`` (its message, times in seconds), ``time_s`` (where the run failed),
-    ``last_saved_time_s``, and where known ``step``, ``body`` and ``quantity`` at fault."""
+    ``last_saved_time_s``, and where known ``step``, ``body``, ``field`` and ``quantity`` at
+    fault; for a scene written in other units (``[units]``) also ``time_scene`` in
+    ``time_scene_unit``, also named at the end of ``reason``."""
     abort = abort_state(exc)
     if isinstance(exc, KeyboardInterrupt):
         reason = "interrupted twice (Ctrl-C): aborted"
@@ -62,6 +64,10 @@ def failure_record(spec: RunSpec, exc: BaseException, time_unit: float, last_t: 
         "kind": "KeyboardInterrupt" if isinstance(exc, KeyboardInterrupt) else type(exc).__name__,
         "reason": reason,
         "time_s": float(failed_at) * time_unit, "last_saved_time_s": float(last_t) * time_unit}
+    factor, label = scene_time_unit(spec)
+    if label != "s":  # a scene written in other units ([units]) also gets the time in them
+        record["time_scene"], record["time_scene_unit"] = float(failed_at) * factor, label
+        record["reason"] += f" (that is {float(failed_at) * factor:.6g} {label})"
     if isinstance(exc, NonFiniteStateError):
         record["step"] = exc.step
     elif abort is not None:

@@ -196,3 +196,19 @@ def test_an_adaptive_run_past_max_steps_is_cut_with_its_outputs(tmp_path, capsys
         # the cut run is the uncut one up to its last state, bit for bit
         assert np.array_equal(a["y"], b["y"][:n]) and np.array_equal(a["t"], b["t"][:n])
         assert a["t_si"][-1] == pytest.approx(failure["time_s"], rel=1e-12) < 0.05
+
+
+def test_a_failure_of_a_scene_in_days_also_says_the_time_in_days():
+    from poissonkit.errors import IntegrationError
+    from poissonkit.numerics.runspec import RunSpec
+    from poissonkit.report.run_abort import failure_record
+
+    days = {"length": "AU", "time": "day", "mass": "Msun"}
+    spec = RunSpec("orbit", None, np.zeros(6), 10.0, metadata={"units": days,
+                                                                "scales": {"time": 86400.0}})
+    exc = IntegrationError("the method failed at t = 2.5")
+    exc.abort = AbortState((np.zeros(0), np.zeros((0, 6))), 2.5, 40)
+    record = failure_record(spec, exc, 86400.0, 2.0)
+    assert record["time_s"] == 2.5 * 86400.0 and record["step"] == 40
+    assert (record["time_scene"], record["time_scene_unit"]) == (2.5, "day")
+    assert record["reason"] == "the method failed at t = 216000 s (that is 2.5 day)"
