@@ -9,6 +9,11 @@ derives from it, so generic handlers keep working.
 from __future__ import annotations
 
 from collections.abc import Iterable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # annotations only: the errors stay importable without numpy
+    import numpy as np
 
 
 class PoissonkitError(Exception):
@@ -70,8 +75,59 @@ class SceneError(InputError):
     """A scene file or scene description is invalid; the message names the offending field."""
 
 
+@dataclass
+class AbortState:
+    """Where a compiled time loop stood when an error ended it: what a caller needs to keep
+    the run's partial result (:attr:`IntegrationError.abort`).
+
+    Attributes
+    ----------
+    held_rows
+        The saved rows not yet handed to the trajectory stream, ``(t, y)`` (internal units).
+    time_reached
+        Internal time of the loop's state when it stopped.
+    steps_done
+        Steps taken when it stopped.
+    bad_components
+        Indices of the state's non-finite components (empty unless the state is not finite).
+    body
+        Name of the body at fault where the error knows it (e.g. the body that left a
+        tabulated field's region), else ``None``.
+    """
+
+    held_rows: tuple[np.ndarray, np.ndarray]
+    time_reached: float
+    steps_done: int
+    bad_components: list[int] = field(default_factory=list)
+    body: str | None = None
+
+
 class IntegrationError(PoissonkitError):
-    """Numerical integration failed (non-finite state, step-size underflow, ...)."""
+    """Numerical integration failed (non-finite state, step-size underflow, ...).
+
+    Attributes
+    ----------
+    abort
+        Where the loop stood when the error ended it (:class:`AbortState`); set by the compiled
+        loops' driver as the error leaves it, ``None`` for an error raised elsewhere.
+    """
+
+    abort: AbortState | None = None
+
+
+class InterruptedRun(KeyboardInterrupt):
+    """A second Ctrl-C ended a compiled time loop (a :class:`KeyboardInterrupt`, so handlers of
+    those still catch it), with where the loop stood.
+
+    Attributes
+    ----------
+    abort
+        Where the loop stood (:class:`AbortState`).
+    """
+
+    def __init__(self, abort: AbortState) -> None:
+        self.abort = abort
+        super().__init__()
 
 
 class NonFiniteStateError(IntegrationError):
@@ -90,6 +146,25 @@ class NonFiniteStateError(IntegrationError):
         self.time = time
         super().__init__(_detailed(f"non-finite state produced at step {step} (t = {time:.6g})",
                                    detail))
+
+
+class StepLimitReached(IntegrationError):
+    """A run reached its step limit (``--max-steps`` / ``run.max_steps``) before its end time:
+    a run whose step count is not known up front (adaptive steps) is cut there.
+
+    Attributes
+    ----------
+    limit
+        The step limit.
+    time
+        The (internal) time reached.
+    """
+
+    def __init__(self, limit: int, time: float, t_end: float) -> None:
+        self.limit = limit
+        self.time = time
+        super().__init__(f"stopped at the step limit max_steps = {limit} (t = {time:.6g} of "
+                         f"t = {t_end:.6g}): raise --max-steps / run.max_steps to go further")
 
 
 class EventTerminated(PoissonkitError):

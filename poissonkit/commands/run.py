@@ -482,14 +482,20 @@ def _run_locked(args: argparse.Namespace, spec: RunSpec, out: Path, every: int |
         except IntegrationError:
             pass  # the run itself fails the same way, and keeps its partial result
     compile_time = time.perf_counter() - tc
-    plan_run(spec, args.save_every, getattr(args, "max_steps", None),
-             step_seconds_bound=compile_time,
-             report=lambda m: print(f"warning: {m}", file=sys.stderr))
+    try:
+        plan_run(spec, args.save_every, getattr(args, "max_steps", None),
+                 step_seconds_bound=compile_time,
+                 report=lambda m: print(f"warning: {m}", file=sys.stderr))
+    except IntegrationError:
+        pass  # its timing steps failed as the run will; the run keeps its partial result
     parts = out / "trajectory.parts"
     checkpoint = Checkpoint(out / "checkpoints", every) if every is not None else None
     stream = TrajectoryStream(parts)
     t0 = time.perf_counter()
-    with _StopOnSigint() as stop:
+    from poissonkit.numerics.integrators.driver import step_limit
+
+    limit = getattr(args, "max_steps", None) or spec.max_steps  # adaptive runs: cut mid-run
+    with _StopOnSigint() as stop, step_limit(limit):
         try:
             sol = _solve(spec, progress=not args.no_progress, save_every=args.save_every,
                          stop=stop, stream=stream, checkpoint=checkpoint,

@@ -3,7 +3,8 @@
 When the integration of ``poissonkit run`` raises (a non-finite state — e.g. a body leaving a
 tabulated field's region —, a method's own failure, a second Ctrl-C), :func:`partial_solution`
 hands the rows the loop still held to the trajectory stream (the numerics attach them to the
-error, :meth:`poissonkit.numerics.integrators.driver._Run.describe_abort`) and returns a
+error as its :class:`~poissonkit.errors.AbortState`, ``IntegrationError.abort`` or
+``InterruptedRun.abort``) and returns a
 :class:`~poissonkit.numerics.solution.Solution` ending at the last good saved state, with
 ``extra["failure"]`` describing the failure (:func:`failure_record`). The run's usual writer
 (:func:`poissonkit.report.run_output.write_run_outputs`) then writes ``summary.json``
@@ -20,16 +21,19 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from poissonkit.errors import NonFiniteStateError
-from poissonkit.report.run_units import layout_of
+from poissonkit.errors import AbortState, IntegrationError, InterruptedRun, NonFiniteStateError
+from poissonkit.numerics.fields.regions import FieldRegionError
+from poissonkit.report.run_units import layout_of, scene_time_unit
 
 if TYPE_CHECKING:
     from poissonkit.numerics.checkpoint import TrajectoryStream
     from poissonkit.numerics.runspec import RunSpec
     from poissonkit.numerics.solution import Solution
 
+# (the lookahead refuses a match that stops inside a number, so "t = 0.331 s" is left alone
+# rather than read as "t = 0.33" followed by "1 s")
 _TIME = re.compile(r"(?P<name>\bt|Δt) = (?P<value>[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)"
-                   r"(?! s\b)")
+                   r"(?![\d.eE]| s\b)")
 
 
 def in_seconds(message: str, time_unit: float) -> str:
@@ -43,31 +47,54 @@ def failure_record(spec: RunSpec, exc: BaseException, time_unit: float, last_t: 
                    ) -> dict[str, Any]:
     """What ``summary.json["failure"]`` says of an aborted run: ``kind`` (the error's class),
     ``reason`` (its message, times in seconds), ``time_s`` (where the run failed),
-    ``last_saved_time_s``, and where known ``step``, ``body`` and ``quantity`` at fault."""
+    ``last_saved_time_s``, and where known ``step``, ``body``, ``field`` and ``quantity`` at
+    fault; for a scene written in other units (``[units]``) also ``time_scene`` in
+    ``time_scene_unit``, also named at the end of ``reason``."""
+    abort = abort_state(exc)
     if isinstance(exc, KeyboardInterrupt):
         reason = "interrupted twice (Ctrl-C): aborted"
     else:
         reason = in_seconds(str(exc), time_unit)
-    failed_at: object = getattr(exc, "time", None)
-    if not isinstance(failed_at, (int, float)):
-        failed_at = getattr(exc, "time_reached", None)
-    if not isinstance(failed_at, (int, float)):
-        failed_at = last_t
+    failed_at = last_t
+    if isinstance(exc, NonFiniteStateError):
+        failed_at = exc.time
+    elif abort is not None:
+        failed_at = abort.time_reached
     record: dict[str, Any] = {
-        "kind": type(exc).__name__, "reason": reason,
+        "kind": "KeyboardInterrupt" if isinstance(exc, KeyboardInterrupt) else type(exc).__name__,
+        "reason": reason,
         "time_s": float(failed_at) * time_unit, "last_saved_time_s": float(last_t) * time_unit}
-    step = getattr(exc, "step", getattr(exc, "steps_done", None))
-    if isinstance(step, int):
-        record["step"] = step
-    bad = getattr(exc, "bad_components", None)
+    factor, label = scene_time_unit(spec)
+    if label != "s":  # a scene written in other units ([units]) also gets the time in them
+        record["time_scene"], record["time_scene_unit"] = float(failed_at) * factor, label
+        record["reason"] += f" (that is {float(failed_at) * factor:.6g} {label})"
+    if isinstance(exc, NonFiniteStateError):
+        record["step"] = exc.step
+    elif abort is not None:
+        record["step"] = abort.steps_done
     layout = layout_of(spec.system)
-    if isinstance(exc, NonFiniteStateError) and bad and layout:
-        names = [layout[i] for i in bad if 0 <= i < len(layout)]
-        record["quantity"] = "non-finite state components: " + ", ".join(names[:12])
+    if abort is not None and abort.body is not None:
+        record["body"] = abort.body
+    if isinstance(exc, FieldRegionError):
+        record["field"] = exc.field
+        record["quantity"] = (f"position {exc.position} m at t = {exc.position_time_s:.6g} s, "
+                              f"leaving the region of field {exc.field!r}")
+    if isinstance(exc, NonFiniteStateError) and abort is not None and abort.bad_components \
+            and layout:
+        names = [layout[i] for i in abort.bad_components if 0 <= i < len(layout)]
+        record.setdefault("quantity",
+                          "non-finite state components: " + ", ".join(names[:12]))
         bodies = _bodies_of(spec, names)
-        if bodies:
+        if bodies and "body" not in record:
             record["body"] = bodies[0] if len(bodies) == 1 else bodies
     return record
+
+
+def abort_state(exc: BaseException) -> AbortState | None:
+    """Where the compiled loop stood when ``exc`` ended it, if the numerics said."""
+    if isinstance(exc, (IntegrationError, InterruptedRun)):
+        return exc.abort
+    return None
 
 
 def _bodies_of(spec: RunSpec, names: list[str]) -> list[str]:
@@ -89,9 +116,9 @@ def partial_solution(spec: RunSpec, exc: BaseException, stream: TrajectoryStream
     its ``extra["failure"]`` set (:func:`failure_record`)."""
     from poissonkit.numerics.solution import Solution
 
-    held = getattr(exc, "held_rows", None)
-    if isinstance(held, tuple) and len(held) == 2 and len(held[0]):
-        t_held, y_held = (np.asarray(a, dtype=float) for a in held)
+    abort = abort_state(exc)
+    if abort is not None and len(abort.held_rows[0]):
+        t_held, y_held = (np.asarray(a, dtype=float) for a in abort.held_rows)
         good = np.all(np.isfinite(y_held), axis=1) & np.isfinite(t_held)
         stream.write(t_held[good], y_held[good])
     y0 = np.asarray(spec.y0, dtype=float)

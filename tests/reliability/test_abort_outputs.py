@@ -59,7 +59,10 @@ def test_a_run_failing_at_033_s_keeps_summary_trajectory_and_figures(tmp_path, c
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "failed"
     failure = summary["failure"]
-    assert failure["kind"] == "NonFiniteStateError" and failure["body"] == "top"
+    # the body and the field it left, named from the last good state (the state at the failure
+    # is NaN); at t = 0.33 s it is 0.154 mm below the region, within the table's margin
+    assert failure["kind"] == "FieldRegionError" and failure["body"] == "top"
+    assert failure["field"] == "magpylib" and "-0.534154" in failure["reason"]
     # it fails on the first step past the table's edge, and says so in seconds
     assert LEAVES <= failure["time_s"] <= LEAVES + 2e-3
     assert "t = 0.331 s" in failure["reason"] and "2.34" not in failure["reason"]
@@ -80,6 +83,9 @@ def test_a_run_failing_at_033_s_keeps_summary_trajectory_and_figures(tmp_path, c
     ("interrupted at step 9 (t = 1.5)", 2.0, "(t = 3 s)"),
     ("stalled (Δt = 1e-20)", 1.0, "(Δt = 1e-20 s)"),
     ("already t = 5 s", 2.0, "already t = 5 s"),
+    # seconds already: not read as "t = 0.33" followed by "1 s" (was "t = 0.0466602 s1 s")
+    ("left at t = 0.331 s: at t = 0.33 s", 0.1414, "left at t = 0.331 s: at t = 0.33 s"),
+    ("Δt = 2.5e-05 s", 3.0, "Δt = 2.5e-05 s"),
 ])
 def test_internal_times_are_given_in_seconds(message, unit, expected):
     assert expected in in_seconds(message, unit)

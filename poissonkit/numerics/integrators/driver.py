@@ -13,19 +13,24 @@ from __future__ import annotations
 import json
 import math
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
 
 from poissonkit.contracts import Event, HasCompiledKernels
-from poissonkit.errors import IntegrationError, NonFiniteStateError, PoissonkitError
+from poissonkit.errors import (AbortState, IntegrationError, InterruptedRun, NonFiniteStateError,
+                               StepLimitReached)
 from poissonkit.numerics.checkpoint import (Checkpoint, TrajectoryStream, check_matches,
                                             newest_checkpoint, write_checkpoint)
 from poissonkit.numerics.events import (EventRecord, centre_distance, check_events,
                                         event_thresholds, raise_or_record)
 from poissonkit.numerics.fields.contact import chunk_guard
+from poissonkit.numerics.fields.regions import (FieldRegionError, explain_nonfinite,
+                                                 reads_tables)
 from poissonkit.numerics.integrators.base import (BUFFER_FULL, COLLISION, DONE, ESCAPE, GRAZE,
                                                   NONFINITE, RUNNING, RawResult, SaveBuffer,
                                                   progress_bar)
@@ -35,6 +40,28 @@ from poissonkit.numerics.locate import Window, locate
 #: comes every 0.05–0.2 s, up to MAX_STOP_CHUNK steps (chunking never changes the arithmetic).
 STOP_CHUNK = 256
 MAX_STOP_CHUNK = 1 << 16
+
+
+#: The most steps a run of this context may take (``None``: no limit); see :func:`step_limit`.
+_STEP_LIMIT: ContextVar[int | None] = ContextVar("poissonkit_step_limit", default=None)
+
+
+@contextmanager
+def step_limit(max_steps: int | None) -> Iterator[None]:
+    """Cut the compiled loops run in this context after ``max_steps`` steps.
+
+    A run that reaches the limit before its end time raises
+    :class:`~poissonkit.errors.StepLimitReached`, its last state added to the held rows (its
+    ``abort``), like any integration error. For runs whose step count is not known up front
+    (adaptive steps); fixed-step runs are checked before they start
+    (:func:`poissonkit.numerics.workload.plan_run`). Chunking never changes the arithmetic,
+    so the steps taken are those of the uncut run.
+    """
+    token = _STEP_LIMIT.set(max_steps)
+    try:
+        yield
+    finally:
+        _STEP_LIMIT.reset(token)
 
 
 @dataclass
@@ -172,9 +199,13 @@ def drive(problem: LoopProblem | str, *args: Any, **kwargs: Any) -> RawResult:
     run = _Run(problem)
     try:
         run.loop()
-    except (PoissonkitError, KeyboardInterrupt) as exc:
-        run.describe_abort(exc)
+    except IntegrationError as exc:
+        exc.abort = run.describe_abort(exc)
         raise
+    except InterruptedRun:
+        raise
+    except KeyboardInterrupt as exc:  # a second Ctrl-C: keep where the loop stood
+        raise InterruptedRun(run.describe_abort(exc)) from exc
     finally:
         if run.bar is not None:
             run.bar.close()
@@ -217,6 +248,10 @@ class _Run:
             self.bar.update(self.st.t - p.t0)
         self.status_msg = "done"
         self.interrupted = False
+        # the state at the start of the current chunk (copies), kept only for systems whose
+        # non-finite state :func:`explain_nonfinite` may explain (a body leaving a table)
+        self.start: LoopState | None = None
+        self.keep_start = reads_tables(p.system)
 
     def resume(self) -> None:
         """Restore the newest checkpoint of the control's folder into the state."""
@@ -278,13 +313,19 @@ class _Run:
         n_total = int(p.description.get("n_total", 200))  # type: ignore[call-overload]
         prog_chunk = max(1, n_total // 200) if p.progress else (1 << 62)
         next_ck = (st.steps // ck.every + 1) * ck.every if ck is not None else None
+        limit = _STEP_LIMIT.get()
         while not p.done(st):
             max_steps = min(cap, prog_chunk)
             if next_ck is not None:
                 max_steps = min(max_steps, next_ck - st.steps)
+            if limit is not None:
+                self.check_limit(limit)
+                max_steps = min(max_steps, limit - st.steps)
             if self.guard is not None:
                 max_steps = self.guard.limit(st.y, st.t, max_steps)
             t_before = st.t
+            if self.keep_start:
+                self.start = _copy(st)
             tic = time.perf_counter()
             status, t_new, k, nsave, nf, _ = p.chunk(st, max_steps, self.buf)
             if self.guard is not None and status in (RUNNING, BUFFER_FULL, DONE) \
@@ -302,7 +343,7 @@ class _Run:
             st.t = t_new
             if self.bar is not None:
                 self.bar.update(t_new - t_before)
-            if self.after_chunk(status):
+            if self.after_chunk(status, k):
                 break
             self.buf.spill()
             if next_ck is not None and ck is not None and st.steps >= next_ck \
@@ -318,13 +359,28 @@ class _Run:
                     self.buf.add(st.t, st.state())
                 break
 
-    def after_chunk(self, status: int) -> bool:
-        """Act on a chunk's status: raise its error, locate its events; True at a terminal
-        event (the run ends there)."""
+    def check_limit(self, limit: int) -> None:
+        """Raise :class:`~poissonkit.errors.StepLimitReached` once ``limit`` steps are done
+        (the run is not at its end: the caller asks), the state saved as the last row."""
+        st = self.st
+        if st.steps < limit:
+            return
+        if self.buf.last_t != st.t:  # the partial result ends where the run stopped
+            self.buf.add(st.t, st.state())
+        raise StepLimitReached(limit, st.t, self.p.t_end)
+
+    def after_chunk(self, status: int, k: int = 0) -> bool:
+        """Act on a chunk's status (``k`` steps done in the chunk): raise its error, locate its
+        events; True at a terminal event (the run ends there)."""
         p, st = self.p, self.st
         if status == NONFINITE:
-            raise NonFiniteStateError(st.steps, st.t, f"{p.name} step {st.steps} produced "
-                                      "NaN/inf")
+            error = NonFiniteStateError(st.steps, st.t, f"{p.name} step {st.steps} produced "
+                                        "NaN/inf")
+            good = self.last_good(k)
+            if good is not None:  # name the body and the field it left, where it was
+                error = explain_nonfinite(p.system, good.state(), error, span=st.t - good.t,
+                                          y_time=good.t)
+            raise error
         if status == COLLISION and _all_clear(p.system, self.events, st.y):
             return False  # only a candidate (e.g. bounding spheres of solids overlap); dips
             # inside the step are the grazing test's business
@@ -352,17 +408,32 @@ class _Run:
                 f"{p.name}: unexpected status {status}")
         return False
 
-    def describe_abort(self, exc: BaseException) -> None:
-        """Attach to an error that ends the loop what a caller needs to keep the run's partial
-        result: ``held_rows`` (the saved rows not yet handed to the stream, ``(t, y)``),
-        ``time_reached`` (internal time of the last good state) and ``bad_components`` (indices
-        of the state's non-finite components, for a non-finite state)."""
+    def last_good(self, k: int) -> LoopState | None:
+        """The state before the chunk's ``k``-th (failing) step, replayed from the chunk's
+        start (:attr:`start`; ``None`` without one): chunking never changes the arithmetic,
+        so these are the run's own numbers. Costs up to one chunk of steps, once."""
+        good, self.start = self.start, None
+        if good is None or k < 1:
+            return None
+        scratch = SaveBuffer(good.y.size, self.p.buffer_rows)
+        target = good.steps + k - 1
+        while good.steps < target:
+            status, t_new, done, _, _, _ = self.p.chunk(good, target - good.steps, scratch)
+            good.steps += done
+            good.t = t_new
+            if status == NONFINITE or done == 0:
+                return None  # not the run's path (it cannot happen: the loops are deterministic)
+        return good
+
+    def describe_abort(self, exc: BaseException) -> AbortState:
+        """What a caller needs to keep the run's partial result when ``exc`` ends the loop
+        (:class:`~poissonkit.errors.AbortState`): the held rows, the time and steps reached,
+        the non-finite components and the body at fault where the error names one."""
         st = self.st
-        exc.held_rows = self.buf.arrays()  # type: ignore[attr-defined]
-        exc.time_reached = float(st.t)  # type: ignore[attr-defined]
-        exc.steps_done = int(st.steps)  # type: ignore[attr-defined]
         bad = np.flatnonzero(~np.isfinite(np.asarray(st.y, dtype=float)))
-        exc.bad_components = [int(i) for i in bad]  # type: ignore[attr-defined]
+        return AbortState(held_rows=self.buf.arrays(), time_reached=float(st.t),
+                          steps_done=int(st.steps), bad_components=[int(i) for i in bad],
+                          body=exc.body if isinstance(exc, FieldRegionError) else None)
 
     def result(self) -> RawResult:
         """The saved rows (or, streaming, the first and last state) and the run's extras."""
@@ -382,6 +453,14 @@ class _Run:
             ts, ys = buf.arrays()
         return RawResult(ts, ys, st.steps, nfev=st.nfev, events=st.records,
                          message=self.status_msg, extra=extra)
+
+
+def _copy(st: LoopState) -> LoopState:
+    """A copy of ``st`` that a replay may advance (its arrays copied; no event records)."""
+    return LoopState(y=st.y.copy(), t=st.t, steps=st.steps, prev=st.prev.copy(),
+                     prev2=st.prev2.copy(), hist=st.hist.copy(), nfev=st.nfev,
+                     comp=st.comp.copy(), carry={k: v.copy() for k, v in st.carry.items()},
+                     detail=st.detail)
 
 
 def _all_clear(system: HasCompiledKernels, events: Sequence[Event], y: np.ndarray) -> bool:
