@@ -191,7 +191,7 @@ def _evaluated(params: Mapping[str, Any], request: FieldRequest, source: Any,
     if P is None:
         return _cached(params, request, source, described, declared)
     info = {**described, "exact": True, "exact_sources": classes}
-    unused = [k for k in ("tol", "region") if k in params]
+    unused = [k for k in ("tol", "region", "grow") if k in params]
     if not rest:
         if unused:
             info["unused"] = unused  # an exact field has no table to tune
@@ -223,7 +223,8 @@ def _cached(params: Mapping[str, Any], request: FieldRequest, source: Any,
     tol = float(params.get("tol", request.tol or DEFAULT_TOL))
     centre = np.asarray(source.position, dtype=float).reshape(-1, 3)[-1]
     lo, hi = field_region(request, params.get("region"), centre, "magpylib")
-    where = {"adaptive": True, "solids": magpylib_solids(source)}
+    where = {"adaptive": True, "solids": magpylib_solids(source),
+             "grow": bool(params.get("grow", True))}
     if not declared:
         return tabulated_field("magpylib", field_of(source), lo, hi, tol, info=described,
                                **where)
@@ -255,5 +256,7 @@ MAGPYLIB = ExternalField(
               "(default: the bodies' initial positions, padded)", unit="m", optional=True),
         Param("mode", "str", "auto (exact kernels where they exist, else a table), table or "
               "exact", "auto"),
+        Param("grow", "bool", "a table's region grows when a body nears its edge (false: it "
+              "stays, and a body leaving it stops the run)", True),
     ),
     reads="moment", orientation=True, build=_build, accepts=is_source, tables=("params",))

@@ -34,6 +34,7 @@ params = { current = 1.0, diameter = 0.1 }
 position = [0.0, 0.0, 1.0]
 mode = "table"
 tol = 1e-3
+grow = false  # the region stays: the body leaves it
 region = [-0.01, -0.01, -0.534, 0.01, 0.01, 0.01]
 
 [[fields]]

@@ -95,9 +95,13 @@ def interpolation_error(P: np.ndarray, bfun: BField, lo: np.ndarray, hi: np.ndar
 
 def tabulated_field(name: str, bfun: BField, lo: np.ndarray, hi: np.ndarray, tol: float,
                     info: Mapping[str, Any] | None = None, adaptive: bool = False,
-                    solids: Sequence[Solid] = ()) -> CompiledField:
+                    solids: Sequence[Solid] = (), grow: bool = True) -> CompiledField:
     """The field ``bfun`` tabulated on the box ``[lo, hi]`` within relative tolerance ``tol``
     (value and gradient), as a magnet's energy field (reads ``moment``).
+
+    ``grow``: the region may grow during a run when a body nears its edge
+    (:mod:`poissonkit.numerics.fields.growth`); ``False`` keeps it fixed, and a body leaving
+    it stops the run with a typed error naming the field and the body.
 
     One uniform grid when it fits in :data:`MAX_NODES`; otherwise, if ``adaptive``, an octree
     of the same cells refined where the field varies
@@ -115,7 +119,7 @@ def tabulated_field(name: str, bfun: BField, lo: np.ndarray, hi: np.ndarray, tol
             from poissonkit.numerics.fields.octree import octree_table
 
             return growable(octree_table(name, bfun, lo, hi, tol, solids, info),
-                            lambda a, b: octree_table(name, bfun, a, b, tol, solids, info))
+                            lambda a, b: octree_table(name, bfun, a, b, tol, solids, info), grow)
         if nodes > MAX_NODES:
             raise InputError(f"{name}: tolerance {tol:g} needs more than {MAX_NODES} grid nodes "
                              f"over the region {lo.tolist()}..{hi.tolist()} m; loosen tol or "
@@ -134,14 +138,15 @@ def tabulated_field(name: str, bfun: BField, lo: np.ndarray, hi: np.ndarray, tol
               "max_B_T": err["max_B_T"]}
     return growable(CompiledField(name=name, kernel=TABULATED_MAGNET, data=P, reads="moment",
                                   orientation=True, info=report),
-                    lambda a, b: tabulated_field(name, bfun, a, b, tol, info, False, solids))
+                    lambda a, b: tabulated_field(name, bfun, a, b, tol, info, False, solids),
+                    grow)
 
 
-def growable(built: CompiledField, regrow: Callable[[np.ndarray, np.ndarray], CompiledField]
-             ) -> CompiledField:
+def growable(built: CompiledField, regrow: Callable[[np.ndarray, np.ndarray], CompiledField],
+             grow: bool = True) -> CompiledField:
     """``built`` with its ``regrow`` and the room a regrown table may take in place: up to
     :data:`GROWTH_ROOM` times its size, within :data:`GROWTH_CAP` floats (a table already
-    larger gets no more than its own size: it cannot grow)."""
+    larger, or one asked not to ``grow``, gets no more than its own size: it cannot grow)."""
     size = int(np.asarray(built.data).size)
-    room = max(size, min(GROWTH_ROOM * size, GROWTH_CAP))
+    room = max(size, min(GROWTH_ROOM * size, GROWTH_CAP)) if grow else size
     return replace(built, regrow=regrow, capacity=room)
