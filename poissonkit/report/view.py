@@ -99,9 +99,20 @@ def _cylinder_template() -> tuple[np.ndarray, np.ndarray]:
     return verts, np.array(tris)
 
 
+def _unit_axis(axis: np.ndarray) -> np.ndarray | None:
+    """``axis`` as a unit vector; ``None`` when it has no direction (zero, NaN or infinite)."""
+    if not np.all(np.isfinite(axis)):
+        return None
+    big = float(np.abs(axis).max())
+    if big == 0.0:
+        return None
+    z = axis / big  # scaled first: the norm of a huge (damaged) axis does not overflow
+    return z / np.linalg.norm(z)
+
+
 def _frame_of(axis: np.ndarray) -> np.ndarray:
-    """Rotation matrix whose third column is the unit vector ``axis``."""
-    z = axis / np.linalg.norm(axis)
+    """Rotation matrix whose third column is the unit vector ``axis`` (a unit vector)."""
+    z = axis
     helper = np.array([1.0, 0, 0]) if abs(z[0]) < 0.9 else np.array([0, 1.0, 0])
     x = np.cross(helper, z)
     x /= np.linalg.norm(x)
@@ -144,6 +155,19 @@ def _in_si(ds: xr.Dataset, pos: np.ndarray, names: list[str]
     times = np.asarray(ds["time"].values, dtype=float) * units.si_per_unit("time")
     shapes = {n: (r * length, h * length) for n, (r, h) in _dataset_shapes(ds, names).items()}
     return units, pos * length, times, shapes
+
+
+#: Largest coordinate the page can hold: it stores single precision.
+_FLOAT32_MAX = float(np.finfo(np.float32).max)
+
+
+def _check_drawable(pos: np.ndarray, unit: str) -> None:
+    """:class:`InputError` for positions beyond single precision in the axis unit (a damaged
+    dataset: a real scene gets a unit in which its extent is a few thousand at most)."""
+    finite = np.abs(pos[np.isfinite(pos)])
+    if finite.size and float(finite.max()) > _FLOAT32_MAX / 1e3:
+        raise InputError(f"trajectory dataset: positions up to {float(finite.max()):.3g} {unit} "
+                         "are beyond what the 3D view can draw (the file is damaged?)")
 
 
 def _frames_index(n_t: int, n_bodies: int, max_frames: int) -> np.ndarray:
@@ -190,6 +214,7 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     units, pos, times, own_shapes = _in_si(dataset, pos, names)
     unit = length_unit_for(float(np.nanmax(np.abs(pos))) if pos.size else 0.0, units)
     pos = pos / unit.size
+    _check_drawable(pos, unit.name)
     tunit = time_unit_for(float(times[-1]) if times.size else 0.0, units)
     source_meshes = [(src.label, (mesh(src)[0] / unit.size).astype(np.float32),
                       mesh(src)[1].astype(np.int32)) for src in sources]
@@ -202,6 +227,7 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
         lo, hi = np.minimum(lo, v.min(axis=0)), np.maximum(hi, v.max(axis=0))
     shapes = dict(shapes) if shapes is not None else own_shapes
     shapes = {n: (r / unit.size, h / unit.size) for n, (r, h) in shapes.items()}
+    _check_drawable(np.array([v for rh in shapes.values() for v in rh]), unit.name)
     extent = float(np.max(hi - lo)) or max((max(s) for s in shapes.values()), default=1.0)
     default_radius = 0.01 * extent
     size = {n: shapes.get(n, (default_radius, 0.0)) for n in names}
@@ -224,8 +250,8 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
 
     def body_mesh(k: int, f: int) -> np.ndarray:
         radius, half = size[names[k]]
-        a = axis[f, k]
-        if half > 0 and np.all(np.isfinite(a)):
+        a = _unit_axis(axis[f, k])
+        if half > 0 and a is not None:
             verts = cylinder[0] * np.array([radius, radius, half])
             verts = verts @ _frame_of(a).T
         else:
@@ -237,11 +263,10 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
         if not meshes:  # markers only: an axis per body would triple the file for nothing
             return np.empty((0, 3))
         for k, n in enumerate(names):
-            a = axis[f, k]
-            if np.all(np.isfinite(a)):
+            a = _unit_axis(axis[f, k])
+            if a is not None:
                 length = 1.8 * max(size[n])
-                seg += [pos[f, k], pos[f, k] + length * a / np.linalg.norm(a),
-                        [np.nan] * 3]
+                seg += [pos[f, k], pos[f, k] + length * a, [np.nan] * 3]
         return np.array(seg, dtype=np.float32).reshape(-1, 3)
 
     notes = [n + (" (fixed)" if n in fixed else "")

@@ -96,6 +96,24 @@ def test_a_dataset_without_bodies_is_refused():
         view_figure(ds)
 
 
+@pytest.mark.filterwarnings("error::RuntimeWarning")  # found by the view fuzzer: overflow
+def test_values_beyond_single_precision_are_refused_and_a_zero_axis_is_drawn_as_a_sphere():
+    huge = _dataset()
+    huge["position"][3, 1, 0] = 1e300  # finite, far beyond what the page (float32) holds
+    with pytest.raises(InputError, match="beyond what the 3D view can draw"):
+        view_figure(huge)
+    wide = _dataset()
+    wide["radius"][2] = 1e250
+    with pytest.raises(InputError, match="beyond what the 3D view can draw"):
+        view_figure(wide)
+    flat = _dataset()
+    flat["axis"][:, 2, :] = 0.0  # no direction: drawn as a sphere of its radius, no NaN
+    mesh = [tr for tr in view_figure(flat).data if tr.type == "mesh3d"][2]
+    v = np.column_stack([mesh.x, mesh.y, mesh.z]) / 1e3 - flat["position"].values[0, 2]
+    assert np.all(np.isfinite(v))
+    np.testing.assert_allclose(np.linalg.norm(v, axis=1), 0.01, rtol=1e-5)
+
+
 @pytest.fixture(scope="module")
 def chain_run(tmp_path_factory):
     out = tmp_path_factory.mktemp("chain") / "out"
