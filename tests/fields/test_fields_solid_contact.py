@@ -192,8 +192,11 @@ def test_a_thin_plate_is_not_skipped_between_chunks(method):
                    tol=1e-10 if method == "rk45" else None, events=[ev], options=options)
     (rec,) = sol.events
     assert rec.time == pytest.approx(0.05 - 0.0005, abs=1e-9)
-    if method != "rk45":  # (the scipy path records no detail for any contact)
-        assert rec.detail["bodies"] == ["p", "magpylib"]
+    assert rec.detail["bodies"] == ["p", "magpylib"]  # the scipy path names them too
+    if method == "rk45":  # and raises the typed error naming them (a KeyError before)
+        with pytest.raises(CollisionError, match="body 'p' touched field 'magpylib'"):
+            pk.solve(s, y0, 0.2, method=method, tol=1e-10, options=options,
+                     events=[solid_contact(s, error=True)])
 
 
 def _shaped(*solids: Solid):

@@ -138,7 +138,7 @@ class ScipyIVP:
                     bracket = 4 * np.finfo(float).eps * max(abs(te[0]), 1.0)
                     rec = EventRecord(ev.kind, steps, float(te[0]), float(value),
                                       time_error=float(bracket))
-                    raise_or_record(ev, rec, records)
+                    raise_or_record(ev, rec, records, system, yv)  # names who touched
                     ts[-1], ys[-1] = te[0], yv
                     break
         keep = np.zeros(len(ts), dtype=bool)
