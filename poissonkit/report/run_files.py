@@ -21,6 +21,7 @@ if TYPE_CHECKING:
 
     from poissonkit.numerics.runspec import RunSpec
     from poissonkit.numerics.solution import Solution
+    from poissonkit.report.netcdf_writer import DatasetDescription
 
 
 def write_trajectory_files(out: Path, spec: RunSpec, sol: Solution, parts: Path, y: np.ndarray,
@@ -65,15 +66,21 @@ def write_trajectory_files(out: Path, spec: RunSpec, sol: Solution, parts: Path,
 def run_dataset(spec: RunSpec, sol: Solution, t: np.ndarray, y: np.ndarray,
                 scales: Scales | None, time_unit: float) -> xr.Dataset:
     """The trajectory rows ``(t, y)`` as an xarray dataset, with the bodies' sizes."""
+    return run_description(spec, sol, t, y, scales, time_unit).to_xarray()
+
+
+def run_description(spec: RunSpec, sol: Solution, t: np.ndarray, y: np.ndarray,
+                    scales: Scales | None, time_unit: float) -> DatasetDescription:
+    """The dataset of :func:`run_dataset` as plain data (no xarray needed)."""
     from poissonkit.numerics.events import Contact
-    from poissonkit.report.trajectory import trajectory_dataset
+    from poissonkit.report.trajectory import trajectory_description
 
     length = float(scales.length) if scales is not None else 1.0
     shapes = {s.name: (s.radius * length, s.half_length * length)
               for e in spec.events if isinstance(e, Contact) for s in e.shapes}
-    return trajectory_dataset(spec.system, t, y, scales=scales, time_unit=time_unit,
-                              attrs={"scene": spec.name, "method": sol.method}, shapes=shapes,
-                              units=unit_system(spec))
+    return trajectory_description(spec.system, t, y, scales=scales, time_unit=time_unit,
+                                  attrs={"scene": spec.name, "method": sol.method},
+                                  shapes=shapes, units=unit_system(spec))
 
 
 def write_view_file(path: Path, spec: RunSpec, dataset: xr.Dataset) -> bool:
@@ -91,22 +98,24 @@ def write_view_file(path: Path, spec: RunSpec, dataset: xr.Dataset) -> bool:
 
 def write_dataset_file(path: Path, spec: RunSpec, sol: Solution, parts: Path,
                        scales: Scales | None, time_unit: float) -> bool:
-    """Write the trajectory as a NetCDF dataset (``.nc``, built whole) or a Zarr store written
-    part by part (``.zarr``); ``False`` (with a note) without xarray."""
+    """Write the trajectory as a NetCDF dataset (``.nc``, built whole, written by scipy without
+    importing xarray: the same bytes as xarray's scipy engine) or a Zarr store written part by
+    part (``.zarr``; ``False`` with a note without xarray)."""
     from poissonkit.numerics.checkpoint import read_trajectory
+    from poissonkit.report.trajectory import write_description
+
+    if path.suffix != ".zarr":
+        write_description(path, run_description(spec, sol, *read_trajectory(parts), scales,
+                                                time_unit))
+        return True
     from poissonkit.report.gather import gather_dataset
-    from poissonkit.report.trajectory import write_dataset
 
     def build(t: np.ndarray, y: np.ndarray) -> xr.Dataset:
         return run_dataset(spec, sol, t, y, scales, time_unit)
 
     try:
-        if path.suffix == ".zarr":
-            gather_dataset(path, parts, build)
-            return True
-        ds = build(*read_trajectory(parts))
+        gather_dataset(path, parts, build)
     except MissingDependencyError as exc:
         print(f"note: no {path.name} ({exc})", file=sys.stderr)
         return False
-    write_dataset(path, ds)
     return True

@@ -20,26 +20,33 @@ says (:func:`poissonkit.numerics.elements.system_elements`; up to :data:`MAX_ELE
 bodies). The internal scales (SI value of one
 internal unit of length, mass, time, ...) are dataset attributes ``internal_unit_<kind>`` with
 ``internal_unit_<kind>_units``. The file is NetCDF 3 written by scipy's engine (scipy is a
-dependency of poissonkit, and so is xarray): no extra package is needed.
+dependency of poissonkit, and so is xarray): no extra package is needed. The dataset is
+described once, as plain data (:func:`trajectory_description`); ``poissonkit run`` writes the
+file from that description with scipy alone (:mod:`poissonkit.report.netcdf_writer`, the same
+bytes as xarray's engine), in-memory users get the :class:`xarray.Dataset` of it.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from types import ModuleType
 from typing import TYPE_CHECKING, Final
 
 import numpy as np
 
 from poissonkit.contracts import HasBodies, HasLayout, HasUnpack
-from poissonkit.errors import DimensionError, MissingDependencyError
+from poissonkit.errors import DimensionError
 from poissonkit.numerics.unitsystem import SI, UnitSystem
+from poissonkit.report.netcdf_writer import (
+    DatasetDescription,
+    VariableSpec,
+    _xarray,
+    write_netcdf,
+)
 from poissonkit.report.provenance import SI_UNITS
 from poissonkit.traits import offers
 
 if TYPE_CHECKING:
-    import xarray
     import xarray as xr
 
     from poissonkit.numerics.units import Scales
@@ -49,15 +56,6 @@ TWO_BODY_BLOCKS = (("nu1", "m1"), ("nu2", "m2"))
 COMPONENTS = ("x", "y", "z")
 #: NetCDF engine used (part of scipy: NetCDF 3 classic).
 ENGINE: Final = "scipy"
-
-
-def _xarray() -> ModuleType:
-    try:
-        import xarray as xr
-    except ImportError:
-        raise MissingDependencyError(
-            "the trajectory dataset needs xarray: pip install xarray") from None
-    return xr
 
 
 def _names_with(layout: tuple[str, ...], suffix: str) -> list[str]:
@@ -138,7 +136,28 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
                        attrs: Mapping[str, str | int | float] | None = None,
                        shapes: Mapping[str, tuple[float, float]] | None = None,
                        units: UnitSystem | None = None) -> xr.Dataset:
-    """The trajectory ``(t, y)`` of ``system`` as an :class:`xarray.Dataset`.
+    """The trajectory ``(t, y)`` of ``system`` as an :class:`xarray.Dataset`: the
+    :class:`xarray.Dataset` of :func:`trajectory_description` (same parameters).
+
+    Raises
+    ------
+    DimensionError
+        If ``t`` and ``y`` do not match.
+    MissingDependencyError
+        If xarray is not installed.
+    """
+    return trajectory_description(system, t, y, scales=scales, time_unit=time_unit,
+                                  attrs=attrs, shapes=shapes, units=units).to_xarray()
+
+
+def trajectory_description(system: object, t: np.ndarray, y: np.ndarray, *,
+                           scales: Scales | None, time_unit: float = 1.0,
+                           attrs: Mapping[str, str | int | float] | None = None,
+                           shapes: Mapping[str, tuple[float, float]] | None = None,
+                           units: UnitSystem | None = None) -> DatasetDescription:
+    """The trajectory ``(t, y)`` of ``system`` as plain data: the one description of the
+    dataset, from which :func:`trajectory_dataset` makes the :class:`xarray.Dataset` and
+    :func:`write_description` the file (without xarray).
 
     Parameters
     ----------
@@ -163,7 +182,7 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
 
     Returns
     -------
-    xarray.Dataset
+    DatasetDescription
         Coordinates ``time`` [s or the scene's time unit], ``time_internal``, ``body`` (names), ``component`` (x, y, z),
         ``state`` (layout names); variables as the module describes.
 
@@ -171,10 +190,7 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
     ------
     DimensionError
         If ``t`` and ``y`` do not match.
-    MissingDependencyError
-        If xarray is not installed.
     """
-    xr = _xarray()
     t = np.asarray(t, dtype=float)
     y = np.atleast_2d(np.asarray(y, dtype=float))
     if y.shape[0] != t.shape[0]:
@@ -187,30 +203,28 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
     if not units.is_si:
         variables = in_units(variables, units)
     variables.update(mass_and_elements(system, y, bodies, units))
-    data = {name: xr.Variable(dims, values, attrs=a) for name, (dims, values, a)
-            in variables.items()}
-    data["y"] = xr.Variable(("time", "state"), y, attrs={
+    data: dict[str, VariableSpec] = dict(variables)
+    data["y"] = (("time", "state"), y, {
         "units": "internal (see internal_unit_* attributes)",
         "long_name": "state vector as integrated"})
-    coords: dict[str, xarray.Variable] = {
-        "time": xr.Variable(("time",), units.from_si(t * float(time_unit), "time"),
-                            attrs={"units": units.label("time", text=False),
-                                   "long_name": "time"}),
-        "time_internal": xr.Variable(("time",), t, attrs={
+    coords: dict[str, VariableSpec] = {
+        "time": (("time",), units.from_si(t * float(time_unit), "time"),
+                 {"units": units.label("time", text=False), "long_name": "time"}),
+        "time_internal": (("time",), t, {
             "units": f"{float(time_unit)!r} s", "long_name": "time in the internal unit"}),
-        "state": xr.Variable(("state",), np.array(layout, dtype=str)),
+        "state": (("state",), np.array(layout, dtype=str), {}),
     }
     if bodies:
-        coords["body"] = xr.Variable(("body",), np.array(bodies, dtype=str))
+        coords["body"] = (("body",), np.array(bodies, dtype=str), {})
         if shapes:
             for k, (name, long_name) in enumerate((("radius", "radius of the body's shape"),
                                                    ("half_length", "half-length along the "
                                                     "symmetry axis (0: a sphere)"))):
                 values = np.array([shapes[b][k] if b in shapes else np.nan for b in bodies],
                                   dtype=float)
-                data[name] = xr.Variable(("body",), units.from_si(values, "length"), attrs={
+                data[name] = (("body",), units.from_si(values, "length"), {
                     "units": units.label("length", text=False), "long_name": long_name})
-        coords["component"] = xr.Variable(("component",), np.array(COMPONENTS, dtype=str))
+        coords["component"] = (("component",), np.array(COMPONENTS, dtype=str), {})
     from poissonkit._version import __version__
 
     ds_attrs: dict[str, str | int | float] = {
@@ -228,7 +242,7 @@ def trajectory_dataset(system: object, t: np.ndarray, y: np.ndarray, *,
                                    "internal units: si = internal * internal_unit_<kind>")
         ds_attrs.update(unit_attributes(units))
     ds_attrs.update(dict(attrs or {}))
-    return xr.Dataset(data, coords=coords, attrs=ds_attrs)
+    return DatasetDescription(data, coords, ds_attrs)
 
 
 def open_trajectory(path: str | Path) -> xr.Dataset:
@@ -258,6 +272,18 @@ def write_dataset(path: str | Path, dataset: xr.Dataset) -> Path:
     path = Path(path)
     with atomic_path(path) as tmp:
         dataset.to_netcdf(tmp, engine=ENGINE)
+    return path
+
+
+def write_description(path: str | Path, description: DatasetDescription) -> Path:
+    """Write ``description`` atomically as the file :func:`write_dataset` writes of its
+    dataset (the same bytes), without importing xarray
+    (:func:`poissonkit.report.netcdf_writer.write_netcdf`)."""
+    from poissonkit.files.atomic import atomic_path
+
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        write_netcdf(tmp, description)
     return path
 
 
