@@ -93,3 +93,18 @@ def test_escape_names_the_body_launched_away(method, kw):
     assert ev.detail["distance_m"] == pytest.approx(r[1], rel=1e-12)
     with pytest.raises(EscapeError, match=r"body 'fast' reached distance 5"):
         solve(system, y0, 10.0, method, events=[Escape(5.0, error=True)], **kw)
+
+
+def test_two_fixed_bodies_closer_than_the_distance_are_not_the_pair():
+    """Two fixed bodies 0.05 apart never collide (the kernels skip the pair); the moving body
+    ``m`` sent at ``post`` at speed 1 meets it 0.1 apart at t = 0.9."""
+    system = NBodySystem([Body("wall", 1.0, fixed=True, position=(0.0, 0.05, 0.0)),
+                          Body("post", 1.0, fixed=True, position=(0.0, 0.0, 0.0)),
+                          Body("m", 1.0)], [AllPairs("gravity", G)])
+    y0 = system.pack([[1.0, 0, 0]], [[-1.0, 0, 0]])
+    sol = solve(system, y0, 5.0, "splitting4", step=0.01, events=[Collision(0.1)])
+    (ev,) = sol.events
+    assert ev.time == pytest.approx(0.9, abs=1e-6)
+    assert ev.detail["bodies"] == ["post", "m"]
+    m = np.asarray(sol.y[-1])[:3]
+    assert ev.detail["distance_m"] == pytest.approx(np.linalg.norm(m), rel=1e-12)
