@@ -35,8 +35,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from poissonkit.contracts import (HasBodies, HasCompiledKernels, HasScales, HasUnpack,
-                                  System)
+from poissonkit.contracts import (
+    HasBodies,
+    HasCompiledKernels,
+    HasScales,
+    HasUnpack,
+    System,
+)
 from poissonkit.errors import CollisionError, EscapeError, InputError
 from poissonkit.traits import offers
 from poissonkit.validation import positive_number
@@ -277,6 +282,10 @@ class EventRecord:
     time_error
         Width of the final bracket: the true root of the numerical trajectory lies in
         ``[time - time_error, time]`` (closest approach: within ``± time_error``).
+    detail
+        Who: ``bodies`` (names) at fault and, for a collision or an escape, ``distance_m`` and
+        ``quantity`` (:func:`name_bodies`); a contact's gap, positions and axes
+        (:meth:`Contact.touching`); JSON-ready.
     """
 
     kind: str
@@ -374,8 +383,8 @@ def name_bodies(record: EventRecord, system: HasCompiledKernels, state: np.ndarr
     ``distance_m``: ``value`` in metres (through the system's scales or units). A system
     without body positions gets ``quantity`` and ``distance_m`` only.
     """
-    from poissonkit.numerics.unitsystem import units_of
     from poissonkit.numerics.units import Scales
+    from poissonkit.numerics.unitsystem import units_of
 
     escape = record.kind == "escape"
     scales = system.scales if offers(system, HasScales) else None
