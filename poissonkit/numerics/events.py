@@ -35,7 +35,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from poissonkit.contracts import HasBodies, HasCompiledKernels, HasUnpack, System
+from poissonkit.contracts import (
+    HasBodies,
+    HasCompiledKernels,
+    HasScales,
+    HasUnpack,
+    System,
+)
 from poissonkit.errors import CollisionError, EscapeError, InputError
 from poissonkit.traits import offers
 from poissonkit.validation import positive_number
@@ -276,6 +282,10 @@ class EventRecord:
     time_error
         Width of the final bracket: the true root of the numerical trajectory lies in
         ``[time - time_error, time]`` (closest approach: within ``± time_error``).
+    detail
+        Who: ``bodies`` (names) at fault and, for a collision or an escape, ``distance_m`` and
+        ``quantity`` (:func:`name_bodies`); a contact's gap, positions and axes
+        (:meth:`Contact.touching`); JSON-ready.
     """
 
     kind: str
@@ -337,24 +347,98 @@ def raise_or_record(ev: Event, record: EventRecord, records: list[EventRecord],
     """Raise the typed error of a terminal event asked as error, or append its record.
 
     Given the ``system`` and the ``state`` at the event, a contact's record names the two
-    bodies that touched and their positions and axes there (:meth:`Contact.touching`).
+    bodies that touched and their positions and axes there (:meth:`Contact.touching`); any
+    other event's names the bodies at fault and the distance in metres (:func:`name_bodies`),
+    and so does its typed error.
     """
     from poissonkit.numerics.fields.contact import SolidContact, with_record_value
 
     if isinstance(ev, (Contact, SolidContact)) and system is not None and state is not None:
         record = with_record_value(ev, record, system, state)
         record.detail.update(ev.touching(system, state))
+    elif system is not None and state is not None:
+        name_bodies(record, system, state)
     if ev.error:
         where = (f"at step {record.step} (t = {record.time:.10g} "
                  f"- [0, {record.time_error:.2g}])")
+        who = _who(record)
         if ev.kind == "escape":
-            raise EscapeError(f"a body reached distance {record.value:.6g} {where}")
-        what = "touched" if ev.kind == "contact" else f"came within {record.value:.6g}"
+            raise EscapeError(f"{who or 'a body'} reached distance {record.value:.6g}"
+                              f"{_in_metres(record)} {where}")
+        what = "touched" if ev.kind == "contact" else \
+            f"came within {record.value:.6g}{_in_metres(record)}"
         if isinstance(ev, SolidContact):
             body, field = record.detail["bodies"]
             raise CollisionError(f"body {body!r} touched field {field!r} {where}")
-        raise CollisionError(f"bodies {what} {where}")
+        raise CollisionError(f"{who or 'bodies'} {what} {where}")
     records.append(record)
+
+
+def name_bodies(record: EventRecord, system: HasCompiledKernels, state: np.ndarray) -> None:
+    """Fill the ``detail`` of a collision, closest approach or escape located at ``state``.
+
+    ``bodies``: the pair at the smallest centre distance (collision, closest approach) or the
+    moving body farthest from the moving bodies' centre of mass (escape; the two-body form
+    names both bodies, whose separation it watches); ``quantity``: what ``value`` measures;
+    ``distance_m``: ``value`` in metres (through the system's scales or units). A system
+    without body positions gets ``quantity`` and ``distance_m`` only.
+    """
+    from poissonkit.numerics.units import Scales
+    from poissonkit.numerics.unitsystem import units_of
+
+    escape = record.kind == "escape"
+    scales = system.scales if offers(system, HasScales) else None
+    length = float(scales.length) if isinstance(scales, Scales) else \
+        float(units_of(system).to_si(1.0, "length"))
+    record.detail.update(quantity="largest distance from the centre of mass" if escape
+                         else "smallest centre distance", distance_m=record.value * length)
+    if not (offers(system, HasBodies) or offers(system, HasUnpack)):
+        return
+    names = body_names(system)
+    if escape:
+        record.detail["bodies"] = list(names) if not offers(system, HasBodies) else \
+            [names[_farthest_body(system, state)]]
+    else:
+        record.detail["bodies"] = [names[k] for k in _closest_pair(system, state)]
+
+
+def _who(record: EventRecord) -> str:
+    """``body 'a'`` or ``bodies 'a' and 'b'`` from a record's ``detail`` (``""`` if none)."""
+    names = record.detail.get("bodies") or []
+    if len(names) == 1:
+        return f"body {names[0]!r}"
+    return f"bodies {names[0]!r} and {names[1]!r}" if len(names) == 2 else ""
+
+
+def _in_metres(record: EventRecord) -> str:
+    d = record.detail.get("distance_m")
+    return "" if d is None or d == record.value else f" ({d:.6g} m)"
+
+
+def _closest_pair(system: HasCompiledKernels, y: np.ndarray) -> tuple[int, int]:
+    """Indices of the two bodies (not both fixed) with the smallest centre distance, the pair
+    :func:`centre_distance` measures (a k-d tree: each moving body's nearest neighbour)."""
+    from scipy.spatial import cKDTree
+
+    pos, _, fixed = body_frames(system, y)
+    moving = np.flatnonzero(~fixed)
+    dist, nb = cKDTree(pos).query(pos[moving], k=2)
+    itself = nb[:, 0] == moving  # else another body sits on it, at distance 0 too
+    other = np.where(itself, nb[:, 1], nb[:, 0])
+    k = int(np.argmin(np.where(itself, dist[:, 1], dist[:, 0])))
+    a, b = int(moving[k]), int(other[k])
+    return (a, b) if a < b else (b, a)
+
+
+def _farthest_body(system: HasCompiledKernels, y: np.ndarray) -> int:
+    """Index of the moving body farthest from the moving bodies' centre of mass (what
+    ``kernels.max_radius`` measures)."""
+    pos, _, _ = body_frames(system, y)
+    slot = np.asarray(system.data.body_slot)
+    moving = np.flatnonzero(slot >= 0)
+    mass = np.asarray(system.data.mass)[slot[moving]]
+    centre = mass @ pos[moving] / mass.sum()
+    return int(moving[np.argmax(np.linalg.norm(pos[moving] - centre, axis=1))])
 
 
 # ------------------------------------------------------------------ geometry of a state

@@ -133,7 +133,10 @@ def run_problems(energy_error: float, message: str, tol: float, interrupted: boo
             out.append(f"body {body!r} touched the source of field {field_name!r} {where} — "
                        "the body would enter the magnet beyond this time")
             continue
-        out.append(f"bodies touched ({e.kind}) {where} — the scene's bodies interpenetrate "
+        names, dist = e.detail.get("bodies") or [], e.detail.get("distance_m")
+        who = f"bodies {' and '.join(map(repr, names))}" if names else "bodies"
+        at = f" at a centre distance of {dist:.6g} m" if e.kind == "collision" and dist else ""
+        out.append(f"{who} touched ({e.kind}){at} {where} — the scene's bodies interpenetrate "
                    "beyond this time")
     if energy_error > tol:
         out.append(f"energy error max |ΔH|/|H(0)| = {energy_error:.3g} "
