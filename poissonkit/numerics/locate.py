@@ -28,7 +28,7 @@ import numpy as np
 
 from poissonkit.contracts import HasCompiledKernels
 from poissonkit.numerics.events import (DEFAULT_RELATIVE_TIME_TOL, ClosestApproach, Event,
-                                        EventRecord, centre_distance)
+                                        EventRecord, centre_distance, name_bodies)
 
 #: Samples per step of the window before bisection / golden-section search.
 SAMPLES_PER_STEP = 8
@@ -184,5 +184,6 @@ def locate(system: HasCompiledKernels, events: Sequence[Event], window: Window,
         if dm < ev.distance and um < best_u and 0.0 < um < window.length:
             rec = EventRecord(ev.kind, step_index(um), float(window.time(um)), float(dm),
                               time_error=tol_of(ev))
+            name_bodies(rec, system, state(um))  # which pair came closest
             recorded.append((ev, rec))
     return recorded, found

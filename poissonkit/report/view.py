@@ -161,13 +161,23 @@ def _in_si(ds: xr.Dataset, pos: np.ndarray, names: list[str]
 _FLOAT32_MAX = float(np.finfo(np.float32).max)
 
 
-def _check_drawable(pos: np.ndarray, unit: str) -> None:
-    """:class:`InputError` for positions beyond single precision in the axis unit (a damaged
-    dataset: a real scene gets a unit in which its extent is a few thousand at most)."""
-    finite = np.abs(pos[np.isfinite(pos)])
-    if finite.size and float(finite.max()) > _FLOAT32_MAX / 1e3:
-        raise InputError(f"trajectory dataset: positions up to {float(finite.max()):.3g} {unit} "
-                         "are beyond what the 3D view can draw (the file is damaged?)")
+def _scaled(shapes: Mapping[str, tuple[float, float]], factor: float
+            ) -> dict[str, tuple[float, float]]:
+    """``{body: (radius, half_length)}`` times ``factor``."""
+    return {n: (r * factor, h * factor) for n, (r, h) in shapes.items()}
+
+
+def _check_drawable(pos: np.ndarray, shapes: Mapping[str, tuple[float, float]],
+                    unit: str) -> None:
+    """:class:`InputError` for positions or sizes beyond single precision in the axis unit (a
+    damaged dataset: a real scene gets a unit in which its extent is a few thousand at most)."""
+    for what, values in (("positions", pos),
+                         ("sizes", np.array([v for rh in shapes.values() for v in rh]))):
+        finite = np.abs(values[np.isfinite(values)])
+        if finite.size and float(finite.max()) > _FLOAT32_MAX / 1e3:
+            raise InputError(f"trajectory dataset: {what} up to {float(finite.max()):.3g} "
+                             f"{unit} are beyond what the 3D view can draw (the file is "
+                             "damaged?)")
 
 
 def _frames_index(n_t: int, n_bodies: int, max_frames: int) -> np.ndarray:
@@ -214,7 +224,8 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     units, pos, times, own_shapes = _in_si(dataset, pos, names)
     unit = length_unit_for(float(np.nanmax(np.abs(pos))) if pos.size else 0.0, units)
     pos = pos / unit.size
-    _check_drawable(pos, unit.name)
+    shapes = _scaled(own_shapes if shapes is None else shapes, 1 / unit.size)
+    _check_drawable(pos, shapes, unit.name)
     tunit = time_unit_for(float(times[-1]) if times.size else 0.0, units)
     source_meshes = [(src.label, (mesh(src)[0] / unit.size).astype(np.float32),
                       mesh(src)[1].astype(np.int32)) for src in sources]
@@ -225,9 +236,6 @@ def view_figure(dataset: xr.Dataset, shapes: Mapping[str, tuple[float, float]] |
     lo, hi = np.nanmin(pos, axis=(0, 1)), np.nanmax(pos, axis=(0, 1))
     for _, v, _ in source_meshes:  # the sources are in the box too
         lo, hi = np.minimum(lo, v.min(axis=0)), np.maximum(hi, v.max(axis=0))
-    shapes = dict(shapes) if shapes is not None else own_shapes
-    shapes = {n: (r / unit.size, h / unit.size) for n, (r, h) in shapes.items()}
-    _check_drawable(np.array([v for rh in shapes.values() for v in rh]), unit.name)
     extent = float(np.max(hi - lo)) or max((max(s) for s in shapes.values()), default=1.0)
     default_radius = 0.01 * extent
     size = {n: shapes.get(n, (default_radius, 0.0)) for n in names}

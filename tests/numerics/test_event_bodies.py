@@ -108,3 +108,19 @@ def test_two_fixed_bodies_closer_than_the_distance_are_not_the_pair():
     assert ev.detail["bodies"] == ["post", "m"]
     m = np.asarray(sol.y[-1])[:3]
     assert ev.detail["distance_m"] == pytest.approx(np.linalg.norm(m), rel=1e-12)
+
+
+@pytest.mark.parametrize("order", [("far", "a", "b"), ("b", "far", "a")])
+def test_closest_approach_names_the_pair_that_passes(order):
+    """``a`` and ``b`` pass each other 0.2 apart at t = 0.5; ``far`` stays 50 away."""
+    from poissonkit.numerics.events import ClosestApproach
+
+    system = _three(order)
+    where = {"far": ([50.0, 0, 0], [0, 0, 0]), "a": ([0, 0, 0], [0, 1, 0]),
+             "b": ([0.2, 1.0, 0], [0, -1, 0])}
+    y0 = system.pack([where[n][0] for n in order], [where[n][1] for n in order])
+    sol = solve(system, y0, 1.0, "splitting4", step=0.01, events=[ClosestApproach(0.5)])
+    (ev,) = sol.events
+    assert ev.kind == "closest_approach" and ev.time == pytest.approx(0.5, abs=1e-6)
+    assert ev.detail["bodies"] in (["a", "b"], ["b", "a"])
+    assert ev.detail["distance_m"] == pytest.approx(0.2, abs=1e-8)
