@@ -117,9 +117,9 @@ def _short(sig: str, width: int = 70) -> str:
 def report(rows: list[Compiled], total_cpu: float, passes: bool) -> str:
     """Markdown tables: per specialisation (by self time), then per function."""
     total_self = sum(r.self_time for r in rows) or 1.0
-    out = [f"compile CPU (sum of self times): {total_self:.1f} s of {total_cpu:.1f} s CPU in "
-           f"the whole run; {len(rows)} specialisations of "
-           f"{len({(r.module, r.qualname) for r in rows})} functions\n",
+    n_fn = len({(r.module, r.qualname) for r in rows})
+    out = [(f"compile CPU (sum of self times): {total_self:.1f} s of {total_cpu:.1f} s CPU in "
+            f"the whole run; {len(rows)} specialisations of {n_fn} functions\n"),
            "| function | module | signature | compiled by | self s | incl s | share |",
            "|---|---|---|---|---:|---:|---:|"]
     for r in sorted(rows, key=lambda r: -r.self_time):

@@ -7,8 +7,7 @@ import inspect
 
 import numpy as np
 
-from poissonkit.numerics.nbody import AllPairs, Body, NBodySystem
-from poissonkit.numerics.nbody import loops
+from poissonkit.numerics.nbody import AllPairs, Body, NBodySystem, loops
 from poissonkit.numerics.units import Scales
 
 UNIT = Scales(length=1.0, mass=1.0, time=1.0)
@@ -23,7 +22,7 @@ def _system(**kw: object) -> NBodySystem:
 
 
 def _set_pairs(system: NBodySystem) -> object:
-    system.kernels  # builds (and caches) the pair term
+    assert system.kernels is not None  # built now: the pair term is in the cache
     kern = [t for k, t in loops._term_cache.items() if k[3] is (system.cutoff is not None)]
     return [inspect.getclosurevars(t.plain.py_func).nonlocals["set_pairs"] for t in kern]
 
