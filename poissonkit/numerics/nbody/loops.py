@@ -86,39 +86,53 @@ def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatch
     return Term(plain=jit(forces_py), inline=jit(inline="always")(forces_py))
 
 
-#: (id of kern_any, parallel, verlet) -> the pair-force term
-_term_cache: dict[tuple[int, bool, bool], Term] = {}
+#: (id of kern_any, parallel, verlet, cells) -> the pair-force term
+_term_cache: dict[tuple[int, bool, bool, bool], Term] = {}
+
+
+@jit(inline="always")
+def _no_cell_loop(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, lists, s):
+    # the all-pairs loop of a system without cutoff never takes the cutoff branch: this stands
+    # in for the cell-list loop, which then is not compiled (seconds of every first run)
+    if np.isfinite(cutoff):
+        raise ValueError("pair kernels compiled without a cutoff were given one")
+    return 0.0
 
 
 def pair_force_term(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = False,
-                    verlet: bool = False) -> Term:
+                    verlet: bool = False, cells: bool = True) -> Term:
     """The pair-force term around one pair of potential dispatchers (cached).
 
     ``parallel`` adds the multi-threaded pair loop (chosen at run time by the number of
     members, ``data.parallel_min``); without it only the serial loop exists. ``verlet`` walks
     neighbour lists kept in ``work.lists`` (:mod:`~poissonkit.numerics.nbody.verlet`) instead of
-    building a cell list at every evaluation.
+    building a cell list at every evaluation. ``cells=False`` (a system without cutoff, whose
+    data never has one) leaves the cell-list loop out.
     """
-    key = (id(kern_any), parallel, verlet)
+    key = (id(kern_any), parallel, verlet, cells)
     hit = _term_cache.get(key)
     if hit is not None:
         return hit
     terms = pair_terms(kern_any, kern_r)
     if verlet:
         set_pairs = verlet_loops(terms.one, terms.radial_one, parallel)
+    elif not cells:
+        set_pairs = _no_cell_loop
     else:
-        cells = cell_loops(terms.one, terms.radial_one, parallel)
+        cell_pairs = cell_loops(terms.one, terms.radial_one, parallel)
 
         @jit(inline="always")
         def set_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, lists, s):
-            return cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n)
+            return cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n)
     out = force_loops(terms.term, terms.radial, terms.all_radial, set_pairs)
     _term_cache[key] = out
     return out
 
 
 def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = False,
-                   verlet: bool = False, extra: Sequence[Term] = ()) -> Kernels:
+                   verlet: bool = False, extra: Sequence[Term] = (),
+                   cells: bool = True) -> Kernels:
     """The N-body kernels of the pair-force term (:func:`pair_force_term`) plus the terms
     ``extra`` (external fields), assembled on the general layout (cached)."""
-    return assemble(GENERAL, (pair_force_term(kern_any, kern_r, parallel, verlet), *extra))
+    return assemble(GENERAL, (pair_force_term(kern_any, kern_r, parallel, verlet, cells),
+                              *extra))

@@ -249,7 +249,8 @@ class NBodySystem:
             extra = (field_term(self._field_kerns),) if self.fields else ()
             self._kernels = _build_kernels(*_dispatcher(self._kerns, self._rkerns),
                                            parallel=self._parallel,
-                                           verlet=self.skin is not None, extra=extra)
+                                           verlet=self.skin is not None, extra=extra,
+                                           cells=self.cutoff is not None)
         return self._kernels
 
     def with_fields(self, fields: Sequence[FieldLike], y: npt.ArrayLike | None = None,
