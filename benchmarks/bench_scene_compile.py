@@ -74,7 +74,9 @@ def _children_cpu() -> float:
 
 def run_once(name: str, cache: Path, out: Path) -> tuple[int, float, float, str]:
     """One ``poissonkit run`` of ``name``: exit code, wall and CPU seconds, stderr tail."""
-    env = {**os.environ, "POISSONKIT_CACHE_DIR": str(cache)}
+    # numba's own cache=True functions save beside their source unless NUMBA_CACHE_DIR says
+    # otherwise: both caches start empty, or "cold" would hide their compile time
+    env = {**os.environ, "POISSONKIT_CACHE_DIR": str(cache), "NUMBA_CACHE_DIR": str(cache)}
     cmd = [sys.executable, "-m", "poissonkit", "run", name, "--out", str(out), "--no-plot",
            "--no-progress", *SHORT.get(name, [])]
     cpu0, wall0 = _children_cpu(), time.perf_counter()
