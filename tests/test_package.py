@@ -21,8 +21,12 @@ def test_version_comes_from_installed_metadata():
 
 def test_every_public_error_derives_from_poissonkit_error():
     classes = [c for _, c in inspect.getmembers(errors, inspect.isclass)
-               if c.__module__ == errors.__name__]
+               if c.__module__ == errors.__name__ and issubclass(c, BaseException)]
     assert len(classes) > 5
+    # the only other class there: the typed state an aborted run carries (IntegrationError.abort)
+    assert {c.__name__ for _, c in inspect.getmembers(errors, inspect.isclass)
+            if c.__module__ == errors.__name__ and not issubclass(c, BaseException)} \
+        == {"AbortState"}
     for cls in classes:
         assert issubclass(cls, errors.PoissonkitError), cls
 
