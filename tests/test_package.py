@@ -20,13 +20,14 @@ def test_version_comes_from_installed_metadata():
 
 
 def test_every_public_error_derives_from_poissonkit_error():
-    classes = [c for _, c in inspect.getmembers(errors, inspect.isclass)
-               if c.__module__ == errors.__name__ and issubclass(c, BaseException)]
+    own = [c for _, c in inspect.getmembers(errors, inspect.isclass)
+           if c.__module__ == errors.__name__]
+    classes = [c for c in own if issubclass(c, Exception)]
     assert len(classes) > 5
-    # the only other class there: the typed state an aborted run carries (IntegrationError.abort)
-    assert {c.__name__ for _, c in inspect.getmembers(errors, inspect.isclass)
-            if c.__module__ == errors.__name__ and not issubclass(c, BaseException)} \
-        == {"AbortState"}
+    # the others: the typed state an aborted run carries (IntegrationError.abort), and a second
+    # Ctrl-C in a time loop, which stays a KeyboardInterrupt that `except Exception` passes by
+    assert {c.__name__ for c in own if c not in classes} == {"AbortState", "InterruptedRun"}
+    assert issubclass(errors.InterruptedRun, KeyboardInterrupt)
     for cls in classes:
         assert issubclass(cls, errors.PoissonkitError), cls
 
