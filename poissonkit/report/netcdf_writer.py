@@ -184,5 +184,8 @@ def write_netcdf(path: str | Path, description: DatasetDescription) -> Path:
             var = f.createVariable(name, values.dtype, dims)
             for key, item in attrs.items():
                 setattr(var, key, _attr(item))  # type: ignore[arg-type]
-            var[...] = values
+            try:
+                var[...] = values
+            except TypeError:  # a zero-length dimension is scipy's record dimension, which
+                var[:] = values  # takes no Ellipsis (scipy/scipy#6880; xarray does the same)
     return Path(path)
