@@ -118,7 +118,7 @@ def test_an_empty_state_is_xarrays_file(tmp_path: Path) -> None:
         coords={"time": (("time",), np.arange(3.0), {"units": "s"})}, attrs={})
     ours = write_netcdf(tmp_path / "ours.nc", description)
     # the same bytes as xarray's file (which scipy's reader cannot open either: a record
-    # dimension with no record; `view` reports such a folder in one line)
+    # dimension with no record, a limit of scipy.io.netcdf left as it was)
     assert ours.read_bytes() == _xarray_file(description, tmp_path / "xarray.nc").read_bytes()
 
 
