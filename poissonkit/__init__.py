@@ -105,13 +105,9 @@ def __getattr__(name: str) -> object:
         from poissonkit._version import __version__
 
         return __version__
-    if name in _LAZY:
-        from importlib import import_module
+    from poissonkit._lazy import load
 
-        value = getattr(import_module(_LAZY[name]), name)
-        globals()[name] = value  # later look-ups skip this function
-        return value
-    raise AttributeError(f"module 'poissonkit' has no attribute {name!r}")
+    return load(globals(), _LAZY, name)
 
 
 def __dir__() -> list[str]:

@@ -32,7 +32,7 @@ MANAGER = CORE / "plugin" / "manager.py"
 LAYERS: tuple[tuple[str, tuple[str, ...]], ...] = (
     # leaves: no poissonkit import but other leaves (errors are imported by all of them)
     ("leaves", ("errors", "_version", "conventions", "validation", "input_limits", "_display",
-                "files", "killpoints", "geometry", "contracts", "traits")),
+                "_lazy", "files", "killpoints", "geometry", "contracts", "traits")),
     # the pluggy host: hook specifications, entry types, registries
     ("plugin", ("plugin",)),
     # the symbolic layer (sympy)

@@ -15,15 +15,14 @@ Submodules are imported lazily so that ``import poissonkit.numerics`` stays chea
 
 from __future__ import annotations
 
-import importlib
 from typing import Any
 
 _EXPORTS = {
-    "Body": "nbody", "Interaction": "nbody", "AllPairs": "nbody", "NBodySystem": "nbody",
-    "NonUnitAxisError": "nbody", "OverlapError": "nbody", "TwoBodySystem": "twobody", "compile_system": "system",
-    "CompiledSystem": "system", "solve": "solver", "Solution": "solution", "Scales": "units",
-    "Collision": "events", "Escape": "events", "compile_potential": "potentials",
-    "RunSpec": "runspec",
+    "Body": ".nbody", "Interaction": ".nbody", "AllPairs": ".nbody", "NBodySystem": ".nbody",
+    "NonUnitAxisError": ".nbody", "OverlapError": ".nbody", "TwoBodySystem": ".twobody", "compile_system": ".system",
+    "CompiledSystem": ".system", "solve": ".solver", "Solution": ".solution", "Scales": ".units",
+    "Collision": ".events", "Escape": ".events", "compile_potential": ".potentials",
+    "RunSpec": ".runspec",
 }
 
 __all__ = [
@@ -34,7 +33,6 @@ __all__ = [
 
 
 def __getattr__(name: str) -> Any:
-    if name in _EXPORTS:
-        mod = importlib.import_module(f"poissonkit.numerics.{_EXPORTS[name]}")
-        return getattr(mod, name)
-    raise AttributeError(f"module 'poissonkit.numerics' has no attribute {name!r}")
+    from poissonkit._lazy import load
+
+    return load(globals(), _EXPORTS, name)

@@ -36,13 +36,9 @@ __all__ = [
 
 
 def __getattr__(name: str) -> object:
-    if name in _LAZY:
-        from importlib import import_module
+    from poissonkit._lazy import load
 
-        value = getattr(import_module(_LAZY[name]), name)
-        globals()[name] = value  # later look-ups skip this function
-        return value
-    raise AttributeError(f"module 'poissonkit.scene' has no attribute {name!r}")
+    return load(globals(), _LAZY, name)
 
 
 def __dir__() -> list[str]:
