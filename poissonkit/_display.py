@@ -85,3 +85,30 @@ class Displayable:
 
     def _repr_pretty_(self, p: PrettyPrinter, cycle: bool) -> None:
         p.text(type(self).__name__ + "(...)" if cycle else str(self))
+
+
+class TitledRows:
+    """The text and notebook forms of an object that shows as a title over ``key: value`` rows.
+
+    A subclass defines ``_title()`` and ``_rows()``; ``str()``, IPython's plain text and
+    Jupyter's HTML table follow from them, so that every such result looks alike.
+    ``_verdict()`` colours the HTML caption (green holds, red fails; ``None``: not a verdict).
+    """
+
+    def _title(self) -> str:
+        raise NotImplementedError
+
+    def _rows(self) -> list[tuple[str, str]]:
+        raise NotImplementedError
+
+    def _verdict(self) -> bool | None:
+        return None
+
+    def __str__(self) -> str:
+        return text_block(self._title(), self._rows())
+
+    def _repr_pretty_(self, p: PrettyPrinter, cycle: bool) -> None:
+        p.text(f"{type(self).__name__}(...)" if cycle else str(self))
+
+    def _repr_html_(self) -> str:
+        return html_table(self._title(), self._rows(), ok=self._verdict())

@@ -45,7 +45,7 @@ from itertools import combinations
 import sympy as sp
 from sympy.core.function import AppliedUndef
 
-from poissonkit._display import html_table, latex_aligned, latex_text, text_block
+from poissonkit._display import TitledRows, latex_aligned, latex_text
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.structure._expr import as_bivector, as_expr, as_symbols
 from poissonkit.structure.bivector import Bivector
@@ -69,7 +69,7 @@ AUTO_RANDOM_OPS: int = 250
 
 # ---------------------------------------------------------------------------------- results
 @dataclass(frozen=True)
-class CheckResult:
+class CheckResult(TitledRows):
     """Outcome of an exact check; truthy iff the property holds.
 
     Attributes
@@ -125,16 +125,8 @@ class CheckResult:
         rows = [(str(label), str(v)) for label, v in self.failures]
         return rows + ([("note", self.note)] if self.note else [])
 
-    def __str__(self) -> str:
-        """What was checked, whether it holds and how, and the non-vanishing residuals."""
-        return text_block(self._title(), self._rows())
-
-    def _repr_pretty_(self, p, cycle: bool) -> None:
-        p.text("CheckResult(...)" if cycle else str(self))
-
-    def _repr_html_(self) -> str:
-        """HTML summary with the residuals (Jupyter)."""
-        return html_table(self._title(), self._rows(), ok=self.holds)
+    def _verdict(self) -> bool:
+        return self.holds
 
     def _repr_latex_(self) -> str:
         """The residuals as LaTeX equations (or the statement that the check holds)."""

@@ -7,13 +7,13 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from poissonkit._display import html_table, latex_aligned, latex_text, text_block
+from poissonkit._display import TitledRows, latex_aligned, latex_text
 
 Key = tuple[int, int, int]
 
 
 @dataclass(frozen=True)
-class JacobiResult:
+class JacobiResult(TitledRows):
     """Outcome of :func:`check_jacobi`.
 
     Attributes
@@ -69,16 +69,8 @@ class JacobiResult:
         rows = [(k, str(v)) for k, v in self.named_failures().items()]
         return rows + ([("note", self.note)] if self.note else [])
 
-    def __str__(self) -> str:
-        """Whether the identity holds, how it was checked, and the non-zero components."""
-        return text_block(self._title(), self._rows())
-
-    def _repr_pretty_(self, p, cycle: bool) -> None:
-        p.text("JacobiResult(...)" if cycle else str(self))
-
-    def _repr_html_(self) -> str:
-        """HTML summary with the non-zero components (Jupyter)."""
-        return html_table(self._title(), self._rows(), ok=self.is_poisson)
+    def _verdict(self) -> bool:
+        return self.is_poisson
 
     def _repr_latex_(self) -> str:
         """The non-zero Jacobiator components as LaTeX equations (or that it vanishes)."""

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from poissonkit._display import html_table, latex_table
+from poissonkit._display import TitledRows, latex_table
 
 EXIT_OK, EXIT_FAILED, EXIT_ERROR, EXIT_UNDECIDED = 0, 1, 2, 3
 #: Exit code of ``poissonkit verify`` for each report status.
@@ -16,7 +16,7 @@ __all__ = ["CELL", "EXIT_CODES", "EXIT_ERROR", "EXIT_FAILED", "EXIT_OK", "EXIT_U
            "VerifyReport", "format_report"]
 
 
-class VerifyReport(dict):
+class VerifyReport(TitledRows, dict):
     """The report of :func:`verify`: a JSON-ready ``dict`` that also displays itself.
 
     ``str(report)`` is the text ``poissonkit verify`` prints; in a notebook it shows as an HTML
@@ -26,9 +26,6 @@ class VerifyReport(dict):
 
     def __str__(self) -> str:
         return format_report(self)
-
-    def _repr_pretty_(self, p, cycle: bool) -> None:
-        p.text("VerifyReport(...)" if cycle else str(self))
 
     def _rows(self) -> list[tuple[str, str]]:
         jac = self["jacobi"]
@@ -55,9 +52,8 @@ class VerifyReport(dict):
     def _title(self) -> str:
         return f"{self.get('name') or 'structure'}: {self.get('status', '')}"
 
-    def _repr_html_(self) -> str:
-        """HTML table: Jacobi identity, rank, Casimirs and each claimed property (Jupyter)."""
-        return html_table(self._title(), self._rows(), ok=bool(self.get("ok")))
+    def _verdict(self) -> bool:
+        return bool(self.get("ok"))
 
     def _repr_latex_(self) -> str:
         """The same summary as a LaTeX array."""
