@@ -50,7 +50,7 @@ class _PointContext:
         self.memo: dict[sp.Expr, Any] = {}
         self.dmemo: dict[sp.Symbol, dict[sp.Expr, Any]] = {}
         #: what builds receive: ``ev(e)`` is the value, ``ev.d(e, x)`` the partial derivative
-        self.ev = _ValueEvaluator(self)
+        self.ev = _Evaluator(self._ev, self.d)
 
     def _reset(self, n: int) -> None:
         self.base = self.base.refined(n)
@@ -201,16 +201,16 @@ class _PointContext:
                 for s, v in sorted(self.values.items(), key=lambda kv: str(kv[0]))}
 
 
-class _ValueEvaluator:
-    """``ev(e)``: exact value at a point; ``ev.d(e, x)``: exact partial derivative there."""
+class _Evaluator:
+    """What a check's ``build`` receives: ``ev(e)`` for a sympy expression, ``ev.d(e, x)`` for
+    its partial derivative in ``x``; exact values at a point (:class:`_PointContext`) or degree
+    records for the bound (:meth:`RandomPoints.test`), so that one ``build`` serves both."""
 
-    __slots__ = ("_ctx",)
+    __slots__ = ("_value", "d")
 
-    def __init__(self, ctx: _PointContext) -> None:
-        self._ctx = ctx
+    def __init__(self, value: Callable[[Any], Any], d: Callable[[Any, sp.Symbol], Any]) -> None:
+        self._value = value
+        self.d = d
 
     def __call__(self, e):
-        return self._ctx._ev(e)
-
-    def d(self, e, x: sp.Symbol):
-        return self._ctx.d(e, x)
+        return self._value(e)

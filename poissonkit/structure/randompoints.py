@@ -77,7 +77,7 @@ import sympy as sp
 
 from poissonkit.errors import InputError
 from poissonkit.structure._expr import as_expr, as_symbols
-from poissonkit.structure._point_eval import RandomPointError, _PointContext
+from poissonkit.structure._point_eval import RandomPointError, _Evaluator, _PointContext
 from poissonkit.structure.degreebound import _as_degree, _Degree
 from poissonkit.structure.surds import _MPQ, _to_sympy, _Undefined
 from poissonkit.structure.surfaces import (_check_acyclic, _param_degree, _recognise,
@@ -92,21 +92,6 @@ __all__ = [
 
 #: Points tried per requested point before giving up (denominators / radicands vanishing).
 MAX_ATTEMPTS_FACTOR: int = 20
-
-
-class _DegreeEvaluator:
-    """The same interface returning degree records (see :class:`_Degree`)."""
-
-    __slots__ = ("_owner",)
-
-    def __init__(self, owner: RandomPoints) -> None:
-        self._owner = owner
-
-    def __call__(self, e):
-        return self._owner.degree(e)
-
-    def d(self, e, x: sp.Symbol):
-        return self._owner.derivative_degree(e)
 
 
 class RandomPoints:
@@ -355,7 +340,8 @@ class RandomPoints:
             ``point`` is that point and the bound 0); else empty.
         """
         D = 1
-        degrees = _DegreeEvaluator(self)
+        # the degree bound of a partial derivative is the same whatever the variable
+        degrees = _Evaluator(self.degree, lambda e, _x: self.derivative_degree(e))
         for _, build in components:
             D = max(D, _as_degree(build(degrees)).bound())
         D *= self.param_degree
