@@ -16,7 +16,7 @@ import numpy as np
 
 from poissonkit.plugin.contributions import ModelFamily
 from poissonkit.testing.geometry import configurations
-from poissonkit.testing.lookup import entry_of, label
+from poissonkit.testing.lookup import findings_for
 from poissonkit.testing.report import Findings
 
 #: Allowance over the estimate for round-off.
@@ -96,8 +96,7 @@ def check_model_family(family: ModelFamily | str, *,
         Naming the family and, per model, the distance and how far the true error exceeds the
         estimate.
     """
-    f = entry_of(family, "model_family", ModelFamily)
-    out = Findings(label("model family", f))
+    f, out = findings_for(family, "model_family", ModelFamily, "model family")
     with out.guard("declaration"):
         _declaration(f, out)
     b1, b2 = bodies if bodies is not None else ({q: 1.0 for q in f.reads},) * 2

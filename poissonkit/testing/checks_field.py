@@ -16,8 +16,7 @@ import numpy as np
 
 from poissonkit.plugin.contributions import ExternalField
 from poissonkit.testing.geometry import rotation, unit
-from poissonkit.testing.lookup import entry_of, label
-from poissonkit.testing.report import Findings
+from poissonkit.testing.lookup import findings_for
 
 
 def _example_params(entry: ExternalField, given: Mapping[str, Any] | None) -> dict[str, Any]:
@@ -70,8 +69,7 @@ def check_field(field: ExternalField | str, *, params: Mapping[str, Any] | None 
     """
     from poissonkit.numerics.fields import FieldRequest
 
-    entry = entry_of(field, "field", ExternalField)
-    out = Findings(label("field", entry))
+    entry, out = findings_for(field, "field", ExternalField)
     rng = np.random.default_rng(seed)
     points = np.array([unit(rng.normal(size=3)) * rng.uniform(*distances)
                        for _ in range(samples)])

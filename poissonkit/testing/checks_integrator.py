@@ -26,7 +26,7 @@ import numpy as np
 
 from poissonkit.errors import CapabilityError, PoissonkitError
 from poissonkit.plugin.contributions import IntegratorEntry
-from poissonkit.testing.lookup import entry_of, label
+from poissonkit.testing.lookup import findings_for
 from poissonkit.testing.problems import Problem, free_fall, problem_for
 from poissonkit.testing.report import Findings
 
@@ -195,8 +195,7 @@ def check_integrator(integrator: IntegratorEntry | str, *,
     ------
     CheckFailed
     """
-    e = entry_of(integrator, "integrator", IntegratorEntry)
-    out = Findings(label("integrator", e))
+    e, out = findings_for(integrator, "integrator", IntegratorEntry)
     opts = dict(options) if options is not None else _default_options(e)
     caps = e.capabilities
     declared = ["order"] + [c for c, on in (("checkpoint", caps.checkpoint),

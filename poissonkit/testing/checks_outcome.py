@@ -15,8 +15,7 @@ from typing import Any
 import numpy as np
 
 from poissonkit.plugin.contributions import OutcomeEntry
-from poissonkit.testing.lookup import entry_of, label
-from poissonkit.testing.report import Findings
+from poissonkit.testing.lookup import findings_for
 
 _RECORD: list[Any] = []
 
@@ -59,8 +58,7 @@ def check_outcome(outcome: OutcomeEntry | str, *, record: Any = None) -> None:
     """
     import cloudpickle
 
-    entry = entry_of(outcome, "outcome", OutcomeEntry)
-    out = Findings(label("outcome", entry))
+    entry, out = findings_for(outcome, "outcome", OutcomeEntry)
     try:
         dtype = np.dtype(entry.dtype)
     except TypeError as exc:

@@ -19,7 +19,7 @@ from poissonkit.plugin.contributions import PairPotential
 from poissonkit.testing.checks_kick import check_kick
 from poissonkit.testing.checks_runtime import check_runtime_params
 from poissonkit.testing.geometry import PairConfig, configurations, energy, loads, numerical_loads
-from poissonkit.testing.lookup import entry_of, label
+from poissonkit.testing.lookup import findings_for
 from poissonkit.testing.potential_setup import Options, Setup, setup
 from poissonkit.testing.report import Findings
 
@@ -218,8 +218,7 @@ def check_potential(potential: PairPotential | str, *, params: Mapping[str, Any]
     CheckFailed
         Naming the potential, each failed check, what failed and by how much.
     """
-    entry = entry_of(potential, "potential", PairPotential)
-    out = Findings(label("potential", entry))
+    entry, out = findings_for(potential, "potential", PairPotential)
     opt = options or Options()
     try:
         s = setup(entry, params, distances)

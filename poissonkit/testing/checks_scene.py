@@ -18,8 +18,7 @@ import numpy as np
 
 from poissonkit.errors import PoissonkitError
 from poissonkit.plugin.contributions import Assembly, Param, SceneEntry
-from poissonkit.testing.lookup import entry_of, label
-from poissonkit.testing.report import Findings
+from poissonkit.testing.lookup import findings_for
 
 #: Energy tolerance of a scene that declares none.
 ENERGY_TOL = 1e-6
@@ -67,8 +66,7 @@ def check_assembly(assembly: Assembly | str, *, params: Mapping[str, Any] | None
     """
     from poissonkit.scene.assembly import bodies_of
 
-    entry = entry_of(assembly, "assembly", Assembly)
-    out = Findings(label("assembly", entry))
+    entry, out = findings_for(assembly, "assembly", Assembly)
     given = dict(params or {})
     for p in entry.params:  # example values of required numbers: 3 bodies, unit sizes
         if p.name not in given and p.default is None and not p.optional:
@@ -126,8 +124,7 @@ def check_scene(scene: SceneEntry | str, *, params: Mapping[str, Any] | None = N
     """
     from poissonkit.numerics import solve
 
-    entry = entry_of(scene, "scene", SceneEntry)
-    out = Findings(label("scene", entry))
+    entry, out = findings_for(scene, "scene", SceneEntry)
     given = dict(params or {})
     try:
         spec, again = _spec(entry, given), _spec(entry, given)

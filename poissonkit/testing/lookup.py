@@ -6,6 +6,7 @@ from typing import TypeVar
 
 from poissonkit.errors import InputError
 from poissonkit.plugin.contributions import Entry
+from poissonkit.testing.report import Findings
 
 E = TypeVar("E", bound=Entry)
 
@@ -37,3 +38,14 @@ def entry_of(contribution: E | str, kind: str, etype: type[E]) -> E:
 def label(kind: str, entry: Entry) -> str:
     """``"potential 'dipole'"``: how the messages name a contribution."""
     return f"{kind} {entry.name!r}"
+
+
+def findings_for(contribution: E | str, kind: str, etype: type[E], noun: str = ""
+                 ) -> tuple[E, Findings]:
+    """How every check starts: the entry (:func:`entry_of`) and its empty :class:`Findings`.
+
+    ``noun`` names the kind in messages where it differs from the registry's ``kind``
+    (``"model family"`` for ``"model_family"``).
+    """
+    entry = entry_of(contribution, kind, etype)
+    return entry, Findings(label(noun or kind, entry))
