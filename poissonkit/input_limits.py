@@ -132,13 +132,8 @@ def loads_json(text: str, what: str, error: ErrorType = InputError) -> Any:
     InputError
         (or ``error``) Invalid JSON, or a limit exceeded (the message names it).
     """
-    _scan(text, _JSON_TEXT, what, error)
-    try:
-        data = json.loads(text, parse_int=_parse_int)
-    except json.JSONDecodeError as exc:
-        raise error(f"{what}: invalid JSON ({exc.msg}, line {exc.lineno})") from None
-    except (ValueError, RecursionError) as exc:  # not expected after the scan; still typed
-        raise error(f"{what}: unreadable JSON ({exc})") from None
+    data = _parse(text, _JSON_TEXT, what, error, "JSON",
+                  lambda t: json.loads(t, parse_int=_parse_int))
     check_strings(data, what, error)
     return data
 
@@ -151,10 +146,19 @@ def loads_toml(text: str, what: str, error: ErrorType = InputError) -> dict[str,
     InputError
         (or ``error``) Invalid TOML, or a limit exceeded (the message names it).
     """
-    _scan(text, _TOML_TEXT, what, error)
+    return _parse(text, _TOML_TEXT, what, error, "TOML", tomllib.loads)
+
+
+def _parse(text: str, hiding: re.Pattern[str], what: str, error: ErrorType, kind: str,
+           parse: Callable[[str], Any]) -> Any:
+    """``parse(text)`` once the limits hold (see :func:`_scan`); every error of the parser
+    raised as ``error``."""
+    _scan(text, hiding, what, error)
     try:
-        return tomllib.loads(text)
+        return parse(text)
+    except json.JSONDecodeError as exc:
+        raise error(f"{what}: invalid JSON ({exc.msg}, line {exc.lineno})") from None
     except tomllib.TOMLDecodeError as exc:
         raise error(f"invalid TOML in {what}: {exc}") from None
     except (ValueError, RecursionError) as exc:  # not expected after the scan; still typed
-        raise error(f"{what}: unreadable TOML ({exc})") from None
+        raise error(f"{what}: unreadable {kind} ({exc})") from None
