@@ -126,12 +126,24 @@ def _load_old(rev: str) -> dict[str, types.ModuleType]:
         mod.__file__ = f"<{rev}:{path}>"
         sys.modules[mod.__name__] = mod
         exec(compile(src, mod.__file__, "exec"), mod.__dict__)  # noqa: S102 - our own git tree
+        if name == "twobody":
+            # the current data classes: a numba cache pickles argument types by module name,
+            # and a type of this unimportable module would spoil the on-disk indexes
+            from poissonkit.numerics import twobody
+
+            mod.TwoBodyData, mod.TwoBodyWork = twobody.TwoBodyData, twobody.TwoBodyWork
         mods[name] = mod
     return mods
 
 
 def old_system(rev: str):
-    """The seed encounter's two-body system with the kernels of revision ``rev``."""
+    """The seed encounter's two-body system with the kernels of revision ``rev`` (the kernel
+    cache is switched off for this process: old and new closures share names)."""
+    import os
+
+    from poissonkit.numerics.jit import CACHE_ENV
+
+    os.environ[CACHE_ENV] = "off"
     from poissonkit_magnets.models import _dumbbell_fold
     from poissonkit.numerics.jit import jit
 
@@ -155,10 +167,20 @@ def old_system(rev: str):
     return spec, old
 
 
-def measure(calls: int, repeat: int, run_step: float = 0.05, system=None) -> dict[str, float]:
-    """ns per call of each piece (thread CPU time, best of ``repeat``) and ``"empty"``."""
+def measure(calls: int, repeat: int, run_step: float = 0.05, system=None,
+            step_only: bool = False) -> dict[str, float]:
+    """ns per call of each piece (thread CPU time, best of ``repeat``) and ``"empty"``; with
+    ``step_only`` the full splitting step alone."""
     spec = seed000.default_run(periods=10, tilt=0.01, momentum_factor=0.8)
     system = system or spec.system
+    t_end = float(spec.t_end)
+
+    def run():
+        return solve(system, spec.y0, t_end, method="splitting8_bce", step=run_step,
+                     save_every=10**9)
+
+    if step_only:
+        return {"splitting8_bce per evaluation": _best(run, repeat) / run().nfev * 1e9}
     k = system.kernels
     y = np.array(spec.y0, dtype=float)
     data, work = system.data, system.work()
@@ -174,12 +196,6 @@ def measure(calls: int, repeat: int, run_step: float = 0.05, system=None) -> dic
     ns["drift"] = _best(lambda: _loop_drift(k.drift, calls, y.copy(), data), repeat) / calls * 1e9
     ns["sin + cos"] = _best(lambda: _loop_sincos(calls, 0.3), repeat) / calls * 1e9
     ns["1/sqrt"] = _best(lambda: _loop_sqrt_div(calls, 0.3), repeat) / calls * 1e9
-    t_end = float(spec.t_end)
-
-    def run():
-        return solve(system, spec.y0, t_end, method="splitting8_bce", step=run_step,
-                     save_every=10**9)
-
     nfev = run().nfev
     ns["splitting8_bce per evaluation"] = _best(run, max(3, repeat // 3)) / nfev * 1e9
     return ns
@@ -191,11 +207,13 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=9, help="best of this many loops")
     ap.add_argument("--against", metavar="REV", default=None,
                     help="also time the kernels of git revision REV; print old/new ratios")
+    ap.add_argument("--step-only", action="store_true",
+                    help="time the full splitting step only (more rounds per minute)")
     ap.add_argument("--rounds", type=int, default=7,
                     help="with --against: measure old then new this many times")
     args = ap.parse_args()
     if args.against is None:
-        ns = measure(args.calls, args.repeat)
+        ns = measure(args.calls, args.repeat, step_only=args.step_only)
         base = ns["empty"]
         print(f"{'piece':32s} {'ns/call':>9s} {'/ empty loop':>13s}")
         for name, v in ns.items():
@@ -204,8 +222,8 @@ def main() -> None:
     _, old = old_system(args.against)
     rounds: list[tuple[dict[str, float], dict[str, float]]] = []
     for _ in range(args.rounds):  # old and new back to back: each round sees one load
-        rounds.append((measure(args.calls, args.repeat, system=old),
-                       measure(args.calls, args.repeat)))
+        rounds.append((measure(args.calls, args.repeat, system=old, step_only=args.step_only),
+                       measure(args.calls, args.repeat, step_only=args.step_only)))
     print(f"{'piece':32s} {args.against + ' ns':>12s} {'now ns':>9s} {'old/now':>8s} "
           f"{'range':>12s}   (best of each; ratio: median over {args.rounds} rounds)")
     for name in rounds[0][1]:
