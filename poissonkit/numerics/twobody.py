@@ -64,13 +64,13 @@ def _build(kern: CompiledFunction) -> Kernels:
     if hit is not None:
         return hit[0]
 
-    @jit
+    @jit(inline="always")
     def pair(x0, x1, x2, a0, a1, a2, b0, b1, b2):
         """``(U, ṗ, ṁ', ṁ'')`` (ten floats) from ``r`` and the two axes.
 
-        Scalars in, a tuple out: no array crosses the call, so the kick holds no reference
-        counts around it and adds the increments without a scratch array (same arithmetic,
-        same bits as through :func:`partials`)."""
+        Scalars in, a tuple out, inlined: the kick is one flat function (no call, no
+        reference counting, no scratch array) with the arithmetic, and so the bits, of
+        :func:`partials`."""
         r2 = x0 * x0 + x1 * x1 + x2 * x2
         r = math.sqrt(r2)
         inv = 1.0 / r
