@@ -2,18 +2,22 @@
 
 Times, in the same process, the compiled pieces of one evaluation of the seed's two-body system
 (:func:`poissonkit_magnets.seed000.two_body.two_body_system`: two dumbbells): the pair kernel
-alone (SI and scaled), the kick, the drift, ``sin`` + ``cos`` against one rotation, and a full
-run of ``splitting8_bce`` per evaluation. Each is a compiled loop of ``--calls`` calls, timed by
-the thread's CPU time, best of ``--repeat``; every figure is also given as a ratio to an empty
-compiled loop of the same length measured alongside (load-robust on a shared machine)::
+alone (scaled to internal units, as the kick calls it), ``forces``, the kick, the drift,
+``sin`` + ``cos`` and ``1/sqrt`` as dependency chains (their latency), and a full run of
+``splitting8_bce`` per force evaluation (drift included: the figure that matters). Each piece is
+a compiled loop of ``--calls`` calls, timed by the thread's CPU time, best of ``--repeat``, also
+given as a ratio to an empty compiled loop measured alongside::
 
     PYTHONPATH=$PWD:$PWD/plugins python benchmarks/bench_eval_cost.py
-    PYTHONPATH=$PWD:$PWD/plugins python benchmarks/bench_eval_cost.py --against HEAD~3
+    PYTHONPATH=$PWD:$PWD/plugins python benchmarks/bench_eval_cost.py --against f063eb9
+    PYTHONPATH=$PWD:$PWD/plugins python benchmarks/bench_eval_cost.py --against f063eb9 \
+        --step-only --rounds 25 --repeat 3
 
-``--against REV`` also builds the kernels of the same system from the files of git revision
-``REV`` (``twobody.py``, ``kernels.py``'s rotations, the scaled wrapper and the dumbbell core,
-loaded as separate modules) and prints the ratio old/new of every piece, both measured in this
-process, interleaved: the figure to quote on a loaded machine.
+``--against REV`` also builds the same system with the files of git revision ``REV``
+(``twobody.py``, ``kernels.py``, the scaled wrapper and the dumbbell core, loaded as separate
+modules; the kernel cache is off for the process) and measures old then new ``--rounds`` times:
+the median of the per-round ratios old/new is the load-robust figure to quote on a shared
+machine.
 """
 
 from __future__ import annotations
@@ -77,9 +81,10 @@ def _loop_forces(forces, n, y, data, work):
 
 @numba.njit(error_model="numpy")
 def _loop_sincos(n, th):
+    # each argument depends on the last result: latency, as in a drift's rotation
     s = 0.0
     for i in range(n):
-        t = th * (1.0 + 1e-9 * (i & 7))
+        t = th + 1e-20 * s
         s += math.sin(t) + math.cos(t)
     return s
 
@@ -88,7 +93,7 @@ def _loop_sincos(n, th):
 def _loop_sqrt_div(n, x):
     s = 0.0
     for i in range(n):
-        t = x * (1.0 + 1e-9 * (i & 7))
+        t = x + 1e-20 * s
         s += 1.0 / math.sqrt(t)
     return s
 
@@ -194,8 +199,8 @@ def measure(calls: int, repeat: int, run_step: float = 0.05, system=None,
     ns["kick"] = _best(lambda: _loop_kick(k.kick, calls, y.copy(), data, work),
                        repeat) / calls * 1e9
     ns["drift"] = _best(lambda: _loop_drift(k.drift, calls, y.copy(), data), repeat) / calls * 1e9
-    ns["sin + cos"] = _best(lambda: _loop_sincos(calls, 0.3), repeat) / calls * 1e9
-    ns["1/sqrt"] = _best(lambda: _loop_sqrt_div(calls, 0.3), repeat) / calls * 1e9
+    ns["sin + cos (latency)"] = _best(lambda: _loop_sincos(calls, 0.3), repeat) / calls * 1e9
+    ns["1/sqrt (latency)"] = _best(lambda: _loop_sqrt_div(calls, 0.3), repeat) / calls * 1e9
     nfev = run().nfev
     ns["splitting8_bce per evaluation"] = _best(run, max(3, repeat // 3)) / nfev * 1e9
     return ns
