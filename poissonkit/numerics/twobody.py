@@ -66,11 +66,11 @@ def _build(kern: CompiledFunction) -> Kernels:
 
     @jit(inline="always")
     def pair(x0, x1, x2, a0, a1, a2, b0, b1, b2):
-        """``(U, ṗ, ṁ', ṁ'')`` (ten floats) from ``r`` and the two axes.
+        """``(U, ṗ, ṁ', ṁ'')`` (ten floats) from ``r = (x0, x1, x2)`` and the axes ``ν' = a``,
+        ``ν'' = b``.
 
-        Scalars in, a tuple out, inlined: the kick is one flat function (no call, no
-        reference counting, no scratch array) with the arithmetic, and so the bits, of
-        :func:`partials`."""
+        Scalars in, a tuple out, inlined: the kick built on it is one flat function (no call,
+        no reference counting, no scratch array); ``partials`` stores the same values."""
         r2 = x0 * x0 + x1 * x1 + x2 * x2
         r = math.sqrt(r2)
         inv = 1.0 / r
