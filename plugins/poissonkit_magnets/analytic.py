@@ -12,6 +12,8 @@ from typing import TYPE_CHECKING
 
 from numba import njit
 
+from poissonkit.numerics.kernels import inverse_powers4
+
 if TYPE_CHECKING:
     import sympy as sp
 
@@ -73,25 +75,33 @@ def dumbbell_core(r: float, c1: float, c2: float, c3: float, moment1: float, mom
 def dumbbell_core_k(r: float, c1: float, c2: float, c3: float, kap: float, l1: float,
                     l2: float) -> tuple[float, float, float, float, float]:
     """:func:`dumbbell_core` with ``kap`` (:func:`dumbbell_strength`) computed once per pair of
-    magnets instead of three divisions per call."""
-    u = 0.0
-    ur = 0.0
-    u1 = 0.0
-    u2 = 0.0
-    u3 = 0.0
-    for i in range(2):
-        s1 = 1.0 if i == 0 else -1.0
-        for j in range(2):
-            s2 = 1.0 if j == 0 else -1.0
-            rr2 = (r * r + l1 * l1 + l2 * l2 + 2.0 * r * (s2 * l2 * c2 - s1 * l1 * c1)
-                   - 2.0 * s1 * s2 * l1 * l2 * c3)
-            rr = math.sqrt(rr2)
-            inv3 = 1.0 / (rr2 * rr)
-            u += s1 * s2 / rr
-            ur -= s1 * s2 * (r + s2 * l2 * c2 - s1 * l1 * c1) * inv3
-            u1 += r * l1 * s2 * inv3
-            u2 -= r * l2 * s1 * inv3
-            u3 += l1 * l2 * inv3
+    magnets instead of three divisions per call.
+
+    The four pole pairs ``(s1, s2) = (+, +), (+, −), (−, +), (−, −)`` side by side: their
+    distances go through one 4-lane square root and division
+    (:func:`~poissonkit.numerics.kernels.inverse_powers4`). Every operation is the one of the
+    pair-by-pair loop ``rr² = r² + l1² + l2² + 2r(s2 l2 c2 − s1 l1 c1) − 2 s1 s2 l1 l2 c3``,
+    ``U += s1 s2/rr``, ... with the signs folded (multiplying by ±1 is exact), summed in the
+    same order, so the results are bit for bit those of the loop.
+    """
+    base = r * r + l1 * l1 + l2 * l2
+    a = l2 * c2
+    b = l1 * c1
+    tr = 2.0 * r
+    q = 2.0 * l1 * l2 * c3
+    x0 = base + tr * (a - b) - q
+    x1 = base + tr * (-a - b) + q
+    x2 = base + tr * (a + b) + q
+    x3 = base + tr * (-a + b) - q
+    q0, q1, q2, q3, i0, i1, i2, i3 = inverse_powers4(x0, x1, x2, x3)
+    u = 0.0 + q0 - q1 - q2 + q3
+    ur = 0.0 - (r + a - b) * i0 + (r - a - b) * i1 + (r + a + b) * i2 - (r - a + b) * i3
+    rl1 = r * l1
+    rl2 = r * l2
+    ll = l1 * l2
+    u1 = 0.0 + rl1 * i0 - rl1 * i1 + rl1 * i2 - rl1 * i3
+    u2 = 0.0 - rl2 * i0 - rl2 * i1 + rl2 * i2 + rl2 * i3
+    u3 = 0.0 + ll * i0 + ll * i1 + ll * i2 + ll * i3
     return kap * u, kap * ur, kap * u1, kap * u2, kap * u3
 
 

@@ -33,6 +33,9 @@ from typing import NamedTuple
 
 import numba
 import numpy as np
+from llvmlite import ir
+from numba.core import cgutils, types
+from numba.extending import intrinsic
 
 from poissonkit.contracts import CompiledFunction
 from poissonkit.numerics.linalg import gauss_solve  # noqa: F401  (the one LU solver; importable here as before)
@@ -86,6 +89,38 @@ def rotate_slot(y, base, mbase, theta_per_norm):
     y[base] = n0 * c + x0 * s + k0 * kd
     y[base + 1] = n1 * c + x1 * s + k1 * kd
     y[base + 2] = n2 * c + x2 * s + k2 * kd
+
+
+@intrinsic
+def inverse_powers4(typingctx, x0, x1, x2, x3):
+    """``(1/√x_k for k < 4, 1/(x_k √x_k) for k < 4)``: eight floats from four, in one 4-lane
+    vector (one ``vsqrtpd`` and two ``vdivpd`` instead of four square roots and eight
+    divisions, which queue on the one divider).
+
+    Each lane is the IEEE-rounded ``sqrt``, product and quotient, so every value has the bits
+    of ``1.0 / math.sqrt(x)`` and ``1.0 / (x * math.sqrt(x))``; divisions are unchecked
+    (``1/0 = inf``, as ``error_model="numpy"``). For pair kernels that sum over pairs of
+    poles or charges (four distances per pair of bodies).
+    """
+    f8 = types.float64
+    sig = types.UniTuple(f8, 8)(f8, f8, f8, f8)
+
+    def codegen(context, builder, signature, args):
+        vec = ir.VectorType(ir.DoubleType(), 4)
+        lane = [ir.Constant(ir.IntType(32), k) for k in range(4)]
+        x = ir.Constant(vec, ir.Undefined)
+        for k, a in enumerate(args):
+            x = builder.insert_element(x, a, lane[k])
+        sqrt = cgutils.get_or_insert_function(builder.module, ir.FunctionType(vec, [vec]),
+                                              "llvm.sqrt.v4f64")
+        root = builder.call(sqrt, [x])
+        one = ir.Constant(vec, [1.0] * 4)
+        inv = builder.fdiv(one, root)
+        inv3 = builder.fdiv(one, builder.fmul(x, root))
+        out = [builder.extract_element(v, lane[k]) for v in (inv, inv3) for k in range(4)]
+        return context.make_tuple(builder, signature.return_type, out)
+
+    return sig, codegen
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")

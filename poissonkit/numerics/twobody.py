@@ -64,33 +64,51 @@ def _build(kern: CompiledFunction) -> Kernels:
     if hit is not None:
         return hit[0]
 
-    @jit
-    def partials(y, out):
-        """Force ``ṗ`` (out[0:3]) and torques ``ṁ'`` (out[3:6]), ``ṁ''`` (out[6:9]); returns U."""
-        r2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2]
+    @jit(inline="always")
+    def pair(x0, x1, x2, a0, a1, a2, b0, b1, b2):
+        """``(U, ṗ, ṁ', ṁ'')`` (ten floats) from ``r = (x0, x1, x2)`` and the axes ``ν' = a``,
+        ``ν'' = b``.
+
+        Scalars in, a tuple out, inlined: the kick built on it is one flat function (no call,
+        no reference counting, no scratch array); ``partials`` stores the same values."""
+        r2 = x0 * x0 + x1 * x1 + x2 * x2
         r = math.sqrt(r2)
         inv = 1.0 / r
-        ex = y[0] * inv
-        ey = y[1] * inv
-        ez = y[2] * inv
-        a0, a1, a2 = y[6], y[7], y[8]
-        b0, b1, b2 = y[12], y[13], y[14]
+        ex = x0 * inv
+        ey = x1 * inv
+        ez = x2 * inv
         c1 = ex * a0 + ey * a1 + ez * a2
         c2 = ex * b0 + ey * b1 + ez * b2
         c3 = a0 * b0 + a1 * b1 + a2 * b2
         u, ur, u1, u2, u3 = kern(r, c1, c2, c3)
-        out[0] = -(ur * ex + (u1 * (a0 - c1 * ex) + u2 * (b0 - c2 * ex)) * inv)
-        out[1] = -(ur * ey + (u1 * (a1 - c1 * ey) + u2 * (b1 - c2 * ey)) * inv)
-        out[2] = -(ur * ez + (u1 * (a2 - c1 * ez) + u2 * (b2 - c2 * ez)) * inv)
         w0 = a1 * b2 - a2 * b1
         w1 = a2 * b0 - a0 * b2
         w2 = a0 * b1 - a1 * b0
-        out[3] = u1 * (ey * a2 - ez * a1) - u3 * w0
-        out[4] = u1 * (ez * a0 - ex * a2) - u3 * w1
-        out[5] = u1 * (ex * a1 - ey * a0) - u3 * w2
-        out[6] = u2 * (ey * b2 - ez * b1) + u3 * w0
-        out[7] = u2 * (ez * b0 - ex * b2) + u3 * w1
-        out[8] = u2 * (ex * b1 - ey * b0) + u3 * w2
+        return (u,
+                -(ur * ex + (u1 * (a0 - c1 * ex) + u2 * (b0 - c2 * ex)) * inv),
+                -(ur * ey + (u1 * (a1 - c1 * ey) + u2 * (b1 - c2 * ey)) * inv),
+                -(ur * ez + (u1 * (a2 - c1 * ez) + u2 * (b2 - c2 * ez)) * inv),
+                u1 * (ey * a2 - ez * a1) - u3 * w0,
+                u1 * (ez * a0 - ex * a2) - u3 * w1,
+                u1 * (ex * a1 - ey * a0) - u3 * w2,
+                u2 * (ey * b2 - ez * b1) + u3 * w0,
+                u2 * (ez * b0 - ex * b2) + u3 * w1,
+                u2 * (ex * b1 - ey * b0) + u3 * w2)
+
+    @jit
+    def partials(y, out):
+        """Force ``ṗ`` (out[0:3]) and torques ``ṁ'`` (out[3:6]), ``ṁ''`` (out[6:9]); returns U."""
+        u, f0, f1, f2, f3, f4, f5, f6, f7, f8 = pair(y[0], y[1], y[2], y[6], y[7], y[8],
+                                                     y[12], y[13], y[14])
+        out[0] = f0
+        out[1] = f1
+        out[2] = f2
+        out[3] = f3
+        out[4] = f4
+        out[5] = f5
+        out[6] = f6
+        out[7] = f7
+        out[8] = f8
         return u
 
     @jit
@@ -112,12 +130,18 @@ def _build(kern: CompiledFunction) -> Kernels:
 
     @jit
     def kick(y, h, data, work):
-        f = work.partials
-        partials(y, f)
-        for d in range(3):
-            y[3 + d] += h * f[d]
-            y[9 + d] += h * f[3 + d]
-            y[15 + d] += h * f[6 + d]
+        # the increments straight from pair(): no scratch array, no reference counting
+        u, f0, f1, f2, f3, f4, f5, f6, f7, f8 = pair(y[0], y[1], y[2], y[6], y[7], y[8],
+                                                     y[12], y[13], y[14])
+        y[3] += h * f0
+        y[9] += h * f3
+        y[15] += h * f6
+        y[4] += h * f1
+        y[10] += h * f4
+        y[16] += h * f7
+        y[5] += h * f2
+        y[11] += h * f5
+        y[17] += h * f8
 
     @jit
     def drift(y, h, data):
@@ -131,12 +155,17 @@ def _build(kern: CompiledFunction) -> Kernels:
     @jit
     def kick_compensated(y, c, h, data, work):
         # forces at the leading part y (y − c differs by a rounding: no effect on accuracy)
-        f = work.partials
-        partials(y, f)
-        for d in range(3):
-            kahan_add(y, c, 3 + d, h * f[d])
-            kahan_add(y, c, 9 + d, h * f[3 + d])
-            kahan_add(y, c, 15 + d, h * f[6 + d])
+        u, f0, f1, f2, f3, f4, f5, f6, f7, f8 = pair(y[0], y[1], y[2], y[6], y[7], y[8],
+                                                     y[12], y[13], y[14])
+        kahan_add(y, c, 3, h * f0)
+        kahan_add(y, c, 9, h * f3)
+        kahan_add(y, c, 15, h * f6)
+        kahan_add(y, c, 4, h * f1)
+        kahan_add(y, c, 10, h * f4)
+        kahan_add(y, c, 16, h * f7)
+        kahan_add(y, c, 5, h * f2)
+        kahan_add(y, c, 11, h * f5)
+        kahan_add(y, c, 17, h * f8)
 
     @jit
     def drift_compensated(y, c, h, data):
