@@ -87,7 +87,16 @@ _LOGH_DOCS = {
     4: "Order-4 (Suzuki) composition of the time-transformed leapfrog",
     6: "Order-6 (Kahan–Li s9odr6) composition of the time-transformed leapfrog",
     8: "Order-8 (Kahan–Li s15odr8) composition of the time-transformed leapfrog",
+    10: "Order-10 (Sofroniou–Spaletta s35odr10, the weights of splitting10_ss; 35 force "
+        "evaluations per step) composition of the time-transformed leapfrog",
 }
+
+#: how a scene reaches TimeTransformedSplitting.for_close_approach, the order-10 preset
+_LOGH10_PRESET = (" The close-approach tuning (fewest force evaluations per accuracy on "
+                  "eccentric approaches of tops, docs/performance.md) is logh10 with "
+                  "track_kinetic = true and shift = 3|V(y0)| (exponent 1): in a scene, "
+                  "method = \"logh10\" with those options; in Python, "
+                  "TimeTransformedSplitting.for_close_approach(system, y0).")
 
 
 def _scipy(method: str) -> Factory:
@@ -156,9 +165,9 @@ def poissonkit_integrators() -> list[IntegratorEntry]:
             "rescaled times, so the physical step shrinks where the potential well is deep "
             "(close encounters); step = fictitious-time step (= physical step at the start). "
             "Preserves |ν|, (ν, m), total linear and angular momentum to round-off; symplectic "
-            "in extended phase space, energy error bounded. TwoBodySystem and NBodySystem.",
-            _logh(p), _LOGH_PARAMS, order=p)
-        for p in (2, 4, 6, 8))
+            "in extended phase space, energy error bounded. TwoBodySystem and NBodySystem."
+            + (_LOGH10_PRESET if p == 10 else ""), _logh(p), _LOGH_PARAMS, order=p)
+        for p in (2, 4, 6, 8, 10))
     wh_doc = ("Wisdom–Holman splitting in Jacobi coordinates (exact Kepler drifts, interaction "
               "kicks; SABA_n of Laskar & Robutel 2001) for point masses around one dominant "
               "body 0, with AllPairs('gravity'). Fixed step; symplectic; total momenta to "
