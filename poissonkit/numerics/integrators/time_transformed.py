@@ -1,4 +1,4 @@
-"""Time-transformed (logarithmic-Hamiltonian) splitting for close encounters, order 2 to 8.
+"""Time-transformed (logarithmic-Hamiltonian) splitting for close encounters, order 2 to 10.
 
 The physical time ``t`` becomes a coordinate of an extended phase space with conjugate momentum
 ``p_t``, and the new Hamiltonian, in the fictitious time ``s``, is
@@ -350,7 +350,8 @@ class TimeTransformedSplitting:
     def for_close_approach(cls, system: System, y0: np.ndarray) -> TimeTransformedSplitting:
         """The tuning that needs the fewest force evaluations per accuracy on eccentric close
         approaches of tops (``docs/performance.md``, "Force evaluations per accuracy"): order
-        10, tracked kinetic energy, exponent 1 and shift ``3 |V(y₀)|``.
+        10, tracked kinetic energy, exponent 1 and shift ``3 |V(y₀)|``: the registry's
+        ``logh10`` with options ``track_kinetic=True, shift=3|V(y₀)|`` (bit-identical).
 
         Raises
         ------

@@ -463,7 +463,9 @@ def close_approach_integrator(system: System, y0: np.ndarray, error: float) -> I
     ``splitting8_bce`` (fixed step) down to :data:`CLOSE_APPROACH_ERROR`; below it, and when the
     start is in an attractive well (``V(y₀) < 0``), the order-10 time-transformed splitting with
     a tracked kinetic energy (1.3–1.55× fewer force evaluations at 1e-8 on eccentric approaches,
-    1.3× at 1e-10 on the seed encounter, at 1.04× the cost per evaluation).
+    1.3× at 1e-10 on the seed encounter, at 1.04× the cost per evaluation). That one is an
+    object (its shift depends on ``y0``): the registry's ``logh10`` with the options
+    ``track_kinetic=True, shift=3|V(y₀)|``, named ``"logh10"`` in results and summaries.
     """
     from poissonkit.numerics.integrators.time_transformed import TimeTransformedSplitting
 
