@@ -41,10 +41,10 @@ def kepler():
     return system, y0
 
 
-def test_registry_has_the_time_transformed_methods_of_orders_2_to_8():
+def test_registry_has_the_time_transformed_methods_of_orders_2_to_10():
     found = entries("integrator")
-    assert LOGH == ["logh2", "logh4", "logh6", "logh8"]
-    assert [found[n].order for n in LOGH] == [2, 4, 6, 8]
+    assert LOGH == ["logh10", "logh2", "logh4", "logh6", "logh8"]
+    assert [found[n].order for n in LOGH] == [10, 2, 4, 6, 8]
     for n in LOGH:
         obj = found[n].factory(**found[n].resolve_params({}))
         assert obj.order == found[n].order and "Mikkola" in found[n].doc
@@ -53,9 +53,14 @@ def test_registry_has_the_time_transformed_methods_of_orders_2_to_8():
 #: fictitious-time steps in the asymptotic range, far above round-off (Kepler, e = 0.9)
 KEPLER_STEPS = {1.0: {2: (0.1, 0.05), 4: (0.1, 0.05), 6: (0.4, 0.2), 8: (0.8, 0.4)},
                 0.5: {2: (0.025, 0.0125), 4: (0.025, 0.0125), 6: (0.05, 0.025), 8: (0.1, 0.05)}}
+#: order 10 has no asymptotic range on this orbit: with exponent 1 its error falls from 1e-4
+#: (h = 3.2) to round-off (h = 0.8), with exponent 1/2 it is erratic down to 1e-11 (slopes
+#: between −8 and 20 over steps in ratio 2^(1/4)); its order is checked on the e = 0.5 orbit
+#: of test_integrator_order.py and on the dipole pair below
+LOGH_KEPLER = [n for n in LOGH if entries("integrator")[n].order in KEPLER_STEPS[1.0]]
 
 
-@pytest.mark.parametrize("name", LOGH)
+@pytest.mark.parametrize("name", LOGH_KEPLER)
 @pytest.mark.parametrize("exponent", [1.0, 0.5])
 def test_order_on_an_eccentric_kepler_orbit_against_the_analytic_solution(kepler, name,
                                                                           exponent):
@@ -99,7 +104,8 @@ def dipole_reference(dipole_pair):
     return y0, ref.y[:, -1]
 
 
-DIPOLE_STEPS = {2: (0.04, 0.02), 4: (0.05, 0.025), 6: (0.1, 0.05), 8: (0.2, 0.1)}
+DIPOLE_STEPS = {2: (0.04, 0.02), 4: (0.05, 0.025), 6: (0.1, 0.05), 8: (0.2, 0.1),
+                10: (0.8, 0.4)}
 
 
 @pytest.mark.parametrize("name", LOGH)
