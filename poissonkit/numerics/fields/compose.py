@@ -126,7 +126,9 @@ def _field_loop(dispatch: Dispatcher) -> Term:
                     T[b, 2] += (h0 * n1 - h1 * n0) * ie
         return u
 
-    return Term(plain=jit(field_forces), inline=jit(inline="always")(field_forces))
+    # allocates nothing (``P[...]`` is a view): no reference counts needed (nbody/assemble)
+    return Term(plain=jit(field_forces), inline=jit(inline="always")(field_forces),
+                allocates=False)
 
 
 _term_cache: dict[int, Term] = {}
