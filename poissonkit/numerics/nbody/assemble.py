@@ -39,7 +39,7 @@ from typing import NamedTuple
 
 from numba.core.dispatcher import Dispatcher
 
-from poissonkit.numerics.jit import compile_generated
+from poissonkit.numerics.jit import compile_generated, jit
 from poissonkit.numerics.kernels import Kernels
 
 
@@ -118,6 +118,21 @@ def _source(n_terms: int) -> str:
     return "\n".join(lines) + "\n"
 
 
+#: id of a term's plain dispatcher -> (its compilation without reference counts, the original)
+_uncounted: dict[int, tuple[Dispatcher, Dispatcher]] = {}
+
+
+def _without_counts(plain: Dispatcher) -> Dispatcher:
+    """``plain`` compiled again without reference counts (its own options otherwise): the
+    separately compiled term that ``rhs`` and ``energy`` call counts its own references."""
+    hit = _uncounted.get(id(plain))
+    if hit is None:
+        opts = {k: v for k, v in plain.targetoptions.items()
+                if k in ("error_model", "inline", "fastmath", "boundscheck")}
+        hit = _uncounted[id(plain)] = (jit(**opts, _nrt=False)(plain.py_func), plain)
+    return hit[0]
+
+
 #: (layout, terms, counted) -> kernels; the key holds the dispatchers, so their ids stay unique
 _cache: dict[tuple[int, ...], tuple[Kernels, tuple[object, ...]]] = {}
 
@@ -145,7 +160,7 @@ def assemble(layout: Layout, terms: Sequence[Term], counted: bool | None = None)
         "clear", "push_plain", "push_compensated", "rhs_write", "kinetic", "gather")}
     ns["gather_i"] = layout.gather_inline
     for k, t in enumerate(terms):
-        ns[f"t{k}"] = t.plain
+        ns[f"t{k}"] = t.plain if counted else _without_counts(t.plain)
         ns[f"t{k}_i"] = t.inline
 
     def build(name: str, **options: object) -> Dispatcher:

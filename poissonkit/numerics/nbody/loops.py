@@ -136,8 +136,9 @@ def pair_force_term(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = F
 
 def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = False,
                    verlet: bool = False, extra: Sequence[Term] = (),
-                   cells: bool = True) -> Kernels:
+                   cells: bool = True, counted: bool | None = None) -> Kernels:
     """The N-body kernels of the pair-force term (:func:`pair_force_term`) plus the terms
-    ``extra`` (external fields), assembled on the general layout (cached)."""
+    ``extra`` (external fields), assembled on the general layout (cached; ``counted`` as in
+    :func:`~poissonkit.numerics.nbody.assemble.assemble`)."""
     return assemble(GENERAL, (pair_force_term(kern_any, kern_r, parallel, verlet, cells),
-                              *extra))
+                              *extra), counted)
