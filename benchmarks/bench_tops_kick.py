@@ -32,6 +32,7 @@ loop sees it. Run::
 from __future__ import annotations
 
 import argparse
+import copy
 import time
 from collections.abc import Callable
 
@@ -194,6 +195,31 @@ def bench(name: str, s: NBodySystem, y: np.ndarray, calls: int, repeat: int) -> 
     print(" | ".join(cells) + f" | {'yes' if same else 'NO'}", flush=True)
 
 
+def bench_steps(name: str, s: NBodySystem, y: np.ndarray, steps: int, repeat: int) -> None:
+    """``solve`` with ``splitting8_bce`` (the encounters' method): CPU time per force
+    evaluation (``Solution.nfev``), drift and loop included, old kernels against new (two
+    copies of the system)."""
+    from poissonkit.numerics import solve
+
+    old = copy.copy(s)
+    old._kernels = baseline(s)  # the same system with the kernels as they were
+    best = {"old": np.inf, "new": np.inf}
+    finals = {}
+    kw = dict(method="splitting8_bce", step=1e-3, save_every=steps)
+    for _ in range(repeat):
+        for key, system in (("old", old), ("new", s)):
+            solve(system, y, 1e-4 * steps, **kw)  # compiled and warm
+            t = time.thread_time()
+            sol = solve(system, y, 1e-3 * steps, **kw)
+            best[key] = min(best[key], time.thread_time() - t)
+            finals[key] = np.asarray(sol.y)[-1]
+            evals = sol.nfev
+    same = finals["old"].tobytes() == finals["new"].tobytes()
+    print(f"{name:13s} {len(s.bodies):5d} | {best['old'] / evals * 1e9:9.1f} "
+          f"{best['new'] / evals * 1e9:9.1f} {best['new'] / best['old']:6.2f} | "
+          f"{'yes' if same else 'NO'}", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer calls and repeats")
@@ -209,6 +235,10 @@ def main() -> None:
     for pot in ("dipole", "dumbbell"):
         for n in (2, 3, 10):
             bench(f"{pot}-{n}", *ring(n, pot), max(calls // (n * n // 4 + 1), 1000), repeat)
+    print("\nsolve, splitting8_bce: ns per kick (drift, loop and solve's set-up included)")
+    print(f"{'case':13s} {'N':>5s} | {'old':>9s} {'new':>9s} {'ratio':>6s} | same bits")
+    bench_steps("seed", *seed(), 2000 if a.quick else 20000, repeat)
+    bench_steps("dipole-3", *ring(3, "dipole"), 2000 if a.quick else 20000, repeat)
     s, y = cluster(a.cluster)
     bench(f"cluster-{len(s.bodies)}", s, y, max(calls // len(s.bodies) // 20, 3), repeat)
 
