@@ -35,7 +35,7 @@ and when no term of a sum allocates, the kernels are compiled without them (numb
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 from numba.core.dispatcher import Dispatcher
 
@@ -160,7 +160,9 @@ def assemble(layout: Layout, terms: Sequence[Term], counted: bool | None = None)
         "clear", "push_plain", "push_compensated", "rhs_write", "kinetic", "gather")}
     ns["gather_i"] = layout.gather_inline
     for k, t in enumerate(terms):
-        ns[f"t{k}"] = t.plain if counted else _without_counts(t.plain)
+        # mypy reads a Dispatcher field through Dispatcher.__get__ (a method binder) as a method
+        plain = cast(Dispatcher, t.plain)
+        ns[f"t{k}"] = plain if counted else _without_counts(plain)
         ns[f"t{k}_i"] = t.inline
 
     def build(name: str, **options: object) -> Dispatcher:
