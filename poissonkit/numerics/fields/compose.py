@@ -75,8 +75,10 @@ def field_dispatcher(kerns: Sequence[CompiledFunction]) -> Dispatcher:
     for g in range(len(kerns) - 1):
         lines.append(f"    if g == {g}:\n        return f{g}(x, y, z, n0, n1, n2, c, P)")
     lines.append(f"    return f{len(kerns) - 1}(x, y, z, n0, n1, n2, c, P)")
+    # with reference counts, said explicitly (a field kernel may allocate): the field term
+    # may be compiled without them, and numba would compile its callees likewise
     fn = compile_generated("\n".join(lines), "field_any",
-                           {f"f{g}": k for g, k in enumerate(kerns)})
+                           {f"f{g}": k for g, k in enumerate(kerns)}, _nrt=True)
     _dispatch_cache[key] = (fn, tuple(kerns))  # keep the kernels (and their ids) alive
     return fn
 
@@ -126,7 +128,9 @@ def _field_loop(dispatch: Dispatcher) -> Term:
                     T[b, 2] += (h0 * n1 - h1 * n0) * ie
         return u
 
-    return Term(plain=jit(field_forces), inline=jit(inline="always")(field_forces))
+    # allocates nothing (``P[...]`` is a view): no reference counts needed (nbody/assemble)
+    return Term(plain=jit(field_forces), inline=jit(inline="always")(field_forces),
+                allocates=False)
 
 
 _term_cache: dict[int, Term] = {}

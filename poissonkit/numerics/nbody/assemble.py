@@ -20,16 +20,26 @@ forces, push ``h`` times the forces into the momenta, write ``ẏ`` and add the 
 
 Adding a kind of term (a field, a constraint force) is writing its ``term(data, work)``; the
 kernels around it come from here, the same for plain and compensated sums.
+
+**Reference counts.** numba counts references to every array a kernel reads (an atomic
+increment and decrement each time a function takes an array out of ``data`` or ``work``) and
+prunes the pairs it can prove redundant. It cannot prune them across a call that may return an
+error (a potential too large to be inlined, as most orientation-dependent ones are): then a
+kick of two tops spends most of its time on reference counts (~55 atomic operations, about
+three times the pair formula). A term that allocates no array (:attr:`Term.allocates` false:
+the pair loops without cell or neighbour lists, the direct sum, the fields) needs no counts,
+and when no term of a sum allocates, the kernels are compiled without them (numba's
+``_nrt=False``): the same instructions for the arithmetic, so the same numbers bit for bit.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 from numba.core.dispatcher import Dispatcher
 
-from poissonkit.numerics.jit import compile_generated
+from poissonkit.numerics.jit import compile_generated, jit
 from poissonkit.numerics.kernels import Kernels
 
 
@@ -40,6 +50,9 @@ class Term(NamedTuple):
     plain: Dispatcher
     #: the same, inlined into its callers (the hot kick and ``forces``)
     inline: Dispatcher
+    #: whether it may allocate an array (a cell or neighbour list): then the kernels that
+    #: call it keep numba's reference counts (see the module docstring)
+    allocates: bool = True
 
 
 class Layout(NamedTuple):
@@ -105,20 +118,40 @@ def _source(n_terms: int) -> str:
     return "\n".join(lines) + "\n"
 
 
-#: (layout, terms) -> kernels; the key holds the dispatchers, so their ids stay unique
+#: id of a term's plain dispatcher -> (its compilation without reference counts, the original)
+_uncounted: dict[int, tuple[Dispatcher, Dispatcher]] = {}
+
+
+def _without_counts(plain: Dispatcher) -> Dispatcher:
+    """``plain`` compiled again without reference counts (its own options otherwise): the
+    separately compiled term that ``rhs`` and ``energy`` call counts its own references."""
+    hit = _uncounted.get(id(plain))
+    if hit is None:
+        opts = {k: v for k, v in plain.targetoptions.items()
+                if k in ("error_model", "inline", "fastmath", "boundscheck")}
+        hit = _uncounted[id(plain)] = (jit(**opts, _nrt=False)(plain.py_func), plain)
+    return hit[0]
+
+
+#: (layout, terms, counted) -> kernels; the key holds the dispatchers, so their ids stay unique
 _cache: dict[tuple[int, ...], tuple[Kernels, tuple[object, ...]]] = {}
 
 
-def assemble(layout: Layout, terms: Sequence[Term]) -> Kernels:
+def assemble(layout: Layout, terms: Sequence[Term], counted: bool | None = None) -> Kernels:
     """The kernels of the sum of ``terms`` on ``layout`` (cached; see the module docstring).
 
     Every kernel is compiled from one generated source through
     :func:`~poissonkit.numerics.jit.compile_generated`, so it is kept in the disk cache.
+    ``counted``: compile with numba's reference counts; ``None`` (default) keeps them only when
+    some term allocates (:attr:`Term.allocates`). ``True`` gives the kernels as they were
+    before the counts were dropped (a benchmark's baseline); the numbers are the same.
     """
     if not terms:
         raise ValueError("assemble needs at least one force term")
+    if counted is None:
+        counted = any(t.allocates for t in terms)
     keep = (layout, *terms)
-    key = tuple(id(v) for v in keep)
+    key = (*(id(v) for v in keep), int(counted))
     hit = _cache.get(key)
     if hit is not None:
         return hit[0]
@@ -127,10 +160,14 @@ def assemble(layout: Layout, terms: Sequence[Term]) -> Kernels:
         "clear", "push_plain", "push_compensated", "rhs_write", "kinetic", "gather")}
     ns["gather_i"] = layout.gather_inline
     for k, t in enumerate(terms):
-        ns[f"t{k}"] = t.plain
+        # mypy reads a Dispatcher field through Dispatcher.__get__ (a method binder) as a method
+        plain = cast(Dispatcher, t.plain)
+        ns[f"t{k}"] = plain if counted else _without_counts(plain)
         ns[f"t{k}_i"] = t.inline
 
     def build(name: str, **options: object) -> Dispatcher:
+        if not counted:  # no term allocates: no reference counts (module docstring)
+            options["_nrt"] = False
         return compile_generated(source, name, ns, **options)
 
     kick_opts = {"inline": "always"} if layout.inline_kick else {}

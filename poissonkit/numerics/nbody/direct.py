@@ -142,7 +142,7 @@ def direct_term(kern_any: Dispatcher, kern_r: Dispatcher) -> Term:
             u += all_pairs_r(gids[g], members, offs[g], offs[g + 1], pos, F, B)
         return u
 
-    out = Term(plain=forces, inline=forces)
+    out = Term(plain=forces, inline=forces, allocates=False)
     _cache[id(kern_r)] = (out, kern_any, kern_r)
     return out
 

@@ -30,14 +30,15 @@ from poissonkit.numerics.nbody.verlet import verlet_loops
 
 
 def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatcher,
-                set_pairs: Dispatcher) -> Term:
+                set_pairs: Dispatcher, allocates: bool = True) -> Term:
     """The pair-force term ``forces(data, work) -> U``: every pair of the system, forces added
     to ``work.F`` and torques to ``work.T`` (rows: all bodies; ``T`` untouched for point masses
     only).
 
     ``set_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, lists, s)`` is the
     pair loop of all-pairs set ``s`` with a cutoff: the cell loop (``lists`` is ``None``) or
-    the neighbour-list loop (``lists``: the system's Verlet state, ``work.lists``).
+    the neighbour-list loop (``lists``: the system's Verlet state, ``work.lists``);
+    ``allocates``: whether ``set_pairs`` may allocate arrays (:attr:`Term.allocates`).
     """
 
     def forces_py(data, work):
@@ -83,7 +84,8 @@ def force_loops(pair_term: Dispatcher, pair_r: Dispatcher, all_pairs_r: Dispatch
 
     # two compilations, as for ``gather`` (see state.py): inlined into the hot kick, plain
     # for the other kernels
-    return Term(plain=jit(forces_py), inline=jit(inline="always")(forces_py))
+    return Term(plain=jit(forces_py), inline=jit(inline="always")(forces_py),
+                allocates=allocates)
 
 
 #: (id of kern_any, parallel, verlet, cells) -> the pair-force term
@@ -124,15 +126,19 @@ def pair_force_term(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = F
         @jit(inline="always")
         def set_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, lists, s):
             return cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n)
-    out = force_loops(terms.term, terms.radial, terms.all_radial, set_pairs)
+    # the cell and neighbour lists allocate; the loops over listed pairs and over all pairs do
+    # not, and their kernels then go without reference counts (assemble's module docstring)
+    out = force_loops(terms.term, terms.radial, terms.all_radial, set_pairs,
+                      allocates=verlet or cells)
     _term_cache[key] = out
     return out
 
 
 def _build_kernels(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = False,
                    verlet: bool = False, extra: Sequence[Term] = (),
-                   cells: bool = True) -> Kernels:
+                   cells: bool = True, counted: bool | None = None) -> Kernels:
     """The N-body kernels of the pair-force term (:func:`pair_force_term`) plus the terms
-    ``extra`` (external fields), assembled on the general layout (cached)."""
+    ``extra`` (external fields), assembled on the general layout (cached; ``counted`` as in
+    :func:`~poissonkit.numerics.nbody.assemble.assemble`)."""
     return assemble(GENERAL, (pair_force_term(kern_any, kern_r, parallel, verlet, cells),
-                              *extra))
+                              *extra), counted)

@@ -136,9 +136,10 @@ def _registry_entry(potential: PotentialLike) -> PairPotential | None:
 _wrap_cache: dict[tuple[object, ...], tuple[Dispatcher, Dispatcher]] = {}
 
 
-def _compile_wrapper(source: str, name: str, namespace: dict[str, Dispatcher]) -> Dispatcher:
+def _compile_wrapper(source: str, name: str, namespace: dict[str, Dispatcher],
+                     **options: object) -> Dispatcher:
     """Execute generated ``source`` (a small kernel wrapper) and compile it with numba."""
-    return compile_generated(source, name, namespace)
+    return compile_generated(source, name, namespace, **options)
 
 
 def _extra_args(spec: SlotSpec, pspec: ParamSpec) -> str:
@@ -260,7 +261,10 @@ def _dispatcher(kerns: Sequence[Dispatcher], rkerns: Sequence[Dispatcher | None]
             lr.append(f"    if g == {g}:\n        return q{g}(q, B, i, j)")
         lr.append(f"    return q{radial[-1]}(q, B, i, j)")
         src_r = "\n".join(lr)
-    fa = _compile_wrapper(src_any, "kern_any", ns)
-    fr = _compile_wrapper(src_r, "kern_r", ns)
+    # with reference counts, said explicitly: numba compiles a callee with its caller's
+    # setting unless told, and the pair loops are compiled without them
+    # (nbody/assemble.py); a potential may allocate arrays, and is then compiled as before
+    fa = _compile_wrapper(src_any, "kern_any", ns, _nrt=True)
+    fr = _compile_wrapper(src_r, "kern_r", ns, _nrt=True)
     _dispatch_cache[key] = (fa, fr, tuple(kerns), tuple(rkerns))  # keep kernels (and ids) alive
     return fa, fr

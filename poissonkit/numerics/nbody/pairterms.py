@@ -113,7 +113,9 @@ def pair_terms(kern_any: Dispatcher, kern_r: Dispatcher) -> PairTerms:
                 u2 * (ez * b0 - ex * b2) + u3 * w1,
                 u2 * (ex * b1 - ey * b0) + u3 * w2)
 
-    @jit
+    # compiled once, called per pair: without reference counts (it allocates nothing), which
+    # numba could not prune across the call of a potential (see nbody/assemble.py)
+    @jit(_nrt=False)
     def pair_term(g, i, j, pos, nu, F, T, cut, B, bi, bj):
         u, f0, f1, f2, ti0, ti1, ti2, tj0, tj1, tj2 = pair_one(g, i, j, pos, nu, cut, B, bi, bj)
         third_law(F, i, j, f0, f1, f2)
