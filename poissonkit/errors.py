@@ -33,6 +33,11 @@ class DimensionError(InputError):
     """Sizes of two objects that must agree do not (matrix vs coordinates, state vs system)."""
 
 
+class OverlapError(InputError):
+    """Two bodies overlap, touch or sit at the same place, where the pair model is not defined
+    (its forces are singular there)."""
+
+
 class ParseError(InputError):
     """A string could not be parsed, or used a name outside the allow-list."""
 

@@ -18,13 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from poissonkit.errors import InputError, UnknownNameError
+from poissonkit.errors import InputError, OverlapError, UnknownNameError
 from poissonkit.plugin.contributions import ModelFamily, PairPotential
 from poissonkit.validation import vector3
-
-
-class OverlapError(InputError):
-    """The two bodies overlap (or touch), so the pair energy is not defined by the model."""
 
 
 class NoModelFamilyError(InputError):

@@ -14,12 +14,8 @@ from typing import Protocol
 import numpy as np
 import numpy.typing as npt
 
-from poissonkit.errors import InputError
+from poissonkit.errors import OverlapError
 from poissonkit.numerics.kernels import Kernels
-
-
-class OverlapError(InputError):
-    """Two bodies (not both fixed) sit at exactly the same place, where pair forces are singular."""
 
 
 class PairSystem(Protocol):
