@@ -197,59 +197,6 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
             u += closed(W, V, qa, acc)
         return u
 
-    @jit(inline="always")
-    def walk_part(slabs, g, central, body, start, nbr, slab_first, ref, pos, nu, sp_, sn_, W, V,
-                  us, cut, B, cut2):
-        """Slabs ``slabs`` (increasing) of a kept list, gathered, cleared and walked by one
-        thread; returns the largest squared move since the build of the slots it gathered.
-
-        A slab's walk reads its own slots and the next slab's, and writes ``W[0]``, ``V[0]`` of
-        its own and ``W[1]``, ``V[1]`` of the next slab's: the thread clears those and gathers
-        both slabs' positions and axes itself. The next slab's owner gathers the same values
-        into the same places (the same bits whoever writes last), so no thread waits for
-        another between the gather and the walk.
-        """
-        ns = slab_first.shape[0] - 1
-        far = 0.0
-        gathered = -1  # the last slab gathered: the previous slab's next one
-        for k in range(slabs.shape[0]):
-            x = slabs[k]
-            for y in range(x if gathered != x else x + 1, min(x + 2, ns)):
-                for q in range(slab_first[y], slab_first[y + 1]):
-                    b = body[q]
-                    d2 = 0.0
-                    for d in range(3):
-                        v = pos[b, d]
-                        sp_[q, d] = v
-                        sn_[q, d] = nu[b, d]
-                        d2 += (v - ref[q, d]) ** 2
-                    far = max(far, d2)
-            gathered = x + 1
-            for h, y in ((0, x), (1, x + 1), (1, 0)):
-                if y >= ns or (h == 1 and y == 0 and x != 0):
-                    continue  # W[1] of slab 0: no slab before it writes there, its owner clears
-                for q in range(slab_first[y], slab_first[y + 1]):
-                    for d in range(3):
-                        W[h, q, d] = 0.0
-                        V[h, q, d] = 0.0
-            us[x] = slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body, W, V, cut,
-                              B, cut2)
-        return far
-
-    @jit(inline="always")
-    def add_sums(n, body, W, V, us, F, T):
-        """The slot sums added to the bodies' rows (slots on threads); the energy, slab by
-        slab."""
-        for q in numba.prange(n):
-            b = body[q]
-            for d in range(3):
-                F[b, d] += W[1, q, d] + W[0, q, d]
-                T[b, d] += V[1, q, d] + V[0, q, d]
-        u = 0.0
-        for x in range(us.shape[0]):
-            u += us[x]
-        return u
-
     def make(build: Dispatcher, parts: Dispatcher) -> Callable:
         """The loop around the list builder ``build`` and the slab partition ``parts``
         (compiled serial and parallel)."""
@@ -266,50 +213,62 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
             # side by side would share cache lines
             W = np.empty((2, n, 3))
             V = np.empty((2, n, 3))
-            cut2 = cutoff * cutoff
-            if refs[s].shape[0] == n:
-                # the kept list in one parallel region (each start and end of one costs the
-                # threads a wake-up): the sums reach F and T only once no body has moved more
-                # than skin / 2; else the walk is dropped and the list rebuilt
+            fresh = refs[s].shape[0] != n
+            if fresh:
+                body, start, nbr, slab_first, ref = build(members, pos, cutoff + skin)
+            else:
                 body = ints[3 * s]
                 start = ints[3 * s + 1]
+                nbr = nbrs[s]
                 slab_first = ints[3 * s + 2]
-                us = np.empty(slab_first.shape[0] - 1)
-                order, first = parts(start, slab_first)
-                farthest = np.empty(first.shape[0] - 1)
-                for p in numba.prange(first.shape[0] - 1):
-                    farthest[p] = walk_part(order[first[p]:first[p + 1]], g, central, body,
-                                            start, nbrs[s], slab_first, refs[s], pos, nu, sp_,
-                                            sn_, W, V, us, cut, B, cut2)
-                far = 0.0
-                for p in range(farthest.shape[0]):
-                    far = max(far, farthest[p])
-                if not far > 0.25 * skin * skin * (1.0 - 1e-9):
-                    return add_sums(n, body, W, V, us, F, T)
-            # no list yet, or a body moved more than skin / 2: build one and walk it
-            body, start, nbr, slab_first, ref = build(members, pos, cutoff + skin)
-            ints[3 * s] = body
-            ints[3 * s + 1] = start
-            nbrs[s] = nbr
-            ints[3 * s + 2] = slab_first
-            refs[s] = ref
+                ref = refs[s]
+            # gather in slot order and measure how far each body moved since the build
+            far = 0.0
             for q in numba.prange(n):
                 b = body[q]
+                d2 = 0.0
                 for d in range(3):
-                    sp_[q, d] = pos[b, d]
+                    v = pos[b, d]
+                    sp_[q, d] = v
                     sn_[q, d] = nu[b, d]
+                    d2 += (v - ref[q, d]) ** 2
                     W[0, q, d] = 0.0
                     W[1, q, d] = 0.0
                     V[0, q, d] = 0.0
                     V[1, q, d] = 0.0
-            us = np.empty(slab_first.shape[0] - 1)
+                far = max(far, d2)
+            if far > 0.25 * skin * skin * (1.0 - 1e-9):  # a body moved more than skin / 2: rebuild
+                body, start, nbr, slab_first, ref = build(members, pos, cutoff + skin)
+                fresh = True
+                for q in numba.prange(n):
+                    b = body[q]
+                    for d in range(3):
+                        sp_[q, d] = pos[b, d]
+                        sn_[q, d] = nu[b, d]
+            if fresh:
+                ints[3 * s] = body
+                ints[3 * s + 1] = start
+                nbrs[s] = nbr
+                ints[3 * s + 2] = slab_first
+                refs[s] = ref
+            ns = slab_first.shape[0] - 1
+            us = np.empty(ns)
+            cut2 = cutoff * cutoff
             order, first = parts(start, slab_first)
             for p in numba.prange(first.shape[0] - 1):
                 for k in range(first[p], first[p + 1]):
                     x = order[k]
                     us[x] = slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body,
                                       W, V, cut, B, cut2)
-            return add_sums(n, body, W, V, us, F, T)
+            for q in numba.prange(n):
+                b = body[q]
+                for d in range(3):
+                    F[b, d] += W[1, q, d] + W[0, q, d]
+                    T[b, d] += V[1, q, d] + V[0, q, d]
+            u = 0.0
+            for x in range(ns):
+                u += us[x]
+            return u
 
         return listed_py
 
