@@ -392,9 +392,10 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
 
     @jit(parallel=True)
     def cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut):
-        """:func:`cell_pairs` with the x-slabs shared out between threads; the same numbers
-        bit for bit on any number of threads (see ``slab_pairs``: no two slabs write the same
-        sum, no atomics, no reduction whose order depends on the threads)."""
+        """:func:`cell_pairs` with the x-slabs shared out between threads, one part per
+        thread (:func:`slab_parts`); the same numbers bit for bit on any number of threads (see
+        ``slab_pairs``: no two slabs write the same sum, no atomics, no reduction whose order
+        depends on the threads)."""
         if members.shape[0] < 2:
             return 0.0
         nc, count, sp_, sn_, body, W, V, us = cell_setup_par(members, pos, nu, cutoff)
@@ -428,10 +429,9 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
         def cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n):
             """The cell-list pairs on numba's threads once there are ``min_n`` members.
 
-            The thread count is numba's (``numba.set_num_threads``); it is not read here:
-            ``numba.get_num_threads`` in compiled code would keep every kernel that calls
-            this one out of the disk cache, and on one thread the parallel loop does the
-            serial loop's work anyway.
+            The thread count is numba's (``numba.set_num_threads``), read by the parallel
+            loop to share the slabs out (:func:`slab_parts`); on one thread the parallel loop
+            does the serial loop's work.
             """
             if members.shape[0] >= min_n:
                 return cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut)

@@ -280,7 +280,7 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
         @jit
         def listed(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, state, s):
             """The listed pairs on numba's threads once there are ``min_n`` members (the
-            thread count is numba's, not read here: see ``cell_loops``)."""
+            thread count is numba's: see ``cell_loops``)."""
             if members.shape[0] >= min_n:
                 return par(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s)
             return serial(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s)
