@@ -36,10 +36,15 @@ from numba.core.dispatcher import Dispatcher
 from numba.typed import List
 
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.nbody.celllists import (cell_list, cell_list_par, forward_cells,
-                                                 slab_parts, slot_sums, threads_now)
+from poissonkit.numerics.nbody.celllists import (
+    cell_list,
+    cell_list_par,
+    forward_cells,
+    slab_parts,
+    slot_sums,
+    threads_now,
+)
 from poissonkit.numerics.nbody.data import VerletState
-
 
 
 @numba.njit(cache=True)
