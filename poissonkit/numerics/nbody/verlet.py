@@ -36,9 +36,15 @@ from numba.core.dispatcher import Dispatcher
 from numba.typed import List
 
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.nbody.celllists import cell_list, cell_list_par, forward_cells, slot_sums
+from poissonkit.numerics.nbody.celllists import (
+    cell_list,
+    cell_list_par,
+    forward_cells,
+    slab_parts,
+    slot_sums,
+    threads_now,
+)
 from poissonkit.numerics.nbody.data import VerletState
-
 
 
 @numba.njit(cache=True)
@@ -146,6 +152,25 @@ verlet_build = jit(_builder(cell_list))
 verlet_build_par = jit(parallel=True)(_builder(cell_list_par))
 
 
+@jit(inline="always")
+def in_order(start, slab_first):
+    """All slabs in one part, in order (the serial walk)."""
+    ns = slab_first.shape[0] - 1
+    return np.arange(ns), np.array([0, ns])
+
+
+@jit(inline="always")
+def per_thread(start, slab_first):
+    """The slabs in one part per thread (:func:`~poissonkit.numerics.nbody.celllists.slab_parts`),
+    a slab's work counted as its listed pairs plus its bodies."""
+    ns = slab_first.shape[0] - 1
+    w = np.empty(ns, dtype=np.int64)
+    for x in range(ns):
+        w[x] = (start[slab_first[x + 1]] - start[slab_first[x]]
+                + slab_first[x + 1] - slab_first[x])
+    return slab_parts(w, threads_now())
+
+
 def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -> Dispatcher:
     """The neighbour-list pair loop around the pair terms ``pair_one`` and ``pair_r_one``.
 
@@ -177,8 +202,9 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
             u += closed(W, V, qa, acc)
         return u
 
-    def make(build: Dispatcher) -> Callable:
-        """The loop around the list builder ``build`` (compiled serial and parallel)."""
+    def make(build: Dispatcher, parts: Dispatcher) -> Callable:
+        """The loop around the list builder ``build`` and the slab partition ``parts``
+        (compiled serial and parallel)."""
 
         def listed_py(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s):
             n = members.shape[0]
@@ -232,13 +258,13 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
                 refs[s] = ref
             ns = slab_first.shape[0] - 1
             us = np.empty(ns)
-            half = (ns + 1) // 2
             cut2 = cutoff * cutoff
-            for k in numba.prange(ns):
-                # even slabs, then odd ones (see cell_pairs_par); any order, same numbers
-                x = 2 * k if k < half else 2 * (k - half) + 1
-                us[x] = slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body, W, V,
-                                  cut, B, cut2)
+            order, first = parts(start, slab_first)
+            for p in numba.prange(first.shape[0] - 1):
+                for k in range(first[p], first[p + 1]):
+                    x = order[k]
+                    us[x] = slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body,
+                                      W, V, cut, B, cut2)
             for q in numba.prange(n):
                 b = body[q]
                 for d in range(3):
@@ -252,14 +278,14 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
         return listed_py
 
     # one source, two compilations: numba.prange is range in the serial one
-    serial = jit(make(verlet_build))
+    serial = jit(make(verlet_build, in_order))
     if parallel:
-        par = jit(parallel=True)(make(verlet_build_par))
+        par = jit(parallel=True)(make(verlet_build_par, per_thread))
 
         @jit
         def listed(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, state, s):
             """The listed pairs on numba's threads once there are ``min_n`` members (the
-            thread count is numba's, not read here: see ``cell_loops``)."""
+            thread count is numba's: see ``cell_loops``)."""
             if members.shape[0] >= min_n:
                 return par(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s)
             return serial(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s)
