@@ -271,17 +271,16 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
     def fsal_step(y, c, h, a, b, data, work, pending, merge):
         # kick-first table (a_0 = a_s = 0): `pending` = this step's first kick was already
         # applied (merged into the previous step's last kick); `merge` = do the same now
+        # (one drift and one kick call site: each is inlined where it is called)
         nb = b.shape[0]
-        if not pending:
-            kick(y, c, b[0] * h, data, work)
-        for s in range(1, nb - 1):
-            drift(y, c, a[s] * h, data)
-            kick(y, c, b[s] * h, data, work)
-        drift(y, c, a[nb - 1] * h, data)
-        if merge:  # kicks at one configuration add exactly: B(b h) B(b' h) = B((b + b') h)
-            kick(y, c, (b[nb - 1] + b[0]) * h, data, work)
-        else:
-            kick(y, c, b[nb - 1] * h, data, work)
+        for s in range(1 if pending else 0, nb):
+            if s > 0:
+                drift(y, c, a[s] * h, data)
+            if merge and s == nb - 1:
+                # kicks at one configuration add exactly: B(b h) B(b' h) = B((b + b') h)
+                kick(y, c, (b[nb - 1] + b[0]) * h, data, work)
+            else:
+                kick(y, c, b[s] * h, data, work)
 
     @jit
     def g_factor(y, data, work, dref):
@@ -329,21 +328,7 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
                 hist[1] = hist[2]
                 hist[3] = hist[4]
                 hist[4] = t
-            if adaptive:
-                g0 = g_factor(y, data, work, dref)
-                hk = h * g0
-                for _ in range(iters):  # time-symmetrised step: h (g(y_n) + g(y_{n+1}))/2
-                    copy_into(y, trial)
-                    if comp:
-                        copy_into(c, ctrial)
-                    one_step(trial, ctrial, min(hk, t_end - t), a, b, data, work)
-                    hk = 0.5 * h * (g0 + g_factor(trial, data, work, dref))
-                last = t + hk >= t_end
-                if last:
-                    hk = t_end - t
-                one_step(y, c, hk, a, b, data, work)
-                t = t_end if last else t + hk
-            elif fsal:
+            if fsal and not adaptive:
                 merge = not track and gstep < n_total and gstep % save_every != 0 and \
                     k + 1 < max_steps
                 fsal_step(y, c, h, a, b, data, work, pending, merge)
@@ -351,9 +336,33 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
                 last = gstep >= n_total
                 t = t_end if last else t_orig + gstep * h
             else:
-                one_step(y, c, h, a, b, data, work)
-                last = gstep >= n_total
-                t = t_end if last else t_orig + gstep * h
+                # the adaptive step is h (g(y_n) + g(y_{n+1}))/2, time-symmetrised by `iters`
+                # trial steps on a copy; the trial steps and the step itself share one call
+                # site of `one_step` (each site is inlined: compile time)
+                g0 = g_factor(y, data, work, dref) if adaptive else 1.0
+                hk = h * g0 if adaptive else h
+                trials = iters if adaptive else 0
+                last = False
+                for it in range(trials + 1):
+                    if it < trials:
+                        copy_into(y, trial)
+                        if comp:
+                            copy_into(c, ctrial)
+                        ys, cs, hs = trial, ctrial, min(hk, t_end - t)
+                    else:
+                        if adaptive:
+                            last = t + hk >= t_end
+                            if last:
+                                hk = t_end - t
+                        ys, cs, hs = y, c, hk
+                    one_step(ys, cs, hs, a, b, data, work)
+                    if it < trials:
+                        hk = 0.5 * h * (g0 + g_factor(trial, data, work, dref))
+                if adaptive:
+                    t = t_end if last else t + hk
+                else:
+                    last = gstep >= n_total
+                    t = t_end if last else t_orig + gstep * h
             k += 1
             status, nsave, value = tail(y, c, t, RUNNING, last, last or gstep % save_every == 0,
                                         track, data, work, contact, escape, watch, hist, out_t,
