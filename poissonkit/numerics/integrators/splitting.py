@@ -276,11 +276,9 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
         for s in range(1 if pending else 0, nb):
             if s > 0:
                 drift(y, c, a[s] * h, data)
-            if merge and s == nb - 1:
-                # kicks at one configuration add exactly: B(b h) B(b' h) = B((b + b') h)
-                kick(y, c, (b[nb - 1] + b[0]) * h, data, work)
-            else:
-                kick(y, c, b[s] * h, data, work)
+            # kicks at one configuration add exactly: B(b h) B(b' h) = B((b + b') h)
+            hb = (b[nb - 1] + b[0]) * h if merge and s == nb - 1 else b[s] * h
+            kick(y, c, hb, data, work)
 
     @jit
     def g_factor(y, data, work, dref):
