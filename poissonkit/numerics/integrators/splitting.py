@@ -335,27 +335,30 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
                 t = t_end if last else t_orig + gstep * h
             else:
                 # the adaptive step is h (g(y_n) + g(y_{n+1}))/2, time-symmetrised by `iters`
-                # trial steps on a copy; the trial steps and the step itself share one call
-                # site of `one_step` (each site is inlined: compile time)
+                # trial steps, each undone from a copy; the trial steps and the step itself
+                # are one call site of `one_step` on `y, c` (each site is inlined: compile time)
                 g0 = g_factor(y, data, work, dref) if adaptive else 1.0
                 hk = h * g0 if adaptive else h
                 trials = iters if adaptive else 0
                 last = False
                 for it in range(trials + 1):
+                    hs = hk
                     if it < trials:
                         copy_into(y, trial)
                         if comp:
                             copy_into(c, ctrial)
-                        ys, cs, hs = trial, ctrial, min(hk, t_end - t)
-                    else:
-                        if adaptive:
-                            last = t + hk >= t_end
-                            if last:
-                                hk = t_end - t
-                        ys, cs, hs = y, c, hk
-                    one_step(ys, cs, hs, a, b, data, work)
+                        hs = min(hk, t_end - t)
+                    elif adaptive:
+                        last = t + hk >= t_end
+                        if last:
+                            hk = t_end - t
+                        hs = hk
+                    one_step(y, c, hs, a, b, data, work)
                     if it < trials:
-                        hk = 0.5 * h * (g0 + g_factor(trial, data, work, dref))
+                        hk = 0.5 * h * (g0 + g_factor(y, data, work, dref))
+                        copy_into(trial, y)
+                        if comp:
+                            copy_into(ctrial, c)
                 if adaptive:
                     t = t_end if last else t + hk
                 else:
