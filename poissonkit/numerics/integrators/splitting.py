@@ -326,7 +326,31 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
                 hist[1] = hist[2]
                 hist[3] = hist[4]
                 hist[4] = t
-            if fsal and not adaptive:
+            if adaptive:
+                # the trial steps and the step itself: one call site of `one_step`
+                g0 = g_factor(y, data, work, dref)
+                hk = h * g0
+                last = False
+                for it in range(iters + 1):
+                    hs = hk
+                    if it < iters:
+                        copy_into(y, trial)
+                        if comp:
+                            copy_into(c, ctrial)
+                        hs = min(hk, t_end - t)
+                    else:
+                        last = t + hk >= t_end
+                        if last:
+                            hk = t_end - t
+                        hs = hk
+                    one_step(y, c, hs, a, b, data, work)
+                    if it < iters:
+                        hk = 0.5 * h * (g0 + g_factor(y, data, work, dref))
+                        copy_into(trial, y)
+                        if comp:
+                            copy_into(ctrial, c)
+                t = t_end if last else t + hk
+            elif fsal:
                 merge = not track and gstep < n_total and gstep % save_every != 0 and \
                     k + 1 < max_steps
                 fsal_step(y, c, h, a, b, data, work, pending, merge)
@@ -334,36 +358,9 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
                 last = gstep >= n_total
                 t = t_end if last else t_orig + gstep * h
             else:
-                # the adaptive step is h (g(y_n) + g(y_{n+1}))/2, time-symmetrised by `iters`
-                # trial steps, each undone from a copy; the trial steps and the step itself
-                # are one call site of `one_step` on `y, c` (each site is inlined: compile time)
-                g0 = g_factor(y, data, work, dref) if adaptive else 1.0
-                hk = h * g0 if adaptive else h
-                trials = iters if adaptive else 0
-                last = False
-                for it in range(trials + 1):
-                    hs = hk
-                    if it < trials:
-                        copy_into(y, trial)
-                        if comp:
-                            copy_into(c, ctrial)
-                        hs = min(hk, t_end - t)
-                    elif adaptive:
-                        last = t + hk >= t_end
-                        if last:
-                            hk = t_end - t
-                        hs = hk
-                    one_step(y, c, hs, a, b, data, work)
-                    if it < trials:
-                        hk = 0.5 * h * (g0 + g_factor(y, data, work, dref))
-                        copy_into(trial, y)
-                        if comp:
-                            copy_into(ctrial, c)
-                if adaptive:
-                    t = t_end if last else t + hk
-                else:
-                    last = gstep >= n_total
-                    t = t_end if last else t_orig + gstep * h
+                one_step(y, c, h, a, b, data, work)
+                last = gstep >= n_total
+                t = t_end if last else t_orig + gstep * h
             k += 1
             status, nsave, value = tail(y, c, t, RUNNING, last, last or gstep % save_every == 0,
                                         track, data, work, contact, escape, watch, hist, out_t,
