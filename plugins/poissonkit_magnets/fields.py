@@ -189,15 +189,26 @@ def _to_cartesian(d: np.ndarray, nu: np.ndarray, pr: float, pz: float, prr: floa
     rv = d - z * nu
     rho = math.sqrt(rv[0] ** 2 + rv[1] ** 2 + rv[2] ** 2)
     grad = pz * nu
-    hess = pzz * np.outer(nu, nu)
+    # the 3×3 products written out (np.outer/np.eye would pull numba's linalg overloads into
+    # the compile); element by element the same operations in the same order
+    hess = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            hess[i, j] = pzz * (nu[i] * nu[j])
     if rho > 0.0:
         rh = rv / rho
         grad = grad + pr * rh
         g = pr / rho if rho > 1e-7 * math.sqrt(d[0] ** 2 + d[1] ** 2 + d[2] ** 2) else prr
-        hess += prr * np.outer(rh, rh) + prz * (np.outer(rh, nu) + np.outer(nu, rh))
-        hess += g * (np.eye(3) - np.outer(rh, rh) - np.outer(nu, nu))
+        for i in range(3):
+            for j in range(3):
+                e = 1.0 if i == j else 0.0
+                hess[i, j] += prr * (rh[i] * rh[j]) + prz * (rh[i] * nu[j] + nu[i] * rh[j])
+                hess[i, j] += g * (e - rh[i] * rh[j] - nu[i] * nu[j])
     else:
-        hess += prr * (np.eye(3) - np.outer(nu, nu))
+        for i in range(3):
+            for j in range(3):
+                e = 1.0 if i == j else 0.0
+                hess[i, j] += prr * (e - nu[i] * nu[j])
     return grad, hess
 
 

@@ -30,6 +30,7 @@ from poissonkit.numerics.codegen import (array_source, check_free_symbols, compi
 from poissonkit.numerics.jit import jit, load_sources, source_key, store_sources
 from poissonkit.numerics.kernels import Kernels, no_drift
 from poissonkit.traits import SystemTraits
+from poissonkit.validation import finite_number
 
 if TYPE_CHECKING:
     from poissonkit.structure import HamiltonianSystem
@@ -56,13 +57,7 @@ def _parameter_value(name: str, value: object) -> float:
     Checked before substitution because sympy turns ``Float(nan) * x**2`` into ``nan``, whose
     derivative is 0, which would silently zero the right-hand side.
     """
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"parameter {name!r} must be a number, got {value!r}") from None
-    if not math.isfinite(v):
-        raise InputError(f"parameter {name!r} must be finite, got {value!r}")
-    return v
+    return finite_number(value, f"parameter {name!r}")
 
 
 class GeneratedWork(NamedTuple):

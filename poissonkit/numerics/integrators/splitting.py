@@ -271,17 +271,14 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
     def fsal_step(y, c, h, a, b, data, work, pending, merge):
         # kick-first table (a_0 = a_s = 0): `pending` = this step's first kick was already
         # applied (merged into the previous step's last kick); `merge` = do the same now
+        # (one drift and one kick call site: each is inlined where it is called)
         nb = b.shape[0]
-        if not pending:
-            kick(y, c, b[0] * h, data, work)
-        for s in range(1, nb - 1):
-            drift(y, c, a[s] * h, data)
-            kick(y, c, b[s] * h, data, work)
-        drift(y, c, a[nb - 1] * h, data)
-        if merge:  # kicks at one configuration add exactly: B(b h) B(b' h) = B((b + b') h)
-            kick(y, c, (b[nb - 1] + b[0]) * h, data, work)
-        else:
-            kick(y, c, b[nb - 1] * h, data, work)
+        for s in range(1 if pending else 0, nb):
+            if s > 0:
+                drift(y, c, a[s] * h, data)
+            # kicks at one configuration add exactly: B(b h) B(b' h) = B((b + b') h)
+            hb = (b[nb - 1] + b[0]) * h if merge and s == nb - 1 else b[s] * h
+            kick(y, c, hb, data, work)
 
     @jit
     def g_factor(y, data, work, dref):
@@ -330,18 +327,28 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
                 hist[3] = hist[4]
                 hist[4] = t
             if adaptive:
+                # the trial steps and the step itself: one call site of `one_step`
                 g0 = g_factor(y, data, work, dref)
                 hk = h * g0
-                for _ in range(iters):  # time-symmetrised step: h (g(y_n) + g(y_{n+1}))/2
-                    copy_into(y, trial)
-                    if comp:
-                        copy_into(c, ctrial)
-                    one_step(trial, ctrial, min(hk, t_end - t), a, b, data, work)
-                    hk = 0.5 * h * (g0 + g_factor(trial, data, work, dref))
-                last = t + hk >= t_end
-                if last:
-                    hk = t_end - t
-                one_step(y, c, hk, a, b, data, work)
+                last = False
+                for it in range(iters + 1):
+                    hs = hk
+                    if it < iters:
+                        copy_into(y, trial)
+                        if comp:
+                            copy_into(c, ctrial)
+                        hs = min(hk, t_end - t)
+                    else:
+                        last = t + hk >= t_end
+                        if last:
+                            hk = t_end - t
+                        hs = hk
+                    one_step(y, c, hs, a, b, data, work)
+                    if it < iters:
+                        hk = 0.5 * h * (g0 + g_factor(y, data, work, dref))
+                        copy_into(trial, y)
+                        if comp:
+                            copy_into(ctrial, c)
                 t = t_end if last else t + hk
             elif fsal:
                 merge = not track and gstep < n_total and gstep % save_every != 0 and \

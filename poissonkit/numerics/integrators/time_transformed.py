@@ -89,6 +89,7 @@ from poissonkit.numerics.jit import jit
 from poissonkit.numerics.kernels import all_finite, copy_into
 from poissonkit.numerics.nbody import apply_forces
 from poissonkit.traits import offers
+from poissonkit.validation import finite_number
 
 #: loop status codes beyond :mod:`~poissonkit.numerics.integrators.base`'s
 KINETIC_LOST, SHIFT_TOO_SMALL, NO_PROGRESS = 8, 9, 10
@@ -319,12 +320,7 @@ class TimeTransformedSplitting:
         if order not in WEIGHTS and order != 10:
             raise InputError(f"logh order must be one of {sorted(WEIGHTS) + [10]}, "
                              f"got {order!r}")
-        try:
-            shift = float(shift)
-        except (TypeError, ValueError):
-            raise InputError(f"logh{order}: shift must be a number, got {shift!r}") from None
-        if not math.isfinite(shift):
-            raise InputError(f"logh{order}: shift must be finite, got {shift!r}")
+        shift = finite_number(shift, f"logh{order}: shift")
         try:
             exponent = float(exponent)
         except (TypeError, ValueError):

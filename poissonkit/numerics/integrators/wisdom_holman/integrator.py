@@ -113,7 +113,9 @@ class WisdomHolman:
         kernels = system.kernels
         h, n_total = fixed_grid(self.name, step, t0, t_end)
         contact, escape, watch = event_thresholds(events)
-        run, process = runner(kernels, _gravity_only(system))
+        # a map without corrector (tau = g h³ = 0, no `proc` rows) compiles a loop without one
+        run, process = runner(kernels, _gravity_only(system),
+                              corrected=self.g != 0.0 or self.proc.shape[0] > 0)
         y = np.array(y0, dtype=float)
         m = np.ascontiguousarray(system.data.mass, dtype=float)
         eta = np.cumsum(m)

@@ -174,6 +174,9 @@ class KickKernels(NamedTuple):
     process: CompiledFunction
     #: ``sync_processed(xj, uj, proc, h, …, y, r, u) -> ok``: the physical state into ``y``
     sync_processed: CompiledFunction
+    #: ``sync(xj, uj, m, mfrac, inv_eta, y, r, u)``: the inertial state into ``y`` (no
+    #: symplectic corrector)
+    sync: CompiledFunction
 
 
 _cache: dict[tuple[int, bool], tuple[KickKernels, object]] = {}
@@ -340,6 +343,6 @@ def kick_kernels(forces: CompiledFunction | None, pure_gravity: bool) -> KickKer
         sync(xc, uc, m, mfrac, inv_eta, y, r, u)
         return ok
 
-    out = KickKernels(kick, correct, modified_kick, process, sync_processed)
+    out = KickKernels(kick, correct, modified_kick, process, sync_processed, sync)
     _cache[key] = (out, forces)  # keep the kernel (and its id) alive
     return out

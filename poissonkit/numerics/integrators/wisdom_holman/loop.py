@@ -7,22 +7,27 @@ import numpy as np
 from poissonkit.contracts import CompiledFunction, CompiledKernels
 from poissonkit.numerics.integrators.base import NONFINITE, RUNNING, step_end_kernels, step_tail
 from poissonkit.numerics.integrators.wisdom_holman.kepler import drift_all
-from poissonkit.numerics.integrators.wisdom_holman.kicks import (gravity_correct, gravity_kick,
+from poissonkit.numerics.integrators.wisdom_holman.kicks import (gravity_kick,
                                                                  gravity_modified_kick,
                                                                  gravity_steps, kick_kernels)
 from poissonkit.numerics.jit import jit
 
-runners: dict[tuple[int, bool], tuple[CompiledFunction, CompiledFunction, CompiledKernels]] = {}
+runners: dict[tuple[int, bool, bool],
+              tuple[CompiledFunction, CompiledFunction, CompiledKernels]] = {}
 
 
-def runner(kernels: CompiledKernels, pure_gravity: bool
-            ) -> tuple[CompiledFunction, CompiledFunction]:
+def runner(kernels: CompiledKernels, pure_gravity: bool, corrected: bool = True
+           ) -> tuple[CompiledFunction, CompiledFunction]:
     """The compiled Wisdom–Holman loop and corrector around one system's kernels (cached).
 
     ``pure_gravity``: the interaction is Newtonian gravity alone, so the kick is the dedicated
     pair loop :func:`gravity_kick_accel` instead of the system's general force kernel.
+    ``corrected``: the loop may be called with a corrector kick (``tau ≠ 0``) or a symplectic
+    corrector (``proc`` rows); without, those paths are left out of the compiled loop (a
+    compile-time constant: the plain map compiles no corrector), and calling it with either
+    is an error of the caller.
     """
-    key = (id(kernels.forces), pure_gravity)
+    key = (id(kernels.forces), bool(pure_gravity), bool(corrected))
     hit = runners.get(key)
     if hit is not None:
         return hit[0], hit[1]
@@ -31,7 +36,8 @@ def runner(kernels: CompiledKernels, pure_gravity: bool
 
     kk = kick_kernels(kernels.forces, pure_gravity)
     kick, correct, modified_kick = kk.kick, kk.correct, kk.modified_kick
-    process, sync_processed = kk.process, kk.sync_processed
+    process, sync_processed, sync = kk.process, kk.sync_processed, kk.sync
+    corrected = bool(corrected)  # a compile-time constant of `run` (its branches are pruned)
 
     @jit
     def run(y, xj, uj, carried, m, mfrac, inv_eta, gm, gmass, t_orig, t_end, h, n_total, c, dk,
@@ -90,31 +96,29 @@ def runner(kernels: CompiledKernels, pure_gravity: bool
             gstep = step0 + k + 1
             if track:
                 remember(y, prev, prev2, hist, t)
-            if ends and not opened:
-                if pure_gravity:
-                    gravity_correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, r, a, aj, xt,
-                                    a_plus)
-                else:
-                    correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
-                            a_plus, data, work)
-            ok = drift_all(xj, uj, gm, pending + c[0] * h) and ok
-            pending = 0.0
+            # (the corrector kick is a call, not inlined: with gravity alone it is
+            # gravity_correct's arithmetic, compiled once instead of at each site)
+            if corrected and ends and not opened:
+                correct(xj, uj, tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus,
+                        data, work)
             for s in range(ns):
+                # (one call site per inlined kernel: each site is compiled again)
+                ok = drift_all(xj, uj, gm, pending + c[0] * h if s == 0 else c[s] * h) and ok
                 # (the gravity-only calls take no force-kernel tuple: passing it, even to an
                 # inlined function, costs reference counting at every call)
-                if pure_gravity and mid:
-                    gravity_modified_kick(xj, uj, dk[s] * h, 2.0 * tau, m, mfrac, inv_eta, gm,
-                                          gmass, r, a, aj, xt, a_plus)
+                if corrected and mid:
+                    if pure_gravity:
+                        gravity_modified_kick(xj, uj, dk[s] * h, 2.0 * tau, m, mfrac, inv_eta,
+                                              gm, gmass, r, a, aj, xt, a_plus)
+                    else:
+                        modified_kick(xj, uj, dk[s] * h, 2.0 * tau, m, mfrac, inv_eta, gm,
+                                      gmass, ybuf, r, a, aj, xt, a_plus, data, work)
                 elif pure_gravity:
                     gravity_kick(xj, uj, dk[s] * h, m, mfrac, inv_eta, gm, gmass, r, a, aj)
-                elif mid:
-                    modified_kick(xj, uj, dk[s] * h, 2.0 * tau, m, mfrac, inv_eta, gm, gmass,
-                                  ybuf, r, a, aj, xt, a_plus, data, work)
                 else:
                     kick(xj, uj, dk[s] * h, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, data,
                          work)
-                if s + 1 < ns:
-                    ok = drift_all(xj, uj, gm, c[s + 1] * h) and ok
+            pending = 0.0
             last = gstep >= n_total
             k += 1
             t = t_end if last else t_orig + gstep * h
@@ -122,24 +126,22 @@ def runner(kernels: CompiledKernels, pure_gravity: bool
             if saving:
                 next_save += save_every
             need = last or saving or track
-            if ends:
+            if ends or need:
                 ok = drift_all(xj, uj, gm, c[ns] * h) and ok
+            if corrected and ends:
                 tau_end = tau if need else 2.0 * tau
-                if pure_gravity:
-                    gravity_correct(xj, uj, tau_end, m, mfrac, inv_eta, gm, gmass, r, a, aj, xt,
-                                    a_plus)
-                else:
-                    correct(xj, uj, tau_end, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
-                            a_plus, data, work)
+                correct(xj, uj, tau_end, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt,
+                        a_plus, data, work)
                 opened = not need
-            elif need:
-                ok = drift_all(xj, uj, gm, c[ns] * h) and ok
-            else:
+            elif not need:
                 pending = c[ns] * h
             if not need:
                 continue
-            ok = sync_processed(xj, uj, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y, r,
-                                u) and ok
+            if corrected:
+                ok = sync_processed(xj, uj, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y,
+                                    r, u) and ok
+            else:
+                sync(xj, uj, m, mfrac, inv_eta, y, r, u)
             status, nsave, value = tail(y, y, t, RUNNING if ok else NONFINITE, last,
                                         last or saving, track, data, work, contact, escape,
                                         watch, hist, out_t, out_y, nsave)
@@ -154,11 +156,14 @@ def runner(kernels: CompiledKernels, pure_gravity: bool
         xc = xj.copy()
         uc = uj.copy()
         ok = drift_all(xc, uc, gm, pending) and ok
-        if opened:
+        if corrected and opened:
             correct(xc, uc, -tau, m, mfrac, inv_eta, gm, gmass, ybuf, r, a, aj, xt, a_plus, data,
                     work)
-        ok = sync_processed(xc, uc, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y, r,
-                            u) and ok
+        if corrected:
+            ok = sync_processed(xc, uc, proc, h, m, mfrac, inv_eta, gm, gmass, data, work, y, r,
+                                u) and ok
+        else:
+            sync(xc, uc, m, mfrac, inv_eta, y, r, u)
         return RUNNING if ok else NONFINITE, t, k, nsave, 0.0
 
     runners[key] = (run, process, kernels)
