@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 from numba.core.dispatcher import Dispatcher
 
-from poissonkit.numerics.nbody import AllPairs, Body, NBodySystem
-from poissonkit.numerics.nbody.loops import pair_force_term
+from poissonkit.numerics.jit import CACHE_ENV
+from poissonkit.numerics.nbody import AllPairs, Body, NBodySystem, assemble, loops
 from poissonkit.numerics.nbody.pairkernels import _dispatcher
 
 MU0 = 4e-7 * np.pi
@@ -81,7 +81,7 @@ def _reachable(d: Dispatcher, seen: set[int] | None = None) -> Iterator[Dispatch
 
 
 @pytest.mark.parametrize("skin", [None, 0.015], ids=["cell_list", "verlet_list"])
-def test_the_serial_walk_has_no_reference_counts_and_is_the_parallel_walk_bit_for_bit(skin):
+def test_the_serial_walk_gives_a_direct_sum_and_the_parallel_walk_bit_for_bit(skin):
     pos, nu = _cluster()
     serial, par = _system(len(pos), skin, False), _system(len(pos), skin, True)
     zeros = np.zeros_like(pos)
@@ -103,11 +103,31 @@ def test_the_serial_walk_has_no_reference_counts_and_is_the_parallel_walk_bit_fo
     np.testing.assert_allclose(T, t_ref, rtol=0, atol=1e-12 * np.abs(t_ref).max())
     assert u == pytest.approx(u_ref, rel=1e-12)
 
-    # the serial system's pair term (cached: the one its kernels call) reaches one walk, compiled
-    # without counts, with no reference count left in its machine code
-    term = pair_force_term(*_dispatcher(serial._kerns, serial._rkerns), parallel=False,
-                           verlet=skin is not None)
+
+
+@pytest.mark.parametrize("skin", [None, 0.015], ids=["cell_list", "verlet_list"])
+def test_the_serial_walk_is_compiled_without_reference_counts(skin, monkeypatch):
+    # compiled here, not loaded from the disk cache (a walk loaded inside its caller has no
+    # LLVM IR to read): no disk cache, and the in-memory caches of terms and kernels emptied
+    # for the duration of the test
+    monkeypatch.setenv(CACHE_ENV, "off")
+    monkeypatch.setattr(loops, "_term_cache", {})
+    monkeypatch.setattr(assemble, "_cache", {})
+    pos, nu = _cluster(3)
+    s = _system(len(pos), skin, False)
+    zeros = np.zeros_like(pos)
+    s.forces(s.pack(pos, zeros, nu, zeros, normalize=True))
+    term = loops.pair_force_term(*_dispatcher(s._kerns, s._rkerns), parallel=False,
+                                 verlet=skin is not None)
     walks = [d for d in _reachable(term.plain) if d.py_func.__name__ == "walk_py"]
     assert len(walks) == 1 and walks[0].targetoptions.get("_nrt") is False
     ir = "".join(walks[0].inspect_llvm().values())
-    assert re.search(r"call \w+ @NRT_(incref|decref)", ir) is None
+    # the module also holds the callees it links: the walk's own functions are those named
+    # after it. The potential is compiled with counts (a user's kernel may allocate) and keeps
+    # one count of its table ``B`` per call, which LLVM may inline into the walk; no other
+    # array is counted
+    own = [f for f in re.findall(r"^define [^\n]*\n.*?^}", ir, re.MULTILINE | re.DOTALL)
+           if "walk_py" in f.split("\n", 1)[0]]
+    call = r"call \w+ @NRT_(?:incref|decref)\(ptr ([^)]*)\)"
+    counted = [a for f in own for a in re.findall(call, f)]
+    assert own and all(a.startswith("%arg.B.") for a in counted), counted
