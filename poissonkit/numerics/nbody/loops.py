@@ -127,7 +127,9 @@ def pair_force_term(kern_any: Dispatcher, kern_r: Dispatcher, parallel: bool = F
         def set_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, lists, s):
             return cell_pairs(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n)
     # the cell and neighbour lists allocate; the loops over listed pairs and over all pairs do
-    # not, and their kernels then go without reference counts (assemble's module docstring)
+    # not, and their kernels then go without reference counts (assemble's module docstring).
+    # With lists, the kernels keep the counts but the walk over the pairs does not: it is a
+    # function of its own, compiled without them (celllists.cell_loops, verlet.verlet_loops)
     out = force_loops(terms.term, terms.radial, terms.all_radial, set_pairs,
                       allocates=verlet or cells)
     _term_cache[key] = out

@@ -202,9 +202,24 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
             u += closed(W, V, qa, acc)
         return u
 
-    def make(build: Dispatcher, parts: Dispatcher) -> Callable:
-        """The loop around the list builder ``build`` and the slab partition ``parts``
-        (compiled serial and parallel)."""
+    def walk_py(order, first, us, g, central, slab_first, start, nbr, sp_, sn_, body, W, V,
+                cut, B, cut2):
+        """The slabs of part ``p``, ``order[first[p]:first[p + 1]]``, for every part (parts on
+        numba's threads in a parallel caller): slab ``x``'s energy to ``us[x]``."""
+        for p in numba.prange(first.shape[0] - 1):
+            for k in range(first[p], first[p + 1]):
+                x = order[k]
+                us[x] = slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body, W, V,
+                                  cut, B, cut2)
+
+    # one walk, two compilations, as the cell loop's (celllists.cell_loops): inlined into the
+    # parallel loop, and without reference counts for the serial one (it allocates nothing)
+    walk_par = jit(inline="always")(walk_py)
+    walk_serial = jit(_nrt=False)(walk_py)
+
+    def make(build: Dispatcher, parts: Dispatcher, walk: Dispatcher) -> Callable:
+        """The loop around the list builder ``build``, the slab partition ``parts`` and the
+        walk ``walk`` (compiled serial and parallel)."""
 
         def listed_py(g, central, members, pos, nu, F, T, cutoff, B, cut, state, s):
             n = members.shape[0]
@@ -260,11 +275,8 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
             us = np.empty(ns)
             cut2 = cutoff * cutoff
             order, first = parts(start, slab_first)
-            for p in numba.prange(first.shape[0] - 1):
-                for k in range(first[p], first[p + 1]):
-                    x = order[k]
-                    us[x] = slab_walk(x, g, central, slab_first, start, nbr, sp_, sn_, body,
-                                      W, V, cut, B, cut2)
+            walk(order, first, us, g, central, slab_first, start, nbr, sp_, sn_, body, W, V, cut,
+                 B, cut2)
             for q in numba.prange(n):
                 b = body[q]
                 for d in range(3):
@@ -278,9 +290,9 @@ def verlet_loops(pair_one: Dispatcher, pair_r_one: Dispatcher, parallel: bool) -
         return listed_py
 
     # one source, two compilations: numba.prange is range in the serial one
-    serial = jit(make(verlet_build, in_order))
+    serial = jit(make(verlet_build, in_order, walk_serial))
     if parallel:
-        par = jit(parallel=True)(make(verlet_build_par, per_thread))
+        par = jit(parallel=True)(make(verlet_build_par, per_thread, walk_par))
 
         @jit
         def listed(g, central, members, pos, nu, F, T, cutoff, B, cut, min_n, state, s):
