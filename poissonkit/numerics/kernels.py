@@ -131,6 +131,32 @@ def plain_add(y, c, i, inc):
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")
+def pair_forces(u, ur, u1, u2, u3, ex, ey, ez, inv, c1, c2, a0, a1, a2, b0, b1, b2):
+    """``(U, f, τ_i, τ_j)`` (ten floats) of a pair from the partials of ``U(r, c1, c2, c3)``.
+
+    ``e = (ex, ey, ez)`` is the unit vector from body i to body j, ``inv = 1/r``, ``a = ν_i``,
+    ``b = ν_j``, ``c1 = (e, a)``, ``c2 = (e, b)`` (:mod:`poissonkit.conventions`). ``f`` is the
+    force on j (Zub's seed, eq. 20; −f on i): the projections ``(ν − c e)/r`` come from
+    ``∂c/∂r_j``. The torques are ``τ_i = U_c1 e × a − U_c3 a × b`` and
+    ``τ_j = U_c2 e × b + U_c3 a × b``. Inlined into every pair kernel (the N-body pair term and
+    the two-body kick), so all compute these numbers with the same operations.
+    """
+    w0 = a1 * b2 - a2 * b1
+    w1 = a2 * b0 - a0 * b2
+    w2 = a0 * b1 - a1 * b0
+    return (u,
+            -(ur * ex + (u1 * (a0 - c1 * ex) + u2 * (b0 - c2 * ex)) * inv),
+            -(ur * ey + (u1 * (a1 - c1 * ey) + u2 * (b1 - c2 * ey)) * inv),
+            -(ur * ez + (u1 * (a2 - c1 * ez) + u2 * (b2 - c2 * ez)) * inv),
+            u1 * (ey * a2 - ez * a1) - u3 * w0,
+            u1 * (ez * a0 - ex * a2) - u3 * w1,
+            u1 * (ex * a1 - ey * a0) - u3 * w2,
+            u2 * (ey * b2 - ez * b1) + u3 * w0,
+            u2 * (ez * b0 - ex * b2) + u3 * w1,
+            u2 * (ex * b1 - ey * b0) + u3 * w2)
+
+
+@numba.njit(cache=True, error_model="numpy", inline="always")
 def kahan_add(y, c, i, inc):
     """``y[i] += inc`` with Kahan's compensated summation (Comm. ACM 8 (1965) 40).
 

@@ -24,7 +24,8 @@ from numpy.typing import ArrayLike
 from poissonkit.contracts import CompiledFunction, KineticSplit
 from poissonkit.errors import DimensionError, InputError
 from poissonkit.numerics.jit import jit
-from poissonkit.numerics.kernels import Kernels, kahan_add, rotate_slot, rotate_slot_compensated
+from poissonkit.numerics.kernels import (Kernels, kahan_add, pair_forces, rotate_slot,
+                                        rotate_slot_compensated)
 from poissonkit.numerics.nbody import (NonUnitAxisError, OverlapError, evaluate_energy,
                                        evaluate_rhs, resolve_kernel)
 from poissonkit.numerics.nbody.bodies import BODY_SYSTEM_TRAITS, PotentialLike
@@ -81,19 +82,7 @@ def _build(kern: CompiledFunction) -> Kernels:
         c2 = ex * b0 + ey * b1 + ez * b2
         c3 = a0 * b0 + a1 * b1 + a2 * b2
         u, ur, u1, u2, u3 = kern(r, c1, c2, c3)
-        w0 = a1 * b2 - a2 * b1
-        w1 = a2 * b0 - a0 * b2
-        w2 = a0 * b1 - a1 * b0
-        return (u,
-                -(ur * ex + (u1 * (a0 - c1 * ex) + u2 * (b0 - c2 * ex)) * inv),
-                -(ur * ey + (u1 * (a1 - c1 * ey) + u2 * (b1 - c2 * ey)) * inv),
-                -(ur * ez + (u1 * (a2 - c1 * ez) + u2 * (b2 - c2 * ez)) * inv),
-                u1 * (ey * a2 - ez * a1) - u3 * w0,
-                u1 * (ez * a0 - ex * a2) - u3 * w1,
-                u1 * (ex * a1 - ey * a0) - u3 * w2,
-                u2 * (ey * b2 - ez * b1) + u3 * w0,
-                u2 * (ez * b0 - ex * b2) + u3 * w1,
-                u2 * (ex * b1 - ey * b0) + u3 * w2)
+        return pair_forces(u, ur, u1, u2, u3, ex, ey, ez, inv, c1, c2, a0, a1, a2, b0, b1, b2)
 
     @jit
     def partials(y, out):

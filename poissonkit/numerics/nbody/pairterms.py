@@ -20,6 +20,7 @@ from typing import NamedTuple
 from numba.core.dispatcher import Dispatcher
 
 from poissonkit.numerics.jit import jit
+from poissonkit.numerics.kernels import pair_forces
 
 
 @jit(inline="always")
@@ -98,20 +99,7 @@ def pair_terms(kern_any: Dispatcher, kern_r: Dispatcher) -> PairTerms:
             u1 *= sw
             u2 *= sw
             u3 *= sw
-        # force on j (seed 000 eq. 20); the projections (ν − c e)/r come from ∂c/∂r_j
-        f0 = -(ur * ex + (u1 * (a0 - c1 * ex) + u2 * (b0 - c2 * ex)) * inv)
-        f1 = -(ur * ey + (u1 * (a1 - c1 * ey) + u2 * (b1 - c2 * ey)) * inv)
-        f2 = -(ur * ez + (u1 * (a2 - c1 * ez) + u2 * (b2 - c2 * ez)) * inv)
-        w0 = a1 * b2 - a2 * b1
-        w1 = a2 * b0 - a0 * b2
-        w2 = a0 * b1 - a1 * b0
-        return (u, f0, f1, f2,
-                u1 * (ey * a2 - ez * a1) - u3 * w0,
-                u1 * (ez * a0 - ex * a2) - u3 * w1,
-                u1 * (ex * a1 - ey * a0) - u3 * w2,
-                u2 * (ey * b2 - ez * b1) + u3 * w0,
-                u2 * (ez * b0 - ex * b2) + u3 * w1,
-                u2 * (ex * b1 - ey * b0) + u3 * w2)
+        return pair_forces(u, ur, u1, u2, u3, ex, ey, ez, inv, c1, c2, a0, a1, a2, b0, b1, b2)
 
     # compiled once, called per pair: without reference counts (it allocates nothing), which
     # numba could not prune across the call of a potential (see nbody/assemble.py)
