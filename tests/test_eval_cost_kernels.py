@@ -80,19 +80,13 @@ def test_dumbbell_kernel_matches_mpmath_pole_sum(seed):
 def test_seed_kick_adds_h_times_the_forces_of_the_sympy_expression():
     # the seed pair through the kick (no scratch array) against the same pair given as the
     # seed's sympy fallback expression (compiled from sympy, not from analytic.py)
-    import sympy as sp
-
     from poissonkit.numerics.twobody import TwoBodySystem
     from poissonkit_magnets.seed000.table import parameter_table
+    from poissonkit_magnets.seed000.two_body import dumbbell_expression
 
     system = two_body_system()
     t = parameter_table()
-    r, c1, c2, c3 = sp.symbols("r c1 c2 c3", real=True)
-    ell = sp.Float(float(t.l))
-    K = sp.Float(float(t.mu0 * (t.mu / (2 * t.l)) ** 2 / (4 * mpmath.pi)))
-    expr = K * sum(e1 * e2 / sp.sqrt(r ** 2 + 2 * ell ** 2 + 2 * r * ell * (e2 * c2 - e1 * c1)
-                                     - 2 * e1 * e2 * ell ** 2 * c3)
-                   for e1 in (1, -1) for e2 in (1, -1))
+    expr = dumbbell_expression(t)
     reference = TwoBodySystem(None, None, float(t.alpha), float(t.alpha), expr, {},
                               scales=system.scales, reduced_mass=float(t.m))
     rng = np.random.default_rng(5)

@@ -49,15 +49,22 @@ def dumbbell_potential():
     try:
         return potential("dumbbell"), params
     except UnknownNameError:
-        import sympy as sp
+        return dumbbell_expression(t), {}
 
-        r, c1, c2, c3 = sp.symbols("r c1 c2 c3", real=True)
-        l = sp.Float(float(t.l))
-        K = sp.Float(float(t.mu0 * (t.mu / (2 * t.l)) ** 2 / (4 * mpmath.pi)))
-        expr = K * sum(e1 * e2 / sp.sqrt(r**2 + 2 * l**2 + 2 * r * l * (e2 * c2 - e1 * c1)
-                                         - 2 * e1 * e2 * l**2 * c3)
-                       for e1 in (1, -1) for e2 in (1, -1))
-        return expr, {}
+
+def dumbbell_expression(table: SeedTable | None = None):
+    """The seed's dumbbell energy (Zub's seed eq. (16)) as a sympy expression in
+    ``r, c1, c2, c3``: charges ``±μ/(2l)`` at ``±l ν`` of each magnet, summed over the four
+    pole pairs (SI). Written from the paper, independent of the compiled kernels."""
+    import sympy as sp
+
+    t = table or parameter_table()
+    r, c1, c2, c3 = sp.symbols("r c1 c2 c3", real=True)
+    l = sp.Float(float(t.l))
+    K = sp.Float(float(t.mu0 * (t.mu / (2 * t.l)) ** 2 / (4 * mpmath.pi)))
+    return K * sum(e1 * e2 / sp.sqrt(r**2 + 2 * l**2 + 2 * r * l * (e2 * c2 - e1 * c1)
+                                     - 2 * e1 * e2 * l**2 * c3)
+                   for e1 in (1, -1) for e2 in (1, -1))
 
 
 def two_body_system(table: SeedTable | None = None, orbit: CircularOrbit | None = None):
