@@ -245,27 +245,28 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
         return hit[0]
     min_distance = kernels.min_distance
     tail = step_tail(kernels, compensated)
-    if compensated:
-        drift, kick = kernels.drift_compensated, kernels.kick_compensated
-    else:
-        plain_drift, plain_kick = kernels.drift, kernels.kick
-
-        @jit(inline="always")
-        def drift(y, c, h, data):
-            plain_drift(y, h, data)
-
-        @jit(inline="always")
-        def kick(y, c, h, data, work):
-            plain_kick(y, h, data, work)
+    # the kernels are called directly at each call site, never through an inlined wrapper:
+    # an inlined function's arguments are copies of the caller's variables, and numba counts
+    # a reference to every array of `data` and `work` for each copy (~100 atomic operations
+    # per stage, as much as a small system's kick)
+    plain_drift, plain_kick = kernels.drift, kernels.kick
+    comp_drift, comp_kick = kernels.drift_compensated, kernels.kick_compensated
     comp = bool(compensated)  # a compile-time constant of the closures below
 
     @jit(inline="always")
     def one_step(y, c, h, a, b, data, work):
         nb = b.shape[0]
         for s in range(nb):
-            drift(y, c, a[s] * h, data)
-            kick(y, c, b[s] * h, data, work)
-        drift(y, c, a[nb] * h, data)
+            if comp:
+                comp_drift(y, c, a[s] * h, data)
+                comp_kick(y, c, b[s] * h, data, work)
+            else:
+                plain_drift(y, a[s] * h, data)
+                plain_kick(y, b[s] * h, data, work)
+        if comp:
+            comp_drift(y, c, a[nb] * h, data)
+        else:
+            plain_drift(y, a[nb] * h, data)
 
     @jit(inline="always")
     def fsal_step(y, c, h, a, b, data, work, pending, merge):
@@ -275,10 +276,16 @@ def _runner(kernels: CompiledKernels, compensated: bool = False) -> CompiledFunc
         nb = b.shape[0]
         for s in range(1 if pending else 0, nb):
             if s > 0:
-                drift(y, c, a[s] * h, data)
+                if comp:
+                    comp_drift(y, c, a[s] * h, data)
+                else:
+                    plain_drift(y, a[s] * h, data)
             # kicks at one configuration add exactly: B(b h) B(b' h) = B((b + b') h)
             hb = (b[nb - 1] + b[0]) * h if merge and s == nb - 1 else b[s] * h
-            kick(y, c, hb, data, work)
+            if comp:
+                comp_kick(y, c, hb, data, work)
+            else:
+                plain_kick(y, hb, data, work)
 
     @jit
     def g_factor(y, data, work, dref):
