@@ -27,6 +27,9 @@ loop sees it. Run::
     python benchmarks/bench_tops_kick.py                  # all cases
     python benchmarks/bench_tops_kick.py --quick          # fewer calls and repeats
     python benchmarks/bench_tops_kick.py --cluster 4096   # a larger cluster (16³)
+
+A last table splits a step of ``solve(..., "splitting8_bce")`` into its drifts and kicks
+(:func:`bench_breakdown`): what the time loop adds per stage beyond the two calls.
 """
 
 from __future__ import annotations
@@ -220,6 +223,53 @@ def bench_steps(name: str, s: NBodySystem, y: np.ndarray, steps: int, repeat: in
           f"{'yes' if same else 'NO'}", flush=True)
 
 
+def _stage_loops(k: Kernels) -> dict[str, Callable[..., float]]:
+    """Compiled loops of ``n`` drifts, kicks and stages (a drift then a kick) of ``k``."""
+    drift, kick = k.drift, k.kick
+
+    @jit
+    def drifts(y, data, work, n):
+        for _ in range(n):
+            drift(y, 1e-12, data)
+        return y[0]
+
+    @jit
+    def kicks(y, data, work, n):
+        for _ in range(n):
+            kick(y, 1e-12, data, work)
+        return y[0]
+
+    @jit
+    def stages(y, data, work, n):
+        for _ in range(n):
+            drift(y, 1e-12, data)
+            kick(y, 1e-12, data, work)
+        return y[0]
+    return {"drift": drifts, "kick": kicks, "stage": stages}
+
+
+def bench_breakdown(name: str, s: NBodySystem, y: np.ndarray, calls: int, steps: int,
+                    repeat: int) -> None:
+    """Where a step of ``splitting8_bce`` goes (19 stages of a drift and a kick): ns per drift,
+    per kick and per stage in a bare compiled loop, then per force evaluation of ``solve``;
+    the last column (solve less the bare stage) is what the time loop adds per stage."""
+    from poissonkit.numerics import solve
+
+    best = {}
+    for key, run in _stage_loops(s.kernels).items():
+        best[key] = time_call(run, (y.copy(), s.data, s.work()), calls, repeat)
+    kw = dict(method="splitting8_bce", step=1e-3, save_every=steps)
+    t_solve = np.inf
+    for _ in range(repeat):
+        solve(s, y, 1e-3 * max(steps // 10, 1), **kw)  # compiled and warm
+        t = time.thread_time()
+        sol = solve(s, y, 1e-3 * steps, **kw)
+        t_solve = min(t_solve, time.thread_time() - t)
+    per_eval = t_solve / sol.nfev * 1e9
+    print(f"{name:13s} {len(s.bodies):5d} | {best['drift']:9.1f} {best['kick']:9.1f} "
+          f"{best['stage']:9.1f} | {per_eval:9.1f} {per_eval - best['stage']:9.1f}", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="fewer calls and repeats")
@@ -239,7 +289,16 @@ def main() -> None:
     print(f"{'case':13s} {'N':>5s} | {'old':>9s} {'new':>9s} {'ratio':>6s} | same bits")
     bench_steps("seed", *seed(), 2000 if a.quick else 20000, repeat)
     bench_steps("dipole-3", *ring(3, "dipole"), 2000 if a.quick else 20000, repeat)
+    print("\nwhere a step goes (new kernels): ns per drift, kick, stage; solve per evaluation")
+    print(f"{'case':13s} {'N':>5s} | {'drift':>9s} {'kick':>9s} {'stage':>9s} | "
+          f"{'solve':>9s} {'loop':>9s}")
+    for name, (s, y) in (("seed", seed()), ("dipole-3", ring(3, "dipole")),
+                         ("dumbbell-3", ring(3, "dumbbell")), ("dipole-10", ring(10, "dipole"))):
+        n = len(s.bodies)
+        bench_breakdown(name, s, y, max(calls // (n * n // 4 + 1), 1000),
+                        max((200 if a.quick else 2000) * 10 // (n * n // 4 + 1), 20), repeat)
     s, y = cluster(a.cluster)
+    bench_breakdown(f"cluster-{len(s.bodies)}", s, y, 3, 3, min(repeat, 3))
     bench(f"cluster-{len(s.bodies)}", s, y, max(calls // len(s.bodies) // 20, 3), repeat)
 
 
