@@ -258,7 +258,7 @@ def bench_breakdown(name: str, s: NBodySystem, y: np.ndarray, calls: int, steps:
     best = {}
     for key, run in _stage_loops(s.kernels).items():
         best[key] = time_call(run, (y.copy(), s.data, s.work()), calls, repeat)
-    kw = dict(method="splitting8_bce", step=1e-3, save_every=steps)
+    kw = {"method": "splitting8_bce", "step": 1e-3, "save_every": steps}
     t_solve = np.inf
     for _ in range(repeat):
         solve(s, y, 1e-3 * max(steps // 10, 1), **kw)  # compiled and warm
