@@ -20,6 +20,7 @@ from typing import Union
 import numba
 import sympy as sp
 from numba.core.dispatcher import Dispatcher
+from numba.core.errors import NumbaError
 
 from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import InputError
@@ -223,6 +224,41 @@ def _wrapped_radial(kern: CompiledFunction, spec: SlotSpec, L: float, inv_e: flo
     return fn
 
 
+#: The argument types the pair loops call the dispatchers with (``B`` is the C-ordered table
+#: of :mod:`~poissonkit.numerics.nbody.table`): ``kern_any(g, r, c1, c2, c3, B, i, j)`` and
+#: ``kern_r(g, q, B, i, j)``.
+_TABLE = numba.types.float64[:, ::1]
+_I, _F = numba.types.int64, numba.types.float64
+KERN_ANY_ARGS = (_I, _F, _F, _F, _F, _TABLE, _I, _I)
+KERN_R_ARGS = (_I, _F, _TABLE, _I, _I)
+
+
+def compile_counted_if_needed(source: str, name: str, namespace: dict[str, Dispatcher],
+                              args: tuple[numba.types.Type, ...]) -> Dispatcher:
+    """A generated dispatcher compiled without numba's reference counts when every kernel it
+    calls allocates nothing, with them otherwise (decided here, once per dispatcher).
+
+    Without counts, each call saves the atomic increment and decrement of its array argument
+    (``B``, ``P``) that numba cannot prune across the call. Whether a kernel allocates is what
+    the compiler itself answers: the dispatcher is compiled for ``args`` (the types its callers
+    pass) without counts, which fails in lowering when any kernel it reaches allocates (numba
+    needs its runtime for that) and then compiles it with counts, as before. The kernels it
+    calls are compiled with its setting (numba's flags are inherited by callees not compiled
+    yet), so a kernel already compiled with counts keeps them: the same numbers either way.
+    The compiled uncounted variant is the one the loops call (the same types) and goes to the
+    disk cache; a failed attempt is not cached, so a system whose kernel allocates pays it
+    once per process.
+    """
+    try:
+        fn = compile_generated(source, name, namespace, _nrt=False)
+        fn.compile(args)
+        return fn
+    except NumbaError:  # a kernel allocates (or cannot be typed so): keep the counts
+        # said explicitly: numba compiles a callee with its caller's setting unless told, and
+        # the pair loops are compiled without counts (nbody/assemble.py)
+        return compile_generated(source, name, namespace, _nrt=True)
+
+
 #: kernel ids -> (kern_any, kern_r, the kernels and radial kernels, kept alive)
 _dispatch_cache: dict[tuple[int, ...], tuple[Dispatcher, Dispatcher, tuple[Dispatcher, ...],
                                              tuple[Dispatcher | None, ...]]] = {}
@@ -261,10 +297,7 @@ def _dispatcher(kerns: Sequence[Dispatcher], rkerns: Sequence[Dispatcher | None]
             lr.append(f"    if g == {g}:\n        return q{g}(q, B, i, j)")
         lr.append(f"    return q{radial[-1]}(q, B, i, j)")
         src_r = "\n".join(lr)
-    # with reference counts, said explicitly: numba compiles a callee with its caller's
-    # setting unless told, and the pair loops are compiled without them
-    # (nbody/assemble.py); a potential may allocate arrays, and is then compiled as before
-    fa = _compile_wrapper(src_any, "kern_any", ns, _nrt=True)
-    fr = _compile_wrapper(src_r, "kern_r", ns, _nrt=True)
+    fa = compile_counted_if_needed(src_any, "kern_any", ns, KERN_ANY_ARGS)
+    fr = compile_counted_if_needed(src_r, "kern_r", ns, KERN_R_ARGS)
     _dispatch_cache[key] = (fa, fr, tuple(kerns), tuple(rkerns))  # keep kernels (and ids) alive
     return fa, fr
