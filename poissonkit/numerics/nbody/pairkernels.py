@@ -19,6 +19,7 @@ from typing import Union
 
 import numba
 import sympy as sp
+from numba.core import event
 from numba.core.dispatcher import Dispatcher
 from numba.core.errors import NumbaError
 
@@ -233,6 +234,27 @@ KERN_ANY_ARGS = (_I, _F, _F, _F, _F, _TABLE, _I, _I)
 KERN_R_ARGS = (_I, _F, _TABLE, _I, _I)
 
 
+class _Compilations(event.Listener):
+    """Records every compilation numba starts (dispatcher, argument types, return type)."""
+
+    def __init__(self) -> None:
+        self.started: list[tuple[Dispatcher, tuple[object, ...], object]] = []
+
+    def on_start(self, ev: event.Event) -> None:
+        d = ev.data
+        self.started.append((d["dispatcher"], tuple(d["args"]), d["return_type"]))
+
+    def on_end(self, ev: event.Event) -> None:
+        pass
+
+    def forget_failures(self) -> None:
+        """Drop the failures numba remembers from these compilations: it keeps one per
+        dispatcher and argument types whatever the flags, and would repeat a failure of the
+        uncounted attempt (say ``np.array`` without the runtime) to the counted compilation."""
+        for disp, args, ret in self.started:
+            disp._compiler._failed_cache.pop((args, ret), None)
+
+
 def compile_counted_if_needed(source: str, name: str, namespace: dict[str, Dispatcher],
                               args: tuple[numba.types.Type, ...]) -> Dispatcher:
     """A generated dispatcher compiled without numba's reference counts when every kernel it
@@ -241,19 +263,23 @@ def compile_counted_if_needed(source: str, name: str, namespace: dict[str, Dispa
     Without counts, each call saves the atomic increment and decrement of its array argument
     (``B``, ``P``) that numba cannot prune across the call. Whether a kernel allocates is what
     the compiler itself answers: the dispatcher is compiled for ``args`` (the types its callers
-    pass) without counts, which fails in lowering when any kernel it reaches allocates (numba
-    needs its runtime for that) and then compiles it with counts, as before. The kernels it
-    calls are compiled with its setting (numba's flags are inherited by callees not compiled
-    yet), so a kernel already compiled with counts keeps them: the same numbers either way.
-    The compiled uncounted variant is the one the loops call (the same types) and goes to the
-    disk cache; a failed attempt is not cached, so a system whose kernel allocates pays it
+    pass) without counts, which fails in typing or lowering when any kernel it reaches
+    allocates (numba needs its runtime for that); it is then compiled with counts, as before,
+    after the failures of the attempt are forgotten (:meth:`_Compilations.forget_failures`).
+    The kernels it calls are compiled with its setting (numba's flags are inherited by callees
+    not compiled yet), so a kernel already compiled with counts keeps them: the same numbers
+    either way. The uncounted variant is the one the loops call (the same types) and goes to
+    the disk cache; a failed attempt is not cached, so a system whose kernel allocates pays it
     once per process.
     """
+    seen = _Compilations()
     try:
-        fn = compile_generated(source, name, namespace, _nrt=False)
-        fn.compile(args)
+        with event.install_listener("numba:compile", seen):
+            fn = compile_generated(source, name, namespace, _nrt=False)
+            fn.compile(args)
         return fn
     except NumbaError:  # a kernel allocates (or cannot be typed so): keep the counts
+        seen.forget_failures()
         # said explicitly: numba compiles a callee with its caller's setting unless told, and
         # the pair loops are compiled without counts (nbody/assemble.py)
         return compile_generated(source, name, namespace, _nrt=True)
