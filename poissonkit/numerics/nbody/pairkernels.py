@@ -138,10 +138,34 @@ def _registry_entry(potential: PotentialLike) -> PairPotential | None:
 _wrap_cache: dict[tuple[object, ...], tuple[Dispatcher, Dispatcher]] = {}
 
 
+#: id of a compiled wrapper -> (its source, name, namespace, itself kept alive): to compile
+#: its twin without reference counts (:func:`_uncounted_twin`)
+_generated: dict[int, tuple[str, str, dict[str, Dispatcher], Dispatcher]] = {}
+
+#: id of a compiled wrapper -> (its twin without reference counts, the wrapper kept alive)
+_twins: dict[int, tuple[Dispatcher, Dispatcher]] = {}
+
+
 def _compile_wrapper(source: str, name: str, namespace: dict[str, Dispatcher],
                      **options: object) -> Dispatcher:
     """Execute generated ``source`` (a small kernel wrapper) and compile it with numba."""
-    return compile_generated(source, name, namespace, **options)
+    fn = compile_generated(source, name, namespace, **options)
+    _generated[id(fn)] = (source, name, namespace, fn)
+    return fn
+
+
+def _uncounted_twin(fn: Dispatcher) -> Dispatcher:
+    """A wrapper compiled from the same source without reference counts, said explicitly: a
+    callee already compiled (or loaded from the disk cache) with counts for the same types
+    would keep them under an uncounted caller. A kernel not made here is returned as it is."""
+    hit = _twins.get(id(fn))
+    if hit is None:
+        made = _generated.get(id(fn))
+        if made is None:
+            return fn
+        twin = compile_generated(made[0], made[1], made[2], _nrt=False)
+        hit = _twins[id(fn)] = (twin, fn)
+    return hit[0]
 
 
 def _extra_args(spec: SlotSpec, pspec: ParamSpec) -> str:
@@ -256,7 +280,8 @@ class _Compilations(event.Listener):
 
 
 def compile_counted_if_needed(source: str, name: str, namespace: dict[str, Dispatcher],
-                              args: tuple[numba.types.Type, ...]) -> Dispatcher:
+                              args: tuple[numba.types.Type, ...],
+                              uncounted: dict[str, Dispatcher] | None = None) -> Dispatcher:
     """A generated dispatcher compiled without numba's reference counts when every kernel it
     calls allocates nothing, with them otherwise (decided here, once per dispatcher).
 
@@ -267,15 +292,18 @@ def compile_counted_if_needed(source: str, name: str, namespace: dict[str, Dispa
     allocates (numba needs its runtime for that); it is then compiled with counts, as before,
     after the failures of the attempt are forgotten (:meth:`_Compilations.forget_failures`).
     The kernels it calls are compiled with its setting (numba's flags are inherited by callees
-    not compiled yet), so a kernel already compiled with counts keeps them: the same numbers
-    either way. The uncounted variant is the one the loops call (the same types) and goes to
+    not compiled yet), so a kernel already compiled with counts keeps them, and the dispatcher
+    then calls it without counts of its own, as the pair loops call a counted dispatcher
+    (safe: a counted callee balances its own counts): the same numbers either way; ``uncounted`` replaces ``namespace`` in the uncounted attempt (callees compiled
+    without counts explicitly). The uncounted variant is the one the loops call (the same types) and goes to
     the disk cache; a failed attempt is not cached, so a system whose kernel allocates pays it
     once per process.
     """
     seen = _Compilations()
     try:
         with event.install_listener("numba:compile", seen):
-            fn = compile_generated(source, name, namespace, _nrt=False)
+            fn = compile_generated(source, name, namespace if uncounted is None else uncounted,
+                                   _nrt=False)
             fn.compile(args)
         return fn
     except NumbaError:  # a kernel allocates (or cannot be typed so): keep the counts
@@ -323,7 +351,8 @@ def _dispatcher(kerns: Sequence[Dispatcher], rkerns: Sequence[Dispatcher | None]
             lr.append(f"    if g == {g}:\n        return q{g}(q, B, i, j)")
         lr.append(f"    return q{radial[-1]}(q, B, i, j)")
         src_r = "\n".join(lr)
-    fa = compile_counted_if_needed(src_any, "kern_any", ns, KERN_ANY_ARGS)
-    fr = compile_counted_if_needed(src_r, "kern_r", ns, KERN_R_ARGS)
+    twins = {k: _uncounted_twin(v) for k, v in ns.items()}
+    fa = compile_counted_if_needed(src_any, "kern_any", ns, KERN_ANY_ARGS, twins)
+    fr = compile_counted_if_needed(src_r, "kern_r", ns, KERN_R_ARGS, twins)
     _dispatch_cache[key] = (fa, fr, tuple(kerns), tuple(rkerns))  # keep kernels (and ids) alive
     return fa, fr
