@@ -190,3 +190,27 @@ def test_a_potential_that_allocates_still_compiles_and_agrees():
         rhs = s.rhs(0.0, y)
         out.append(np.append(rhs, s.energy(y)))
     assert np.allclose(out[0], out[1], rtol=1e-13, atol=1e-15)
+
+
+def test_a_field_kernel_that_allocates_keeps_its_counts():
+    """The field dispatcher goes without counts unless its kernel allocates; either way it
+    gives the field's energy and gradient (here ``U = c g z``: a uniform weight)."""
+    import numba
+
+    from poissonkit.numerics.fields.compose import field_dispatcher
+
+    @numba.njit
+    def weight(x, y, z, n0, n1, n2, c, P):
+        return (c * P[0] * z, 0.0, 0.0, c * P[0], 0.0, 0.0, 0.0)
+
+    @numba.njit
+    def weight_via_array(x, y, z, n0, n1, n2, c, P):
+        g = np.array([0.0, 0.0, c * P[0]])  # allocates
+        return (g[2] * z, g[0], g[1], g[2], 0.0, 0.0, 0.0)
+
+    for kernel, counted in ((weight, False), (weight_via_array, True)):
+        d = field_dispatcher((kernel,))
+        assert _uncounted(d) is not counted
+        got = d(0, 0.1, 0.2, 0.5, 0.0, 0.0, 1.0, 2.0, np.array([9.81]))
+        assert got == pytest.approx((2.0 * 9.81 * 0.5, 0.0, 0.0, 2.0 * 9.81, 0.0, 0.0, 0.0),
+                                    rel=1e-15)
