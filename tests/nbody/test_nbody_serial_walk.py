@@ -4,7 +4,9 @@ The serial walk is what ``parallel=False`` systems and systems below ``parallel_
 run. It is the parallel loop's walk compiled a second time, as a separate function without
 numba's reference counts (the cell or neighbour lists are built by its caller, which keeps
 them). Checked here: the serial walks are compiled so and their machine code holds no reference
-count; their forces, torques and energy are those of a direct sum of point dipoles truncated at
+count (and, since the potential dispatchers go without counts when no kernel allocates, no
+count of the attribute table ``B`` either; a kernel that allocates keeps its counts); their
+forces, torques and energy are those of a direct sum of point dipoles truncated at
 the cutoff (independent truth, Jackson 5.56 and τ = m × B); and they are the parallel loop's
 on one thread bit for bit.
 """
@@ -20,7 +22,8 @@ import pytest
 from numba.core.dispatcher import Dispatcher
 
 from poissonkit.numerics.jit import CACHE_ENV
-from poissonkit.numerics.nbody import AllPairs, Body, NBodySystem, assemble, loops
+from poissonkit.numerics.nbody import (AllPairs, Body, NBodySystem, assemble, loops,
+                                       pairkernels)
 from poissonkit.numerics.nbody.pairkernels import _dispatcher
 
 MU0 = 4e-7 * np.pi
@@ -105,29 +108,72 @@ def test_the_serial_walk_gives_a_direct_sum_and_the_parallel_walk_bit_for_bit(sk
 
 
 
-@pytest.mark.parametrize("skin", [None, 0.015], ids=["cell_list", "verlet_list"])
-def test_the_serial_walk_is_compiled_without_reference_counts(skin, monkeypatch):
-    # compiled here, not loaded from the disk cache (a walk loaded inside its caller has no
-    # LLVM IR to read): no disk cache, and the in-memory caches of terms and kernels emptied
-    # for the duration of the test
-    monkeypatch.setenv(CACHE_ENV, "off")
-    monkeypatch.setattr(loops, "_term_cache", {})
-    monkeypatch.setattr(assemble, "_cache", {})
+def _allocating_dipole() -> Dispatcher:
+    """The point-dipole kernel (SI, both moments ``MOMENT``) through an array: it allocates.
+    A new one each time: a kernel already compiled with counts is called as it is, and the
+    dispatcher calling it then goes without (as the pair loops call a counted one)."""
+
+    @numba.njit
+    def kernel(r, c1, c2, c3):
+        w = np.array([MU0 / (4 * np.pi) * MOMENT * MOMENT / r**3, c3 - 3.0 * c1 * c2])
+        return (w[0] * w[1], -3.0 * w[0] * w[1] / r, -3.0 * w[0] * c2, -3.0 * w[0] * c1, w[0])
+
+    return kernel
+
+
+def _own_counts(s: NBodySystem, skin: float | None) -> tuple[list[str], tuple[bool, ...]]:
+    """The arrays the serial walk's own functions count, and whether the potential
+    dispatchers ``(kern_any, kern_r)`` were compiled with counts."""
     pos, nu = _cluster(3)
-    s = _system(len(pos), skin, False)
     zeros = np.zeros_like(pos)
     s.forces(s.pack(pos, zeros, nu, zeros, normalize=True))
-    term = loops.pair_force_term(*_dispatcher(s._kerns, s._rkerns), parallel=False,
-                                 verlet=skin is not None)
+    dispatchers = _dispatcher(s._kerns, s._rkerns)
+    term = loops.pair_force_term(*dispatchers, parallel=False, verlet=skin is not None)
     walks = [d for d in _reachable(term.plain) if d.py_func.__name__ == "walk_py"]
     assert len(walks) == 1 and walks[0].targetoptions.get("_nrt") is False
     ir = "".join(walks[0].inspect_llvm().values())
     # the module also holds the callees it links: the walk's own functions are those named
-    # after it. The potential is compiled with counts (a user's kernel may allocate) and keeps
-    # one count of its table ``B`` per call, which LLVM may inline into the walk; no other
-    # array is counted
+    # after it (LLVM may inline the potential into them)
     own = [f for f in re.findall(r"^define [^\n]*\n.*?^}", ir, re.MULTILINE | re.DOTALL)
            if "walk_py" in f.split("\n", 1)[0]]
+    assert own
     call = r"call \w+ @NRT_(?:incref|decref)\(ptr ([^)]*)\)"
-    counted = [a for f in own for a in re.findall(call, f)]
-    assert own and all(a.startswith("%arg.B.") for a in counted), counted
+    return ([a for f in own for a in re.findall(call, f)],
+            tuple(d.targetoptions.get("_nrt") is not False for d in dispatchers))
+
+
+@pytest.fixture
+def compiled_here(monkeypatch):
+    """Compiled in the test, not loaded from the disk cache (a walk loaded inside its caller
+    has no LLVM IR to read): no disk cache, the in-memory caches of terms, kernels and
+    dispatchers emptied for the duration of the test."""
+    monkeypatch.setenv(CACHE_ENV, "off")
+    monkeypatch.setattr(loops, "_term_cache", {})
+    monkeypatch.setattr(assemble, "_cache", {})
+    monkeypatch.setattr(pairkernels, "_dispatch_cache", {})
+
+
+@pytest.mark.parametrize("skin", [None, 0.015], ids=["cell_list", "verlet_list"])
+def test_the_serial_walk_is_compiled_without_reference_counts(skin, compiled_here):
+    # the registry's dipole allocates nothing: its dispatchers go without counts too, and the
+    # walk counts no array at all (before, one count of the table ``B`` per pair)
+    counted, with_counts = _own_counts(_system(27, skin, False), skin)
+    assert counted == [] and with_counts == (False, False)
+
+
+@pytest.mark.parametrize("skin", [None, 0.015], ids=["cell_list", "verlet_list"])
+def test_a_potential_that_allocates_keeps_its_counts_and_its_forces(skin, compiled_here):
+    s = NBodySystem([Body(f"m{k}", 0.01, 1e-6) for k in range(27)],
+                    [AllPairs(_allocating_dipole())], cutoff=CUTOFF, skin=skin,
+                    parallel=False, parallel_min_bodies=0)
+    _, with_counts = _own_counts(s, skin)
+    # the dispatcher that reaches it keeps the counts (numba needs them to allocate; the
+    # radial one reaches no kernel: it depends on orientation), the walk still goes without
+    assert with_counts == (True, False)
+    pos, nu = _cluster(3)
+    zeros = np.zeros_like(pos)
+    F, T, u = s.forces(s.pack(pos, zeros, nu, zeros, normalize=True))
+    f_ref, t_ref, u_ref = _truth(pos, nu)
+    np.testing.assert_allclose(F, f_ref, rtol=0, atol=1e-12 * np.abs(f_ref).max())
+    np.testing.assert_allclose(T, t_ref, rtol=0, atol=1e-12 * np.abs(t_ref).max())
+    assert u == pytest.approx(u_ref, rel=1e-12)

@@ -5,7 +5,8 @@ cutoff, the direct sum, external fields) are compiled without reference counts
 (:mod:`poissonkit.numerics.nbody.assemble`). Checked here: which systems get them; that their
 forces and torques are the closed-form ones of two point dipoles (independent truth); that a
 kick, the right-hand side and the energy are the same bits as the kernels compiled with the
-counts; and that many calls from Python and from a compiled loop leave the arrays intact.
+counts; that the potential and field dispatchers go without counts unless a kernel allocates;
+and that many calls from Python and from a compiled loop leave the arrays intact.
 """
 
 from __future__ import annotations
@@ -70,11 +71,16 @@ def _uncounted(kernel: object) -> bool:
 
 
 def test_which_systems_go_without_reference_counts():
+    from poissonkit.numerics.fields.compose import field_dispatcher
+
     s, _ = _dipoles()
     assert all(_uncounted(k) for k in (s.kernels.kick, s.kernels.kick_compensated,
                                        s.kernels.rhs, s.kernels.energy))
+    # the potential's dispatchers too: the registry's dipole allocates nothing
+    assert all(_uncounted(d) for d in _dispatcher(s._kerns, s._rkerns))
     with_field = s.with_fields([field("uniform", B=[0.0, 0.01, 0.02])])
     assert _uncounted(with_field.kernels.kick)
+    assert _uncounted(field_dispatcher(with_field._field_kerns))
     # a cutoff builds a cell list (it allocates): the counts stay
     cut, _ = _dipoles(cutoff=1.0)
     assert not _uncounted(cut.kernels.kick) and not _uncounted(cut.kernels.rhs)
@@ -176,8 +182,35 @@ def test_a_potential_that_allocates_still_compiles_and_agrees():
     for pot in (gas, (c3 - 3 * c1 * c2) / r**3):
         s = NBodySystem([Body("a", 1.0, 1.0), Body("b", 1.0, 1.0)], [Interaction(0, 1, pot)])
         assert _uncounted(s.kernels.rhs)
+        # its dispatcher keeps the counts (a failure without them is not repeated to the
+        # counted compilation); the sympy form's goes without
+        assert _uncounted(_dispatcher(s._kerns, s._rkerns)[0]) is (pot is not gas)
         y = s.pack([[0.0, 0.0, 0.0], [1.1, 0.3, -0.2]], np.zeros((2, 3)),
                    [[0.0, 0.6, 0.8], [1.0, 0.0, 0.0]], [[0.1, 0.0, 0.0], [0.0, 0.2, 0.0]])
         rhs = s.rhs(0.0, y)
         out.append(np.append(rhs, s.energy(y)))
     assert np.allclose(out[0], out[1], rtol=1e-13, atol=1e-15)
+
+
+def test_a_field_kernel_that_allocates_keeps_its_counts():
+    """The field dispatcher goes without counts unless its kernel allocates; either way it
+    gives the field's energy and gradient (here ``U = c g z``: a uniform weight)."""
+    import numba
+
+    from poissonkit.numerics.fields.compose import field_dispatcher
+
+    @numba.njit
+    def weight(x, y, z, n0, n1, n2, c, P):
+        return (c * P[0] * z, 0.0, 0.0, c * P[0], 0.0, 0.0, 0.0)
+
+    @numba.njit
+    def weight_via_array(x, y, z, n0, n1, n2, c, P):
+        g = np.array([0.0, 0.0, c * P[0]])  # allocates
+        return (g[2] * z, g[0], g[1], g[2], 0.0, 0.0, 0.0)
+
+    for kernel, counted in ((weight, False), (weight_via_array, True)):
+        d = field_dispatcher((kernel,))
+        assert _uncounted(d) is not counted
+        got = d(0, 0.1, 0.2, 0.5, 0.0, 0.0, 1.0, 2.0, np.array([9.81]))
+        assert got == pytest.approx((2.0 * 9.81 * 0.5, 0.0, 0.0, 2.0 * 9.81, 0.0, 0.0, 0.0),
+                                    rel=1e-15)

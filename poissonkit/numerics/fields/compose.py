@@ -13,16 +13,18 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+import numba
 import numpy as np
 from numba.core.dispatcher import Dispatcher
 
 from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import InputError
 from poissonkit.numerics.fields.base import CompiledField
-from poissonkit.numerics.jit import compile_generated, jit
+from poissonkit.numerics.jit import jit
 from poissonkit.numerics.nbody.assemble import Term
 from poissonkit.numerics.nbody.bodies import Body
 from poissonkit.numerics.nbody.data import FieldData
+from poissonkit.numerics.nbody.pairkernels import compile_counted_if_needed
 
 def field_data(fields: Sequence[CompiledField], bodies: Sequence[Body], length: float,
                energy: float) -> tuple[FieldData, tuple[CompiledFunction, ...]]:
@@ -64,6 +66,11 @@ def field_data(fields: Sequence[CompiledField], bodies: Sequence[Body], length: 
 
 _dispatch_cache: dict[tuple[int, ...], tuple[Dispatcher, tuple[CompiledFunction, ...]]] = {}
 
+_F = numba.types.float64
+#: The argument types the field term calls ``field_any`` with: ``g``, the position, the axis,
+#: the coupling and the field's slice ``P`` of the parameter array.
+FIELD_ANY_ARGS = (numba.types.int64, _F, _F, _F, _F, _F, _F, _F, _F[::1])
+
 
 def field_dispatcher(kerns: Sequence[CompiledFunction]) -> Dispatcher:
     """``f(g, x, y, z, ν_x, ν_y, ν_z, c, P)`` calling field kernel number ``g`` (cached)."""
@@ -75,10 +82,10 @@ def field_dispatcher(kerns: Sequence[CompiledFunction]) -> Dispatcher:
     for g in range(len(kerns) - 1):
         lines.append(f"    if g == {g}:\n        return f{g}(x, y, z, n0, n1, n2, c, P)")
     lines.append(f"    return f{len(kerns) - 1}(x, y, z, n0, n1, n2, c, P)")
-    # with reference counts, said explicitly (a field kernel may allocate): the field term
-    # may be compiled without them, and numba would compile its callees likewise
-    fn = compile_generated("\n".join(lines), "field_any",
-                           {f"f{g}": k for g, k in enumerate(kerns)}, _nrt=True)
+    # without reference counts when no field kernel allocates, with them otherwise (a
+    # plugin's field kernel may allocate): decided by compiling it (nbody/pairkernels)
+    fn = compile_counted_if_needed("\n".join(lines), "field_any",
+                                   {f"f{g}": k for g, k in enumerate(kerns)}, FIELD_ANY_ARGS)
     _dispatch_cache[key] = (fn, tuple(kerns))  # keep the kernels (and their ids) alive
     return fn
 

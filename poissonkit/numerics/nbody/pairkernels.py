@@ -19,7 +19,9 @@ from typing import Union
 
 import numba
 import sympy as sp
+from numba.core import event
 from numba.core.dispatcher import Dispatcher
+from numba.core.errors import NumbaError
 
 from poissonkit.contracts import CompiledFunction
 from poissonkit.errors import InputError
@@ -136,10 +138,34 @@ def _registry_entry(potential: PotentialLike) -> PairPotential | None:
 _wrap_cache: dict[tuple[object, ...], tuple[Dispatcher, Dispatcher]] = {}
 
 
+#: id of a compiled wrapper -> (its source, name, namespace, itself kept alive): to compile
+#: its twin without reference counts (:func:`_uncounted_twin`)
+_generated: dict[int, tuple[str, str, dict[str, Dispatcher], Dispatcher]] = {}
+
+#: id of a compiled wrapper -> (its twin without reference counts, the wrapper kept alive)
+_twins: dict[int, tuple[Dispatcher, Dispatcher]] = {}
+
+
 def _compile_wrapper(source: str, name: str, namespace: dict[str, Dispatcher],
                      **options: object) -> Dispatcher:
     """Execute generated ``source`` (a small kernel wrapper) and compile it with numba."""
-    return compile_generated(source, name, namespace, **options)
+    fn = compile_generated(source, name, namespace, **options)
+    _generated[id(fn)] = (source, name, namespace, fn)
+    return fn
+
+
+def _uncounted_twin(fn: Dispatcher) -> Dispatcher:
+    """A wrapper compiled from the same source without reference counts, said explicitly: a
+    callee already compiled (or loaded from the disk cache) with counts for the same types
+    would keep them under an uncounted caller. A kernel not made here is returned as it is."""
+    hit = _twins.get(id(fn))
+    if hit is None:
+        made = _generated.get(id(fn))
+        if made is None:
+            return fn
+        twin = compile_generated(made[0], made[1], made[2], _nrt=False)
+        hit = _twins[id(fn)] = (twin, fn)
+    return hit[0]
 
 
 def _extra_args(spec: SlotSpec, pspec: ParamSpec) -> str:
@@ -223,6 +249,70 @@ def _wrapped_radial(kern: CompiledFunction, spec: SlotSpec, L: float, inv_e: flo
     return fn
 
 
+#: The argument types the pair loops call the dispatchers with (``B`` is the C-ordered table
+#: of :mod:`~poissonkit.numerics.nbody.table`): ``kern_any(g, r, c1, c2, c3, B, i, j)`` and
+#: ``kern_r(g, q, B, i, j)``.
+_TABLE = numba.types.float64[:, ::1]
+_I, _F = numba.types.int64, numba.types.float64
+KERN_ANY_ARGS = (_I, _F, _F, _F, _F, _TABLE, _I, _I)
+KERN_R_ARGS = (_I, _F, _TABLE, _I, _I)
+
+
+class _Compilations(event.Listener):
+    """Records every compilation numba starts (dispatcher, argument types, return type)."""
+
+    def __init__(self) -> None:
+        self.started: list[tuple[Dispatcher, tuple[object, ...], object]] = []
+
+    def on_start(self, ev: event.Event) -> None:
+        d = ev.data
+        self.started.append((d["dispatcher"], tuple(d["args"]), d["return_type"]))
+
+    def on_end(self, ev: event.Event) -> None:
+        pass
+
+    def forget_failures(self) -> None:
+        """Drop the failures numba remembers from these compilations: it keeps one per
+        dispatcher and argument types whatever the flags, and would repeat a failure of the
+        uncounted attempt (say ``np.array`` without the runtime) to the counted compilation."""
+        for disp, args, ret in self.started:
+            disp._compiler._failed_cache.pop((args, ret), None)
+
+
+def compile_counted_if_needed(source: str, name: str, namespace: dict[str, Dispatcher],
+                              args: tuple[numba.types.Type, ...],
+                              uncounted: dict[str, Dispatcher] | None = None) -> Dispatcher:
+    """A generated dispatcher compiled without numba's reference counts when every kernel it
+    calls allocates nothing, with them otherwise (decided here, once per dispatcher).
+
+    Without counts, each call saves the atomic increment and decrement of its array argument
+    (``B``, ``P``) that numba cannot prune across the call. Whether a kernel allocates is what
+    the compiler itself answers: the dispatcher is compiled for ``args`` (the types its callers
+    pass) without counts, which fails in typing or lowering when any kernel it reaches
+    allocates (numba needs its runtime for that); it is then compiled with counts, as before,
+    after the failures of the attempt are forgotten (:meth:`_Compilations.forget_failures`).
+    The kernels it calls are compiled with its setting (numba's flags are inherited by callees
+    not compiled yet), so a kernel already compiled with counts keeps them, and the dispatcher
+    then calls it without counts of its own, as the pair loops call a counted dispatcher
+    (safe: a counted callee balances its own counts): the same numbers either way; ``uncounted`` replaces ``namespace`` in the uncounted attempt (callees compiled
+    without counts explicitly). The uncounted variant is the one the loops call (the same types) and goes to
+    the disk cache; a failed attempt is not cached, so a system whose kernel allocates pays it
+    once per process.
+    """
+    seen = _Compilations()
+    try:
+        with event.install_listener("numba:compile", seen):
+            fn = compile_generated(source, name, namespace if uncounted is None else uncounted,
+                                   _nrt=False)
+            fn.compile(args)
+        return fn
+    except NumbaError:  # a kernel allocates (or cannot be typed so): keep the counts
+        seen.forget_failures()
+        # said explicitly: numba compiles a callee with its caller's setting unless told, and
+        # the pair loops are compiled without counts (nbody/assemble.py)
+        return compile_generated(source, name, namespace, _nrt=True)
+
+
 #: kernel ids -> (kern_any, kern_r, the kernels and radial kernels, kept alive)
 _dispatch_cache: dict[tuple[int, ...], tuple[Dispatcher, Dispatcher, tuple[Dispatcher, ...],
                                              tuple[Dispatcher | None, ...]]] = {}
@@ -261,10 +351,8 @@ def _dispatcher(kerns: Sequence[Dispatcher], rkerns: Sequence[Dispatcher | None]
             lr.append(f"    if g == {g}:\n        return q{g}(q, B, i, j)")
         lr.append(f"    return q{radial[-1]}(q, B, i, j)")
         src_r = "\n".join(lr)
-    # with reference counts, said explicitly: numba compiles a callee with its caller's
-    # setting unless told, and the pair loops are compiled without them
-    # (nbody/assemble.py); a potential may allocate arrays, and is then compiled as before
-    fa = _compile_wrapper(src_any, "kern_any", ns, _nrt=True)
-    fr = _compile_wrapper(src_r, "kern_r", ns, _nrt=True)
+    twins = {k: _uncounted_twin(v) for k, v in ns.items()}
+    fa = compile_counted_if_needed(src_any, "kern_any", ns, KERN_ANY_ARGS, twins)
+    fr = compile_counted_if_needed(src_r, "kern_r", ns, KERN_R_ARGS, twins)
     _dispatch_cache[key] = (fa, fr, tuple(kerns), tuple(rkerns))  # keep kernels (and ids) alive
     return fa, fr
