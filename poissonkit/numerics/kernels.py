@@ -29,7 +29,8 @@ All kernels are numba ``njit`` functions with these signatures:
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from collections.abc import Callable
+from typing import NamedTuple, cast
 
 import numba
 import numpy as np
@@ -92,7 +93,7 @@ def rotate_slot(y, base, mbase, theta_per_norm):
 
 
 @intrinsic
-def inverse_powers4(typingctx, x0, x1, x2, x3):
+def _inverse_powers4(typingctx, x0, x1, x2, x3):
     """``(1/√x_k for k < 4, 1/(x_k √x_k) for k < 4)``: eight floats from four, in one 4-lane
     vector (one ``vsqrtpd`` and two ``vdivpd`` instead of four square roots and eight
     divisions, which queue on the one divider).
@@ -121,6 +122,12 @@ def inverse_powers4(typingctx, x0, x1, x2, x3):
         return context.make_tuple(builder, signature.return_type, out)
 
     return sig, codegen
+
+
+#: :func:`_inverse_powers4` as its callers see it (numba supplies ``typingctx`` itself); the
+#: same object, typed for the checker
+inverse_powers4 = cast("Callable[[float, float, float, float], tuple[float, float, float, "
+                       "float, float, float, float, float]]", _inverse_powers4)
 
 
 @numba.njit(cache=True, error_model="numpy", inline="always")

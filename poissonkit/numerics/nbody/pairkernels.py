@@ -279,9 +279,11 @@ class _Compilations(event.Listener):
             disp._compiler._failed_cache.pop((args, ret), None)
 
 
-def compile_counted_if_needed(source: str, name: str, namespace: dict[str, Dispatcher],
+def compile_counted_if_needed(source: str, name: str,
+                              namespace: Mapping[str, CompiledFunction],
                               args: tuple[numba.types.Type, ...],
-                              uncounted: dict[str, Dispatcher] | None = None) -> Dispatcher:
+                              uncounted: Mapping[str, CompiledFunction] | None = None
+                              ) -> Dispatcher:
     """A generated dispatcher compiled without numba's reference counts when every kernel it
     calls allocates nothing, with them otherwise (decided here, once per dispatcher).
 
@@ -302,7 +304,8 @@ def compile_counted_if_needed(source: str, name: str, namespace: dict[str, Dispa
     seen = _Compilations()
     try:
         with event.install_listener("numba:compile", seen):
-            fn = compile_generated(source, name, namespace if uncounted is None else uncounted,
+            fn = compile_generated(source, name,
+                                   dict(namespace if uncounted is None else uncounted),
                                    _nrt=False)
             fn.compile(args)
         return fn
@@ -310,7 +313,7 @@ def compile_counted_if_needed(source: str, name: str, namespace: dict[str, Dispa
         seen.forget_failures()
         # said explicitly: numba compiles a callee with its caller's setting unless told, and
         # the pair loops are compiled without counts (nbody/assemble.py)
-        return compile_generated(source, name, namespace, _nrt=True)
+        return compile_generated(source, name, dict(namespace), _nrt=True)
 
 
 #: kernel ids -> (kern_any, kern_r, the kernels and radial kernels, kept alive)
