@@ -296,10 +296,11 @@ def compile_counted_if_needed(source: str, name: str,
     The kernels it calls are compiled with its setting (numba's flags are inherited by callees
     not compiled yet), so a kernel already compiled with counts keeps them, and the dispatcher
     then calls it without counts of its own, as the pair loops call a counted dispatcher
-    (safe: a counted callee balances its own counts): the same numbers either way; ``uncounted`` replaces ``namespace`` in the uncounted attempt (callees compiled
-    without counts explicitly). The uncounted variant is the one the loops call (the same types) and goes to
-    the disk cache; a failed attempt is not cached, so a system whose kernel allocates pays it
-    once per process.
+    (safe: a counted callee balances its own counts): the same numbers either way.
+    ``uncounted`` replaces ``namespace`` in the uncounted attempt (callees compiled without
+    counts explicitly). The uncounted variant is the one the loops call (the same types) and
+    goes to the disk cache; a failed attempt is not cached, so a system whose kernel allocates
+    pays it once per process.
     """
     seen = _Compilations()
     try:
